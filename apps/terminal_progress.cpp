@@ -1,0 +1,55 @@
+#include "terminal_progress.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include <fmt/core.h>
+#include <unistd.h>
+
+namespace weft::app {
+
+TerminalProgress::TerminalProgress(bool enabled) : enabled_(enabled && ::isatty(STDERR_FILENO) != 0) {}
+
+void TerminalProgress::begin(std::string_view label, std::uint64_t total) {
+  if (!enabled_) return;
+  const std::lock_guard lock(mutex_);
+  label_ = std::string(label);
+  total_ = total;
+  last_done_ = 0;
+  start_ = std::chrono::steady_clock::now();
+  last_draw_ = start_;
+  draw(0, false);
+}
+
+void TerminalProgress::advance(std::uint64_t done_so_far) {
+  if (!enabled_) return;
+  // Workers must never wait on the terminal: skip the redraw if another thread is drawing.
+  const std::unique_lock lock(mutex_, std::try_to_lock);
+  if (!lock.owns_lock()) return;
+  last_done_ = std::max(last_done_, done_so_far);
+  const auto now = std::chrono::steady_clock::now();
+  if (now - last_draw_ < std::chrono::milliseconds(100)) return;
+  last_draw_ = now;
+  draw(last_done_, false);
+}
+
+void TerminalProgress::end() {
+  if (!enabled_) return;
+  const std::lock_guard lock(mutex_);
+  draw(total_, true);
+}
+
+void TerminalProgress::draw(std::uint64_t done, bool final) {
+  constexpr int kWidth = 30;
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const double fraction = total_ > 0 ? std::min(1.0, static_cast<double>(done) / static_cast<double>(total_)) : 1.0;
+  const int filled = static_cast<int>(fraction * kWidth);
+  const double rate = elapsed > 0 ? static_cast<double>(done) / elapsed : 0.0;
+  const double eta = rate > 0 ? static_cast<double>(total_ - std::min(done, total_)) / rate : 0.0;
+  fmt::print(stderr, "\r{:<22} [{}{}] {:5.1f}% {:>10.3g}/s  {} {:.1f}s\x1b[K", label_, std::string(filled, '#'),
+             std::string(kWidth - filled, '.'), 100.0 * fraction, rate, final ? "took" : "eta", final ? elapsed : eta);
+  if (final) fmt::print(stderr, "\n");
+  std::fflush(stderr);
+}
+
+}  // namespace weft::app

@@ -1,0 +1,34 @@
+#pragma once
+/// @file
+/// @brief A progress bar with rate and ETA on a terminal; silent when stderr is not a TTY.
+
+#include <chrono>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "weft/core/progress.h"
+
+namespace weft::app {
+
+class TerminalProgress final : public ProgressSink {
+ public:
+  /// `enabled` false (or stderr not a terminal) makes every call a no-op.
+  explicit TerminalProgress(bool enabled);
+  void begin(std::string_view label, std::uint64_t total) override;
+  void advance(std::uint64_t done_so_far) override;
+  void end() override;
+
+ private:
+  void draw(std::uint64_t done, bool final);
+
+  bool enabled_;
+  std::mutex mutex_;
+  std::string label_;
+  std::uint64_t total_ = 0;
+  std::uint64_t last_done_ = 0;
+  std::chrono::steady_clock::time_point start_;
+  std::chrono::steady_clock::time_point last_draw_;
+};
+
+}  // namespace weft::app

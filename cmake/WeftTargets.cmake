@@ -1,0 +1,35 @@
+# Shared compile settings for every weft target.
+add_library(weft_warnings INTERFACE)
+target_compile_options(weft_warnings INTERFACE -Wall -Wextra -Wpedantic)
+if(WEFT_WERROR)
+  target_compile_options(weft_warnings INTERFACE -Werror)
+endif()
+if(WEFT_SANITIZE)
+  target_compile_options(weft_warnings INTERFACE -fsanitize=address,undefined -fno-omit-frame-pointer
+                                                 -fno-sanitize-recover=undefined)
+  target_link_options(weft_warnings INTERFACE -fsanitize=address,undefined)
+endif()
+
+# weft_module(NAME SOURCES ... DEPS ... [PRIVATE_DEPS ...])
+# One static library per module under lib/weft/<name> or data_gen/<name>; include paths are
+# rooted at lib/ and the repository root so headers read as <weft/core/error.h> and
+# <data_gen/cloth/yarn.h>.
+function(weft_module name)
+  cmake_parse_arguments(M "" "" "SOURCES;DEPS;PRIVATE_DEPS" ${ARGN})
+  add_library(weft_${name} STATIC ${M_SOURCES})
+  target_include_directories(weft_${name} PUBLIC ${PROJECT_SOURCE_DIR}/lib ${PROJECT_SOURCE_DIR})
+  target_link_libraries(weft_${name} PUBLIC ${M_DEPS} PRIVATE weft_warnings ${M_PRIVATE_DEPS})
+endfunction()
+
+# weft_unit_test(NAME SOURCES ... DEPS ... [LABELS ...])
+function(weft_unit_test name)
+  cmake_parse_arguments(T "" "" "SOURCES;DEPS;LABELS" ${ARGN})
+  add_executable(${name} ${T_SOURCES})
+  target_link_libraries(${name} PRIVATE ${T_DEPS} GTest::gtest GTest::gtest_main weft_warnings)
+  target_compile_definitions(${name} PRIVATE WEFT_TEST_DATA_DIR="${PROJECT_SOURCE_DIR}/tests/data")
+  if(NOT T_LABELS)
+    set(T_LABELS unit)
+  endif()
+  include(GoogleTest)
+  gtest_discover_tests(${name} PROPERTIES LABELS "${T_LABELS}" DISCOVERY_TIMEOUT 60)
+endfunction()

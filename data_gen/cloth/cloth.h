@@ -1,0 +1,44 @@
+#pragma once
+/// @file
+/// @brief The cloth pipeline in one call: spec → fibres → voxel grid (what `weft validate`
+/// and `weft gen` run). The yarn model, patterns, importers and voxelizer have headers of
+/// their own in this folder.
+
+#include <filesystem>
+#include <string>
+
+#include "weft/core/progress.h"
+#include "weft/volume/grid.h"
+
+namespace weft::cloth {
+
+struct ClothSpec;      // every generator parameter; see spec.h
+struct FiberSet;       // fibres as polylines with radii and yarn/ply/fibre ids; see fibers.h
+
+/// What voxelization measured (volume conservation, overlap), reported by gen and validate.
+struct VoxelizeReport {
+  double fiber_volume = 0.0;      ///< Σ length·πr² (length units³)
+  double grid_volume = 0.0;       ///< Σ C·voxel volume
+  double relative_error = 0.0;    ///< (grid − fibre) / fibre volume
+  double overlap_fraction = 0.0;  ///< fraction of fibre volume lost to clamping at C = 1
+  std::uint64_t active_voxels = 0;
+  std::uint64_t fiber_count = 0;
+  double generate_seconds = 0.0;
+  double voxelize_seconds = 0.0;
+};
+
+/// The default cloth of `weft gen` and `weft validate`: a small plain weave that voxelizes in
+/// seconds on 2 cores.
+ClothSpec default_cloth_spec();
+/// Reads a cloth.json written by `weft gen` (or by hand); throws weft::Error naming the file
+/// and the bad field.
+ClothSpec load_cloth_spec(const std::filesystem::path& path);
+/// The full parameter set as JSON text (what cloth.json holds).
+std::string cloth_spec_json(const ClothSpec& spec);
+
+/// Result of the whole pipeline; FiberSet kept for writers (vtp, bcc).
+struct ClothBuild;
+/// Generates fibres and voxelizes them to a grid of volume fraction C with provenance metadata.
+ClothBuild build_cloth(const ClothSpec& spec, ProgressSink& progress);
+
+}  // namespace weft::cloth

@@ -1,0 +1,25 @@
+#pragma once
+/// @file
+/// @brief Outputs appear whole or not at all: write to a temporary name, then rename.
+
+#include <filesystem>
+#include <functional>
+#include <string_view>
+
+namespace weft {
+
+/// @brief Calls `write(tmp)` with a temporary path beside `target`, then renames it to `target`.
+///
+/// If `write` throws, the temporary file is removed and the exception propagates, so a failed
+/// run never leaves a half-written output. The target's folder must exist; an unwritable folder
+/// gives a weft::Error naming it.
+void write_atomically(const std::filesystem::path& target,
+                      const std::function<void(const std::filesystem::path& tmp)>& write);
+
+/// @brief Writes `text` to `target` atomically.
+void write_text_atomically(const std::filesystem::path& target, std::string_view text);
+
+/// @brief Creates `dir` (and parents) or throws a weft::Error naming it.
+void ensure_directory(const std::filesystem::path& dir);
+
+}  // namespace weft

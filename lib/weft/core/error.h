@@ -1,0 +1,34 @@
+#pragma once
+/// @file
+/// @brief The one exception type weft throws for bad input and impossible requests.
+
+#include <stdexcept>
+#include <string>
+
+#include <fmt/format.h>
+
+namespace weft {
+
+/// @brief Thrown for invalid parameters, malformed files and requests that cannot be met.
+///
+/// The message names the input and the problem in one line ("gamma law: alpha must be > 0,
+/// got -1"); apps print it as `weft: error: <message>` and exit non-zero.
+class Error : public std::runtime_error {
+ public:
+  explicit Error(const std::string& message) : std::runtime_error(message) {}
+};
+
+/// @brief Throws weft::Error with a fmt-formatted message.
+template <typename... Args>
+[[noreturn]] void fail(fmt::format_string<Args...> format, Args&&... args) {
+  throw Error(fmt::format(format, std::forward<Args>(args)...));
+}
+
+/// @brief Checks that `value` is finite and > 0; `what` names it in the error.
+double require_positive(const char* what, double value);
+/// @brief Checks that `value` is finite and >= 0.
+double require_non_negative(const char* what, double value);
+/// @brief Checks that `value` is finite.
+double require_finite(const char* what, double value);
+
+}  // namespace weft

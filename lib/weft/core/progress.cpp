@@ -1,0 +1,26 @@
+#include "weft/core/progress.h"
+
+namespace weft {
+namespace {
+class NullProgress final : public ProgressSink {
+ public:
+  void begin(std::string_view /*label*/, std::uint64_t /*total*/) override {}
+  void advance(std::uint64_t /*done_so_far*/) override {}
+  void end() override {}
+};
+}  // namespace
+
+ProgressSink& null_progress() {
+  static NullProgress sink;
+  return sink;
+}
+
+ProgressTask::ProgressTask(ProgressSink& sink, std::string_view label, std::uint64_t total) : sink_(sink) {
+  sink_.begin(label, total);
+}
+
+ProgressTask::~ProgressTask() { sink_.end(); }
+
+void ProgressTask::step(std::uint64_t units) { sink_.advance(done_.fetch_add(units) + units); }
+
+}  // namespace weft

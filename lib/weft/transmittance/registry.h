@@ -1,0 +1,33 @@
+#pragma once
+/// @file
+/// @brief Names → laws (Tungsten-style factory), shared by `weft model`, scenes and fits.
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "weft/transmittance/law.h"
+
+namespace weft::transmittance {
+
+/// A law by name with named parameters, as typed on the command line or found in a scene file.
+/// Each law accepts the parametrisations its docs list (e.g. gamma: sigma+alpha+beta,
+/// mean_extinction+alpha, or sigma+mean_concentration+var_concentration); `table` is the CSV
+/// path of a tabulated law.
+struct LawSpec {
+  std::string name;
+  std::map<std::string, double> params;
+  std::string table;
+};
+
+/// Builds the law; throws weft::Error naming the law and the offending or missing parameter
+/// (and the closest known name for a misspelt law or parameter).
+[[nodiscard]] LawPtr make_law(const LawSpec& spec);
+
+/// The registered law names, in a stable order.
+[[nodiscard]] std::vector<std::string> law_names();
+
+/// One line per accepted parameter of `name`, with units, for --help and docs.
+[[nodiscard]] std::string describe_law(const std::string& name);
+
+}  // namespace weft::transmittance

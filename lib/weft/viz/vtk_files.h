@@ -1,0 +1,39 @@
+#pragma once
+/// @file
+/// @brief Geometry and volumes as VTK XML files for ParaView (.vtp, .vti), written atomically.
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "weft/volume/grid.h"
+
+namespace weft::viz {
+
+/// Polylines (fibres, yarn centrelines, rays) with per-cell and per-point data.
+struct PolylineSet {
+  std::vector<std::array<double, 3>> points;
+  /// offsets[i]..offsets[i+1] index `points` for polyline i; size = polylines + 1.
+  std::vector<std::uint64_t> offsets{0};
+  std::map<std::string, std::vector<std::int32_t>> cell_ints;
+  std::map<std::string, std::vector<double>> cell_scalars;
+  std::map<std::string, std::vector<double>> point_scalars;
+};
+
+/// Points (particles) with per-point data.
+struct PointSet {
+  std::vector<std::array<double, 3>> points;
+  std::map<std::string, std::vector<double>> point_scalars;
+};
+
+void write_vtp(const PolylineSet& lines, const std::filesystem::path& path);
+void write_vtp(const PointSet& points, const std::filesystem::path& path);
+
+/// The grid's active bounding box as dense image data (cell values = voxel values), named
+/// after the grid. Throws weft::Error when the box would exceed `max_voxels`.
+void write_vti(const volume::Grid& grid, const std::filesystem::path& path, std::uint64_t max_voxels = 256ULL << 20U);
+
+}  // namespace weft::viz

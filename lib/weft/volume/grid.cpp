@@ -1,0 +1,175 @@
+#include <cmath>
+#include <mutex>
+
+#include <openvdb/io/File.h>
+#include <openvdb/tools/ValueTransformer.h>
+
+#include "weft/core/atomic_file.h"
+#include "weft/core/error.h"
+#include "weft/volume/grid_openvdb.h"
+
+namespace weft::volume {
+namespace fs = std::filesystem;
+
+void ensure_openvdb_initialized() {
+  static std::once_flag once;
+  std::call_once(once, [] { openvdb::initialize(); });
+}
+
+namespace {
+
+// Uniform scale (plus translation) is what the DDA and the voxel-size-based physics assume.
+void require_uniform_scale(const openvdb::FloatGrid& grid, const std::string& where) {
+  const auto& map = *grid.transform().baseMap();
+  if (!map.isLinear()) fail("{}: grid '{}' has a non-linear transform; weft needs a uniform voxel scale", where, grid.getName());
+  const openvdb::Vec3d size = grid.voxelSize();
+  const double tol = 1e-9 * size.length();
+  if (std::abs(size[0] - size[1]) > tol || std::abs(size[0] - size[2]) > tol) {
+    fail("{}: grid '{}' has non-uniform voxel size ({}, {}, {}); weft needs cubic voxels", where, grid.getName(),
+         size[0], size[1], size[2]);
+  }
+  if (!grid.transform().hasUniformScale()) {
+    fail("{}: grid '{}' has a non-uniform (sheared or rotated) transform", where, grid.getName());
+  }
+  if (!(size[0] > 0.0) || !std::isfinite(size[0])) fail("{}: grid '{}' has voxel size {}", where, grid.getName(), size[0]);
+}
+
+void require_valid_values(const openvdb::FloatGrid& grid, const std::string& where) {
+  for (auto it = grid.cbeginValueOn(); it; ++it) {
+    const float v = *it;
+    if (!std::isfinite(v) || v < 0.0f) {
+      const auto c = it.getCoord();
+      fail("{}: grid '{}' has invalid value {} at voxel ({}, {}, {}); values must be finite and >= 0", where,
+           grid.getName(), v, c.x(), c.y(), c.z());
+    }
+  }
+  const float bg = grid.background();
+  if (!std::isfinite(bg) || bg != 0.0f) fail("{}: grid '{}' has background {}; weft needs background 0", where, grid.getName(), bg);
+}
+
+}  // namespace
+
+Grid make_grid(std::shared_ptr<Grid::Impl> impl) { return Grid(std::move(impl)); }
+
+Grid wrap_openvdb(openvdb::FloatGrid::Ptr grid) {
+  require_uniform_scale(*grid, "grid");
+  auto impl = std::make_shared<Grid::Impl>();
+  impl->grid = std::move(grid);
+  return make_grid(std::move(impl));
+}
+
+Grid::Grid(double voxel_size, std::string name) : impl_(std::make_shared<Impl>()) {
+  ensure_openvdb_initialized();
+  require_positive("voxel size", voxel_size);
+  impl_->grid = openvdb::FloatGrid::create(0.0f);
+  impl_->grid->setName(name);
+  impl_->grid->setTransform(openvdb::math::Transform::createLinearTransform(voxel_size));
+  impl_->grid->setGridClass(openvdb::GRID_FOG_VOLUME);
+}
+
+Grid Grid::load(const fs::path& path, const std::string& grid_name) {
+  ensure_openvdb_initialized();
+  const std::string where = path.string();
+  std::error_code ec;
+  if (!fs::exists(path, ec)) fail("{}: no such file", where);
+  if (!fs::is_regular_file(path, ec)) fail("{}: not a regular file", where);
+  openvdb::GridBase::Ptr base;
+  try {
+    openvdb::io::File file(path.string());
+    file.open(false);  // no delayed loading: the file may change under us, and we read it whole
+    if (grid_name.empty()) {
+      for (auto it = file.beginName(); it != file.endName(); ++it) {
+        auto candidate = file.readGrid(it.gridName());
+        if (candidate->isType<openvdb::FloatGrid>()) {
+          base = candidate;
+          break;
+        }
+      }
+      if (!base) fail("{}: the file holds no float grid", where);
+    } else {
+      if (!file.hasGrid(grid_name)) {
+        std::string names;
+        for (auto it = file.beginName(); it != file.endName(); ++it) names += (names.empty() ? "" : ", ") + it.gridName();
+        fail("{}: no grid named '{}' (the file has: {})", where, grid_name, names.empty() ? "none" : names);
+      }
+      base = file.readGrid(grid_name);
+    }
+    file.close();
+  } catch (const openvdb::Exception& e) {
+    fail("{}: cannot read OpenVDB file: {}", where, e.what());
+  } catch (const std::ios_base::failure& e) {
+    fail("{}: cannot read OpenVDB file: {}", where, e.what());
+  }
+  auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
+  if (!grid) fail("{}: grid '{}' is of type {}, weft needs a float grid", where, base->getName(), base->valueType());
+  require_uniform_scale(*grid, where);
+  require_valid_values(*grid, where);
+  auto impl = std::make_shared<Impl>();
+  impl->grid = grid;
+  return Grid(std::move(impl));
+}
+
+void Grid::save(const fs::path& path) const {
+  write_atomically(path, [&](const fs::path& tmp) {
+    try {
+      openvdb::io::File file(tmp.string());
+      openvdb::GridPtrVec grids{impl_->grid};
+      file.write(grids);
+      file.close();
+    } catch (const openvdb::Exception& e) {
+      fail("{}: cannot write OpenVDB file: {}", path.string(), e.what());
+    }
+  });
+}
+
+std::string Grid::name() const { return impl_->grid->getName(); }
+
+double Grid::voxel_size() const { return impl_->grid->voxelSize()[0]; }
+
+std::array<double, 3> Grid::origin() const {
+  const openvdb::Vec3d o = impl_->grid->indexToWorld(openvdb::Vec3d(-0.5, -0.5, -0.5));
+  return {o[0], o[1], o[2]};
+}
+
+void Grid::set_origin(const std::array<double, 3>& origin) {
+  const double h = voxel_size();
+  // OpenVDB puts voxel centres at integer index coordinates: index i covers [i-0.5, i+0.5).
+  auto xform = openvdb::math::Transform::createLinearTransform(h);
+  xform->postTranslate(openvdb::Vec3d(origin[0] + 0.5 * h, origin[1] + 0.5 * h, origin[2] + 0.5 * h));
+  impl_->grid->setTransform(xform);
+}
+
+std::uint64_t Grid::active_voxel_count() const { return impl_->grid->activeVoxelCount(); }
+
+IndexBox Grid::active_bbox() const {
+  IndexBox box;
+  if (impl_->grid->activeVoxelCount() == 0) return box;
+  const openvdb::CoordBBox b = impl_->grid->evalActiveVoxelBoundingBox();
+  box.min = {b.min().x(), b.min().y(), b.min().z()};
+  box.max = {b.max().x(), b.max().y(), b.max().z()};
+  return box;
+}
+
+float Grid::value(int i, int j, int k) const { return impl_->grid->getConstAccessor().getValue(openvdb::Coord(i, j, k)); }
+
+void Grid::set_value(int i, int j, int k, float v) { impl_->grid->getAccessor().setValue(openvdb::Coord(i, j, k), v); }
+
+double Grid::sum() const {
+  double total = 0.0;
+  for (auto it = impl_->grid->cbeginValueOn(); it; ++it) {
+    total += static_cast<double>(*it) * static_cast<double>(it.getVoxelCount());
+  }
+  return total;
+}
+
+void Grid::set_metadata(const std::string& key, const std::string& value) {
+  impl_->grid->insertMeta(key, openvdb::StringMetadata(value));
+}
+
+std::map<std::string, std::string> Grid::metadata() const {
+  std::map<std::string, std::string> out;
+  for (auto it = impl_->grid->beginMeta(); it != impl_->grid->endMeta(); ++it) out[it->first] = it->second->str();
+  return out;
+}
+
+}  // namespace weft::volume

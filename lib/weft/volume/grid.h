@@ -1,0 +1,79 @@
+#pragma once
+/// @file
+/// @brief A handle to a sparse scalar voxel grid (OpenVDB FloatGrid behind a wall).
+///
+/// Public headers never include OpenVDB (design §1); code that needs the tree itself includes
+/// weft/volume/grid_openvdb.h from a .cpp file.
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+
+namespace weft::volume {
+
+/// An inclusive box of voxel indices; empty when any min > max.
+struct IndexBox {
+  std::array<int, 3> min{0, 0, 0};
+  std::array<int, 3> max{-1, -1, -1};
+  [[nodiscard]] bool empty() const { return min[0] > max[0] || min[1] > max[1] || min[2] > max[2]; }
+  [[nodiscard]] std::array<std::int64_t, 3> extent() const {
+    return {std::int64_t{max[0]} - min[0] + 1, std::int64_t{max[1]} - min[1] + 1, std::int64_t{max[2]} - min[2] + 1};
+  }
+};
+
+/// What a grid's values mean.
+enum class ValueKind {
+  concentration,  ///< fibre volume fraction C ∈ [0, 1]; extinction is σ·C
+  extinction,     ///< extinction coefficient μ ≥ 0 in 1/length
+};
+
+class Grid {
+ public:
+  struct Impl;
+
+  /// An empty grid with cubic voxels of `voxel_size` (length units) and background 0.
+  explicit Grid(double voxel_size = 1.0, std::string name = "density");
+
+  /// Reads a float grid from a .vdb file: the grid named `grid_name`, or the first float grid
+  /// when empty. Throws weft::Error (naming the file) when the file is missing or corrupt, the
+  /// name does not exist, the grid is not a float grid, the transform is not a uniform scale
+  /// (plus translation), or an active value is NaN, infinite or negative.
+  static Grid load(const std::filesystem::path& path, const std::string& grid_name = "");
+
+  /// Writes the grid (with its metadata) to a .vdb file atomically.
+  void save(const std::filesystem::path& path) const;
+
+  [[nodiscard]] std::string name() const;
+  [[nodiscard]] double voxel_size() const;
+  /// World position of the centre of voxel (0,0,0) minus half a voxel: index (i,j,k) covers
+  /// [origin + voxel_size·i, origin + voxel_size·(i+1)) per axis.
+  [[nodiscard]] std::array<double, 3> origin() const;
+  void set_origin(const std::array<double, 3>& origin);
+
+  [[nodiscard]] std::uint64_t active_voxel_count() const;
+  /// Bounding box of active voxels and tiles; empty for an empty grid.
+  [[nodiscard]] IndexBox active_bbox() const;
+  /// Value at a voxel (background 0 where inactive). For tests and small tools; hot loops use
+  /// OpenVDB accessors through grid_openvdb.h.
+  [[nodiscard]] float value(int i, int j, int k) const;
+  void set_value(int i, int j, int k, float v);
+  /// Sum of all active values (voxels and tiles, tiles weighted by their voxel count).
+  [[nodiscard]] double sum() const;
+
+  /// String metadata stored in the .vdb (provenance: generator parameters, units, seed).
+  void set_metadata(const std::string& key, const std::string& value);
+  [[nodiscard]] std::map<std::string, std::string> metadata() const;
+
+  [[nodiscard]] const Impl& impl() const { return *impl_; }
+  [[nodiscard]] Impl& impl() { return *impl_; }
+
+ private:
+  explicit Grid(std::shared_ptr<Impl> impl) : impl_(std::move(impl)) {}
+  friend Grid make_grid(std::shared_ptr<Impl> impl);
+  std::shared_ptr<Impl> impl_;
+};
+
+}  // namespace weft::volume
