@@ -16,6 +16,13 @@ endif()
 # <data_gen/cloth/yarn.h>.
 function(weft_module name)
   cmake_parse_arguments(M "" "" "SOURCES;DEPS;PRIVATE_DEPS" ${ARGN})
+  if(NOT M_SOURCES)
+    # A module whose sources are not written yet is headers only.
+    add_library(weft_${name} INTERFACE)
+    target_include_directories(weft_${name} INTERFACE ${PROJECT_SOURCE_DIR}/lib ${PROJECT_SOURCE_DIR})
+    target_link_libraries(weft_${name} INTERFACE ${M_DEPS})
+    return()
+  endif()
   add_library(weft_${name} STATIC ${M_SOURCES})
   target_include_directories(weft_${name} PUBLIC ${PROJECT_SOURCE_DIR}/lib ${PROJECT_SOURCE_DIR})
   target_link_libraries(weft_${name} PUBLIC ${M_DEPS} PRIVATE weft_warnings ${M_PRIVATE_DEPS})
