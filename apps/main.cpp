@@ -19,6 +19,10 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "weft 0.1.0");
   app.require_subcommand(0, 1);
   app.fallthrough();
+  // Parse errors are one line like every other weft error; `--help` has the details.
+  app.failure_message([](const CLI::App* /*app*/, const CLI::Error& e) {
+    return fmt::format("weft: error: {} (see --help)\n", e.what());
+  });
 
   GlobalOptions globals;
   app.add_flag("-q,--quiet", globals.quiet, "No progress bar and no summary on stdout");
