@@ -1,0 +1,360 @@
+#include "weft/viz/volume_view.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <vtkActor.h>
+#include <vtkArrowSource.h>
+#include <vtkBillboardTextActor3D.h>
+#include <vtkCamera.h>
+#include <vtkColorTransferFunction.h>
+#include <vtkFloatArray.h>
+#include <vtkImageData.h>
+#include <vtkMatrix4x4.h>
+#include <vtkNew.h>
+#include <vtkOutlineSource.h>
+#include <vtkPiecewiseFunction.h>
+#include <vtkPointData.h>
+#include <vtkPolyDataMapper.h>
+#include <vtkPropCollection.h>
+#include <vtkProperty.h>
+#include <vtkRenderWindow.h>
+#include <vtkRenderer.h>
+#include <vtkSmartVolumeMapper.h>
+#include <vtkTextActor.h>
+#include <vtkTextProperty.h>
+#include <vtkTransform.h>
+#include <vtkTransformPolyDataFilter.h>
+#include <vtkVolume.h>
+#include <vtkVolumeProperty.h>
+
+#include "weft/core/atomic_file.h"
+#include "weft/core/error.h"
+#include "weft/viz/display.h"
+#include "weft/viz/vtk_support.h"
+#include "weft/volume/grid_openvdb.h"
+
+namespace weft::viz {
+namespace {
+
+// A software (llvmpipe) ray caster takes a few seconds for ~6 M samples at 1000x800 pixels;
+// larger grids are averaged down to this budget for display.
+constexpr std::int64_t kMaxSamplesPerAxis = 256;
+constexpr std::int64_t kMaxSamples = 180LL * 180LL * 180LL;
+
+struct Sampled {
+  vtkSmartPointer<vtkImageData> image = vtkSmartPointer<vtkImageData>::New();
+  float max_value = 0.0f;
+  std::array<double, 6> bounds{};  ///< world bounds of the voxels shown (not of the samples)
+};
+
+// Box-filters the active box by an integer factor, so a displayed sample is the mean of the
+// voxels it covers (the mean concentration is what the eye should judge), and pads one empty
+// layer around it so the volume fades out at its faces and a one-voxel-thick grid still renders.
+Sampled sample_grid(const volume::Grid& grid) {
+  const volume::IndexBox box = grid.active_bbox();
+  const auto ext = box.extent();
+  std::int64_t f = 1;
+  auto cells = [&](std::int64_t n) { return (n + f - 1) / f; };
+  while (std::max({cells(ext[0]), cells(ext[1]), cells(ext[2])}) > kMaxSamplesPerAxis ||
+         cells(ext[0]) * cells(ext[1]) * cells(ext[2]) > kMaxSamples) {
+    ++f;
+  }
+  const std::array<std::int64_t, 3> n{cells(ext[0]), cells(ext[1]), cells(ext[2])};
+  const std::array<std::int64_t, 3> dims{n[0] + 2, n[1] + 2, n[2] + 2};
+  std::vector<double> sum(static_cast<std::size_t>(n[0] * n[1] * n[2]), 0.0);
+  auto index = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
+    return static_cast<std::size_t>(((i - box.min[0]) / f) +
+                                    n[0] * (((j - box.min[1]) / f) + n[1] * ((k - box.min[2]) / f)));
+  };
+  const openvdb::FloatGrid& vdb = *grid.impl().grid;
+  for (auto it = vdb.cbeginValueOn(); it; ++it) {
+    const openvdb::CoordBBox b = it.getBoundingBox();
+    for (int k = b.min().z(); k <= b.max().z(); ++k) {
+      for (int j = b.min().y(); j <= b.max().y(); ++j) {
+        for (int i = b.min().x(); i <= b.max().x(); ++i) sum[index(i, j, k)] += *it;
+      }
+    }
+  }
+
+  Sampled s;
+  const double h = grid.voxel_size();
+  const auto o = grid.origin();
+  const double step = h * static_cast<double>(f);
+  s.image->SetDimensions(static_cast<int>(dims[0]), static_cast<int>(dims[1]), static_cast<int>(dims[2]));
+  s.image->SetSpacing(step, step, step);
+  // Sample (a) sits at the centre of its block; the padding layer sits one step outside.
+  s.image->SetOrigin(o[0] + h * box.min[0] - 0.5 * step, o[1] + h * box.min[1] - 0.5 * step,
+                     o[2] + h * box.min[2] - 0.5 * step);
+  vtkNew<vtkFloatArray> values;
+  values->SetName("value");
+  values->SetNumberOfValues(dims[0] * dims[1] * dims[2]);
+  values->FillValue(0.0f);
+  for (std::int64_t k = 0; k < n[2]; ++k) {
+    for (std::int64_t j = 0; j < n[1]; ++j) {
+      for (std::int64_t i = 0; i < n[0]; ++i) {
+        // Blocks at the far faces may be cut short by the box.
+        const std::int64_t bx = std::min(f, ext[0] - i * f);
+        const std::int64_t by = std::min(f, ext[1] - j * f);
+        const std::int64_t bz = std::min(f, ext[2] - k * f);
+        const double mean =
+            sum[static_cast<std::size_t>(i + n[0] * (j + n[1] * k))] / static_cast<double>(bx * by * bz);
+        const auto v = static_cast<float>(mean);
+        s.max_value = std::max(s.max_value, v);
+        values->SetValue((i + 1) + dims[0] * ((j + 1) + dims[1] * (k + 1)), v);
+      }
+    }
+  }
+  s.image->GetPointData()->SetScalars(values);
+  for (int a = 0; a < 3; ++a) {
+    s.bounds[static_cast<std::size_t>(2 * a)] =
+        o[static_cast<std::size_t>(a)] + h * box.min[static_cast<std::size_t>(a)];
+    s.bounds[static_cast<std::size_t>(2 * a + 1)] =
+        o[static_cast<std::size_t>(a)] + h * (box.max[static_cast<std::size_t>(a)] + 1.0);
+  }
+  return s;
+}
+
+void check(const volume::Grid& grid, const VolumeView& view, const std::filesystem::path& path) {
+  const std::string where = path.string();
+  if (view.width < 16 || view.height < 16 || view.width > 16384 || view.height > 16384) {
+    fail("{}: view size {}x{} is out of range (16..16384 pixels)", where, view.width, view.height);
+  }
+  if (grid.active_bbox().empty()) fail("{}: grid '{}' has no active voxels; nothing to show", where, grid.name());
+  for (const Arrow& a : view.arrows) {
+    const double len2 =
+        a.direction[0] * a.direction[0] + a.direction[1] * a.direction[1] + a.direction[2] * a.direction[2];
+    if (!std::isfinite(len2) || !(len2 > 0.0)) {
+      fail("{}: arrow '{}' has direction ({}, {}, {}); it needs a finite non-zero vector", where, a.label,
+           a.direction[0], a.direction[1], a.direction[2]);
+    }
+  }
+}
+
+// An arrow of `length` whose tip is at `tip`, pointing along unit `d`: vtkArrowSource points
+// along +x from 0 to 1, so map x to d and complete an orthonormal frame.
+vtkSmartPointer<vtkActor> make_arrow(const std::array<double, 3>& d, const std::array<double, 3>& tip, double length,
+                                     const std::array<unsigned char, 3>& colour) {
+  std::array<double, 3> helper = std::abs(d[0]) < 0.9 ? std::array<double, 3>{1, 0, 0} : std::array<double, 3>{0, 1, 0};
+  std::array<double, 3> u{d[1] * helper[2] - d[2] * helper[1], d[2] * helper[0] - d[0] * helper[2],
+                          d[0] * helper[1] - d[1] * helper[0]};
+  const double un = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+  for (double& c : u) c /= un;
+  const std::array<double, 3> w{d[1] * u[2] - d[2] * u[1], d[2] * u[0] - d[0] * u[2], d[0] * u[1] - d[1] * u[0]};
+  vtkNew<vtkMatrix4x4> m;
+  for (int r = 0; r < 3; ++r) {
+    const auto ri = static_cast<std::size_t>(r);
+    m->SetElement(r, 0, d[ri] * length);
+    m->SetElement(r, 1, u[ri] * length);
+    m->SetElement(r, 2, w[ri] * length);
+    m->SetElement(r, 3, tip[ri] - d[ri] * length);
+  }
+  vtkNew<vtkTransform> transform;
+  transform->SetMatrix(m);
+  vtkNew<vtkArrowSource> arrow;
+  arrow->SetShaftResolution(24);
+  arrow->SetTipResolution(24);
+  arrow->SetShaftRadius(0.04);
+  arrow->SetTipRadius(0.1);
+  arrow->SetTipLength(0.3);
+  vtkNew<vtkTransformPolyDataFilter> placed;
+  placed->SetTransform(transform);
+  placed->SetInputConnection(arrow->GetOutputPort());
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputConnection(placed->GetOutputPort());
+  auto actor = vtkSmartPointer<vtkActor>::New();
+  actor->SetMapper(mapper);
+  actor->GetProperty()->SetColor(colour[0] / 255.0, colour[1] / 255.0, colour[2] / 255.0);
+  actor->GetProperty()->SetAmbient(0.3);
+  actor->GetProperty()->SetDiffuse(0.7);
+  return actor;
+}
+
+// ResetCamera fits a bounding sphere, which leaves the picture off-centre and small when the
+// arrows stick out on one side; instead, pan and zoom until the projected corners of everything
+// shown fill the picture (less `top_margin`, a fraction of the height kept for the title).
+void frame(vtkRenderer& renderer, double top_margin) {
+  // Corners of each prop's own box: the union's box would add empty corners of its own.
+  std::vector<std::array<double, 3>> corners;
+  vtkPropCollection* props = renderer.GetViewProps();
+  props->InitTraversal();
+  while (vtkProp* prop = props->GetNextProp()) {
+    const double* b = prop->GetVisibility() != 0 ? prop->GetBounds() : nullptr;
+    if (b == nullptr || !(b[0] <= b[1])) continue;
+    for (int c = 0; c < 8; ++c)
+      corners.push_back({b[(c & 1) != 0 ? 1 : 0], b[(c & 2) != 0 ? 3 : 2], b[(c & 4) != 0 ? 5 : 4]});
+  }
+  if (corners.empty()) return;
+  vtkCamera& camera = *renderer.GetActiveCamera();
+  camera.OrthogonalizeViewUp();
+  for (int pass = 0; pass < 3; ++pass) {
+    double lo[2] = {1e300, 1e300};
+    double hi[2] = {-1e300, -1e300};
+    for (auto p : corners) {
+      renderer.WorldToView(p[0], p[1], p[2]);  // now in [-1, 1] across the viewport
+      for (int a = 0; a < 2; ++a) {
+        lo[a] = std::min(lo[a], p[static_cast<std::size_t>(a)]);
+        hi[a] = std::max(hi[a], p[static_cast<std::size_t>(a)]);
+      }
+    }
+    // Move the camera sideways so the box's projection is centred in the area below the title.
+    const double target_y = -top_margin;
+    const double shift[2] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]) - target_y};
+    double fp[3];
+    double pos[3];
+    double up[3];
+    camera.GetFocalPoint(fp);
+    camera.GetPosition(pos);
+    camera.GetViewUp(up);
+    double dir[3] = {fp[0] - pos[0], fp[1] - pos[1], fp[2] - pos[2]};
+    const double dist = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+    double right[3] = {dir[1] * up[2] - dir[2] * up[1], dir[2] * up[0] - dir[0] * up[2],
+                       dir[0] * up[1] - dir[1] * up[0]};
+    const double rn = std::sqrt(right[0] * right[0] + right[1] * right[1] + right[2] * right[2]);
+    const double half_h = dist * std::tan(0.5 * camera.GetViewAngle() * M_PI / 180.0);
+    double aspect[2];
+    renderer.GetAspect(aspect);
+    const double half_w = half_h * aspect[0] / aspect[1];
+    for (int a = 0; a < 3; ++a) {
+      const double move = right[a] / rn * shift[0] * half_w + up[a] * shift[1] * half_h;
+      fp[a] += move;
+      pos[a] += move;
+    }
+    camera.SetFocalPoint(fp);
+    camera.SetPosition(pos);
+    const double need = std::max(0.5 * (hi[0] - lo[0]), 0.5 * (hi[1] - lo[1]) / (1.0 - top_margin));
+    if (need > 0.0) camera.Zoom(0.86 / need);
+    renderer.ResetCameraClippingRange();
+  }
+}
+
+}  // namespace
+
+RenderOutcome save_volume_png(const volume::Grid& grid, const VolumeView& view, const std::filesystem::path& path) {
+  check(grid, view, path);
+  detail::require_writable_folder(path);
+  RenderOutcome outcome;
+  if (!ensure_display(&outcome.reason)) return outcome;
+  detail::quiet_vtk_messages();
+
+  const Sampled s = sample_grid(grid);
+  vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
+  window->SetSize(view.width, view.height);
+  vtkNew<vtkRenderer> renderer;
+  renderer->SetBackground(1.0, 1.0, 1.0);
+  window->AddRenderer(renderer);
+
+  // Values from 0 to the largest (block-mean) value: clear and pale at the low end, dense and
+  // dark at the top, so fibre bundles read as solid and gaps between yarns stay open.
+  const double top = s.max_value > 0.0f ? s.max_value : 1.0;
+  vtkNew<vtkColorTransferFunction> colour;
+  colour->AddRGBPoint(0.0, 0.95, 0.85, 0.55);
+  colour->AddRGBPoint(0.35 * top, 0.90, 0.55, 0.20);
+  colour->AddRGBPoint(0.7 * top, 0.65, 0.20, 0.10);
+  colour->AddRGBPoint(top, 0.35, 0.05, 0.05);
+  vtkNew<vtkPiecewiseFunction> opacity;
+  opacity->AddPoint(0.0, 0.0);
+  opacity->AddPoint(0.05 * top, 0.0);
+  opacity->AddPoint(0.3 * top, 0.25);
+  opacity->AddPoint(top, 0.9);
+  vtkNew<vtkVolumeProperty> property;
+  property->SetColor(colour);
+  property->SetScalarOpacity(opacity);
+  property->SetInterpolationTypeToLinear();
+  property->ShadeOn();
+  property->SetAmbient(0.35);
+  property->SetDiffuse(0.7);
+  property->SetSpecular(0.15);
+  // Opacity per sample spacing, so the look does not change with the display downsampling.
+  property->SetScalarOpacityUnitDistance(s.image->GetSpacing()[0]);
+
+  // GPU ray casting runs on Mesa's llvmpipe under Xvfb; the smart mapper falls back to the
+  // fixed-point CPU ray caster where the OpenGL context cannot do it.
+  vtkNew<vtkSmartVolumeMapper> mapper;
+  mapper->SetInputData(s.image);
+  mapper->SetRequestedRenderModeToDefault();
+  mapper->AutoAdjustSampleDistancesOff();
+  mapper->SetSampleDistance(0.5 * s.image->GetSpacing()[0]);
+  vtkNew<vtkVolume> volume;
+  volume->SetMapper(mapper);
+  volume->SetProperty(property);
+  renderer->AddVolume(volume);
+
+  vtkNew<vtkOutlineSource> outline;
+  outline->SetBounds(s.bounds[0], s.bounds[1], s.bounds[2], s.bounds[3], s.bounds[4], s.bounds[5]);
+  vtkNew<vtkPolyDataMapper> outline_mapper;
+  outline_mapper->SetInputConnection(outline->GetOutputPort());
+  vtkNew<vtkActor> outline_actor;
+  outline_actor->SetMapper(outline_mapper);
+  outline_actor->GetProperty()->SetColor(0.3, 0.3, 0.3);
+  outline_actor->GetProperty()->SetLineWidth(1.5f);
+  renderer->AddActor(outline_actor);
+
+  // Arrows come from outside the box and stop short of it, pointing at its centre.
+  const std::array<double, 3> centre{0.5 * (s.bounds[0] + s.bounds[1]), 0.5 * (s.bounds[2] + s.bounds[3]),
+                                     0.5 * (s.bounds[4] + s.bounds[5])};
+  const double radius = 0.5 * std::sqrt((s.bounds[1] - s.bounds[0]) * (s.bounds[1] - s.bounds[0]) +
+                                        (s.bounds[3] - s.bounds[2]) * (s.bounds[3] - s.bounds[2]) +
+                                        (s.bounds[5] - s.bounds[4]) * (s.bounds[5] - s.bounds[4]));
+  const int label_size =
+      std::max(12, static_cast<int>(std::lround(20.0 * std::min(view.width / 1000.0, view.height / 800.0))));
+  for (const Arrow& a : view.arrows) {
+    const double len =
+        std::sqrt(a.direction[0] * a.direction[0] + a.direction[1] * a.direction[1] + a.direction[2] * a.direction[2]);
+    const std::array<double, 3> d{a.direction[0] / len, a.direction[1] / len, a.direction[2] / len};
+    // Distance from the centre to the box's face along -d, so the tip stops just outside it.
+    double reach = radius;
+    for (int ax = 0; ax < 3; ++ax) {
+      const auto i = static_cast<std::size_t>(ax);
+      if (std::abs(d[i]) > 1e-12) {
+        reach = std::min(reach, 0.5 * (s.bounds[2 * i + 1] - s.bounds[2 * i]) / std::abs(d[i]));
+      }
+    }
+    const double gap = 0.08 * radius;
+    const double length = 0.6 * radius;
+    const std::array<double, 3> tip{centre[0] - d[0] * (reach + gap), centre[1] - d[1] * (reach + gap),
+                                    centre[2] - d[2] * (reach + gap)};
+    auto arrow = make_arrow(d, tip, length, a.color);
+    renderer->AddActor(arrow);
+    if (!a.label.empty()) {
+      vtkNew<vtkBillboardTextActor3D> text;
+      text->SetInput(a.label.c_str());
+      const double back = reach + gap + 1.12 * length;
+      text->SetPosition(centre[0] - d[0] * back, centre[1] - d[1] * back, centre[2] - d[2] * back);
+      detail::set_font(*text->GetTextProperty(), label_size, true);
+      text->GetTextProperty()->SetColor(a.color[0] / 255.0, a.color[1] / 255.0, a.color[2] / 255.0);
+      text->GetTextProperty()->SetJustificationToCentered();
+      text->GetTextProperty()->SetVerticalJustificationToCentered();
+      renderer->AddActor(text);
+    }
+  }
+
+  if (!view.title.empty()) {
+    vtkNew<vtkTextActor> title;
+    title->SetInput(view.title.c_str());
+    detail::set_font(*title->GetTextProperty(), std::max(12, label_size + 4), true);
+    title->GetTextProperty()->SetColor(0.1, 0.1, 0.1);
+    title->GetTextProperty()->SetJustificationToCentered();
+    title->GetTextProperty()->SetVerticalJustificationToTop();
+    title->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+    title->SetPosition(0.5, 0.97);
+    renderer->AddActor2D(title);
+  }
+
+  // A three-quarter view from above with z up: cloth lies in the xy plane, so its face, its
+  // thickness and arrows along all three axes are visible at once.
+  vtkCamera* camera = renderer->GetActiveCamera();
+  camera->SetFocalPoint(centre[0], centre[1], centre[2]);
+  camera->SetPosition(centre[0] + 1.0 * radius, centre[1] - 1.7 * radius, centre[2] + 1.3 * radius);
+  camera->SetViewUp(0.0, 0.0, 1.0);
+  renderer->ResetCamera();
+  frame(*renderer, view.title.empty() ? 0.0 : 0.08);
+
+  write_atomically(path, [&](const std::filesystem::path& tmp) { detail::capture_png(*window, tmp, path); });
+  outcome.written = true;
+  return outcome;
+}
+
+}  // namespace weft::viz

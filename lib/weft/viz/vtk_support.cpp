@@ -1,0 +1,100 @@
+#include "weft/viz/vtk_support.h"
+
+#include <mutex>
+
+#include <unistd.h>
+
+#include <vtkNew.h>
+#include <vtkObjectFactory.h>
+#include <vtkOutputWindow.h>
+#include <vtkPNGWriter.h>
+#include <vtkRenderWindow.h>
+#include <vtkSmartPointer.h>
+#include <vtkTextProperty.h>
+#include <vtkWindowToImageFilter.h>
+
+#include "weft/core/error.h"
+
+namespace weft::viz::detail {
+namespace {
+
+std::mutex g_message_mutex;
+std::string g_last_message;
+
+// VTK reports through a process-wide output window; this one remembers instead of printing.
+class BufferedOutputWindow : public vtkOutputWindow {
+ public:
+  static BufferedOutputWindow* New();
+  vtkTypeMacro(BufferedOutputWindow, vtkOutputWindow)
+
+      public : void DisplayText(const char* text) override {
+    if (text == nullptr) return;
+    std::string line(text);
+    for (char& c : line) {
+      if (c == '\n' || c == '\r') c = ' ';
+    }
+    while (!line.empty() && line.back() == ' ') line.pop_back();
+    const std::lock_guard<std::mutex> lock(g_message_mutex);
+    g_last_message = std::move(line);
+  }
+};
+vtkStandardNewMacro(BufferedOutputWindow);
+
+}  // namespace
+
+void quiet_vtk_messages() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    vtkNew<BufferedOutputWindow> window;
+    vtkOutputWindow::SetInstance(window);
+  });
+}
+
+std::string take_vtk_message() {
+  const std::lock_guard<std::mutex> lock(g_message_mutex);
+  std::string message;
+  message.swap(g_last_message);
+  return message;
+}
+
+void set_font(vtkTextProperty& text, int size, bool bold) {
+  static const std::filesystem::path kDir = "/usr/share/fonts/truetype/dejavu";
+  static const bool have_regular = std::filesystem::exists(kDir / "DejaVuSans.ttf");
+  static const bool have_bold = std::filesystem::exists(kDir / "DejaVuSans-Bold.ttf");
+  text.SetFontSize(size);
+  if (bold ? have_bold : have_regular) {
+    text.SetFontFamily(VTK_FONT_FILE);
+    text.SetFontFile((kDir / (bold ? "DejaVuSans-Bold.ttf" : "DejaVuSans.ttf")).c_str());
+    text.BoldOff();
+  } else {
+    text.SetBold(bold ? 1 : 0);
+  }
+}
+
+void require_writable_folder(const std::filesystem::path& target) {
+  const std::filesystem::path dir = target.has_parent_path() ? target.parent_path() : std::filesystem::path(".");
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec))
+    fail("{}: output folder '{}' does not exist", target.string(), dir.string());
+  if (::access(dir.c_str(), W_OK) != 0) fail("{}: output folder '{}' is not writable", target.string(), dir.string());
+}
+
+void capture_png(vtkRenderWindow& window, const std::filesystem::path& path, const std::filesystem::path& target) {
+  window.Render();
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(&window);
+  grab->SetInputBufferTypeToRGB();
+  grab->ReadFrontBufferOff();  // offscreen windows draw to the back buffer
+  grab->ShouldRerenderOff();   // just rendered: a second pass would double the (software) cost
+  grab->Update();
+  vtkNew<vtkPNGWriter> writer;
+  writer->SetFileName(path.c_str());
+  writer->SetInputConnection(grab->GetOutputPort());
+  writer->Write();
+  if (writer->GetErrorCode() != 0) {
+    const std::string detail = take_vtk_message();
+    fail("{}: cannot write PNG{}{}", target.string(), detail.empty() ? "" : ": ", detail);
+  }
+}
+
+}  // namespace weft::viz::detail

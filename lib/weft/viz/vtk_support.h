@@ -1,0 +1,33 @@
+#pragma once
+/// @file
+/// @brief Internal to weft_viz (includes VTK): VTK's messages kept off the terminal, and a render
+/// window captured to PNG. Include only from this module's .cpp files.
+
+#include <filesystem>
+#include <string>
+
+class vtkRenderWindow;
+class vtkTextProperty;
+
+namespace weft::viz::detail {
+
+/// @brief Routes VTK's warnings and errors into a buffer instead of stderr (library code never
+/// prints); call before creating any VTK object that may complain.
+void quiet_vtk_messages();
+
+/// @brief The last VTK error or warning text since the previous call (one line), then clears it.
+std::string take_vtk_message();
+
+/// @brief Sets DejaVu Sans (Debian's fontconfig default, with Greek and math symbols, which
+/// VTK's built-in fonts lack) at `size` pixels; keeps VTK's own font when the file is missing.
+void set_font(vtkTextProperty& text, int size, bool bold);
+
+/// @brief Throws weft::Error unless `target`'s folder exists and is writable: checked before a
+/// display is sought, so a bad path is reported even on a machine without one.
+void require_writable_folder(const std::filesystem::path& target);
+
+/// @brief Renders `window` and writes its pixels as a PNG to `path` (a temporary file; the caller
+/// makes it atomic). Throws weft::Error naming `target` on failure.
+void capture_png(vtkRenderWindow& window, const std::filesystem::path& path, const std::filesystem::path& target);
+
+}  // namespace weft::viz::detail

@@ -1,0 +1,223 @@
+#include "weft/viz/vtk_files.h"
+
+#include <gtest/gtest.h>
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkIdList.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkXMLImageDataReader.h>
+#include <vtkXMLPolyDataReader.h>
+
+#include <fstream>
+#include <iterator>
+
+#include "image_probe.h"
+#include "weft/core/error.h"
+#include "weft/volume/grid_openvdb.h"
+
+namespace weft::viz {
+namespace {
+
+std::size_t entries(const std::filesystem::path& dir) {
+  return static_cast<std::size_t>(std::distance(std::filesystem::directory_iterator(dir), {}));
+}
+
+PolylineSet two_polylines() {
+  PolylineSet lines;
+  lines.points = {{0, 0, 0}, {1, 0, 0}, {2, 0.5, 0}, {0, 1, 1}, {0, 2, 1.5}};
+  lines.offsets = {0, 3, 5};
+  lines.cell_ints["yarn"] = {7, -3};
+  lines.cell_scalars["radius"] = {0.125, 0.25};
+  lines.point_scalars["arc_length"] = {0.0, 1.0, 2.1, 0.0, 1.1};
+  return lines;
+}
+
+TEST(VtkFiles, PolylinesRoundTripThroughVtkReader) {
+  const auto dir = test::scratch_dir("vtp_lines");
+  const auto file = dir / "fibres.vtp";
+  const PolylineSet lines = two_polylines();
+  write_vtp(lines, file);
+  // Appended, zlib-compressed binary, as ParaView writes it.
+  std::ifstream in(file, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_NE(text.find("vtkZLibDataCompressor"), std::string::npos);
+  EXPECT_NE(text.find("<AppendedData encoding=\"raw\">"), std::string::npos);
+
+  vtkNew<vtkXMLPolyDataReader> reader;
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  vtkPolyData* poly = reader->GetOutput();
+  ASSERT_EQ(poly->GetNumberOfPoints(), 5);
+  ASSERT_EQ(poly->GetNumberOfLines(), 2);
+  for (vtkIdType i = 0; i < 5; ++i) {
+    double p[3];
+    poly->GetPoint(i, p);
+    for (int a = 0; a < 3; ++a)
+      EXPECT_DOUBLE_EQ(p[a], lines.points[static_cast<std::size_t>(i)][static_cast<std::size_t>(a)]);
+  }
+  vtkNew<vtkIdList> ids;
+  poly->GetLines()->GetCellAtId(1, ids);
+  ASSERT_EQ(ids->GetNumberOfIds(), 2);
+  EXPECT_EQ(ids->GetId(0), 3);
+  EXPECT_EQ(ids->GetId(1), 4);
+  vtkDataArray* yarn = poly->GetCellData()->GetArray("yarn");
+  ASSERT_NE(yarn, nullptr);
+  EXPECT_EQ(yarn->GetDataType(), VTK_INT);
+  EXPECT_EQ(yarn->GetTuple1(0), 7);
+  EXPECT_EQ(yarn->GetTuple1(1), -3);
+  vtkDataArray* radius = poly->GetCellData()->GetArray("radius");
+  ASSERT_NE(radius, nullptr);
+  EXPECT_DOUBLE_EQ(radius->GetTuple1(1), 0.25);
+  vtkDataArray* s = poly->GetPointData()->GetArray("arc_length");
+  ASSERT_NE(s, nullptr);
+  EXPECT_EQ(s->GetDataType(), VTK_DOUBLE);
+  EXPECT_DOUBLE_EQ(s->GetTuple1(2), 2.1);
+  EXPECT_EQ(entries(dir), 1U) << "a temporary file was left behind";
+  test::cleanup(dir);
+}
+
+TEST(VtkFiles, PointsRoundTripAsVertices) {
+  const auto dir = test::scratch_dir("vtp_points");
+  const auto file = dir / "particles.vtp";
+  PointSet pts;
+  pts.points = {{0, 0, 0}, {1, 2, 3}, {-1, 0.5, 4}};
+  pts.point_scalars["radius"] = {0.1, 0.2, 0.3};
+  write_vtp(pts, file);
+  vtkNew<vtkXMLPolyDataReader> reader;
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  vtkPolyData* poly = reader->GetOutput();
+  ASSERT_EQ(poly->GetNumberOfPoints(), 3);
+  EXPECT_EQ(poly->GetNumberOfVerts(), 3);
+  double p[3];
+  poly->GetPoint(2, p);
+  EXPECT_DOUBLE_EQ(p[0], -1.0);
+  EXPECT_DOUBLE_EQ(p[2], 4.0);
+  ASSERT_NE(poly->GetPointData()->GetArray("radius"), nullptr);
+  EXPECT_DOUBLE_EQ(poly->GetPointData()->GetArray("radius")->GetTuple1(1), 0.2);
+  test::cleanup(dir);
+}
+
+TEST(VtkFiles, InconsistentPolylinesAreRejectedWithoutAFile) {
+  const auto dir = test::scratch_dir("vtp_bad");
+  const auto file = dir / "bad.vtp";
+  PolylineSet wrong_count = two_polylines();
+  wrong_count.cell_scalars["radius"] = {0.1};
+  EXPECT_THROW(write_vtp(wrong_count, file), weft::Error);
+  PolylineSet bad_offsets = two_polylines();
+  bad_offsets.offsets = {0, 3, 4};
+  EXPECT_THROW(write_vtp(bad_offsets, file), weft::Error);
+  PolylineSet clash = two_polylines();
+  clash.cell_scalars["yarn"] = {1.0, 2.0};
+  EXPECT_THROW(write_vtp(clash, file), weft::Error);
+  PointSet pts;
+  pts.points = {{0, 0, 0}};
+  pts.point_scalars["r"] = {};
+  EXPECT_THROW(write_vtp(pts, file), weft::Error);
+  EXPECT_EQ(entries(dir), 0U);
+  test::cleanup(dir);
+}
+
+TEST(VtkFiles, GridRoundTripsValuesAndWorldBounds) {
+  const auto dir = test::scratch_dir("vti");
+  const auto file = dir / "grid.vti";
+  volume::Grid grid(0.5, "concentration");
+  grid.set_origin({1.0, 2.0, 3.0});
+  grid.set_value(2, 3, 4, 0.25f);
+  grid.set_value(5, 3, 4, 0.5f);
+  grid.set_value(2, 7, 6, 1.0f);
+  write_vti(grid, file);
+
+  vtkNew<vtkXMLImageDataReader> reader;
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  vtkImageData* image = reader->GetOutput();
+  int dims[3];
+  image->GetDimensions(dims);
+  // Box (2..5, 3..7, 4..6): 4x5x3 voxels, i.e. 5x6x4 points.
+  EXPECT_EQ(dims[0], 5);
+  EXPECT_EQ(dims[1], 6);
+  EXPECT_EQ(dims[2], 4);
+  double b[6];
+  image->GetBounds(b);
+  // Voxel i covers [origin + h·i, origin + h·(i+1)).
+  EXPECT_DOUBLE_EQ(b[0], 1.0 + 0.5 * 2);
+  EXPECT_DOUBLE_EQ(b[1], 1.0 + 0.5 * 6);
+  EXPECT_DOUBLE_EQ(b[2], 2.0 + 0.5 * 3);
+  EXPECT_DOUBLE_EQ(b[3], 2.0 + 0.5 * 8);
+  EXPECT_DOUBLE_EQ(b[4], 3.0 + 0.5 * 4);
+  EXPECT_DOUBLE_EQ(b[5], 3.0 + 0.5 * 7);
+  vtkDataArray* values = image->GetCellData()->GetArray("concentration");
+  ASSERT_NE(values, nullptr);
+  ASSERT_EQ(values->GetNumberOfTuples(), 4 * 5 * 3);
+  double sum = 0.0;
+  for (vtkIdType c = 0; c < values->GetNumberOfTuples(); ++c) sum += values->GetTuple1(c);
+  EXPECT_DOUBLE_EQ(sum, 1.75);
+  // Find each voxel by the world position of its centre, as ParaView would.
+  auto at = [&](int i, int j, int k) {
+    double centre[3] = {1.0 + 0.5 * (i + 0.5), 2.0 + 0.5 * (j + 0.5), 3.0 + 0.5 * (k + 0.5)};
+    int ijk[3];
+    double pcoords[3];
+    EXPECT_EQ(image->ComputeStructuredCoordinates(centre, ijk, pcoords), 1);
+    return values->GetTuple1(image->ComputeCellId(ijk));
+  };
+  EXPECT_DOUBLE_EQ(at(2, 3, 4), 0.25);
+  EXPECT_DOUBLE_EQ(at(5, 3, 4), 0.5);
+  EXPECT_DOUBLE_EQ(at(2, 7, 6), 1.0);
+  EXPECT_DOUBLE_EQ(at(3, 3, 4), 0.0);
+  test::cleanup(dir);
+}
+
+TEST(VtkFiles, GridActiveTilesAreExpanded) {
+  const auto dir = test::scratch_dir("vti_tiles");
+  const auto file = dir / "tiles.vti";
+  volume::Grid grid(1.0, "density");
+  // An aligned 8³ block becomes an active tile, not 512 voxels.
+  grid.impl().grid->tree().fill(openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(7)), 0.75f, true);
+  grid.set_value(8, 0, 0, 0.5f);
+  ASSERT_GT(grid.impl().grid->tree().activeTileCount(), 0U);
+  write_vti(grid, file);
+  vtkNew<vtkXMLImageDataReader> reader;
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  vtkDataArray* values = reader->GetOutput()->GetCellData()->GetArray("density");
+  ASSERT_NE(values, nullptr);
+  ASSERT_EQ(values->GetNumberOfTuples(), 9 * 8 * 8);
+  double sum = 0.0;
+  for (vtkIdType c = 0; c < values->GetNumberOfTuples(); ++c) sum += values->GetTuple1(c);
+  EXPECT_DOUBLE_EQ(sum, 0.75 * 512 + 0.5);
+  EXPECT_DOUBLE_EQ(values->GetTuple1(8), 0.5);  // voxel (8,0,0): x runs fastest
+  test::cleanup(dir);
+}
+
+TEST(VtkFiles, GridTooLargeOrEmptyIsAnErrorWithoutAFile) {
+  const auto dir = test::scratch_dir("vti_bad");
+  volume::Grid grid(1.0, "density");
+  EXPECT_THROW(write_vti(grid, dir / "empty.vti"), weft::Error);
+  grid.set_value(0, 0, 0, 1.0f);
+  grid.set_value(99, 99, 99, 1.0f);
+  try {
+    write_vti(grid, dir / "big.vti", 1000);
+    FAIL() << "a 100³ box passed a 1000-voxel limit";
+  } catch (const weft::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("1000000"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(entries(dir), 0U);
+  test::cleanup(dir);
+}
+
+TEST(VtkFiles, UnwritableTargetThrowsAndLeavesNoFile) {
+  const auto dir = test::scratch_dir("vtk_unwritable");
+  EXPECT_THROW(write_vtp(two_polylines(), dir / "no-such-folder" / "a.vtp"), weft::Error);
+  std::filesystem::create_directory(dir / "taken.vtp");
+  EXPECT_THROW(write_vtp(two_polylines(), dir / "taken.vtp"), weft::Error);
+  EXPECT_EQ(entries(dir), 1U);
+  test::cleanup(dir);
+}
+
+}  // namespace
+}  // namespace weft::viz
