@@ -52,6 +52,14 @@ class Law {
   [[nodiscard]] virtual double mean_free_path() const = 0;
 
   [[nodiscard]] virtual std::unique_ptr<Law> clone() const = 0;
+
+  /// @brief Closed-form reciprocal partner when this law is T_Q: T_S(t) = p_Q(t)/p_Q(0).
+  /// nullptr when the law has none (TransmittancePair then derives it numerically); only
+  /// called once the pair has checked that p_Q(0) is finite and > 0.
+  [[nodiscard]] virtual std::shared_ptr<const Law> closed_form_scatterer_partner() const { return nullptr; }
+  /// @brief Closed-form reciprocal partner when this law is T_S: T_Q(t) = ∫_t^∞ T_S/ℓ_S.
+  /// nullptr when the law has none; only called once ℓ_S is known to be finite.
+  [[nodiscard]] virtual std::shared_ptr<const Law> closed_form_source_partner() const { return nullptr; }
 };
 
 using LawPtr = std::shared_ptr<const Law>;

@@ -18,6 +18,9 @@ struct LawSpec {
   std::string name;
   std::map<std::string, double> params;
   std::string table;
+  /// Sampler of laws that offer several ("marsaglia-tsang" | "inversion" for gamma-path);
+  /// empty for the default.
+  std::string sampler = {};
 };
 
 /// Builds the law; throws weft::Error naming the law and the offending or missing parameter
@@ -26,6 +29,9 @@ struct LawSpec {
 
 /// The registered law names, in a stable order.
 [[nodiscard]] std::vector<std::string> law_names();
+
+/// The closest of `candidates` to `word` by edit distance ("" if none is reasonably close).
+[[nodiscard]] std::string closest_name(const std::string& word, const std::vector<std::string>& candidates);
 
 /// One line per accepted parameter of `name`, with units, for --help and docs.
 [[nodiscard]] std::string describe_law(const std::string& name);

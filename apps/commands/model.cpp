@@ -1,0 +1,262 @@
+// `weft model`: evaluate and sample a transmittance law and its source/scatterer partner
+// (lib/weft/transmittance; design §3). Thin: parses options, calls the library, prints.
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include "command.h"
+#include "weft/core/error.h"
+#include "weft/core/rng.h"
+#include "weft/transmittance/gamma_concentration.h"
+#include "weft/transmittance/pair.h"
+#include "weft/transmittance/registry.h"
+
+namespace weft::app {
+namespace {
+
+namespace tr = weft::transmittance;
+using json = nlohmann::json;
+
+/// A law parameter as typed: CLI flag, registry key, unit for --help.
+struct ParamFlag {
+  const char* flag;
+  const char* key;
+  const char* help;
+};
+
+constexpr ParamFlag kParamFlags[] = {
+    {"--sigma", "sigma", "gamma: extinction cross-section per unit concentration [1/length]"},
+    {"--alpha", "alpha", "gamma: shape alpha = C_bar^2/Var C [1], > 0 ('inf' = exponential)"},
+    {"--beta", "beta", "gamma: rate beta = C_bar/Var C [1/concentration], > 0"},
+    {"--mean-extinction", "mean_extinction",
+     "gamma, linear (or exponential): mean extinction mu_bar = sigma*alpha/beta [1/length]"},
+    {"--mean-concentration", "mean_concentration", "gamma: mean concentration C_bar [concentration]"},
+    {"--var-concentration", "var_concentration",
+     "gamma: concentration variance Var C [concentration^2]; 0 = exponential"},
+    {"--mu", "mu", "exponential: extinction coefficient [1/length]"},
+    {"--k", "k", "gamma-path: shape k [1] (> 0); erlang: integer shape (>= 1)"},
+    {"--theta", "theta", "gamma-path: scale theta [length]; mean free path = k*theta"},
+    {"--rate", "rate", "erlang: rate of each exponential stage [1/length]"},
+};
+constexpr std::size_t kParamCount = sizeof(kParamFlags) / sizeof(kParamFlags[0]);
+
+struct ModelOptions {
+  std::string law = "gamma";
+  std::string values[kParamCount];
+  std::string table;
+  std::string sampler;
+  std::string t = "0,0.5,1,2,5,10";
+  bool json = false;
+  std::string given = "Q";
+  std::string pair = "reciprocal";
+  long long sample = 0;
+  std::string from = "source";
+  std::uint64_t seed = 1;
+};
+
+double parse_number(const std::string& what, const std::string& text) {
+  errno = 0;
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE) {
+    fail("{}: expected a number, got '{}'", what, text);
+  }
+  return value;
+}
+
+std::vector<double> parse_distances(const std::string& list) {
+  std::vector<double> out;
+  std::stringstream in(list);
+  for (std::string item; std::getline(in, item, ',');) {
+    const double t = parse_number("--t", item);
+    if (std::isnan(t) || t < 0.0) fail("--t: distances must be >= 0, got '{}'", item);
+    out.push_back(t);
+  }
+  if (out.empty()) fail("--t: no distances given");
+  return out;
+}
+
+/// Finite numbers as numbers; ±∞ as "infinite"/"-infinite"; NaN as null.
+json number(double x) {
+  if (std::isnan(x)) return nullptr;
+  if (std::isinf(x)) return x > 0 ? "infinite" : "-infinite";
+  return x;
+}
+
+std::string text(double x) { return fmt::format("{:.10g}", x); }
+
+json parameters_json(const tr::Law& law) {
+  json out = json::object();
+  for (const auto& p : law.parameters()) out[p.name] = number(p.value);
+  return out;
+}
+
+std::string parameters_text(const tr::Law& law) {
+  std::string out;
+  for (const auto& p : law.parameters())
+    out += fmt::format("{}{} = {}", out.empty() ? "" : ", ", p.name, text(p.value));
+  return out;
+}
+
+std::string help_footer() {
+  std::string out = "Laws and their parameters (lengths in the scene's unit):\n";
+  for (const auto& name : tr::law_names()) out += tr::describe_law(name);
+  out +=
+      "Pairs: the given law is T_Q (segments from a source/surface, --given Q) or T_S (from a scatterer,\n"
+      "--given S); --pair reciprocal derives the partner (T_S = p_Q/p_Q(0), T_Q = int_t^inf T_S/l_S),\n"
+      "--pair same uses the given law for both. Output columns: t [length], T [1], p [1/length],\n"
+      "Sigma [1/length] for Q and S.";
+  return out;
+}
+
+int run(const ModelOptions& o, const std::vector<bool>& given_flags, const Context& ctx) {
+  tr::LawSpec spec;
+  spec.name = o.law;
+  spec.table = o.table;
+  // The gamma law's p ∝ T sampling (S.55–S.57) is a sampler of the app, not a registry law.
+  const bool proportional = o.sampler == "proportional";
+  if (proportional && o.law != "gamma") fail("--sampler proportional is only for the gamma law");
+  spec.sampler = proportional ? std::string() : o.sampler;
+  bool any_parameter = !o.table.empty();
+  for (std::size_t i = 0; i < kParamCount; ++i) {
+    if (!given_flags[i]) continue;
+    spec.params[kParamFlags[i].key] = parse_number(kParamFlags[i].flag, o.values[i]);
+    any_parameter = true;
+  }
+  const bool default_law = !given_flags[kParamCount] && !any_parameter;
+  if (default_law) spec.params = {{"mean_extinction", 1.0}, {"alpha", 2.0}};
+  const std::string note =
+      "no law given: using the default gamma law (mean_extinction = 1 [1/length], alpha = 2); see weft model --help";
+
+  const tr::LawPtr law = tr::make_law(spec);
+  const tr::PairMode mode = tr::parse_pair_mode(o.pair);
+  const tr::Origin given = tr::parse_origin(o.given);
+  const tr::TransmittancePair pair = [&] {
+    switch (mode) {
+      case tr::PairMode::same:
+        return tr::TransmittancePair::same(law);
+      case tr::PairMode::explicit_:
+        fail("--pair explicit needs two laws; weft model takes one (use reciprocal or same)");
+      case tr::PairMode::reciprocal:
+        break;
+    }
+    try {
+      return tr::TransmittancePair::reciprocal(law, given);
+    } catch (const Error& e) {
+      fail("{} (try --pair same, or --given {})", e.what(), given == tr::Origin::source ? "S" : "Q");
+    }
+  }();
+
+  if (o.sample < 0) fail("--sample: expected a count >= 0, got {}", o.sample);
+  if (o.sample > 0) {
+    const tr::Origin from = tr::parse_origin(o.from);
+    if (default_law && !ctx.globals.quiet) fmt::print(stderr, "weft: note: {}\n", note);
+    Pcg32 rng = stream_for(o.seed, 0);
+    std::string out;
+    if (proportional) {
+      const auto& gamma = dynamic_cast<const tr::GammaConcentration&>(pair.law(from));
+      for (long long i = 0; i < o.sample; ++i) {
+        out += fmt::format("{:.17g}\n", gamma.sample_proportional_to_transmittance(rng));
+      }
+    } else {
+      for (long long i = 0; i < o.sample; ++i) out += fmt::format("{:.17g}\n", pair.sample(from, rng));
+    }
+    fmt::print("{}", out);
+    return 0;
+  }
+
+  const std::vector<double> ts = parse_distances(o.t);
+  const tr::Law& q = pair.law(tr::Origin::source);
+  const tr::Law& s = pair.law(tr::Origin::scatterer);
+  if (o.json) {
+    const auto side = [](const tr::Law& l) {
+      return json{{"law", l.name()},
+                  {"parameters", parameters_json(l)},
+                  {"sampling", l.sampling_method()},
+                  {"mean_free_path", number(l.mean_free_path())}};
+    };
+    json points = json::array();
+    for (double t : ts) {
+      points.push_back({{"t", number(t)},
+                        {"T_Q", number(q.transmittance(t))},
+                        {"p_Q", number(q.pdf(t))},
+                        {"Sigma_Q", number(q.hazard(t))},
+                        {"T_S", number(s.transmittance(t))},
+                        {"p_S", number(s.pdf(t))},
+                        {"Sigma_S", number(s.hazard(t))}});
+    }
+    json out = {{"law", law->name()},
+                {"parameters", parameters_json(*law)},
+                {"given", given == tr::Origin::source ? "Q" : "S"},
+                {"pair", tr::to_string(pair.mode())},
+                {"source", side(q)},
+                {"scatterer", side(s)},
+                {"mean_free_path", {{"source", number(q.mean_free_path())}, {"scatterer", number(s.mean_free_path())}}},
+                {"units", {{"t", "length"}, {"T", "1"}, {"p", "1/length"}, {"Sigma", "1/length"}}},
+                {"points", points}};
+    if (default_law) out["note"] = note;
+    fmt::print("{}\n", out.dump(2));
+    return 0;
+  }
+
+  std::string out;
+  if (default_law) out += fmt::format("# {}\n", note);
+  out += fmt::format("# law: {} ({}), given as T_{}; pair: {}\n", law->name(), parameters_text(*law),
+                     given == tr::Origin::source ? "Q" : "S", tr::to_string(pair.mode()));
+  out += fmt::format("# source law T_Q: {} ({}); mean free path l_Q = {}\n", q.name(), parameters_text(q),
+                     text(q.mean_free_path()));
+  out += fmt::format("# scatterer law T_S: {} ({}); mean free path l_S = {}\n", s.name(), parameters_text(s),
+                     text(s.mean_free_path()));
+  out += fmt::format("{:>16} {:>16} {:>16} {:>16} {:>16} {:>16} {:>16}\n", "t", "T_Q", "p_Q", "Sigma_Q", "T_S", "p_S",
+                     "Sigma_S");
+  for (double t : ts) {
+    out += fmt::format("{:>16} {:>16} {:>16} {:>16} {:>16} {:>16} {:>16}\n", text(t), text(q.transmittance(t)),
+                       text(q.pdf(t)), text(q.hazard(t)), text(s.transmittance(t)), text(s.pdf(t)), text(s.hazard(t)));
+  }
+  fmt::print("{}", out);
+  return 0;
+}
+
+const Registrar kModel{Command{
+    "model", "Evaluate and sample transmittance laws (T, p, Sigma; source/scatterer pairs)", 40,
+    [](CLI::App& sub) -> Action {
+      auto o = std::make_shared<ModelOptions>();
+      std::string names;
+      for (const auto& n : tr::law_names()) names += (names.empty() ? "" : ", ") + n;
+      auto* law_option = sub.add_option("--law", o->law, "Law name: " + names)->capture_default_str();
+      std::vector<CLI::Option*> flags;
+      for (std::size_t i = 0; i < kParamCount; ++i) {
+        flags.push_back(sub.add_option(kParamFlags[i].flag, o->values[i], kParamFlags[i].help)->type_name("NUMBER"));
+      }
+      flags.push_back(law_option);
+      sub.add_option("--table", o->table, "tabulated: CSV file with columns t [length], T [1]");
+      sub.add_option("--sampler", o->sampler,
+                     "gamma-path: marsaglia-tsang (default) or inversion; gamma: proportional draws t with "
+                     "p proportional to T (S.55-S.57, needs alpha > 1)");
+      sub.add_option("--t", o->t, "Comma-separated distances t [length] to evaluate")->capture_default_str();
+      sub.add_flag("--json", o->json, "Print one JSON object (law, parameters, mean free paths, points)");
+      sub.add_option("--given", o->given, "The law given is T_Q (Q, source) or T_S (S, scatterer)")
+          ->capture_default_str();
+      sub.add_option("--pair", o->pair, "reciprocal (derive the partner) or same (T_S = T_Q)")->capture_default_str();
+      sub.add_option("--sample", o->sample, "Print N sampled free-flight distances [length], one per line");
+      sub.add_option("--from", o->from, "Sample segments starting at a source or a scatterer")->capture_default_str();
+      sub.add_option("--seed", o->seed, "Random seed for --sample")->capture_default_str();
+      sub.footer(help_footer());
+      return [o, flags](const Context& ctx) -> int {
+        std::vector<bool> given;
+        given.reserve(flags.size());
+        for (auto* f : flags) given.push_back(f->count() > 0);
+        return run(*o, given, ctx);
+      };
+    }}};
+
+}  // namespace
+}  // namespace weft::app

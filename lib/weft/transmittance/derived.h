@@ -1,0 +1,66 @@
+#pragma once
+/// @file
+/// @brief Numerically derived reciprocal partners (design §3), for laws without a closed form.
+///
+/// p_Q(t) = T_S(t)/ℓ_S ties the source law Q to the scatterer law S. From a given T_Q,
+/// T_S = p_Q/p_Q(0); from a given T_S, T_Q(t) = ∫_t^∞ T_S/ℓ_S.
+
+#include "weft/transmittance/law.h"
+
+namespace weft::transmittance {
+
+/// @brief T_S(t) = p_Q(t)/p_Q(0) from a given source law; p_S by finite differences of p_Q,
+/// sampling by inverting T_S (TOMS 748), ℓ_S = 1/p_Q(0) exactly.
+class ScattererFromSource final : public Law {
+ public:
+  /// Throws weft::Error if p_Q(0) is not finite and > 0, or p_Q increases somewhere (then
+  /// p_Q/p_Q(0) is not a transmittance).
+  explicit ScattererFromSource(LawPtr source);
+
+  [[nodiscard]] std::string name() const override { return source_->name() + "/scatterer"; }
+  [[nodiscard]] std::vector<Parameter> parameters() const override { return source_->parameters(); }
+  [[nodiscard]] double transmittance(double t) const override;
+  [[nodiscard]] double log_transmittance(double t) const override;
+  [[nodiscard]] double pdf(double t) const override;
+  [[nodiscard]] double hazard(double t) const override;
+  [[nodiscard]] double sample(Pcg32& rng) const override;
+  [[nodiscard]] std::string sampling_method() const override { return "numerical inversion of p_Q/p_Q(0)"; }
+  [[nodiscard]] double mean_free_path() const override { return 1.0 / p0_; }
+  [[nodiscard]] std::unique_ptr<Law> clone() const override { return std::make_unique<ScattererFromSource>(*this); }
+  [[nodiscard]] std::shared_ptr<const Law> closed_form_source_partner() const override { return source_; }
+
+ private:
+  LawPtr source_;
+  double p0_;
+};
+
+/// @brief T_Q(t) = ∫_t^∞ T_S/ℓ_S from a given scatterer law: p_Q = T_S/ℓ_S exactly, T_Q by
+/// Gauss–Legendre quadrature over a tabulated grid (exp-sinh beyond it), sampling by
+/// inversion (table search, then TOMS 748 inside the interval).
+class SourceFromScatterer final : public Law {
+ public:
+  /// Throws weft::Error if ℓ_S is not finite and > 0.
+  explicit SourceFromScatterer(LawPtr scatterer);
+
+  [[nodiscard]] std::string name() const override { return scatterer_->name() + "/source"; }
+  [[nodiscard]] std::vector<Parameter> parameters() const override { return scatterer_->parameters(); }
+  [[nodiscard]] double transmittance(double t) const override;
+  [[nodiscard]] double log_transmittance(double t) const override;
+  [[nodiscard]] double pdf(double t) const override;
+  [[nodiscard]] double hazard(double t) const override;
+  [[nodiscard]] double sample(Pcg32& rng) const override;
+  [[nodiscard]] std::string sampling_method() const override { return "numerical inversion of the integrated T_S"; }
+  [[nodiscard]] double mean_free_path() const override { return mean_free_path_; }
+  [[nodiscard]] std::unique_ptr<Law> clone() const override { return std::make_unique<SourceFromScatterer>(*this); }
+  [[nodiscard]] std::shared_ptr<const Law> closed_form_scatterer_partner() const override { return scatterer_; }
+
+ private:
+  [[nodiscard]] double integral_to_infinity(double t) const;  ///< ∫_t^∞ T_S, unnormalised
+  LawPtr scatterer_;
+  double ell_s_ = 0.0;        ///< ∫_0^∞ T_S as integrated (≈ the law's ℓ_S)
+  std::vector<double> grid_;  ///< 0 = t_0 < … < t_N
+  std::vector<double> tail_;  ///< ∫_{t_i}^∞ T_S
+  double mean_free_path_ = 0.0;
+};
+
+}  // namespace weft::transmittance

@@ -1,0 +1,79 @@
+# `weft model`: table, JSON and sample output contents; invalid parameters fail with one line.
+
+# Runs `weft model ARGS`, expects a non-zero exit and exactly one line on stderr matching PATTERN
+# (a grep pattern without single quotes).
+function(weft_model_error_test name pattern)
+  add_test(NAME cli.model.error.${name}
+           COMMAND sh -c "out=$(\"$0\" model \"$@\" 2>&1 >/dev/null); rc=$?; echo \"$out\"; \
+[ $rc -ne 0 ] && [ $(printf '%s\\n' \"$out\" | wc -l) -eq 1 ] && printf '%s' \"$out\" | grep -q -- '${pattern}'"
+                   $<TARGET_FILE:weft> ${ARGN})
+  set_tests_properties(cli.model.error.${name} PROPERTIES LABELS cli)
+endfunction()
+
+# Runs `weft model ARGS` and pipes stdout into the shell CHECK (reads stdin).
+function(weft_model_output_test name check)
+  add_test(NAME cli.model.${name}
+           COMMAND sh -c "set -e; \"$0\" model \"$@\" > model_${name}.out; { ${check}; } < model_${name}.out"
+                   $<TARGET_FILE:weft> ${ARGN})
+  set_tests_properties(cli.model.${name} PROPERTIES LABELS cli WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
+endfunction()
+
+add_test(NAME cli.model.help COMMAND weft model --help)
+set_tests_properties(cli.model.help PROPERTIES LABELS cli
+                     PASS_REGULAR_EXPRESSION "--mean-extinction[^\n]*1/length.*--theta[^\n]*\\[length\\]")
+
+# Default law, said so.
+weft_model_output_test(default "grep -q 'default gamma law'")
+
+# Eq. 20 with alpha = 0.5, mean 1 at t = 1 (x = 2): T_Q = 3^-0.5, p_Q = 3^-1.5, Sigma_Q = 1/3;
+# reciprocal T_S = 3^-1.5 (shape 1.5, mean extinction 3), p_S = 3*3^-2.5, Sigma_S = 3/3 = 1.
+weft_model_output_test(table
+  "grep -E '^ +1 +0.5773502692 +0.1924500897 +0.3333333333 +0.1924500897 +0.1924500897 +1$' && \
+grep -q 'l_Q = inf' model_table.out && grep -q 'l_S = 1$' model_table.out && \
+test $(grep -c -v '^#' model_table.out) -eq 5"
+  --law gamma --alpha 0.5 --mean-extinction 1 --t 0,1,10,100)
+
+weft_model_output_test(json
+  "grep -q '\"source\": \"infinite\"' && grep -q '\"scatterer\": 1.0' model_json.out && \
+grep -q '\"T_Q\": 0.57735026918962' model_json.out && grep -q '\"alpha\": 1.5' model_json.out && \
+test $(grep -c '\"Sigma_S\"' model_json.out) -eq 2"
+  --law gamma --alpha 0.5 --mean-extinction 1 --t 0,1 --json)
+
+# Paper parametrisation (sigma, alpha, beta) and concentration statistics give the same law.
+weft_model_output_test(paper_parameters "grep -q '^ *1 *0.4444444444'"
+  --law gamma --sigma 2 --alpha 2 --beta 4 --t 1)
+weft_model_output_test(zero_variance_is_exponential "grep -q '^ *1 *0.3678794412 *0.3678794412 *1 '"
+  --law gamma --sigma 2 --mean-concentration 0.5 --var-concentration 0 --t 1)
+
+# 1000 exponential samples (mu = 2): count, non-negative, mean within 5 standard errors of 1/2.
+weft_model_output_test(sample
+  "awk '{ if ($1 < 0) bad = 1; s += $1 } END { m = s / NR; exit !(NR == 1000 && !bad && m > 0.42 && m < 0.58) }'"
+  --law exponential --mu 2 --sample 1000 --seed 3)
+add_test(NAME cli.model.sample_reproducible
+         COMMAND sh -c "a=$(\"$0\" model --law gamma-path --k 0.5 --theta 1 --pair same --sample 50 --seed 9); \
+b=$(\"$0\" model --law gamma-path --k 0.5 --theta 1 --pair same --sample 50 --seed 9); \
+c=$(\"$0\" model --law gamma-path --k 0.5 --theta 1 --pair same --sample 50 --seed 10); \
+[ \"$a\" = \"$b\" ] && [ \"$a\" != \"$c\" ]" $<TARGET_FILE:weft>)
+set_tests_properties(cli.model.sample_reproducible PROPERTIES LABELS cli)
+# Scatterer segments of the gamma pair: mean of T_S (alpha 3, mean 4/3 ... ) = l_S = 1/mean_extinction = 1.
+weft_model_output_test(sample_scatterer
+  "awk '{ s += $1 } END { m = s / NR; exit !(NR == 4000 && m > 0.85 && m < 1.15) }'"
+  --law gamma --alpha 3 --mean-extinction 1 --sample 4000 --from scatterer --seed 5)
+
+weft_model_error_test(negative_alpha "alpha" --law gamma --alpha -1 --mean-extinction 1)
+weft_model_error_test(nan_alpha "alpha" --law gamma --alpha nan --mean-extinction 1)
+weft_model_error_test(zero_alpha "alpha must be > 0" --law gamma --alpha 0 --mean-extinction 1)
+weft_model_error_test(negative_mu "mu" --law exponential --mu -2)
+weft_model_error_test(not_a_number "--theta: expected a number" --law gamma-path --k 2 --theta abc)
+weft_model_error_test(misspelt_law "did you mean .gamma." --law gamme --alpha 1 --mean-extinction 1)
+weft_model_error_test(incomplete_set "accepted set" --law gamma --alpha 1)
+weft_model_error_test(no_reciprocal "infinite mean free path" --law gamma --alpha 0.5 --mean-extinction 1 --given S)
+weft_model_error_test(no_reciprocal_k "p_Q(0) = +inf" --law gamma-path --k 0.5 --theta 1)
+weft_model_error_test(proportional_alpha "alpha > 1"
+  --law gamma --alpha 0.8 --mean-extinction 1 --sampler proportional --sample 3)
+weft_model_error_test(missing_table "cannot open" --law tabulated --table /nonexistent/weft-table.csv)
+weft_model_error_test(negative_t "distances must be >= 0" --t 1,-2)
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/model_rising.csv "t,T\n0,1\n1,0.5\n2,0.8\n")
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/model_empty.csv "t,T\n")
+weft_model_error_test(rising_table "must not increase" --law tabulated --table ${CMAKE_CURRENT_BINARY_DIR}/model_rising.csv)
+weft_model_error_test(empty_table "no samples" --law tabulated --table ${CMAKE_CURRENT_BINARY_DIR}/model_empty.csv)
