@@ -12,8 +12,8 @@
 
 namespace weft::cloth {
 
-struct ClothSpec;      // every generator parameter; see spec.h
-struct FiberSet;       // fibres as polylines with radii and yarn/ply/fibre ids; see fibers.h
+struct ClothSpec;  // every generator parameter; see spec.h
+struct FiberSet;   // fibres as polylines with radii and yarn/ply/fibre ids; see fibers.h
 
 /// What voxelization measured (volume conservation, overlap), reported by gen and validate.
 struct VoxelizeReport {
@@ -40,5 +40,26 @@ std::string cloth_spec_json(const ClothSpec& spec);
 struct ClothBuild;
 /// Generates fibres and voxelizes them to a grid of volume fraction C with provenance metadata.
 ClothBuild build_cloth(const ClothSpec& spec, ProgressSink& progress);
+
+}  // namespace weft::cloth
+
+// The value types the declarations above name, complete for every includer.
+#include "data_gen/cloth/fibers.h"
+#include "data_gen/cloth/spec.h"
+
+namespace weft::cloth {
+
+/// @brief Everything one run of the pipeline made: the grid and the fibres it came from.
+struct ClothBuild {
+  volume::Grid grid;
+  FiberSet fibers;
+  VoxelizeReport report;
+  CurveSet centerlines;  ///< yarn centrelines the fibres were generated around
+  ClothSpec spec;        ///< the spec with automatic values resolved (what cloth.json records)
+};
+
+/// @brief The fibres of a spec (centrelines → yarns), yarns built in parallel and concatenated
+/// in yarn order; `spec` is resolved first.
+FiberSet generate_fibers(const ClothSpec& spec, const CurveSet& centerlines, ProgressSink& progress);
 
 }  // namespace weft::cloth

@@ -1,0 +1,258 @@
+// `weft gen`: procedural cloth (Zhao et al. 2016 yarns in a weave or knit, or around imported
+// curves) voxelized to a grid of fibre volume fraction.
+#include <cmath>
+#include <filesystem>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "command.h"
+#include "data_gen/cloth/cloth.h"
+#include "data_gen/cloth/curve_io.h"
+#include "data_gen/cloth/voxelize.h"
+#include "weft/core/atomic_file.h"
+#include "weft/core/error.h"
+#include "weft/viz/vtk_files.h"
+
+namespace weft::app {
+namespace {
+namespace fs = std::filesystem;
+using cloth::ClothSpec;
+
+struct GenOptions {
+  std::string config;
+  std::string pattern;
+  std::string yarns;
+  double spacing = 0.0;
+  double warp_spacing = 0.0;
+  double weft_spacing = 0.0;
+  double crimp = 0.0;
+  std::string yarn;
+  std::string warp_yarn;
+  std::string weft_yarn;
+  std::vector<std::string> set;
+  std::string input;
+  double input_scale = 1.0;
+  double voxel_size = 0.01;
+  int samples_per_voxel = 4;
+  std::uint64_t seed = 1;
+  std::string max_memory;
+  std::string out = "cloth";
+  bool fibers_bcc = false;
+};
+
+// "512M", "2G", "1.5GiB", "1000000" (bytes) → MiB.
+double parse_memory_mb(const std::string& text) {
+  std::size_t used = 0;
+  double value = 0.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    fail("--max-memory: '{}' is not a size (e.g. 512M, 4G)", text);
+  }
+  std::string unit = text.substr(used);
+  if (!unit.empty() && (unit.back() == 'B' || unit.back() == 'b')) unit.pop_back();
+  if (unit.size() == 2 && (unit[1] == 'i' || unit[1] == 'I')) unit.pop_back();
+  double bytes = value;
+  if (unit.empty()) {
+  } else if (unit == "K" || unit == "k") {
+    bytes *= 1024.0;
+  } else if (unit == "M" || unit == "m") {
+    bytes *= 1024.0 * 1024.0;
+  } else if (unit == "G" || unit == "g") {
+    bytes *= 1024.0 * 1024.0 * 1024.0;
+  } else if (unit == "T" || unit == "t") {
+    bytes *= 1024.0 * 1024.0 * 1024.0 * 1024.0;
+  } else {
+    fail("--max-memory: unknown unit in '{}' (use K, M, G or T)", text);
+  }
+  if (!(bytes > 0.0) || !std::isfinite(bytes)) fail("--max-memory: must be > 0, got '{}'", text);
+  return bytes / (1024.0 * 1024.0);
+}
+
+void set_yarn_field(cloth::YarnParams& yarn, const std::string& key, const std::string& value,
+                    const std::string& where) {
+  for (const auto& f : cloth::yarn_fields()) {
+    if (key != f.name) continue;
+    std::size_t used = 0;
+    double v = 0.0;
+    try {
+      v = std::stod(value, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != value.size()) fail("{}: '{}' is not a number", where, value);
+    if (f.integer) {
+      if (v != std::floor(v) || std::abs(v) > 1e9) fail("{}: '{}' is not an integer", where, value);
+      yarn.*(f.whole) = static_cast<int>(v);
+    } else {
+      yarn.*(f.real) = v;
+    }
+    return;
+  }
+  fail("{}: unknown yarn parameter '{}' (see weft gen --help)", where, key);
+}
+
+std::string yarn_parameter_help() {
+  std::string text =
+      "Yarn parameters (Zhao, Luan & Bala 2016), set with --set NAME=VALUE (both directions) or\n"
+      "--set warp.NAME=VALUE / weft.NAME=VALUE; lengths in mm. Cotton defaults:\n";
+  const cloth::YarnParams cotton = cloth::yarn_preset("cotton");
+  for (const auto& f : cloth::yarn_fields()) {
+    const std::string value = f.integer ? fmt::format("{}", cotton.*(f.whole)) : fmt::format("{}", cotton.*(f.real));
+    text += fmt::format("  {:<22} [{}] {} (cotton: {})\n", f.name, f.unit, f.doc, value);
+  }
+  std::string presets;
+  for (const auto& n : cloth::yarn_preset_names()) presets += (presets.empty() ? "" : ", ") + n;
+  text += "Yarn presets: " + presets + ".\n";
+  text +=
+      "Outputs in --out: cloth.vdb (grid 'density' of fibre volume fraction C, provenance as metadata),\n"
+      "fibers.vtp (fibres with yarn/ply/fiber/kind ids), yarns.bcc (centrelines), cloth.json (every\n"
+      "parameter; weft gen --config cloth.json rebuilds the same grid).";
+  return text;
+}
+
+ClothSpec make_spec(CLI::App& sub, const GenOptions& o) {
+  const auto given = [&](const char* name) { return sub.get_option(name)->count() > 0; };
+  ClothSpec spec = o.config.empty() ? cloth::default_cloth_spec() : cloth::load_cloth_spec(o.config);
+  if (o.config.empty()) {
+    // Automatic spacings follow the yarns chosen on the command line.
+    spec.warp_spacing = spec.weft_spacing = spec.crimp = 0.0;
+  }
+  if (given("--pattern")) {
+    spec.pattern = o.pattern;
+    if (!given("--spacing") && !given("--crimp")) spec.warp_spacing = spec.weft_spacing = spec.crimp = 0.0;
+  }
+  if (given("--yarns")) {
+    int a = 0;
+    int b = 0;
+    char x = 0;
+    char extra = 0;
+    if (std::sscanf(o.yarns.c_str(), "%d%c%d%c", &a, &x, &b, &extra) != 3 || (x != 'x' && x != 'X') || a < 1 || b < 1) {
+      fail("--yarns: expected WARPxWEFT with positive counts (e.g. 8x8), got '{}'", o.yarns);
+    }
+    spec.warp_count = a;
+    spec.weft_count = b;
+  }
+  if (given("--yarn")) spec.warp_yarn = spec.weft_yarn = cloth::yarn_preset(o.yarn);
+  if (given("--warp-yarn")) spec.warp_yarn = cloth::yarn_preset(o.warp_yarn);
+  if (given("--weft-yarn")) spec.weft_yarn = cloth::yarn_preset(o.weft_yarn);
+  for (const auto& kv : o.set) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos) fail("--set: expected NAME=VALUE, got '{}'", kv);
+    std::string key = kv.substr(0, eq);
+    const std::string value = kv.substr(eq + 1);
+    const std::string where = "--set " + kv;
+    if (key.rfind("warp.", 0) == 0) {
+      set_yarn_field(spec.warp_yarn, key.substr(5), value, where);
+    } else if (key.rfind("weft.", 0) == 0) {
+      set_yarn_field(spec.weft_yarn, key.substr(5), value, where);
+    } else {
+      set_yarn_field(spec.warp_yarn, key, value, where);
+      set_yarn_field(spec.weft_yarn, key, value, where);
+    }
+  }
+  if (given("--spacing")) spec.warp_spacing = spec.weft_spacing = o.spacing;
+  if (given("--warp-spacing")) spec.warp_spacing = o.warp_spacing;
+  if (given("--weft-spacing")) spec.weft_spacing = o.weft_spacing;
+  if (given("--crimp")) spec.crimp = o.crimp;
+  if (given("--input")) {
+    spec.input = fs::absolute(o.input).lexically_normal().string();
+    if (!given("--pattern")) spec.pattern = "import";
+  }
+  if (given("--input-scale")) spec.input_scale = o.input_scale;
+  if (given("--voxel-size")) spec.voxel_size = o.voxel_size;
+  if (given("--samples-per-voxel")) spec.samples_per_voxel = o.samples_per_voxel;
+  if (given("--seed")) spec.seed = o.seed;
+  if (given("--max-memory")) spec.max_memory_mb = parse_memory_mb(o.max_memory);
+  // Every parameter is checked before anything runs or is written.
+  spec = cloth::resolve(spec);
+  cloth::validate(spec);
+  return spec;
+}
+
+viz::PolylineSet fibers_as_polylines(const cloth::FiberSet& fibers) {
+  viz::PolylineSet lines;
+  lines.points = fibers.points;
+  lines.offsets = fibers.offsets;
+  lines.cell_ints["yarn"] = fibers.yarn;
+  lines.cell_ints["ply"] = fibers.ply;
+  lines.cell_ints["fiber"] = fibers.fiber;
+  auto& kind = lines.cell_ints["kind"];
+  for (auto k : fibers.kind) kind.push_back(static_cast<std::int32_t>(k));
+  lines.cell_scalars["radius"] = fibers.radius;
+  return lines;
+}
+
+const Registrar kGen{Command{
+    "gen", "Generate procedural cloth (yarns -> fibres) and voxelize it to fibre volume fraction", 10,
+    [](CLI::App& sub) -> Action {
+      auto o = std::make_shared<GenOptions>();
+      std::string patterns;
+      for (const auto& n : cloth::pattern_names()) patterns += (patterns.empty() ? "" : ", ") + n;
+      std::string presets;
+      for (const auto& n : cloth::yarn_preset_names()) presets += (presets.empty() ? "" : ", ") + n;
+      sub.add_option("--config", o->config, "cloth.json of an earlier run: rebuild it (other options override it)");
+      sub.add_option("--pattern", o->pattern,
+                     "Pattern: " + patterns + "; twill = twill22, satin = satin5, knit = stockinette (default plain)");
+      sub.add_option("--yarns", o->yarns, "Yarn counts WARPxWEFT (knit: COURSESxWALES), default 4x4");
+      sub.add_option("--spacing", o->spacing,
+                     "mm between neighbouring yarns, both directions (0 = from the yarn size)");
+      sub.add_option("--warp-spacing", o->warp_spacing, "mm between warp yarns (knit: courses); 0 = automatic");
+      sub.add_option("--weft-spacing", o->weft_spacing, "mm between weft yarns (knit: wales); 0 = automatic");
+      sub.add_option("--crimp", o->crimp,
+                     "mm, half the over/under height of the weave (knit: loop depth); 0 = automatic");
+      sub.add_option("--yarn", o->yarn, "Yarn preset of both directions: " + presets + " (default cotton)");
+      sub.add_option("--warp-yarn", o->warp_yarn, "Yarn preset of the warp (and of knit/imported yarns)");
+      sub.add_option("--weft-yarn", o->weft_yarn, "Yarn preset of the weft");
+      sub.add_option("--set", o->set,
+                     "Yarn parameter NAME=VALUE, warp.NAME=VALUE or weft.NAME=VALUE (repeatable; list below)");
+      sub.add_option("--input", o->input,
+                     "Yarn centrelines to build fibres around: .bcc (PL or C0) or .obj ('l' polylines)");
+      sub.add_option("--input-scale", o->input_scale, "Factor from the input file's units to mm")
+          ->capture_default_str();
+      sub.add_option("--voxel-size", o->voxel_size, "Voxel edge in mm")->capture_default_str();
+      sub.add_option("--samples-per-voxel", o->samples_per_voxel,
+                     "Voxelizer quadrature points per voxel edge (volume is conserved for any value)")
+          ->capture_default_str();
+      sub.add_option("--seed", o->seed, "Run seed: same seed, same cloth, whatever --threads")->capture_default_str();
+      sub.add_option("--max-memory", o->max_memory,
+                     "Refuse voxelizations estimated above this size (e.g. 512M, 4G); default half the RAM");
+      sub.add_option("--out", o->out, "Output folder (created if missing)")->capture_default_str();
+      sub.add_flag("--fibers-bcc", o->fibers_bcc, "Also write the fibres as fibers.bcc");
+      sub.footer(yarn_parameter_help());
+      CLI::App* app = &sub;
+      return [o, app](const Context& ctx) -> int {
+        const ClothSpec spec = make_spec(*app, *o);
+        const cloth::ClothBuild build = cloth::build_cloth(spec, ctx.progress);
+        const fs::path out(o->out);
+        ensure_directory(out);
+        const auto vdb = out / "cloth.vdb";
+        const auto vtp = out / "fibers.vtp";
+        const auto bcc = out / "yarns.bcc";
+        const auto json = out / "cloth.json";
+        build.grid.save(vdb);
+        viz::write_vtp(fibers_as_polylines(build.fibers), vtp);
+        cloth::write_bcc(bcc, build.centerlines.curves, "weft yarn centrelines (mm)");
+        if (o->fibers_bcc) cloth::write_bcc(out / "fibers.bcc", cloth::fiber_curves(build.fibers), "weft fibres (mm)");
+        write_text_atomically(json, cloth::cloth_spec_json(build.spec));
+        const auto& r = build.report;
+        ctx.say(fmt::format("{} cloth, {} yarns, {} fibres ({:.1f} mm of fibre), seed {}", build.spec.pattern,
+                            build.centerlines.curves.size(), r.fiber_count, build.fibers.length(), build.spec.seed));
+        ctx.say(
+            fmt::format("voxel size {} mm: {} active voxels; fibre volume {:.6g} mm^3, grid volume {:.6g} mm^3 "
+                        "(relative error {:.2e}, overlap clamped {:.3f} %)",
+                        build.spec.voxel_size, r.active_voxels, r.fiber_volume, r.grid_volume, r.relative_error,
+                        100.0 * r.overlap_fraction));
+        ctx.say(fmt::format("generated in {:.2f} s, voxelized in {:.2f} s ({:.0f} fibres/s, {:.3g} voxels/s)",
+                            r.generate_seconds, r.voxelize_seconds, r.fiber_count / std::max(r.voxelize_seconds, 1e-9),
+                            r.active_voxels / std::max(r.voxelize_seconds, 1e-9)));
+        ctx.say(fmt::format("wrote {} (grid), {} (fibres), {} (yarn centrelines), {} (parameters){}", vdb.string(),
+                            vtp.string(), bcc.string(), json.string(),
+                            o->fibers_bcc ? ", " + (out / "fibers.bcc").string() + " (fibres)" : ""));
+        return 0;
+      };
+    }}};
+
+}  // namespace
+}  // namespace weft::app

@@ -1,0 +1,346 @@
+#include "data_gen/cloth/voxelize.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include <unistd.h>
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include "weft/core/error.h"
+#include "weft/volume/grid_openvdb.h"
+
+namespace weft::cloth {
+namespace {
+
+constexpr int kLeafLog2 = 3;  // OpenVDB FloatTree leaves are 8³
+constexpr int kLeafDim = 1 << kLeafLog2;
+constexpr double kPieceVoxels = 4.0;                       // pieces are at most this many voxels long
+constexpr std::int64_t kIndexLimit = 1LL << 22;            // |voxel index| bound that keeps leaf keys in 21 bits
+constexpr std::uint64_t kLeafBytes = 512 * 4 + 64 + 96;    // values, mask, node overhead
+constexpr std::uint64_t kPieceBytes = sizeof(double) * 9;  // a, b, r, station range
+
+// A run of quadrature stations of one segment: stations k ∈ [first, last) of `count` spread
+// evenly over the whole segment a→b, so station spacing does not depend on how the segment was
+// cut into pieces.
+struct Piece {
+  std::array<double, 3> a;
+  std::array<double, 3> b;
+  double r;
+  std::uint32_t first;
+  std::uint32_t last;
+  std::uint32_t count;
+};
+
+using LeafKey = std::uint64_t;
+
+LeafKey leaf_key(std::int64_t lx, std::int64_t ly, std::int64_t lz) {
+  constexpr std::int64_t bias = 1LL << 20;
+  return (static_cast<std::uint64_t>(lx + bias) << 42U) | (static_cast<std::uint64_t>(ly + bias) << 21U) |
+         static_cast<std::uint64_t>(lz + bias);
+}
+std::array<int, 3> leaf_origin(LeafKey key) {
+  constexpr std::int64_t bias = 1LL << 20;
+  const auto unpack = [](std::uint64_t v) { return static_cast<std::int64_t>(v & ((1ULL << 21U) - 1U)) - bias; };
+  return {static_cast<int>(unpack(key >> 42U) * kLeafDim), static_cast<int>(unpack(key >> 21U) * kLeafDim),
+          static_cast<int>(unpack(key) * kLeafDim)};
+}
+
+double distance(const std::array<double, 3>& a, const std::array<double, 3>& b) {
+  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+// Stations of a segment: at most δ apart (the tiny slack keeps a length that is a whole number
+// of δ from gaining a station to rounding).
+std::uint64_t station_count(double len, double delta) {
+  return static_cast<std::uint64_t>(std::max(1.0, std::ceil(len / delta - 1e-9)));
+}
+
+// Calls visit(piece) for every piece of every fibre: each segment's stations cut into runs
+// spanning at most 4 voxels.
+template <typename Visit>
+void for_each_piece(const FiberSet& fibers, double h, double delta, Visit visit) {
+  for (std::size_t f = 0; f < fibers.size(); ++f) {
+    const double r = fibers.radius[f];
+    for (std::uint64_t i = fibers.offsets[f] + 1; i < fibers.offsets[f + 1]; ++i) {
+      const auto& a = fibers.points[i - 1];
+      const auto& b = fibers.points[i];
+      const double len = distance(a, b);
+      if (!(len > 0.0)) continue;
+      const std::uint64_t m = station_count(len, delta);
+      if (m > 0xFFFFFFFFULL) fail("fibre {}: a segment of {} mm needs too many quadrature stations", f, len);
+      const auto per_piece = static_cast<std::uint64_t>(std::max(1.0, std::floor(kPieceVoxels * h / (len / m))));
+      for (std::uint64_t k = 0; k < m; k += per_piece) {
+        visit(Piece{a, b, r, static_cast<std::uint32_t>(k), static_cast<std::uint32_t>(std::min(m, k + per_piece)),
+                    static_cast<std::uint32_t>(m)});
+      }
+    }
+  }
+}
+
+// Leaf-coordinate box of a piece's bounding box grown by its radius (and a hair more, so a
+// quadrature point rounded across the box edge still finds its leaf in the bin).
+std::array<std::int64_t, 6> leaf_box(const Piece& p, double h) {
+  std::array<std::int64_t, 6> box{};
+  const double pad = p.r + 1e-9 * h;
+  const double t0 = static_cast<double>(p.first) / p.count;
+  const double t1 = static_cast<double>(p.last) / p.count;
+  for (int c = 0; c < 3; ++c) {
+    const double e0 = p.a[c] + (p.b[c] - p.a[c]) * t0;
+    const double e1 = p.a[c] + (p.b[c] - p.a[c]) * t1;
+    const double lo = std::min(e0, e1) - pad;
+    const double hi = std::max(e0, e1) + pad;
+    box[c] = static_cast<std::int64_t>(std::floor(lo / h)) >> kLeafLog2;
+    box[c + 3] = static_cast<std::int64_t>(std::floor(hi / h)) >> kLeafLog2;
+  }
+  return box;
+}
+
+// Calls deposit(x, y, z, weight) for each quadrature point of the cylinder piece: stations at
+// slice midpoints along the axis; on each, a disc of points ~δ apart; each point weighs its
+// share of the slice volume, so the weights sum to length·πr² exactly.
+// Stations whose disc cannot reach the world box [lo, hi] are skipped (their points would land in
+// another leaf, which deposits them itself).
+template <typename Deposit>
+void quadrature(const Piece& p, double delta, const std::array<double, 3>& lo, const std::array<double, 3>& hi,
+                Deposit deposit) {
+  std::array<double, 3> d{p.b[0] - p.a[0], p.b[1] - p.a[1], p.b[2] - p.a[2]};
+  const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  for (double& v : d) v /= len;
+  // Orthonormal basis around d (Duff et al. 2017, "Building an orthonormal basis, revisited").
+  const double sign = std::copysign(1.0, d[2]);
+  const double a = -1.0 / (sign + d[2]);
+  const double bb = d[0] * d[1] * a;
+  const std::array<double, 3> u{1.0 + sign * d[0] * d[0] * a, sign * bb, -sign * d[0]};
+  const std::array<double, 3> v{bb, sign + d[1] * d[1] * a, -d[1]};
+  const double stations = p.count;
+  // Sunflower (Vogel spiral) disc: point i at radius r·√((i+½)/N), angle i·golden. Every point
+  // stands for the same area πr²/N and their local density is nearly uniform, which keeps a
+  // voxel's share close to its true overlap (a voxel fully inside a fibre gets C ≈ 1, not a
+  // noisy value that clamping would eat).
+  const auto disc =
+      static_cast<std::uint32_t>(std::max(1.0, std::ceil(std::numbers::pi * p.r * p.r / (delta * delta) - 1e-9)));
+  const double w = len / stations * std::numbers::pi * p.r * p.r / disc;
+  constexpr double golden = 2.399963229728653;  // golden angle
+  // The disc in its own plane, once per piece; stations only rotate it (no trig per point).
+  thread_local std::vector<std::array<double, 2>> pattern;
+  pattern.resize(disc);
+  for (std::uint32_t i = 0; i < disc; ++i) {
+    const double rho = p.r * std::sqrt((i + 0.5) / disc);
+    pattern[i] = {rho * std::cos(golden * i), rho * std::sin(golden * i)};
+  }
+  for (std::uint32_t s = p.first; s < p.last; ++s) {
+    const double t = (s + 0.5) / stations * len;
+    const std::array<double, 3> c{p.a[0] + d[0] * t, p.a[1] + d[1] * t, p.a[2] + d[2] * t};
+    const double reach = p.r * (1.0 + 1e-9) + 1e-12;
+    if (c[0] + reach < lo[0] || c[0] - reach > hi[0] || c[1] + reach < lo[1] || c[1] - reach > hi[1] ||
+        c[2] + reach < lo[2] || c[2] - reach > hi[2]) {
+      continue;
+    }
+    // Turn successive stations by an irrational fraction of a turn so their points interleave.
+    const double phase = 2.0 * std::numbers::pi * std::fmod(0.7548776662466927 * s, 1.0);
+    const double cp = std::cos(phase);
+    const double sp = std::sin(phase);
+    const std::array<double, 3> ru{cp * u[0] + sp * v[0], cp * u[1] + sp * v[1], cp * u[2] + sp * v[2]};
+    const std::array<double, 3> rv{cp * v[0] - sp * u[0], cp * v[1] - sp * u[1], cp * v[2] - sp * u[2]};
+    for (const auto& [x, y] : pattern) {
+      deposit(c[0] + x * ru[0] + y * rv[0], c[1] + x * ru[1] + y * rv[1], c[2] + x * ru[2] + y * rv[2], w);
+    }
+  }
+}
+
+void check_options(const VoxelizeOptions& o) {
+  require_positive("voxel_size", o.voxel_size);
+  if (o.samples_per_voxel < 1 || o.samples_per_voxel > 64) {
+    fail("samples_per_voxel must be in [1, 64], got {}", o.samples_per_voxel);
+  }
+}
+
+std::string mib(std::uint64_t bytes) {
+  return fmt::format("{:.1f} MiB", static_cast<double>(bytes) / (1024.0 * 1024.0));
+}
+
+}  // namespace
+
+std::uint64_t default_memory_budget() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES);
+  const long page = ::sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || page <= 0) return 4ULL << 30U;
+  return static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page) / 2U;
+}
+
+VoxelizeEstimate estimate_voxelize_memory(const FiberSet& fibers, const VoxelizeOptions& options) {
+  check_options(options);
+  const double h = options.voxel_size;
+  VoxelizeEstimate e;
+  // Cheap bounds first (O(segments)): the index range and the piece count, so an absurd voxel
+  // size is refused before the per-piece pass could take long.
+  std::array<double, 3> lo{1e300, 1e300, 1e300};
+  std::array<double, 3> hi{-1e300, -1e300, -1e300};
+  double max_r = 0.0;
+  double pieces = 0.0;
+  for (std::size_t f = 0; f < fibers.size(); ++f) {
+    const double r = fibers.radius[f];
+    if (!(r > 0.0) || !std::isfinite(r)) fail("fibre {}: radius must be finite and > 0, got {}", f, r);
+    max_r = std::max(max_r, r);
+    for (std::uint64_t i = fibers.offsets[f]; i < fibers.offsets[f + 1]; ++i) {
+      const auto& p = fibers.points[i];
+      for (int c = 0; c < 3; ++c) {
+        if (!std::isfinite(p[c])) fail("fibre {}: point {} is not finite", f, i - fibers.offsets[f]);
+        lo[c] = std::min(lo[c], p[c]);
+        hi[c] = std::max(hi[c], p[c]);
+      }
+      if (i > fibers.offsets[f])
+        pieces += std::max(1.0, std::ceil(distance(fibers.points[i - 1], p) / (kPieceVoxels * h)));
+    }
+  }
+  for (int c = 0; c < 3; ++c) {
+    const double a = std::floor((lo[c] - max_r) / h);
+    const double b = std::floor((hi[c] + max_r) / h);
+    if (std::abs(a) >= static_cast<double>(kIndexLimit) || std::abs(b) >= static_cast<double>(kIndexLimit)) {
+      fail("voxel_size {} mm: the fibres span voxel indices beyond ±{} on axis {}; use a larger voxel size", h,
+           kIndexLimit, "xyz"[c]);
+    }
+  }
+  const std::uint64_t budget = options.max_memory_bytes > 0 ? options.max_memory_bytes : default_memory_budget();
+  if (pieces * static_cast<double>(kPieceBytes) > static_cast<double>(budget)) {
+    fail("voxel_size {} mm: {:.3g} fibre pieces alone would exceed the memory budget of {} (--max-memory)", h, pieces,
+         mib(budget));
+  }
+  e.pieces = 0;
+  for_each_piece(fibers, h, h / options.samples_per_voxel, [&](const Piece& p) {
+    ++e.pieces;
+    const auto box = leaf_box(p, h);
+    e.bin_entries += static_cast<std::uint64_t>((box[3] - box[0] + 1) * (box[4] - box[1] + 1) * (box[5] - box[2] + 1));
+  });
+  double box_leaves = 1.0;
+  for (int c = 0; c < 3; ++c) {
+    box_leaves *= std::floor(std::floor((hi[c] + max_r) / h) / kLeafDim) -
+                  std::floor(std::floor((lo[c] - max_r) / h) / kLeafDim) + 1.0;
+  }
+  e.leaves = static_cast<std::uint64_t>(std::min(static_cast<double>(e.bin_entries), box_leaves));
+  // Pieces and bins (with the sort's scratch), leaves twice (built, then moved into the tree).
+  e.bytes = e.pieces * kPieceBytes + e.bin_entries * 2 * sizeof(std::uint64_t) * 2 + e.leaves * kLeafBytes * 2;
+  return e;
+}
+
+volume::Grid voxelize(const FiberSet& fibers, const VoxelizeOptions& options, VoxelizeReport& report,
+                      ProgressSink& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  check_options(options);
+  if (fibers.size() == 0) fail("voxelize: there are no fibres");
+  const double h = options.voxel_size;
+  const VoxelizeEstimate estimate = estimate_voxelize_memory(fibers, options);
+  const std::uint64_t budget = options.max_memory_bytes > 0 ? options.max_memory_bytes : default_memory_budget();
+  if (estimate.bytes > budget) {
+    fail(
+        "voxel_size {} mm: voxelizing would take up to {} ({} leaves of 8^3 voxels), over the memory budget of {} "
+        "(--max-memory)",
+        h, mib(estimate.bytes), estimate.leaves, mib(budget));
+  }
+
+  std::vector<Piece> pieces;
+  pieces.reserve(estimate.pieces);
+  for_each_piece(fibers, h, h / options.samples_per_voxel, [&](const Piece& p) { pieces.push_back(p); });
+
+  // Bin pieces by leaf: (leaf key, piece index) sorted, so each leaf sees its pieces in index
+  // order whatever the thread count.
+  std::vector<std::pair<LeafKey, std::uint64_t>> bins;
+  bins.reserve(estimate.bin_entries);
+  for (std::uint64_t i = 0; i < pieces.size(); ++i) {
+    const auto box = leaf_box(pieces[i], h);
+    for (std::int64_t x = box[0]; x <= box[3]; ++x) {
+      for (std::int64_t y = box[1]; y <= box[4]; ++y) {
+        for (std::int64_t z = box[2]; z <= box[5]; ++z) bins.emplace_back(leaf_key(x, y, z), i);
+      }
+    }
+  }
+  tbb::parallel_sort(bins.begin(), bins.end());
+  std::vector<std::size_t> starts;
+  for (std::size_t i = 0; i < bins.size(); ++i) {
+    if (i == 0 || bins[i].first != bins[i - 1].first) starts.push_back(i);
+  }
+  starts.push_back(bins.size());
+  const std::size_t leaf_count = starts.size() - 1;
+
+  using Leaf = openvdb::FloatTree::LeafNodeType;
+  std::vector<Leaf*> leaves(leaf_count, nullptr);
+  std::vector<double> kept(leaf_count, 0.0);
+  std::vector<double> lost(leaf_count, 0.0);
+  const double delta = h / options.samples_per_voxel;
+  const double inv_volume = 1.0 / (h * h * h);
+  const double inv_h = 1.0 / h;
+  {
+    ProgressTask task(progress, "voxelizing", leaf_count);
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, leaf_count, 16), [&](const tbb::blocked_range<std::size_t>& range) {
+          std::array<double, 512> acc{};
+          for (std::size_t l = range.begin(); l != range.end(); ++l) {
+            acc.fill(0.0);
+            const auto origin = leaf_origin(bins[starts[l]].first);
+            // World box of the leaf, padded by a hundredth of a voxel against rounding.
+            const std::array<double, 3> lo{(origin[0] - 0.01) * h, (origin[1] - 0.01) * h, (origin[2] - 0.01) * h};
+            const std::array<double, 3> hi{(origin[0] + kLeafDim + 0.01) * h, (origin[1] + kLeafDim + 0.01) * h,
+                                           (origin[2] + kLeafDim + 0.01) * h};
+            bool any = false;
+            for (std::size_t e = starts[l]; e < starts[l + 1]; ++e) {
+              quadrature(pieces[bins[e].second], delta, lo, hi, [&](double x, double y, double z, double w) {
+                const auto i = static_cast<std::int64_t>(std::floor(x * inv_h)) - origin[0];
+                const auto j = static_cast<std::int64_t>(std::floor(y * inv_h)) - origin[1];
+                const auto k = static_cast<std::int64_t>(std::floor(z * inv_h)) - origin[2];
+                if (i < 0 || j < 0 || k < 0 || i >= kLeafDim || j >= kLeafDim || k >= kLeafDim) return;
+                acc[static_cast<std::size_t>((i << 6) | (j << 3) | k)] += w;
+                any = true;
+              });
+            }
+            if (any) {
+              auto* leaf = new Leaf(openvdb::Coord(origin[0], origin[1], origin[2]), 0.0f, false);
+              double kept_volume = 0.0;
+              double lost_volume = 0.0;
+              for (std::size_t n = 0; n < acc.size(); ++n) {
+                if (acc[n] <= 0.0) continue;
+                const double c = acc[n] * inv_volume;
+                const float stored = static_cast<float>(std::min(c, 1.0));
+                leaf->setValueOn(static_cast<openvdb::Index>(n), stored);
+                kept_volume += static_cast<double>(stored);
+                if (c > 1.0) lost_volume += (c - 1.0) / inv_volume;
+              }
+              leaves[l] = leaf;
+              kept[l] = kept_volume / inv_volume;
+              lost[l] = lost_volume;
+            }
+            task.step();
+          }
+        });
+  }
+
+  volume::Grid grid(h, "density");
+  grid.set_origin({0.0, 0.0, 0.0});
+  auto& tree = grid.impl().grid->tree();
+  double grid_volume = 0.0;
+  double lost_volume = 0.0;
+  for (std::size_t l = 0; l < leaf_count; ++l) {
+    grid_volume += kept[l];
+    lost_volume += lost[l];
+    if (leaves[l] != nullptr) tree.addLeaf(leaves[l]);  // the tree takes ownership
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.fiber_volume = fibers.volume();
+  report.grid_volume = grid_volume;
+  report.relative_error = report.fiber_volume > 0.0 ? (grid_volume - report.fiber_volume) / report.fiber_volume : 0.0;
+  report.overlap_fraction = report.fiber_volume > 0.0 ? lost_volume / report.fiber_volume : 0.0;
+  report.active_voxels = grid.active_voxel_count();
+  report.fiber_count = fibers.size();
+  report.voxelize_seconds = seconds;
+  grid.set_metadata("units", "mm");
+  grid.set_metadata("value_kind", "concentration");
+  grid.set_metadata("voxel_size", fmt::format("{}", h));
+  return grid;
+}
+
+}  // namespace weft::cloth

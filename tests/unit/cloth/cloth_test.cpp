@@ -1,0 +1,117 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "data_gen/cloth/cloth.h"
+#include "weft/core/error.h"
+
+namespace weft::cloth {
+namespace {
+namespace fs = std::filesystem;
+
+ClothSpec small_spec() {
+  ClothSpec spec = default_cloth_spec();
+  spec.warp_count = 2;
+  spec.weft_count = 2;
+  spec.pattern = "twill21";
+  spec.voxel_size = 0.02;
+  spec.seed = 77;
+  return resolve(spec);
+}
+
+bool same_grid(const volume::Grid& a, const volume::Grid& b) {
+  if (a.active_voxel_count() != b.active_voxel_count() || a.voxel_size() != b.voxel_size()) return false;
+  const auto box = a.active_bbox();
+  for (int i = box.min[0]; i <= box.max[0]; ++i) {
+    for (int j = box.min[1]; j <= box.max[1]; ++j) {
+      for (int k = box.min[2]; k <= box.max[2]; ++k) {
+        if (a.value(i, j, k) != b.value(i, j, k)) return false;
+      }
+    }
+  }
+  return true;
+}
+
+TEST(Cloth, JsonRoundTripRebuildsAnIdenticalGrid) {
+  const ClothSpec spec = small_spec();
+  const ClothBuild first = build_cloth(spec, null_progress());
+  const std::string text = cloth_spec_json(first.spec);
+  const ClothSpec back = cloth_spec_from_json(text, "cloth.json");
+  EXPECT_EQ(cloth_spec_json(back), text);
+  const ClothBuild second = build_cloth(back, null_progress());
+  EXPECT_EQ(first.fibers.points, second.fibers.points);
+  EXPECT_TRUE(same_grid(first.grid, second.grid));
+  EXPECT_GT(first.grid.active_voxel_count(), 1000U);
+  // Another seed gives another cloth.
+  ClothSpec other = spec;
+  other.seed = 78;
+  EXPECT_FALSE(same_grid(first.grid, build_cloth(other, null_progress()).grid));
+}
+
+TEST(Cloth, GridCarriesProvenanceAndConservesVolume) {
+  const ClothBuild b = build_cloth(small_spec(), null_progress());
+  const auto meta = b.grid.metadata();
+  EXPECT_EQ(meta.at("units"), "mm");
+  EXPECT_EQ(meta.at("seed"), "77");
+  EXPECT_EQ(std::stod(meta.at("voxel_size")), 0.02);
+  EXPECT_EQ(cloth_spec_from_json(meta.at("generator"), "metadata").seed, 77U);
+  EXPECT_EQ(b.report.fiber_count, b.fibers.size());
+  // Σ C·h³ + clamped overlap = Σ length·πr² (the quadrature conserves volume for any h).
+  EXPECT_NEAR(b.report.grid_volume + b.report.overlap_fraction * b.report.fiber_volume, b.report.fiber_volume,
+              1e-5 * b.report.fiber_volume);
+  EXPECT_NEAR(b.grid.sum() * std::pow(0.02, 3), b.report.grid_volume, 1e-5 * b.report.grid_volume);
+}
+
+TEST(Cloth, SpecJsonRejectsBadFields) {
+  const std::string good = cloth_spec_json(small_spec());
+  const auto with = [&](const std::string& key, const nlohmann::json& value) {
+    auto j = nlohmann::json::parse(good);
+    j[key] = value;
+    return j.dump();
+  };
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {with("voxel_size", -1.0), "voxel_size"},
+      {with("warp_spacing", "wide"), "warp_spacing"},
+      {with("colour", 3), "colour"},
+      {with("warp_count", 2.5), "warp_count"},
+      {"{ not json", "not valid JSON"},
+  };
+  for (const auto& [text, expected] : cases) {
+    try {
+      cloth_spec_from_json(text, "in.json");
+      ADD_FAILURE() << text;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("in.json"), std::string::npos) << e.what();
+    }
+  }
+  auto j = nlohmann::json::parse(good);
+  j["warp_yarn"]["fiber_radius"] = -0.1;
+  EXPECT_THROW(cloth_spec_from_json(j.dump(), "in.json"), Error);
+  EXPECT_THROW(load_cloth_spec("/nonexistent/cloth.json"), Error);
+}
+
+TEST(Cloth, ImportedCurvesGetFibres) {
+  const fs::path dir = fs::temp_directory_path() / "weft_cloth_import_test";
+  fs::create_directories(dir);
+  {
+    std::ofstream out(dir / "yarn.obj");
+    out << "v 0 0 0\nv 0.3 0.05 0\nv 0.6 0 0.02\nv 0.9 -0.05 0\nl 1 2 3 4\n";
+  }
+  ClothSpec spec = small_spec();
+  spec.pattern = "import";
+  spec.input = (dir / "yarn.obj").string();
+  const ClothBuild b = build_cloth(spec, null_progress());
+  EXPECT_EQ(b.centerlines.curves.size(), 1U);
+  EXPECT_GE(b.fibers.size(), static_cast<std::size_t>(spec.warp_yarn.ply_count * spec.warp_yarn.fiber_count));
+  EXPECT_GT(b.grid.active_voxel_count(), 0U);
+  spec.input = (dir / "missing.bcc").string();
+  EXPECT_THROW(build_cloth(spec, null_progress()), Error);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace weft::cloth
