@@ -1,0 +1,167 @@
+// `weft fit`: concentration statistics of a grid → gamma laws per axis and isotropic; optional
+// least-squares fits to curves from `weft measure`; optional local statistic fields (.vdb).
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include "command.h"
+#include "weft/core/atomic_file.h"
+#include "weft/core/error.h"
+#include "weft/fit/fit.h"
+#include "weft/fit/validation.h"
+#include "weft/volume/grid.h"
+
+namespace weft::app {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+struct FitOptions {
+  std::string grid;
+  std::string grid_name;
+  std::string values = "concentration";
+  double sigma = 0.0;
+  std::string axes = "x,y,z";
+  double window = 0.0;
+  int block = 0;
+  std::string beams;
+  std::string out = "weft-out";
+};
+
+json number_or_null(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
+
+json fit_json(const fit::GammaFit& g) {
+  return {{"mean_concentration", g.mean_concentration}, {"var_concentration", g.var_concentration},
+          {"alpha", number_or_null(g.alpha)},           {"beta", number_or_null(g.beta)},
+          {"mean_extinction", g.mean_extinction()},     {"exponential_limit", g.exponential()}};
+}
+
+/// Reads the axis beams of a beams.csv written by `weft measure`, keyed by label ("+x").
+std::map<std::string, volume::TransmittanceCurve> read_beams(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) fail("{}: cannot open", path.string());
+  std::string line;
+  if (!std::getline(in, line) || line.rfind("beam,dx,dy,dz,t,T,stderr,logT", 0) != 0) {
+    fail("{}: not a beams.csv from weft measure (header 'beam,dx,dy,dz,t,T,stderr,logT')", path.string());
+  }
+  std::map<std::string, volume::TransmittanceCurve> out;
+  std::size_t row = 1;
+  while (std::getline(in, line)) {
+    ++row;
+    if (line.empty()) continue;
+    std::vector<double> f;
+    std::istringstream s(line);
+    std::string cell;
+    while (std::getline(s, cell, ',')) {
+      try {
+        std::size_t used = 0;
+        f.push_back(std::stod(cell, &used));
+        if (used != cell.size()) throw std::invalid_argument(cell);
+      } catch (const std::exception&) {
+        fail("{}:{}: '{}' is not a number", path.string(), row, cell);
+      }
+    }
+    if (f.size() != 8) fail("{}:{}: expected 8 fields, got {}", path.string(), row, f.size());
+    const std::array<double, 3> d{f[1], f[2], f[3]};
+    if (volume::beam_axis(d) < 0) continue;  // only axis beams meet window statistics
+    auto& c = out[volume::direction_label(d)];
+    c.direction = d;
+    c.depth.push_back(f[4]);
+    c.log_t.push_back(f[7]);
+    c.rel_stderr.push_back(f[5] > 0.0 ? f[6] / f[5] : 0.0);
+  }
+  return out;
+}
+
+const Registrar kFit{Command{
+    "fit", "Gamma-concentration fits (Eq. 19-20) from a grid's concentration statistics", 30,
+    [](CLI::App& sub) -> Action {
+      auto o = std::make_shared<FitOptions>();
+      sub.add_option("--grid", o->grid, "Input .vdb grid")->required();
+      sub.add_option("--grid-name", o->grid_name, "Grid to read (default: the first float grid)");
+      sub.add_option("--values", o->values, "concentration (mu = sigma*C) or extinction (mu)")
+          ->check(CLI::IsMember({"concentration", "extinction"}))
+          ->capture_default_str();
+      sub.add_option("--sigma", o->sigma, "Extinction cross-section per unit concentration [1/length] (default 1)");
+      sub.add_option("--axes", o->axes, "Axes, comma separated: x, y, z")->capture_default_str();
+      sub.add_option("--window", o->window, "Window length [length]; 0 = the grid's extent along each axis")
+          ->capture_default_str();
+      sub.add_option("--block", o->block,
+                     "Also write local fields per block of B^3 voxels to local_fields.vdb (0 = off)")
+          ->capture_default_str();
+      sub.add_option("--beams", o->beams, "beams.csv from `weft measure`: adds least-squares fits and model errors");
+      sub.add_option("--out", o->out, "Output folder")->capture_default_str();
+      return [o](const Context& ctx) -> int {
+        const bool extinction = o->values == "extinction";
+        if (extinction && o->sigma != 0.0) fail("--sigma applies to concentration values, not --values extinction");
+        if (o->sigma != 0.0) require_positive("--sigma", o->sigma);
+        const double sigma = extinction || o->sigma == 0.0 ? 1.0 : o->sigma;
+        require_non_negative("--window", o->window);
+        if (o->block < 0) fail("--block must be >= 0, got {}", o->block);
+        const auto dirs = fit::parse_axes(o->axes);
+        std::map<std::string, volume::TransmittanceCurve> measured;
+        if (!o->beams.empty()) measured = read_beams(o->beams);
+        const volume::Grid grid = volume::Grid::load(o->grid, o->grid_name);
+        if (grid.active_voxel_count() == 0) fail("{}: grid '{}' is empty (no active voxels)", o->grid, grid.name());
+
+        std::array<fit::ConcentrationStats, 3> stats;
+        for (int a = 0; a < 3; ++a)
+          stats[static_cast<std::size_t>(a)] = fit::window_stats(grid, a, o->window, ctx.progress);
+        const fit::ConcentrationStats iso = fit::pool({stats[0], stats[1], stats[2]});
+        const fit::GammaFit iso_fit = fit::gamma_from_moments(iso.mean, iso.variance, sigma);
+        json axes = json::array();
+        for (const auto& d : dirs) {
+          const int a = volume::beam_axis(d);
+          const auto& s = stats[static_cast<std::size_t>(a)];
+          const fit::GammaFit g = fit::gamma_from_moments(s.mean, s.variance, sigma);
+          const std::string label = volume::direction_label(d);
+          json j = {
+              {"axis", label},
+              {"stats", {{"mean", s.mean}, {"variance", s.variance}, {"samples", s.samples}, {"window", s.window}}},
+              {"moment", fit_json(g)}};
+          const auto it = measured.find(label);
+          if (it != measured.end()) {
+            const auto& gt = it->second;
+            const auto lsq = fit::fit_gamma_to_curve(gt, sigma, g);
+            j["least_squares"] = fit_json(lsq.fit);
+            j["least_squares"]["rms_residual_T"] = lsq.rms;
+            const auto e_gamma = fit::compare(gt, fit::log_curve(*fit::model_law(g), gt.depth));
+            const auto e_exp = fit::compare(gt, fit::log_curve(*fit::exponential_law(g), gt.depth));
+            j["rms_abs_T"] = {
+                {"gamma", e_gamma.rms_abs_t}, {"least_squares", lsq.rms}, {"exponential", e_exp.rms_abs_t}};
+          }
+          axes.push_back(j);
+          ctx.say(fmt::format("{:<3} window {:.4g}  C = {:.6g}  Var C = {:.6g}  alpha = {:.6g}  beta = {:.6g}", label,
+                              s.window, s.mean, s.variance, g.alpha, g.beta));
+        }
+        ctx.say(fmt::format("iso C = {:.6g}  Var C = {:.6g}  alpha = {:.6g}  beta = {:.6g}", iso.mean, iso.variance,
+                            iso_fit.alpha, iso_fit.beta));
+        std::optional<fit::LocalFields> fields;
+        if (o->block > 0) fields = fit::local_fields(grid, o->block, ctx.progress);
+        json report = {{"weft", "fit"},
+                       {"grid", fs::absolute(o->grid).string()},
+                       {"grid_name", grid.name()},
+                       {"values", o->values},
+                       {"sigma", sigma},
+                       {"window", o->window},
+                       {"axes", axes},
+                       {"isotropic", {{"mean", iso.mean}, {"variance", iso.variance}, {"fit", fit_json(iso_fit)}}}};
+        if (fields)
+          report["local_fields"] = {{"file", "local_fields.vdb"}, {"block", o->block}, {"blocks", fields->blocks}};
+        const fs::path out = o->out;
+        ensure_directory(out);
+        if (fields) fit::save_local_fields(*fields, out / "local_fields.vdb");
+        write_text_atomically(out / "fit.json", report.dump(2) + "\n");
+        ctx.say(fmt::format("wrote {}", (out / "fit.json").string()));
+        return 0;
+      };
+    }}};
+
+}  // namespace
+}  // namespace weft::app

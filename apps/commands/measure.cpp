@@ -1,0 +1,166 @@
+// `weft measure`: ground-truth transmittance of beams through a grid (DDA), and optionally the
+// particle-origin (T_S) vs source-origin (T_Q) rays of the reciprocity check.
+#include <chrono>
+#include <cmath>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include "command.h"
+#include "weft/core/atomic_file.h"
+#include "weft/core/error.h"
+#include "weft/volume/beam.h"
+#include "weft/volume/grid.h"
+
+namespace weft::app {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+struct MeasureOptions {
+  std::string grid;
+  std::string grid_name;
+  std::string values = "concentration";
+  double sigma = 0.0;
+  std::vector<std::string> directions{"x", "y", "z"};
+  int rays = 1;
+  bool jitter = false;
+  double depth_step = 0.0;
+  std::string method = "auto";
+  std::uint64_t seed = 1;
+  bool scatterer = false;
+  std::uint64_t scatterer_rays = 100000;
+  std::string scatterer_direction;
+  std::string out = "weft-out";
+};
+
+std::string num(double x) { return std::isfinite(x) ? fmt::format("{:.10g}", x) : (x < 0 ? "-inf" : "inf"); }
+
+const Registrar kMeasure{Command{
+    "measure", "Ground-truth transmittance of beams through a .vdb grid (Amanatides-Woo DDA)", 20,
+    [](CLI::App& sub) -> Action {
+      auto o = std::make_shared<MeasureOptions>();
+      sub.add_option("--grid", o->grid, "Input .vdb grid")->required();
+      sub.add_option("--grid-name", o->grid_name, "Grid to read (default: the first float grid)");
+      sub.add_option("--values", o->values, "concentration (mu = sigma*C) or extinction (mu)")
+          ->check(CLI::IsMember({"concentration", "extinction"}))
+          ->capture_default_str();
+      sub.add_option("--sigma", o->sigma, "Extinction cross-section per unit concentration [1/length] (default 1)");
+      sub.add_option("--direction", o->directions,
+                     "Beam direction, repeatable: x, y, z (optionally signed) or dx,dy,dz")
+          ->capture_default_str();
+      sub.add_option("--rays", o->rays, "Rays per column (> 1: jittered)")->capture_default_str();
+      sub.add_flag("--jitter", o->jitter, "Jitter ray origins inside their column cell");
+      sub.add_option("--depth-step", o->depth_step, "Depth spacing of T(t) [length] (default: one voxel)");
+      sub.add_option("--method", o->method, "auto | streaming | per-ray | openvdb")->capture_default_str();
+      sub.add_option("--seed", o->seed, "Seed of jittered and scatterer rays")->capture_default_str();
+      sub.add_flag("--scatterer", o->scatterer,
+                   "Also measure T_S (rays from particles) against p_Q (rays from uniform points)");
+      sub.add_option("--scatterer-rays", o->scatterer_rays, "Rays of each kind for --scatterer")->capture_default_str();
+      sub.add_option("--scatterer-direction", o->scatterer_direction,
+                     "Fixed direction of --scatterer rays (default: isotropic)");
+      sub.add_option("--out", o->out, "Output folder")->capture_default_str();
+      return [o](const Context& ctx) -> int {
+        const auto t_start = std::chrono::steady_clock::now();
+        const bool extinction = o->values == "extinction";
+        if (extinction && o->sigma != 0.0) fail("--sigma applies to concentration values, not --values extinction");
+        if (o->sigma != 0.0) require_positive("--sigma", o->sigma);
+        const double sigma = extinction || o->sigma == 0.0 ? 1.0 : o->sigma;
+        if (o->rays < 1) fail("--rays must be >= 1, got {}", o->rays);
+        std::vector<std::array<double, 3>> dirs;
+        for (const auto& d : o->directions) dirs.push_back(volume::parse_direction(d));
+        const auto method = volume::parse_beam_method(o->method);
+        const volume::Grid grid = volume::Grid::load(o->grid, o->grid_name);
+        if (grid.active_voxel_count() == 0) fail("{}: grid '{}' is empty (no active voxels)", o->grid, grid.name());
+
+        std::string csv = "beam,dx,dy,dz,t,T,stderr,logT\n";
+        json beams = json::array();
+        for (std::size_t b = 0; b < dirs.size(); ++b) {
+          volume::BeamSpec spec;
+          spec.direction = dirs[b];
+          spec.scale = sigma;
+          spec.rays_per_column = o->rays;
+          spec.jitter = o->jitter;
+          spec.seed = o->seed;
+          spec.depth_step = o->depth_step;
+          spec.method = method;
+          const auto t0 = std::chrono::steady_clock::now();
+          const auto curve = volume::measure_beam(grid, spec, ctx.progress);
+          const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+          for (std::size_t k = 0; k < curve.size(); ++k) {
+            csv += fmt::format("{},{},{},{},{},{},{},{}\n", b, num(curve.direction[0]), num(curve.direction[1]),
+                               num(curve.direction[2]), num(curve.depth[k]), num(curve.transmittance(k)),
+                               num(curve.stderr_abs(k)), num(curve.log_t[k]));
+          }
+          beams.push_back({{"beam", b},
+                           {"direction", volume::direction_label(curve.direction)},
+                           {"rays", curve.rays},
+                           {"method", curve.method},
+                           {"depth_max", curve.depth.back()},
+                           {"T_at_depth_max", curve.transmittance(curve.size() - 1)},
+                           {"logT_at_depth_max", curve.log_t.back()},
+                           {"seconds", secs}});
+        }
+        std::string scatterer_csv;
+        json scatterer = nullptr;
+        if (o->scatterer) {
+          volume::ScattererSpec ss;
+          ss.scale = sigma;
+          ss.rays = o->scatterer_rays;
+          ss.seed = o->seed;
+          ss.depth_step = o->depth_step;
+          if (!o->scatterer_direction.empty()) {
+            ss.fixed_direction = true;
+            ss.direction = volume::parse_direction(o->scatterer_direction);
+          }
+          const auto t0 = std::chrono::steady_clock::now();
+          const auto c = volume::measure_scatterer(grid, ss, ctx.progress);
+          scatterer_csv = "t,T_S,T_S_stderr,T_Q,T_Q_stderr,p_Q,mu_bar_T_S\n";
+          double worst = 0.0;
+          for (std::size_t k = 0; k < c.t_s.size(); ++k) {
+            scatterer_csv += fmt::format("{},{},{},{},{},{},{}\n", num(c.t_s.depth[k]), num(c.t_s.transmittance(k)),
+                                         num(c.t_s.stderr_abs(k)), num(c.t_q.transmittance(k)),
+                                         num(c.t_q.stderr_abs(k)), num(c.p_q[k]), num(c.mu_t_s[k]));
+            worst = std::max(worst, std::abs(c.p_q[k] - c.mu_t_s[k]) / std::max(c.mean_extinction, 1e-300));
+          }
+          scatterer = {{"rays", ss.rays},
+                       {"directions", ss.fixed_direction ? o->scatterer_direction : "isotropic"},
+                       {"mean_extinction", c.mean_extinction},
+                       {"max_abs_pQ_minus_mu_TS_over_mu", worst},
+                       {"seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}};
+        }
+        json report = {{"weft", "measure"},
+                       {"grid", fs::absolute(o->grid).string()},
+                       {"grid_name", grid.name()},
+                       {"values", o->values},
+                       {"sigma", sigma},
+                       {"voxel_size", grid.voxel_size()},
+                       {"active_voxels", grid.active_voxel_count()},
+                       {"seed", o->seed},
+                       {"beams", beams},
+                       {"scatterer", scatterer}};
+        const fs::path out = o->out;
+        ensure_directory(out);
+        write_text_atomically(out / "beams.csv", csv);
+        if (o->scatterer) write_text_atomically(out / "scatterer.csv", scatterer_csv);
+        report["seconds_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+        write_text_atomically(out / "measure.json", report.dump(2) + "\n");
+        for (const auto& b : beams) {
+          ctx.say(fmt::format("beam {:<24} rays {:>9}  T({:.4g}) = {:.4e} (log T = {:.4g})  {:.2f}s [{}]",
+                              b["direction"].get<std::string>(), b["rays"].get<std::uint64_t>(),
+                              b["depth_max"].get<double>(), b["T_at_depth_max"].get<double>(),
+                              b["logT_at_depth_max"].get<double>(), b["seconds"].get<double>(),
+                              b["method"].get<std::string>()));
+        }
+        if (o->scatterer) {
+          ctx.say(fmt::format("scatterer rays: max |p_Q - mu T_S|/mu = {:.3g}",
+                              scatterer["max_abs_pQ_minus_mu_TS_over_mu"].get<double>()));
+        }
+        ctx.say(fmt::format("wrote {}", (out / "beams.csv").string()));
+        return 0;
+      };
+    }}};
+
+}  // namespace
+}  // namespace weft::app

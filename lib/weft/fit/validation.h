@@ -1,0 +1,78 @@
+#pragma once
+/// @file
+/// @brief The main job as one computation (supplement Fig. S.13): beams along axes through a
+/// grid, ground truth by DDA, the gamma model from window statistics per axis, the isotropic
+/// variant, the best least-squares gamma, the exponential baseline, and their errors.
+/// Writing files and plots is the app's business; this returns value types.
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "weft/core/progress.h"
+#include "weft/fit/fit.h"
+#include "weft/volume/beam.h"
+#include "weft/volume/grid.h"
+
+namespace weft::fit {
+
+struct ValidationSpec {
+  /// Axis beams, e.g. {+x, +y, +z}; each an axis direction (either sense).
+  std::vector<std::array<double, 3>> directions{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  /// μ = sigma × value. For extinction grids pass 1 (values are then μ, "C" below is μ).
+  double sigma = 1.0;
+  /// Window length (world units) of the concentration statistics: > 0 fixed; 0 = each axis's
+  /// extent (the whole traversed depth); kCorrelationWindow = each axis's correlation length.
+  double window = kCorrelationWindow;
+  static constexpr double kCorrelationWindow = -1.0;
+  int rays_per_column = 1;
+  std::uint64_t seed = 1;
+  bool isotropic = true;
+  bool least_squares = true;
+  volume::BeamMethod method = volume::BeamMethod::automatic;
+};
+
+/// One model's curve and its errors against one axis's ground truth.
+struct ModelCurve {
+  std::string name;  ///< "gamma", "least-squares", "isotropic", "exponential"
+  std::vector<double> log_t;
+  CurveError error;
+};
+
+struct AxisValidation {
+  std::array<double, 3> direction{};
+  std::string label;  ///< "+x"
+  volume::TransmittanceCurve ground_truth;
+  ConcentrationStats stats;
+  GammaFit moment_fit;
+  LeastSquaresFit lsq_fit;
+  std::vector<ModelCurve> models;
+  double beam_seconds = 0.0;
+  double correlation_length = 0.0;  ///< along this axis (computed when the window asks for it)
+  double stats_seconds = 0.0;
+  double fit_seconds = 0.0;
+  [[nodiscard]] const ModelCurve& model(const std::string& name) const;
+};
+
+struct Validation {
+  double sigma = 1.0;
+  double voxel_size = 1.0;
+  volume::IndexBox box;
+  std::uint64_t active_voxels = 0;
+  double mean_concentration = 0.0;  ///< over the active bounding box
+  GammaFit exponential;             ///< the baseline: σ·C̄, Var ignored
+  bool has_isotropic = false;
+  ConcentrationStats isotropic_stats;
+  GammaFit isotropic_fit;
+  double isotropic_seconds = 0.0;
+  std::vector<AxisValidation> axes;
+};
+
+/// Throws weft::Error for an empty grid, non-axis directions, σ ≤ 0, or a negative window.
+[[nodiscard]] Validation validate(const volume::Grid& grid, const ValidationSpec& spec,
+                                  ProgressSink& progress = null_progress());
+
+/// Parses "x,z" / "+x,-y" into axis directions (no repeats); throws weft::Error otherwise.
+[[nodiscard]] std::vector<std::array<double, 3>> parse_axes(const std::string& text);
+
+}  // namespace weft::fit

@@ -1,0 +1,572 @@
+#include "weft/volume/beam.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include <openvdb/math/DDA.h>
+#include <openvdb/math/Ray.h>
+
+#include "weft/core/error.h"
+#include "weft/core/parallel.h"
+#include "weft/core/rng.h"
+#include "weft/volume/columns.h"
+#include "weft/volume/dda.h"
+#include "weft/volume/dda_impl.h"
+#include "weft/volume/grid_openvdb.h"
+
+namespace weft::volume {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr std::size_t kMaxShards = 64;  // fixed, so reductions do not depend on the thread count
+
+using Vec3 = std::array<double, 3>;
+
+Vec3 normalized(const Vec3& d, const char* what) {
+  for (double c : d) {
+    if (!std::isfinite(c)) fail("{}: direction ({}, {}, {}) is not finite", what, d[0], d[1], d[2]);
+  }
+  const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  if (!(len > 0.0)) fail("{}: direction ({}, {}, {}) has no length", what, d[0], d[1], d[2]);
+  return {d[0] / len, d[1] / len, d[2] / len};
+}
+
+Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/// Mean of exp(−τ_i) and of exp(−2τ_i) per depth, in log-sum-exp form: value = e^m · s.
+struct LseAccumulator {
+  std::vector<double> m;
+  std::vector<double> s1;
+  std::vector<double> s2;
+  std::uint64_t n = 0;
+
+  explicit LseAccumulator(std::size_t k = 0) : m(k, -kInf), s1(k, 0.0), s2(k, 0.0) {}
+
+  void add(const double* tau, std::uint64_t weight = 1) {
+    const auto w = static_cast<double>(weight);
+    for (std::size_t k = 0; k < m.size(); ++k) {
+      const double x = -tau[k];
+      if (x > m[k]) {
+        const double r = std::exp(m[k] - x);
+        s1[k] = s1[k] * r + w;
+        s2[k] = s2[k] * r * r + w;
+        m[k] = x;
+      } else {
+        const double e = std::exp(x - m[k]);
+        s1[k] += w * e;
+        s2[k] += w * e * e;
+      }
+    }
+    n += weight;
+  }
+
+  void merge(const LseAccumulator& o) {
+    for (std::size_t k = 0; k < m.size(); ++k) {
+      if (o.s1[k] == 0.0) continue;
+      if (s1[k] == 0.0) {
+        m[k] = o.m[k];
+        s1[k] = o.s1[k];
+        s2[k] = o.s2[k];
+        continue;
+      }
+      const double mm = std::max(m[k], o.m[k]);
+      const double ra = std::exp(m[k] - mm);
+      const double rb = std::exp(o.m[k] - mm);
+      s1[k] = s1[k] * ra + o.s1[k] * rb;
+      s2[k] = s2[k] * ra * ra + o.s2[k] * rb * rb;
+      m[k] = mm;
+    }
+    n += o.n;
+  }
+
+  void finish(TransmittanceCurve& c, std::uint64_t independent) const {
+    c.log_t.assign(m.size(), 0.0);
+    c.rel_stderr.assign(m.size(), 0.0);
+    if (n == 0) return;
+    const auto nn = static_cast<double>(n);
+    const auto ni = static_cast<double>(independent);
+    for (std::size_t k = 0; k < m.size(); ++k) {
+      c.log_t[k] = m[k] + std::log(s1[k] / nn);
+      // Var(X)/E[X]² = n·Σw²/(Σw)² − 1, scale-free so it survives underflow of T itself.
+      const double rel_var = std::max(0.0, nn * s2[k] / (s1[k] * s1[k]) - 1.0);
+      c.rel_stderr[k] = independent > 1 ? std::sqrt(rel_var / (ni - 1.0)) : 0.0;
+    }
+  }
+};
+
+/// Fills τ at increasing depths from contiguous segments (t0, t1, μ) in order.
+struct ProfileBuilder {
+  const std::vector<double>& depths;
+  double* tau;
+  std::size_t k = 0;
+  double acc = 0.0;
+  bool add(double t0, double t1, double mu) {
+    while (k < depths.size() && depths[k] <= t1) {
+      tau[k] = acc + mu * std::max(0.0, depths[k] - t0);
+      ++k;
+    }
+    acc += mu * (t1 - t0);
+    return k < depths.size();
+  }
+  void finish() {
+    for (; k < depths.size(); ++k) tau[k] = acc;
+  }
+};
+
+std::vector<double> depth_grid(double length, double step) {
+  const double n = std::ceil(length / step - 1e-9);
+  const auto count = static_cast<std::size_t>(std::max(1.0, n));
+  if (count > 50'000'000) fail("beam: depth grid of {} points is too fine", count);
+  std::vector<double> d(count + 1);
+  for (std::size_t k = 0; k <= count; ++k) d[k] = std::min(static_cast<double>(k) * step, length);
+  return d;
+}
+
+/// The rays of a beam: a lattice of cells on the plane perpendicular to the direction.
+struct Lattice {
+  Vec3 d{};
+  int axis = -1;
+  Vec3 e1{};
+  Vec3 e2{};
+  Vec3 origin{};  // world point of lattice cell (0,0)'s corner, upstream of the box
+  std::int64_t na = 0;
+  std::int64_t nb = 0;
+  int per_cell = 1;
+  bool jitter = false;
+  std::uint64_t seed = 1;
+  double h = 1.0;
+  std::vector<double> depths;
+};
+
+Lattice make_lattice(const Grid& grid, const BeamSpec& spec) {
+  Lattice L;
+  L.d = normalized(spec.direction, "beam");
+  L.axis = beam_axis(spec.direction);
+  L.h = grid.voxel_size();
+  L.per_cell = spec.rays_per_column;
+  L.jitter = spec.jitter || spec.rays_per_column > 1;
+  L.seed = spec.seed;
+  const IndexBox box = grid.active_bbox();
+  const auto o = grid.origin();
+  Vec3 lo{};
+  Vec3 hi{};
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = o[a] + L.h * box.min[a];
+    hi[a] = o[a] + L.h * (box.max[a] + 1);
+  }
+  const double step = spec.depth_step > 0.0 ? spec.depth_step : L.h;
+  if (L.axis >= 0) {
+    const int a = L.axis;
+    const int ua = (a + 1) % 3;
+    const int va = (a + 2) % 3;
+    L.e1 = {0, 0, 0};
+    L.e2 = {0, 0, 0};
+    L.e1[ua] = 1.0;
+    L.e2[va] = 1.0;
+    L.origin = lo;
+    if (L.d[a] < 0.0) L.origin[a] = hi[a];
+    L.na = box.extent()[ua];
+    L.nb = box.extent()[va];
+    L.depths = depth_grid(hi[a] - lo[a], step);
+    return L;
+  }
+  // A general direction: project the box's corners on the plane ⊥ d.
+  const Vec3 helper = std::abs(L.d[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  L.e1 = normalized(cross(L.d, helper), "beam");
+  L.e2 = cross(L.d, L.e1);
+  double amin = kInf;
+  double amax = -kInf;
+  double bmin = kInf;
+  double bmax = -kInf;
+  double cmin = kInf;
+  for (int c = 0; c < 8; ++c) {
+    const Vec3 p{(c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1], (c & 4) ? hi[2] : lo[2]};
+    amin = std::min(amin, dot(p, L.e1));
+    amax = std::max(amax, dot(p, L.e1));
+    bmin = std::min(bmin, dot(p, L.e2));
+    bmax = std::max(bmax, dot(p, L.e2));
+    cmin = std::min(cmin, dot(p, L.d));
+  }
+  const double upstream = cmin - L.h;
+  for (int a = 0; a < 3; ++a) L.origin[a] = amin * L.e1[a] + bmin * L.e2[a] + upstream * L.d[a];
+  L.na = static_cast<std::int64_t>(std::ceil((amax - amin) / L.h - 1e-9));
+  L.nb = static_cast<std::int64_t>(std::ceil((bmax - bmin) / L.h - 1e-9));
+  double chord = kInf;
+  for (int a = 0; a < 3; ++a) {
+    if (L.d[a] != 0.0) chord = std::min(chord, (hi[a] - lo[a]) / std::abs(L.d[a]));
+  }
+  L.depths = depth_grid(chord, step);
+  return L;
+}
+
+/// A ray of the lattice: starts at the box face for axis beams, upstream otherwise.
+Ray lattice_ray(const Lattice& L, std::int64_t i, std::int64_t j, double ja, double jb) {
+  Ray r;
+  const double a = (static_cast<double>(i) + ja) * L.h;
+  const double b = (static_cast<double>(j) + jb) * L.h;
+  for (int c = 0; c < 3; ++c) r.origin[c] = L.origin[c] + a * L.e1[c] + b * L.e2[c];
+  r.direction = L.d;
+  return r;
+}
+
+/// Profiles from the streaming pass (axis beams): τ at voxel boundaries by prefix sums, then
+/// linear interpolation (exact: τ is linear inside a voxel) onto the depth grid.
+template <typename Consumer>
+void stream_columns(const Grid& grid, const Lattice& L, double scale, ProgressSink& progress, Consumer&& consume) {
+  const ColumnReader reader(grid, L.axis);
+  const std::size_t units = reader.tile_count();
+  const std::size_t shards = std::min(kMaxShards, units);
+  const bool reverse = L.d[L.axis] < 0.0;
+  const IndexBox box = reader.box();
+  const int ua = (L.axis + 1) % 3;
+  const int va = (L.axis + 2) % 3;
+  const auto ext_v = static_cast<std::uint64_t>(box.extent()[va]);
+  ProgressTask task(progress, "beam " + direction_label(L.d) + " (streaming)", units);
+  parallel_units(shards, [&](std::size_t shard) {
+    ColumnTile tile;
+    std::vector<double> boundary;
+    std::vector<double> tau(L.depths.size());
+    const std::size_t begin = shard * units / shards;
+    const std::size_t end = (shard + 1) * units / shards;
+    for (std::size_t unit = begin; unit < end; ++unit) {
+      reader.read(unit, tile);
+      const int n = tile.depth;
+      boundary.assign(static_cast<std::size_t>(n) + 1, 0.0);
+      for (int iu = 0; iu < tile.nu; ++iu) {
+        for (int iv = 0; iv < tile.nv; ++iv) {
+          const float* col = tile.column(iu, iv);
+          double acc = 0.0;
+          for (int k = 0; k < n; ++k) {
+            acc += static_cast<double>(col[reverse ? n - 1 - k : k]);
+            boundary[static_cast<std::size_t>(k) + 1] = acc;
+          }
+          for (std::size_t q = 0; q < L.depths.size(); ++q) {
+            const double p = L.depths[q] / L.h;
+            const auto j = std::min<std::int64_t>(static_cast<std::int64_t>(std::floor(p)), n - 1);
+            const auto ju = static_cast<std::size_t>(j);
+            tau[q] = scale * L.h * (boundary[ju] + (p - static_cast<double>(j)) * (boundary[ju + 1] - boundary[ju]));
+          }
+          const std::uint64_t ray = static_cast<std::uint64_t>(tile.u0 + iu - box.min[ua]) * ext_v +
+                                    static_cast<std::uint64_t>(tile.v0 + iv - box.min[va]);
+          consume(shard, ray, tau.data());
+        }
+      }
+      task.step();
+    }
+  });
+}
+
+/// Profiles traced ray by ray, by weft's DDA or OpenVDB's.
+template <typename Consumer>
+void trace_rays(const Grid& grid, const Lattice& L, double scale, bool use_openvdb, ProgressSink& progress,
+                Consumer&& consume) {
+  const auto units = static_cast<std::size_t>(L.na);
+  const std::size_t shards = std::min(kMaxShards, units);
+  ProgressTask task(progress, "beam " + direction_label(L.d) + (use_openvdb ? " (openvdb dda)" : " (dda)"), units);
+  const auto& vdb = *grid.impl().grid;
+  parallel_units(shards, [&](std::size_t shard) {
+    Tracer tracer(grid);
+    auto acc = vdb.getConstAccessor();
+    const detail::CellBox box = detail::active_cell_box(vdb);
+    std::vector<double> tau(L.depths.size());
+    const std::size_t begin = shard * units / shards;
+    const std::size_t end = (shard + 1) * units / shards;
+    for (std::size_t i = begin; i < end; ++i) {
+      for (std::int64_t j = 0; j < L.nb; ++j) {
+        const auto cell =
+            static_cast<std::uint64_t>(i) * static_cast<std::uint64_t>(L.nb) + static_cast<std::uint64_t>(j);
+        Pcg32 rng = stream_for(L.seed, cell);
+        for (int r = 0; r < L.per_cell; ++r) {
+          const double ja = L.jitter ? rng.uniform() : 0.5;
+          const double jb = L.jitter ? rng.uniform() : 0.5;
+          Ray ray = lattice_ray(L, static_cast<std::int64_t>(i), j, ja, jb);
+          if (L.axis < 0) {
+            const BoxHit hit = tracer.intersect_active_box(ray, 0.0);
+            if (!hit.hit) continue;
+            for (int c = 0; c < 3; ++c) ray.origin[c] += hit.t_enter * ray.direction[c];
+          }
+          ProfileBuilder pb{L.depths, tau.data()};
+          const detail::CellRay cr = detail::to_cell_ray(vdb, ray);
+          if (!use_openvdb) {
+            detail::march_cells(acc, cr, box, 0.0, L.depths.back(),
+                                [&](double t0, double t1, float v, const std::int64_t*, int) {
+                                  return pb.add(t0, t1, scale * static_cast<double>(v));
+                                });
+          } else {
+            double t0 = 0.0;
+            double t1 = L.depths.back();
+            if (detail::clip(cr, box, t0, t1)) {
+              using VRay = openvdb::math::Ray<double>;
+              const VRay vray(openvdb::Vec3d(cr.o[0], cr.o[1], cr.o[2]), openvdb::Vec3d(cr.d[0], cr.d[1], cr.d[2]), t0,
+                              t1);
+              openvdb::math::DDA<VRay, 0> dda(vray, t0, t1);
+              do {
+                const double ta = dda.time();
+                const double tb = dda.next();
+                float v = 0.0f;
+                if (!acc.probeValue(dda.voxel(), v)) v = 0.0f;
+                if (tb > ta && !pb.add(ta, tb, scale * static_cast<double>(v))) break;
+              } while (dda.step());
+            }
+          }
+          pb.finish();
+          const std::uint64_t index = cell * static_cast<std::uint64_t>(L.per_cell) + static_cast<std::uint64_t>(r);
+          consume(shard, index, tau.data());
+        }
+      }
+      task.step();
+    }
+  });
+}
+
+void check_spec(const Grid& grid, const BeamSpec& spec) {
+  require_positive("beam: scale (sigma)", spec.scale);
+  if (spec.rays_per_column < 1) fail("beam: rays per column must be >= 1, got {}", spec.rays_per_column);
+  if (spec.depth_step != 0.0) require_positive("beam: depth step", spec.depth_step);
+  if (grid.active_voxel_count() == 0) fail("beam: grid '{}' has no active voxels", grid.name());
+  (void)normalized(spec.direction, "beam");
+  if (spec.method == BeamMethod::streaming && beam_axis(spec.direction) < 0) {
+    fail("beam: the streaming method needs an axis direction, got {}", direction_label(spec.direction));
+  }
+}
+
+template <typename Consumer>
+void run_beam(const Grid& grid, const BeamSpec& spec, const Lattice& L, ProgressSink& progress, Consumer&& consume,
+              std::string& method_name) {
+  BeamMethod method = spec.method;
+  if (method == BeamMethod::automatic) method = L.axis >= 0 ? BeamMethod::streaming : BeamMethod::per_ray;
+  method_name = to_string(method);
+  if (method == BeamMethod::streaming) {
+    stream_columns(grid, L, spec.scale, progress, consume);
+  } else {
+    trace_rays(grid, L, spec.scale, method == BeamMethod::openvdb_dda, progress, consume);
+  }
+}
+
+}  // namespace
+
+std::string to_string(BeamMethod method) {
+  switch (method) {
+    case BeamMethod::automatic:
+      return "auto";
+    case BeamMethod::streaming:
+      return "streaming";
+    case BeamMethod::per_ray:
+      return "per-ray";
+    case BeamMethod::openvdb_dda:
+      return "openvdb";
+  }
+  return "?";
+}
+
+BeamMethod parse_beam_method(const std::string& text) {
+  if (text == "auto") return BeamMethod::automatic;
+  if (text == "streaming") return BeamMethod::streaming;
+  if (text == "per-ray") return BeamMethod::per_ray;
+  if (text == "openvdb") return BeamMethod::openvdb_dda;
+  fail("beam method '{}' is not one of auto, streaming, per-ray, openvdb", text);
+}
+
+double TransmittanceCurve::transmittance(std::size_t k) const { return std::exp(log_t.at(k)); }
+
+std::array<double, 3> parse_direction(const std::string& text) {
+  std::string s = text;
+  double sign = 1.0;
+  if (!s.empty() && (s[0] == '+' || s[0] == '-') && s.size() == 2) {
+    sign = s[0] == '-' ? -1.0 : 1.0;
+    s = s.substr(1);
+  }
+  if (s == "x" || s == "X") return {sign, 0.0, 0.0};
+  if (s == "y" || s == "Y") return {0.0, sign, 0.0};
+  if (s == "z" || s == "Z") return {0.0, 0.0, sign};
+  std::array<double, 3> d{};
+  std::istringstream in(text);
+  std::string part;
+  int n = 0;
+  while (std::getline(in, part, ',')) {
+    if (n >= 3) fail("direction '{}': expected x, y, z (optionally signed) or three numbers dx,dy,dz", text);
+    try {
+      std::size_t used = 0;
+      d[static_cast<std::size_t>(n)] = std::stod(part, &used);
+      if (used != part.size()) throw std::invalid_argument(part);
+    } catch (const std::exception&) {
+      fail("direction '{}': '{}' is not a number", text, part);
+    }
+    ++n;
+  }
+  if (n != 3) fail("direction '{}': expected x, y, z (optionally signed) or three numbers dx,dy,dz", text);
+  (void)normalized(d, fmt::format("direction '{}'", text).c_str());
+  return d;
+}
+
+int beam_axis(const std::array<double, 3>& d) {
+  int axis = -1;
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] != 0.0) {
+      if (axis >= 0) return -1;
+      axis = a;
+    }
+  }
+  return axis;
+}
+
+std::string direction_label(const std::array<double, 3>& d) {
+  const int a = beam_axis(d);
+  if (a >= 0) return fmt::format("{}{}", d[a] < 0.0 ? "-" : "+", "xyz"[a]);
+  const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  return fmt::format("({:.4g}, {:.4g}, {:.4g})", d[0] / len, d[1] / len, d[2] / len);
+}
+
+TransmittanceCurve measure_beam(const Grid& grid, const BeamSpec& spec, ProgressSink& progress) {
+  check_spec(grid, spec);
+  const Lattice L = make_lattice(grid, spec);
+  const std::size_t shards = kMaxShards;
+  std::vector<LseAccumulator> parts(shards, LseAccumulator(L.depths.size()));
+  TransmittanceCurve curve;
+  run_beam(
+      grid, spec, L, progress, [&](std::size_t shard, std::uint64_t, const double* tau) { parts[shard].add(tau); },
+      curve.method);
+  LseAccumulator total(L.depths.size());
+  for (const auto& p : parts) total.merge(p);
+  curve.depth = L.depths;
+  curve.direction = L.d;
+  // Rays of one axis column cross the same voxels: they are one sample, counted once.
+  const auto per_cell = static_cast<std::uint64_t>(L.per_cell);
+  const bool streamed = curve.method == "streaming";
+  curve.rays = streamed ? total.n * per_cell : total.n;
+  const std::uint64_t independent = (L.axis >= 0 && !streamed) ? total.n / per_cell : total.n;
+  total.finish(curve, independent);
+  if (total.n == 0) fail("beam {}: no ray entered the grid", direction_label(L.d));
+  return curve;
+}
+
+BeamDepths beam_optical_depths(const Grid& grid, const BeamSpec& spec) {
+  check_spec(grid, spec);
+  const Lattice L = make_lattice(grid, spec);
+  BeamDepths out;
+  out.depth = L.depths;
+  const std::uint64_t count =
+      static_cast<std::uint64_t>(L.na) * static_cast<std::uint64_t>(L.nb) *
+      static_cast<std::uint64_t>(
+          L.axis >= 0 && spec.method != BeamMethod::per_ray && spec.method != BeamMethod::openvdb_dda ? 1 : L.per_cell);
+  if (count > 4'000'000) fail("beam optical depths: {} rays is too many to return", count);
+  out.tau.assign(count, {});
+  std::string method;
+  run_beam(
+      grid, spec, L, null_progress(),
+      [&](std::size_t, std::uint64_t ray, const double* tau) { out.tau[ray].assign(tau, tau + L.depths.size()); },
+      method);
+  // Rays of a general direction that miss the box leave empty rows.
+  std::erase_if(out.tau, [](const std::vector<double>& row) { return row.empty(); });
+  return out;
+}
+
+ScattererCurves measure_scatterer(const Grid& grid, const ScattererSpec& spec, ProgressSink& progress) {
+  require_positive("scatterer rays: scale (sigma)", spec.scale);
+  if (spec.rays < 2) fail("scatterer rays: need at least 2 rays, got {}", spec.rays);
+  if (grid.active_voxel_count() == 0) fail("scatterer rays: grid '{}' has no active voxels", grid.name());
+  const double total = grid.sum();
+  if (!(total > 0.0)) fail("scatterer rays: grid '{}' holds no particles (all values 0)", grid.name());
+  const Vec3 fixed = spec.fixed_direction ? normalized(spec.direction, "scatterer rays") : Vec3{0, 0, 1};
+  const auto& vdb = *grid.impl().grid;
+  const double h = grid.voxel_size();
+  const IndexBox box = grid.active_bbox();
+  const auto ext = box.extent();
+  const auto o = grid.origin();
+  // Cumulative weights over active voxels and tiles: origins ∝ C.
+  std::vector<openvdb::CoordBBox> cells;
+  std::vector<double> cdf;
+  double run = 0.0;
+  for (auto it = vdb.cbeginValueOn(); it; ++it) {
+    if (!(*it > 0.0f)) continue;
+    openvdb::CoordBBox b;
+    it.getBoundingBox(b);
+    run += static_cast<double>(*it) * static_cast<double>(it.getVoxelCount());
+    cells.push_back(b);
+    cdf.push_back(run);
+  }
+  double diag = 0.0;
+  for (int a = 0; a < 3; ++a) diag += std::pow(h * static_cast<double>(ext[a]), 2);
+  diag = std::sqrt(diag);
+  const double max_depth = spec.max_depth > 0.0 ? spec.max_depth : diag;
+  const std::vector<double> depths = depth_grid(max_depth, spec.depth_step > 0.0 ? spec.depth_step : h);
+  constexpr std::uint64_t kChunk = 1024;
+  const std::uint64_t units = (spec.rays + kChunk - 1) / kChunk;
+  const std::size_t shards = static_cast<std::size_t>(std::min<std::uint64_t>(kMaxShards, units));
+  std::vector<LseAccumulator> s_parts(shards, LseAccumulator(depths.size()));
+  std::vector<LseAccumulator> q_parts(shards, LseAccumulator(depths.size()));
+  ProgressTask task(progress, "scatterer/source rays", units);
+  parallel_units(shards, [&](std::size_t shard) {
+    Tracer tracer(grid);
+    std::vector<double> tau(depths.size());
+    const std::uint64_t begin = shard * units / shards;
+    const std::uint64_t end = (shard + 1) * units / shards;
+    for (std::uint64_t u = begin; u < end; ++u) {
+      Pcg32 rng = stream_for(spec.seed, u);
+      const std::uint64_t n = std::min(kChunk, spec.rays - u * kChunk);
+      for (std::uint64_t r = 0; r < n; ++r) {
+        Vec3 dir = fixed;
+        if (!spec.fixed_direction) {
+          const double z = 1.0 - 2.0 * rng.uniform();
+          const double phi = 2.0 * M_PI * rng.uniform();
+          const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
+          dir = {s * std::cos(phi), s * std::sin(phi), z};
+        }
+        // Particle origin: a cell ∝ its weight, then uniform inside it.
+        const double pick = rng.uniform() * run;
+        const auto idx = static_cast<std::size_t>(std::upper_bound(cdf.begin(), cdf.end(), pick) - cdf.begin());
+        const auto& b = cells[std::min(idx, cells.size() - 1)];
+        Ray sray;
+        for (int a = 0; a < 3; ++a) {
+          const double lo = o[a] + h * b.min()[a];
+          const double span = h * static_cast<double>(b.max()[a] - b.min()[a] + 1);
+          sray.origin[a] = lo + span * rng.uniform();
+        }
+        sray.direction = dir;
+        Ray qray;
+        for (int a = 0; a < 3; ++a)
+          qray.origin[a] = o[a] + h * (box.min[a] + static_cast<double>(ext[a]) * rng.uniform());
+        qray.direction = dir;
+        tau = tracer.optical_depth_profile(sray, depths, spec.scale);
+        s_parts[shard].add(tau.data());
+        tau = tracer.optical_depth_profile(qray, depths, spec.scale);
+        q_parts[shard].add(tau.data());
+      }
+      task.step();
+    }
+  });
+  LseAccumulator s_total(depths.size());
+  LseAccumulator q_total(depths.size());
+  for (std::size_t i = 0; i < shards; ++i) {
+    s_total.merge(s_parts[i]);
+    q_total.merge(q_parts[i]);
+  }
+  ScattererCurves out;
+  for (auto* c : {&out.t_s, &out.t_q}) {
+    c->depth = depths;
+    c->rays = spec.rays;
+    c->direction = fixed;
+    c->method = spec.fixed_direction ? "fixed direction" : "isotropic directions";
+  }
+  s_total.finish(out.t_s, s_total.n);
+  q_total.finish(out.t_q, q_total.n);
+  out.mean_extinction =
+      spec.scale * total / (static_cast<double>(ext[0]) * static_cast<double>(ext[1]) * static_cast<double>(ext[2]));
+  const std::size_t K = depths.size();
+  out.p_q.assign(K, 0.0);
+  out.mu_t_s.assign(K, 0.0);
+  for (std::size_t k = 0; k < K; ++k) {
+    const std::size_t a = k == 0 ? 0 : k - 1;
+    const std::size_t b = k + 1 < K ? k + 1 : K - 1;
+    if (b > a) out.p_q[k] = -(out.t_q.transmittance(b) - out.t_q.transmittance(a)) / (depths[b] - depths[a]);
+    out.mu_t_s[k] = out.mean_extinction * out.t_s.transmittance(k);
+  }
+  return out;
+}
+
+}  // namespace weft::volume

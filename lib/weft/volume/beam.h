@@ -1,0 +1,108 @@
+#pragma once
+/// @file
+/// @brief Ground-truth transmittance of a beam of parallel rays through a voxel grid.
+///
+/// A beam is a set of parallel rays covering the grid's active bounding box as seen from
+/// `direction`: one ray per column (a lattice cell of one voxel's width on the plane
+/// perpendicular to the beam), at the cell centre or at `rays_per_column` jittered points.
+/// Depth t is measured from where each ray enters the box. T_gt(t) = mean over rays of
+/// exp(−τ_i(t)) (design §3), accumulated with log-sum-exp so that T far below 1e−300 is still
+/// reported correctly as log T.
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "weft/core/progress.h"
+#include "weft/volume/grid.h"
+
+namespace weft::volume {
+
+/// How the rays of a beam are traced.
+enum class BeamMethod {
+  automatic,    ///< streaming for axis beams, per_ray otherwise
+  streaming,    ///< one pass over the active voxels (axis beams only)
+  per_ray,      ///< weft's hierarchical Amanatides–Woo DDA per ray (dda.h)
+  openvdb_dda,  ///< openvdb::math::DDA<Ray, 0> with a value accessor per ray (reference, slower)
+};
+
+[[nodiscard]] std::string to_string(BeamMethod method);
+/// Parses "auto" | "streaming" | "per-ray" | "openvdb"; throws weft::Error otherwise.
+[[nodiscard]] BeamMethod parse_beam_method(const std::string& text);
+
+struct BeamSpec {
+  /// World direction of travel (need not be unit). Exactly one non-zero component = axis beam.
+  std::array<double, 3> direction{0.0, 0.0, 1.0};
+  /// μ = scale × value: σ for concentration grids, 1 for extinction grids.
+  double scale = 1.0;
+  /// Rays per column; > 1 implies jitter. Axis-aligned rays of one column cross the same
+  /// voxels, so for axis beams every ray of a column has the same τ (counted once).
+  int rays_per_column = 1;
+  /// Jittered origins within each column cell instead of the centre.
+  bool jitter = false;
+  std::uint64_t seed = 1;
+  /// Depth spacing (world units); 0 means one voxel.
+  double depth_step = 0.0;
+  BeamMethod method = BeamMethod::automatic;
+};
+
+/// T(t) on a depth grid, as log T with the relative standard error of T.
+struct TransmittanceCurve {
+  std::vector<double> depth;                       ///< world distance from the entry face
+  std::vector<double> log_t;                       ///< log of the mean over rays of exp(−τ_i(t))
+  std::vector<double> rel_stderr;                  ///< standard error of that mean divided by the mean
+  std::uint64_t rays = 0;                          ///< rays that entered the box (the samples)
+  std::array<double, 3> direction{0.0, 0.0, 1.0};  ///< unit direction
+  std::string method;
+
+  [[nodiscard]] std::size_t size() const { return depth.size(); }
+  [[nodiscard]] double transmittance(std::size_t k) const;
+  [[nodiscard]] double stderr_abs(std::size_t k) const { return transmittance(k) * rel_stderr[k]; }
+};
+
+/// Parses "x", "+y", "-z" or "dx,dy,dz" (non-zero, finite); throws weft::Error otherwise.
+[[nodiscard]] std::array<double, 3> parse_direction(const std::string& text);
+/// The axis (0, 1, 2) of a direction with exactly one non-zero component, else −1.
+[[nodiscard]] int beam_axis(const std::array<double, 3>& direction);
+/// "+x", "-z", or "(0.577, 0.577, 0.577)".
+[[nodiscard]] std::string direction_label(const std::array<double, 3>& direction);
+
+/// Measures T_gt(t) of the beam. Throws weft::Error for an empty grid, a bad spec (σ ≤ 0,
+/// rays_per_column < 1, zero direction) or streaming asked for a non-axis direction.
+[[nodiscard]] TransmittanceCurve measure_beam(const Grid& grid, const BeamSpec& spec,
+                                              ProgressSink& progress = null_progress());
+
+/// The optical depth profiles τ_i(t_k) of every ray of the beam (rays in a fixed order that
+/// does not depend on the method), with the depth grid; for tests and small grids.
+struct BeamDepths {
+  std::vector<double> depth;
+  std::vector<std::vector<double>> tau;  ///< tau[ray][k]
+};
+[[nodiscard]] BeamDepths beam_optical_depths(const Grid& grid, const BeamSpec& spec);
+
+/// Particle-origin (scatterer) vs source-origin transmittance in the same grid (design §3):
+/// S rays start at points drawn ∝ value inside the box, Q rays at points drawn uniformly in
+/// the box; both in uniformly random directions (or `direction` when set). Reciprocity predicts
+/// p_Q(t) = T_S(t)/ℓ_S = μ̄·T_S(t) with μ̄ the mean extinction at Q origins (= p_Q(0)).
+struct ScattererSpec {
+  double scale = 1.0;
+  std::uint64_t rays = 100000;
+  std::uint64_t seed = 1;
+  bool fixed_direction = false;
+  std::array<double, 3> direction{0.0, 0.0, 1.0};
+  double depth_step = 0.0;  ///< 0: one voxel
+  double max_depth = 0.0;   ///< 0: the box diagonal
+};
+struct ScattererCurves {
+  TransmittanceCurve t_s;        ///< rays from particles
+  TransmittanceCurve t_q;        ///< rays from uniform points
+  std::vector<double> p_q;       ///< −dT_Q/dt (central differences)
+  std::vector<double> mu_t_s;    ///< μ̄·T_S(t), the reciprocal prediction of p_Q
+  double mean_extinction = 0.0;  ///< μ̄ over the box
+};
+[[nodiscard]] ScattererCurves measure_scatterer(const Grid& grid, const ScattererSpec& spec,
+                                                ProgressSink& progress = null_progress());
+
+}  // namespace weft::volume

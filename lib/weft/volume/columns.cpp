@@ -1,0 +1,128 @@
+#include "weft/volume/columns.h"
+
+#include <algorithm>
+
+#include "weft/core/error.h"
+#include "weft/volume/grid_openvdb.h"
+
+namespace weft::volume {
+namespace {
+constexpr int kPatch = 8;  // matches the leaf size, so a leaf falls in exactly one patch
+}
+
+struct ColumnReader::Impl {
+  openvdb::FloatGrid::ConstPtr grid;
+  int axis = 2;
+  int ua = 0;  // first transverse axis
+  int va = 1;  // second transverse axis
+  IndexBox box;
+  std::int64_t base_u = 0;
+  std::int64_t base_v = 0;
+  std::int64_t tiles_u = 0;
+  std::int64_t tiles_v = 0;
+  std::vector<std::vector<const openvdb::FloatTree::LeafNodeType*>> leaves;  // per patch
+  struct ActiveTile {
+    openvdb::CoordBBox bbox;
+    float value;
+  };
+  std::vector<ActiveTile> tiles;  // active tiles above leaf level (rare)
+};
+
+namespace {
+std::int64_t floor_div(std::int64_t a, std::int64_t b) {
+  std::int64_t q = a / b;
+  if ((a % b != 0) && ((a < 0) != (b < 0))) --q;
+  return q;
+}
+}  // namespace
+
+ColumnReader::ColumnReader(const Grid& grid, int axis) : impl_(std::make_unique<Impl>()) {
+  if (axis < 0 || axis > 2) fail("column reader: axis must be 0, 1 or 2, got {}", axis);
+  auto& m = *impl_;
+  m.grid = grid.impl().grid;
+  m.axis = axis;
+  m.ua = (axis + 1) % 3;
+  m.va = (axis + 2) % 3;
+  m.box = grid.active_bbox();
+  if (m.box.empty()) return;
+  m.base_u = floor_div(m.box.min[m.ua], kPatch) * kPatch;
+  m.base_v = floor_div(m.box.min[m.va], kPatch) * kPatch;
+  m.tiles_u = floor_div(m.box.max[m.ua] - m.base_u, kPatch) + 1;
+  m.tiles_v = floor_div(m.box.max[m.va] - m.base_v, kPatch) + 1;
+  m.leaves.resize(static_cast<std::size_t>(m.tiles_u * m.tiles_v));
+  const auto& tree = m.grid->tree();
+  for (auto it = tree.cbeginLeaf(); it; ++it) {
+    if (it->isEmpty()) continue;
+    const openvdb::Coord o = it->origin();
+    const std::int64_t tu = floor_div(o[m.ua] - m.base_u, kPatch);
+    const std::int64_t tv = floor_div(o[m.va] - m.base_v, kPatch);
+    m.leaves[static_cast<std::size_t>(tu * m.tiles_v + tv)].push_back(&*it);
+  }
+  for (auto it = tree.cbeginValueOn(); it; ++it) {
+    if (it.isVoxelValue()) continue;
+    openvdb::CoordBBox b;
+    it.getBoundingBox(b);
+    m.tiles.push_back({b, *it});
+  }
+}
+
+ColumnReader::~ColumnReader() = default;
+
+int ColumnReader::axis() const { return impl_->axis; }
+IndexBox ColumnReader::box() const { return impl_->box; }
+std::size_t ColumnReader::tile_count() const { return static_cast<std::size_t>(impl_->tiles_u * impl_->tiles_v); }
+std::uint64_t ColumnReader::column_count() const {
+  if (impl_->box.empty()) return 0;
+  const auto e = impl_->box.extent();
+  return static_cast<std::uint64_t>(e[impl_->ua] * e[impl_->va]);
+}
+
+void ColumnReader::read(std::size_t tile, ColumnTile& out) const {
+  const auto& m = *impl_;
+  if (tile >= tile_count()) fail("column reader: patch {} out of range ({} patches)", tile, tile_count());
+  const auto tu = static_cast<std::int64_t>(tile) / m.tiles_v;
+  const auto tv = static_cast<std::int64_t>(tile) % m.tiles_v;
+  const std::int64_t u0 = std::max<std::int64_t>(m.base_u + tu * kPatch, m.box.min[m.ua]);
+  const std::int64_t u1 = std::min<std::int64_t>(m.base_u + (tu + 1) * kPatch - 1, m.box.max[m.ua]);
+  const std::int64_t v0 = std::max<std::int64_t>(m.base_v + tv * kPatch, m.box.min[m.va]);
+  const std::int64_t v1 = std::min<std::int64_t>(m.base_v + (tv + 1) * kPatch - 1, m.box.max[m.va]);
+  out.axis = m.axis;
+  out.u0 = u0;
+  out.v0 = v0;
+  out.nu = static_cast<int>(u1 - u0 + 1);
+  out.nv = static_cast<int>(v1 - v0 + 1);
+  out.depth0 = m.box.min[m.axis];
+  out.depth = static_cast<int>(m.box.max[m.axis] - m.box.min[m.axis] + 1);
+  out.values.assign(
+      static_cast<std::size_t>(out.nu) * static_cast<std::size_t>(out.nv) * static_cast<std::size_t>(out.depth), 0.0f);
+  const auto put = [&](std::int64_t cu, std::int64_t cv, std::int64_t ca, float value) {
+    if (cu < u0 || cu > u1 || cv < v0 || cv > v1) return;
+    const std::size_t idx =
+        (static_cast<std::size_t>(cu - u0) * static_cast<std::size_t>(out.nv) + static_cast<std::size_t>(cv - v0)) *
+            static_cast<std::size_t>(out.depth) +
+        static_cast<std::size_t>(ca - out.depth0);
+    out.values[idx] = value;
+  };
+  for (const auto* leaf : m.leaves[tile]) {
+    for (auto it = leaf->cbeginValueOn(); it; ++it) {
+      const openvdb::Coord c = it.getCoord();
+      put(c[m.ua], c[m.va], c[m.axis], *it);
+    }
+  }
+  for (const auto& t : m.tiles) {
+    const auto& b = t.bbox;
+    const std::int64_t a0 = std::max<std::int64_t>(b.min()[m.ua], u0);
+    const std::int64_t a1 = std::min<std::int64_t>(b.max()[m.ua], u1);
+    const std::int64_t c0 = std::max<std::int64_t>(b.min()[m.va], v0);
+    const std::int64_t c1 = std::min<std::int64_t>(b.max()[m.va], v1);
+    const std::int64_t d0 = std::max<std::int64_t>(b.min()[m.axis], out.depth0);
+    const std::int64_t d1 = std::min<std::int64_t>(b.max()[m.axis], m.box.max[m.axis]);
+    for (std::int64_t cu = a0; cu <= a1; ++cu) {
+      for (std::int64_t cv = c0; cv <= c1; ++cv) {
+        for (std::int64_t ca = d0; ca <= d1; ++ca) put(cu, cv, ca, t.value);
+      }
+    }
+  }
+}
+
+}  // namespace weft::volume

@@ -1,0 +1,62 @@
+#pragma once
+/// @file
+/// @brief Streaming access to a grid as columns of voxels along one axis.
+///
+/// An axis beam crosses every voxel of the active bounding box once, so everything an axis beam
+/// or a window statistic needs is one pass over the active voxels, tile by tile: the columns of
+/// an 8×8 patch of the face, densely, along the whole depth of the box. Work units are those
+/// patches; they are independent, so callers run them in parallel and reduce in index order.
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "weft/volume/grid.h"
+
+namespace weft::volume {
+
+/// Dense values of the columns of one patch of the face perpendicular to `axis`.
+struct ColumnTile {
+  int axis = 2;
+  /// Index coordinates (on the two transverse axes (axis+1)%3 and (axis+2)%3) of the first column.
+  std::int64_t u0 = 0;
+  std::int64_t v0 = 0;
+  int nu = 0;  ///< columns along the first transverse axis
+  int nv = 0;  ///< columns along the second transverse axis
+  /// Index coordinate along `axis` of the first voxel of every column (the box's lower face).
+  std::int64_t depth0 = 0;
+  int depth = 0;  ///< voxels per column (the box's extent along `axis`)
+  /// values[(iu·nv + iv)·depth + k]: the value of voxel k of column (iu, iv); 0 where inactive.
+  std::vector<float> values;
+  [[nodiscard]] const float* column(int iu, int iv) const {
+    return values.data() +
+           (static_cast<std::size_t>(iu) * static_cast<std::size_t>(nv) + static_cast<std::size_t>(iv)) *
+               static_cast<std::size_t>(depth);
+  }
+};
+
+/// Buckets the grid's leaves and active tiles by face patch once; `read` is then thread-safe.
+class ColumnReader {
+ public:
+  /// Throws weft::Error for an axis outside 0..2. An empty grid has no tiles.
+  ColumnReader(const Grid& grid, int axis);
+  ~ColumnReader();
+  ColumnReader(const ColumnReader&) = delete;
+  ColumnReader& operator=(const ColumnReader&) = delete;
+
+  [[nodiscard]] int axis() const;
+  [[nodiscard]] IndexBox box() const;
+  /// Number of face patches (work units).
+  [[nodiscard]] std::size_t tile_count() const;
+  /// Number of columns (rays of a column-centred beam) over the whole face.
+  [[nodiscard]] std::uint64_t column_count() const;
+  /// Fills `out` with the dense columns of patch `tile` (reusing its storage).
+  void read(std::size_t tile, ColumnTile& out) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace weft::volume

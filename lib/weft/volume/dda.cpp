@@ -1,0 +1,114 @@
+#include "weft/volume/dda.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "weft/volume/dda_impl.h"
+#include "weft/volume/grid_openvdb.h"
+
+namespace weft::volume {
+
+struct Tracer::Impl {
+  openvdb::FloatGrid::ConstPtr grid;
+  detail::Accessor acc;
+  detail::CellBox box;
+  explicit Impl(openvdb::FloatGrid::ConstPtr g)
+      : grid(std::move(g)), acc(grid->getConstAccessor()), box(detail::active_cell_box(*grid)) {}
+};
+
+Tracer::Tracer(const Grid& grid) : impl_(std::make_unique<Impl>(grid.impl().grid)) {}
+Tracer::~Tracer() = default;
+Tracer::Tracer(Tracer&&) noexcept = default;
+Tracer& Tracer::operator=(Tracer&&) noexcept = default;
+
+namespace {
+void require_range(double tmin, double tmax) {
+  if (std::isnan(tmin) || std::isnan(tmax)) fail("ray: t range [{}, {}] is not a number", tmin, tmax);
+}
+}  // namespace
+
+void Tracer::march(const Ray& ray, double tmin, double tmax, const SegmentVisitor& visit) {
+  require_range(tmin, tmax);
+  const detail::CellRay r = detail::to_cell_ray(*impl_->grid, ray);
+  detail::march_cells(impl_->acc, r, impl_->box, tmin, tmax,
+                      [&](double t0, double t1, float v, const std::int64_t* cell, int size) {
+                        Segment s;
+                        s.t0 = t0;
+                        s.t1 = t1;
+                        s.value = v;
+                        s.voxel = {static_cast<int>(cell[0]), static_cast<int>(cell[1]), static_cast<int>(cell[2])};
+                        s.size = size;
+                        return visit(s);
+                      });
+}
+
+double Tracer::optical_depth(const Ray& ray, double tmin, double tmax, double scale) {
+  require_range(tmin, tmax);
+  const detail::CellRay r = detail::to_cell_ray(*impl_->grid, ray);
+  double tau = 0.0;
+  detail::march_cells(impl_->acc, r, impl_->box, tmin, tmax,
+                      [&](double t0, double t1, float v, const std::int64_t*, int) {
+                        tau += (t1 - t0) * static_cast<double>(v);
+                        return true;
+                      });
+  return tau * scale;
+}
+
+std::vector<double> Tracer::optical_depth_profile(const Ray& ray, const std::vector<double>& depths, double scale) {
+  for (std::size_t k = 0; k < depths.size(); ++k) {
+    if (!(depths[k] >= 0.0) || !std::isfinite(depths[k]) || (k > 0 && depths[k] < depths[k - 1])) {
+      fail("optical depth profile: depths must be finite, >= 0 and increasing (entry {} is {})", k, depths[k]);
+    }
+  }
+  std::vector<double> tau(depths.size(), 0.0);
+  if (depths.empty()) return tau;
+  const detail::CellRay r = detail::to_cell_ray(*impl_->grid, ray);
+  std::size_t k = 0;
+  double acc = 0.0;
+  detail::march_cells(impl_->acc, r, impl_->box, 0.0, depths.back(),
+                      [&](double t0, double t1, float v, const std::int64_t*, int) {
+                        const double mu = static_cast<double>(v);
+                        // Depths before this segment were already filled; τ is linear inside it.
+                        while (k < depths.size() && depths[k] <= t1) {
+                          tau[k] = acc + mu * std::max(0.0, depths[k] - t0);
+                          ++k;
+                        }
+                        acc += mu * (t1 - t0);
+                        return k < depths.size();
+                      });
+  for (; k < depths.size(); ++k) tau[k] = acc;
+  for (double& x : tau) x *= scale;
+  return tau;
+}
+
+BoxHit Tracer::intersect_active_box(const Ray& ray, double tmin) const {
+  const detail::CellRay r = detail::to_cell_ray(*impl_->grid, ray);
+  BoxHit hit;
+  double t0 = tmin;
+  double t1 = std::numeric_limits<double>::infinity();
+  if (detail::clip(r, impl_->box, t0, t1)) {
+    hit.hit = true;
+    hit.t_enter = t0;
+    hit.t_exit = t1;
+  }
+  return hit;
+}
+
+void march(const Grid& grid, const Ray& ray, double tmin, double tmax, const SegmentVisitor& visit) {
+  Tracer(grid).march(ray, tmin, tmax, visit);
+}
+
+double optical_depth(const Grid& grid, const Ray& ray, double tmin, double tmax, double scale) {
+  return Tracer(grid).optical_depth(ray, tmin, tmax, scale);
+}
+
+std::vector<double> optical_depth_profile(const Grid& grid, const Ray& ray, const std::vector<double>& depths,
+                                          double scale) {
+  return Tracer(grid).optical_depth_profile(ray, depths, scale);
+}
+
+BoxHit intersect_active_box(const Grid& grid, const Ray& ray, double tmin) {
+  return Tracer(grid).intersect_active_box(ray, tmin);
+}
+
+}  // namespace weft::volume

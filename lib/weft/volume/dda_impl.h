@@ -1,0 +1,191 @@
+#pragma once
+/// @file
+/// @brief The DDA kernel, templated on the visitor so hot loops inline it. Include only from
+/// .cpp files of lib/weft/volume (it includes OpenVDB).
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include <openvdb/openvdb.h>
+
+#include "weft/core/error.h"
+#include "weft/volume/dda.h"
+
+namespace weft::volume::detail {
+
+using FloatTree = openvdb::FloatTree;
+using LeafT = FloatTree::LeafNodeType;
+using Accessor = openvdb::FloatGrid::ConstAccessor;
+
+/// A ray in "cell space" u = index + ½, where voxel i covers u ∈ [i, i+1): the half-open
+/// convention makes face, edge and corner cases a matter of floor().
+struct CellRay {
+  double o[3];
+  double d[3];    ///< cell-space displacement per world unit of t
+  double inv[3];  ///< 1/d, unused where sgn = 0
+  int sgn[3];     ///< −1, 0, +1; −0.0 counts as 0
+};
+
+inline CellRay to_cell_ray(const openvdb::FloatGrid& grid, const Ray& ray) {
+  const auto& o = ray.origin;
+  const auto& d = ray.direction;
+  for (int a = 0; a < 3; ++a) {
+    if (!std::isfinite(o[a])) fail("ray: origin component {} is {}", a, o[a]);
+    if (!std::isfinite(d[a])) fail("ray: direction component {} is {}", a, d[a]);
+  }
+  const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  if (!(len > 0.0) || !std::isfinite(len)) fail("ray: direction ({}, {}, {}) has no length", d[0], d[1], d[2]);
+  const openvdb::Vec3d oi = grid.transform().worldToIndex(openvdb::Vec3d(o[0], o[1], o[2]));
+  const openvdb::Vec3d di =
+      grid.transform().baseMap()->applyInverseJacobian(openvdb::Vec3d(d[0] / len, d[1] / len, d[2] / len));
+  CellRay r{};
+  for (int a = 0; a < 3; ++a) {
+    r.o[a] = oi[a] + 0.5;
+    r.d[a] = di[a];
+    r.sgn[a] = di[a] > 0.0 ? 1 : (di[a] < 0.0 ? -1 : 0);
+    r.inv[a] = r.sgn[a] != 0 ? 1.0 / di[a] : 0.0;
+  }
+  return r;
+}
+
+/// Cell-space box of the active voxels: u ∈ [lo, hi).
+struct CellBox {
+  std::int64_t lo[3];
+  std::int64_t hi[3];
+  bool empty = true;
+};
+
+inline CellBox active_cell_box(const openvdb::FloatGrid& grid) {
+  CellBox box{};
+  if (grid.activeVoxelCount() == 0) return box;
+  const openvdb::CoordBBox b = grid.evalActiveVoxelBoundingBox();
+  for (int a = 0; a < 3; ++a) {
+    box.lo[a] = b.min()[a];
+    box.hi[a] = std::int64_t{b.max()[a]} + 1;
+  }
+  box.empty = false;
+  return box;
+}
+
+/// Slab test against the box; exact for zero direction components (no division by them).
+inline bool clip(const CellRay& r, const CellBox& box, double& t0, double& t1) {
+  if (box.empty) return false;
+  for (int a = 0; a < 3; ++a) {
+    const auto lo = static_cast<double>(box.lo[a]);
+    const auto hi = static_cast<double>(box.hi[a]);
+    if (r.sgn[a] == 0) {
+      if (!(r.o[a] >= lo && r.o[a] < hi)) return false;
+      continue;
+    }
+    double ta = (lo - r.o[a]) * r.inv[a];
+    double tb = (hi - r.o[a]) * r.inv[a];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  return t0 < t1;
+}
+
+/// The cell containing the ray just after parameter t on axis a (the cell being entered).
+inline std::int64_t cell_at(const CellRay& r, int a, double t) {
+  const double p = r.o[a] + r.d[a] * t;
+  if (r.sgn[a] < 0) return static_cast<std::int64_t>(std::ceil(p)) - 1;
+  return static_cast<std::int64_t>(std::floor(p));
+}
+
+/// Amanatides–Woo traversal over [t0, t1] (world distances) with hierarchical skipping.
+/// `visit(t0, t1, value, lowest voxel, size)` returns false to stop. Inactive voxels have value 0.
+template <typename Visit>
+void march_cells(Accessor& acc, const CellRay& r, const CellBox& box, double t0, double t1, Visit&& visit) {
+  if (!clip(r, box, t0, t1)) return;
+  std::int64_t cell[3];
+  for (int a = 0; a < 3; ++a) {
+    cell[a] = cell_at(r, a, t0);
+    if (r.sgn[a] != 0) cell[a] = std::clamp(cell[a], box.lo[a], box.hi[a] - 1);
+  }
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  // Safety net against rounding ping-pong; a correct march needs far fewer steps.
+  std::int64_t budget = 8 * ((box.hi[0] - box.lo[0]) + (box.hi[1] - box.lo[1]) + (box.hi[2] - box.lo[2])) + 64;
+  double t = t0;
+  while (t < t1 && budget-- > 0) {
+    const openvdb::Coord c(static_cast<openvdb::Int32>(cell[0]), static_cast<openvdb::Int32>(cell[1]),
+                           static_cast<openvdb::Int32>(cell[2]));
+    if (const LeafT* leaf = acc.probeConstLeaf(c)) {
+      // Voxel-by-voxel inside the leaf, reading its buffer directly.
+      const openvdb::Coord org = leaf->origin();
+      const auto* data = leaf->buffer().data();
+      const auto& mask = leaf->getValueMask();
+      for (;;) {
+        double tn[3];
+        double te = kInf;
+        for (int a = 0; a < 3; ++a) {
+          tn[a] = r.sgn[a] > 0   ? (static_cast<double>(cell[a] + 1) - r.o[a]) * r.inv[a]
+                  : r.sgn[a] < 0 ? (static_cast<double>(cell[a]) - r.o[a]) * r.inv[a]
+                                 : kInf;
+          te = std::min(te, tn[a]);
+        }
+        const double tend = std::min(te, t1);
+        if (tend > t) {
+          const openvdb::Index off = LeafT::coordToOffset(openvdb::Coord(static_cast<openvdb::Int32>(cell[0]),
+                                                                         static_cast<openvdb::Int32>(cell[1]),
+                                                                         static_cast<openvdb::Int32>(cell[2])));
+          const float v = mask.isOn(off) ? data[off] : 0.0f;
+          if (!visit(t, tend, v, cell, 1)) return;
+          t = tend;
+        }
+        if (te >= t1) return;
+        bool inside = true;
+        for (int a = 0; a < 3; ++a) {
+          if (tn[a] == te) {
+            cell[a] += r.sgn[a];
+            if (cell[a] < org[a] || cell[a] >= org[a] + static_cast<std::int64_t>(LeafT::DIM)) inside = false;
+          }
+        }
+        if (!inside) break;
+        if (--budget <= 0) return;
+      }
+      continue;
+    }
+    // A tile or empty space: constant over a block of `size`³ voxels aligned to `size`.
+    const int depth = acc.getValueDepth(c);
+    std::int64_t size = 0;
+    if (depth >= 2) {
+      size = LeafT::DIM;
+    } else if (depth == 1) {
+      size = FloatTree::RootNodeType::ChildNodeType::ChildNodeType::DIM;
+    } else {
+      size = FloatTree::RootNodeType::ChildNodeType::DIM;
+    }
+    float v = 0.0f;
+    const bool on = acc.probeValue(c, v);
+    if (!on) v = 0.0f;
+    std::int64_t blo[3];
+    double tn[3];
+    double te = kInf;
+    for (int a = 0; a < 3; ++a) {
+      blo[a] = cell[a] & ~(size - 1);
+      tn[a] = r.sgn[a] > 0   ? (static_cast<double>(blo[a] + size) - r.o[a]) * r.inv[a]
+              : r.sgn[a] < 0 ? (static_cast<double>(blo[a]) - r.o[a]) * r.inv[a]
+                             : kInf;
+      te = std::min(te, tn[a]);
+    }
+    const double tend = std::min(te, t1);
+    if (tend > t) {
+      if (!visit(t, tend, v, blo, static_cast<int>(size))) return;
+      t = tend;
+    }
+    if (te >= t1) return;
+    for (int a = 0; a < 3; ++a) {
+      if (r.sgn[a] == 0) continue;
+      if (tn[a] == te) {
+        cell[a] = r.sgn[a] > 0 ? blo[a] + size : blo[a] - 1;
+      } else {
+        cell[a] = std::clamp(cell_at(r, a, te), blo[a], blo[a] + size - 1);
+      }
+    }
+  }
+}
+
+}  // namespace weft::volume::detail

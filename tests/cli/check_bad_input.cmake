@@ -1,0 +1,22 @@
+# A command given bad input must fail with exactly one line `weft: error: ...` naming the input,
+# exit non-zero, and leave no output folder behind.
+# Usage: cmake -DWEFT=<weft> -DOUT=<folder> -DEXPECT=<regex> -DARGS="a;b;c" -P check_bad_input.cmake
+file(REMOVE_RECURSE ${OUT})
+execute_process(COMMAND ${WEFT} ${ARGS} --out ${OUT} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(rc EQUAL 0)
+  message(FATAL_ERROR "expected failure, got success: ${out}")
+endif()
+string(STRIP "${err}" err)
+string(FIND "${err}" "\n" newline)
+if(NOT newline EQUAL -1)
+  message(FATAL_ERROR "error is not one line: ${err}")
+endif()
+if(NOT err MATCHES "^weft: error: ")
+  message(FATAL_ERROR "unexpected error format: ${err}")
+endif()
+if(NOT err MATCHES "${EXPECT}")
+  message(FATAL_ERROR "error '${err}' does not match '${EXPECT}'")
+endif()
+if(EXISTS ${OUT})
+  message(FATAL_ERROR "output folder ${OUT} was created despite the error")
+endif()

@@ -1,0 +1,45 @@
+# `weft validate`, end to end on a small cloth (plots under Xvfb via scripts/test), and the bad
+# inputs every stage command refuses. Fixtures (.vdb files) come from weft_make_test_grids.
+set(WEFT_CLI_GRIDS ${CMAKE_CURRENT_BINARY_DIR}/grids)
+add_test(NAME cli.validate.fixtures
+         COMMAND ${CMAKE_COMMAND} -E make_directory ${WEFT_CLI_GRIDS})
+add_test(NAME cli.validate.make_grids COMMAND weft_make_test_grids ${WEFT_CLI_GRIDS})
+set_tests_properties(cli.validate.fixtures PROPERTIES LABELS cli FIXTURES_SETUP weft_grids_dir)
+set_tests_properties(cli.validate.make_grids PROPERTIES LABELS cli FIXTURES_SETUP weft_grids
+                     FIXTURES_REQUIRED weft_grids_dir)
+
+add_test(NAME cli.validate.small_cloth
+         COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DOUT=${CMAKE_CURRENT_BINARY_DIR}/validate_small -DPLOT=ON
+                 -P ${CMAKE_CURRENT_SOURCE_DIR}/check_validate.cmake)
+set_tests_properties(cli.validate.small_cloth PROPERTIES LABELS cli TIMEOUT 300)
+
+add_test(NAME cli.validate.user_grid
+         COMMAND weft validate --grid ${WEFT_CLI_GRIDS}/good.vdb --grid-name density --axes x,-z --sigma 20 --no-plot
+                 --out ${CMAKE_CURRENT_BINARY_DIR}/validate_grid)
+set_tests_properties(cli.validate.user_grid PROPERTIES LABELS cli FIXTURES_REQUIRED weft_grids
+                     PASS_REGULAR_EXPRESSION "[+]x .*\n-z ")
+
+# Bad input: one line, non-zero exit, no output folder.
+function(weft_bad_input name expect)
+  add_test(NAME cli.validate.bad.${name}
+           COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DOUT=${CMAKE_CURRENT_BINARY_DIR}/bad_${name}
+                   "-DEXPECT=${expect}" "-DARGS=${ARGN}" -P ${CMAKE_CURRENT_SOURCE_DIR}/check_bad_input.cmake)
+  set_tests_properties(cli.validate.bad.${name} PROPERTIES LABELS cli FIXTURES_REQUIRED weft_grids)
+endfunction()
+weft_bad_input(missing "no such file" validate --grid ${WEFT_CLI_GRIDS}/does_not_exist.vdb)
+weft_bad_input(corrupt "corrupt.vdb: cannot read OpenVDB file" validate --grid ${WEFT_CLI_GRIDS}/corrupt.vdb)
+weft_bad_input(grid_name "no grid named 'smoke'" validate --grid ${WEFT_CLI_GRIDS}/good.vdb --grid-name smoke)
+weft_bad_input(not_float "weft needs a float grid" validate --grid ${WEFT_CLI_GRIDS}/int.vdb --grid-name labels)
+weft_bad_input(no_float "holds no float grid" validate --grid ${WEFT_CLI_GRIDS}/int.vdb)
+weft_bad_input(negative "invalid value -0.5" validate --grid ${WEFT_CLI_GRIDS}/negative.vdb)
+weft_bad_input(nan "invalid value nan" validate --grid ${WEFT_CLI_GRIDS}/nan.vdb)
+weft_bad_input(stretched "non-uniform voxel size" validate --grid ${WEFT_CLI_GRIDS}/stretched.vdb)
+weft_bad_input(empty "empty" validate --grid ${WEFT_CLI_GRIDS}/empty.vdb)
+weft_bad_input(sigma "sigma" validate --grid ${WEFT_CLI_GRIDS}/good.vdb --sigma -1)
+weft_bad_input(axes "not x, y or z" validate --grid ${WEFT_CLI_GRIDS}/good.vdb --axes x,w)
+weft_bad_input(cloth_json "missing.json: no such file" validate --cloth ${WEFT_CLI_GRIDS}/missing.json)
+weft_bad_input(measure_missing "no such file" measure --grid ${WEFT_CLI_GRIDS}/does_not_exist.vdb)
+weft_bad_input(measure_empty "empty" measure --grid ${WEFT_CLI_GRIDS}/empty.vdb)
+weft_bad_input(measure_direction "direction '0,0,0'" measure --grid ${WEFT_CLI_GRIDS}/good.vdb --direction 0,0,0)
+weft_bad_input(fit_nan "invalid value nan" fit --grid ${WEFT_CLI_GRIDS}/nan.vdb)
+weft_bad_input(fit_block "--block" fit --grid ${WEFT_CLI_GRIDS}/good.vdb --block -2)

@@ -1,0 +1,237 @@
+// Moment statistics and the gamma model: degenerate cases exact, known moments reproduced,
+// least squares recovers a gamma curve, local fields per block.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "weft/core/error.h"
+#include "weft/fit/fit.h"
+#include "weft/volume/beam.h"
+#include "weft/volume/grid.h"
+
+namespace weft::fit {
+namespace {
+
+using volume::Grid;
+
+Grid box_grid(int nx, int ny, int nz, float value, double h = 1.0) {
+  Grid g(h);
+  g.set_origin({0.0, 0.0, 0.0});
+  for (int i = 0; i < nx; ++i) {
+    for (int j = 0; j < ny; ++j) {
+      for (int k = 0; k < nz; ++k) g.set_value(i, j, k, value);
+    }
+  }
+  return g;
+}
+
+volume::TransmittanceCurve beam(const Grid& g, int axis, double sigma) {
+  volume::BeamSpec spec;
+  spec.direction = {0.0, 0.0, 0.0};
+  spec.direction[static_cast<std::size_t>(axis)] = 1.0;
+  spec.scale = sigma;
+  return volume::measure_beam(g, spec);
+}
+
+TEST(Fit, UniformMediumIsExactlyExponential) {
+  const Grid g = box_grid(5, 6, 7, 0.3f, 0.1);
+  for (int axis = 0; axis < 3; ++axis) {
+    for (double window : {0.0, 0.2, 0.35}) {
+      const ConcentrationStats s = window_stats(g, axis, window);
+      EXPECT_EQ(s.variance, 0.0) << "axis " << axis << " window " << window;
+      EXPECT_DOUBLE_EQ(s.mean, static_cast<double>(0.3f));
+      const GammaFit fit = gamma_from_moments(s.mean, s.variance, 2.0);
+      EXPECT_TRUE(fit.exponential());
+      const auto law = model_law(fit);
+      EXPECT_EQ(law->name(), "exponential");
+      const auto gt = beam(g, axis, 2.0);
+      const CurveError e = compare(gt, log_curve(*law, gt.depth));
+      EXPECT_LT(e.max_abs_log_t, 1e-12);
+    }
+  }
+}
+
+TEST(Fit, ZeroConcentrationIsAVacuum) {
+  const Grid g = box_grid(3, 3, 3, 0.0f);
+  const ConcentrationStats s = window_stats(g, 2);
+  EXPECT_EQ(s.mean, 0.0);
+  EXPECT_EQ(s.variance, 0.0);
+  const GammaFit fit = gamma_from_moments(s.mean, s.variance, 5.0);
+  EXPECT_TRUE(fit.vacuum());
+  const auto law = model_law(fit);
+  for (double t : {0.0, 1.0, 1e6}) EXPECT_EQ(law->transmittance(t), 1.0);
+}
+
+TEST(Fit, OneNonZeroVoxel) {
+  // Alone, the voxel is a uniform medium: exponential with its own value.
+  Grid single(0.5);
+  single.set_value(2, -1, 4, 0.8f);
+  for (int axis = 0; axis < 3; ++axis) {
+    const ConcentrationStats s = window_stats(single, axis);
+    EXPECT_EQ(s.samples, 1U);
+    EXPECT_DOUBLE_EQ(s.mean, static_cast<double>(0.8f));
+    EXPECT_EQ(s.variance, 0.0);
+  }
+  // Inside a 3³ box of active zeros: along z the 9 columns have means v/3 once and 0 eight times.
+  Grid g = box_grid(3, 3, 3, 0.0f);
+  const double v = 0.9;
+  g.set_value(1, 1, 1, static_cast<float>(v));
+  const double vf = static_cast<double>(static_cast<float>(v));
+  const ConcentrationStats s = window_stats(g, 2);
+  EXPECT_EQ(s.samples, 9U);
+  EXPECT_NEAR(s.mean, vf / 27.0, 1e-15);
+  EXPECT_NEAR(s.variance, (vf / 3.0) * (vf / 3.0) / 9.0 - (vf / 27.0) * (vf / 27.0), 1e-15);
+  const GammaFit fit = gamma_from_moments(s.mean, s.variance, 1.0);
+  EXPECT_NEAR(fit.alpha, 1.0 / 8.0, 1e-12);  // C̄²/Var = (1/27²)/((1/81)(1/9 − 1/81)... ) = 1/8
+}
+
+TEST(Fit, WindowLargerThanTheGridIsClampedToIt) {
+  Grid g = box_grid(4, 4, 6, 0.2f, 0.25);
+  g.set_value(0, 0, 0, 0.7f);
+  const ConcentrationStats full = window_stats(g, 2);
+  const ConcentrationStats huge = window_stats(g, 2, 1e6);
+  EXPECT_EQ(huge.window_voxels, 6);
+  EXPECT_DOUBLE_EQ(huge.window, 1.5);
+  EXPECT_EQ(huge.mean, full.mean);
+  EXPECT_EQ(huge.variance, full.variance);
+  EXPECT_THROW((void)window_stats(g, 2, -1.0), Error);
+  EXPECT_THROW((void)window_stats(g, 3), Error);
+  EXPECT_THROW((void)window_stats(Grid(1.0), 0), Error);
+}
+
+TEST(Fit, SlidingWindowsOfKnownColumnsGiveKnownMoments) {
+  // One column along z with values 0,1,2,3,4,5 (×0.125): windows of 2 have means
+  // 0.5,1.5,2.5,3.5,4.5 (×0.125): mean 2.5·0.125, variance 2·0.125².
+  Grid g(1.0);
+  for (int k = 0; k < 6; ++k) g.set_value(0, 0, k, 0.125f * static_cast<float>(k));
+  const ConcentrationStats s = window_stats(g, 2, 2.0);
+  EXPECT_EQ(s.samples, 5U);
+  EXPECT_EQ(s.window_voxels, 2);
+  EXPECT_NEAR(s.mean, 2.5 * 0.125, 1e-15);
+  EXPECT_NEAR(s.variance, 2.0 * 0.125 * 0.125, 1e-15);
+  // Prefix-sum path (many long windows): windows of 4 have means 1.5, 2.5, 3.5 (×0.125).
+  Grid long_col(1.0);
+  for (int k = 0; k < 200; ++k) long_col.set_value(0, 0, k, static_cast<float>(k % 2));
+  const ConcentrationStats p = window_stats(long_col, 2, 100.0);
+  EXPECT_EQ(p.samples, 101U);
+  // Windows of 100 alternating voxels: always 50 ones.
+  EXPECT_NEAR(p.mean, 0.5, 1e-15);
+  EXPECT_NEAR(p.variance, 0.0, 1e-28);
+}
+
+TEST(Fit, CorrelationLengthOfAKnownColumn) {
+  // Runs of two: + + − − + + − − about the mean. Lag 1 has 7 pairs summing to +1 (in d²), so
+  // R(1) = 1/7 < 1/e and the 1/e crossing is at (1 − 1/e)/(1 − 1/7) voxels.
+  Grid g(0.5);
+  const float a = 0.25f;
+  const float b = 0.75f;
+  for (int k = 0; k < 8; ++k) g.set_value(0, 0, k, (k / 2) % 2 == 0 ? a : b);
+  const double expected = 0.5 * (1.0 - std::exp(-1.0)) / (1.0 - 1.0 / 7.0);
+  EXPECT_NEAR(correlation_length(g, 2), expected, 1e-12);
+  // A uniform medium has no fluctuation to correlate: the window is the whole extent.
+  EXPECT_DOUBLE_EQ(correlation_length(box_grid(3, 3, 5, 0.4f, 0.2), 2), 1.0);
+  // Layers along z are perfectly correlated along x: never decorrelates, whole extent.
+  Grid layers(1.0);
+  for (int i = 0; i < 6; ++i) {
+    for (int k = 0; k < 4; ++k) layers.set_value(i, 0, k, k % 2 == 0 ? 0.1f : 0.9f);
+  }
+  EXPECT_DOUBLE_EQ(correlation_length(layers, 0), 6.0);
+}
+
+TEST(Fit, GammaMomentsAndTheirLaw) {
+  const GammaFit g = gamma_from_moments(0.4, 0.08, 3.0);
+  EXPECT_DOUBLE_EQ(g.alpha, 2.0);
+  EXPECT_DOUBLE_EQ(g.beta, 5.0);
+  const auto law = model_law(g);
+  EXPECT_EQ(law->name(), "gamma");
+  for (double t : {0.0, 0.1, 1.0, 10.0, 1e5}) {
+    EXPECT_NEAR(law->log_transmittance(t), -2.0 * std::log1p(3.0 * t / 5.0), 1e-12 * (1 + t));
+  }
+  EXPECT_NEAR(exponential_law(g)->log_transmittance(2.0), -0.4 * 3.0 * 2.0, 1e-15);
+  EXPECT_THROW((void)gamma_from_moments(-0.1, 0.1, 1.0), Error);
+  EXPECT_THROW((void)gamma_from_moments(0.1, NAN, 1.0), Error);
+  EXPECT_THROW((void)gamma_from_moments(0.1, 0.1, 0.0), Error);
+}
+
+TEST(Fit, PoolWeighsAxesEqually) {
+  ConcentrationStats a;
+  a.mean = 0.2;
+  a.variance = 0.01;
+  ConcentrationStats b;
+  b.mean = 0.4;
+  b.variance = 0.03;
+  const ConcentrationStats p = pool({a, b});
+  EXPECT_NEAR(p.mean, 0.3, 1e-15);
+  EXPECT_NEAR(p.variance, 0.02 + 0.01, 1e-15);  // mean of variances + spread of the means
+}
+
+TEST(Fit, LeastSquaresRecoversAGammaCurve) {
+  const double sigma = 2.0;
+  const double alpha = 0.7;
+  const double beta = 3.0;
+  volume::TransmittanceCurve c;
+  for (int k = 0; k <= 60; ++k) {
+    const double t = 0.05 * k;
+    c.depth.push_back(t);
+    c.log_t.push_back(-alpha * std::log1p(sigma * t / beta));
+    c.rel_stderr.push_back(0.0);
+  }
+  const GammaFit start = gamma_from_moments(0.5, 0.5, sigma);
+  const LeastSquaresFit f = fit_gamma_to_curve(c, sigma, start);
+  EXPECT_TRUE(f.converged);
+  EXPECT_NEAR(f.fit.alpha, alpha, 1e-6);
+  EXPECT_NEAR(f.fit.beta, beta, 1e-5);
+  EXPECT_LT(f.rms, 1e-9);
+  // From a degenerate (exponential) start as well.
+  const LeastSquaresFit g = fit_gamma_to_curve(c, sigma, gamma_from_moments(0.3, 0.0, sigma));
+  EXPECT_NEAR(g.fit.alpha, alpha, 1e-5);
+}
+
+TEST(Fit, CompareMeasuresErrorsAndBias) {
+  volume::TransmittanceCurve gt;
+  gt.depth = {0.0, 1.0, 2.0};
+  gt.log_t = {0.0, -1.0, -2.0};
+  gt.rel_stderr = {0, 0, 0};
+  const CurveError e = compare(gt, {0.0, -1.5, -3.0});
+  EXPECT_NEAR(e.max_abs_log_t, 1.0, 1e-15);
+  EXPECT_NEAR(e.rms_abs_log_t, std::sqrt((0.25 + 1.0) / 3.0), 1e-15);
+  EXPECT_NEAR(e.mean_log_bias, -0.5, 1e-15);
+  EXPECT_EQ(e.below_fraction, 1.0);
+  EXPECT_NEAR(e.max_abs_t, std::exp(-1.0) - std::exp(-1.5), 1e-15);
+}
+
+TEST(Fit, LocalFieldsOfAKnownBlock) {
+  // A 2³ block: x = 0 half holds a, x = 1 half holds b. Columns along x all have mean (a+b)/2;
+  // along y and z the columns split by x: variance ((a−b)/2)².
+  Grid g(0.5);
+  const float a = 0.25f;
+  const float b = 0.75f;
+  for (int j = 0; j < 2; ++j) {
+    for (int k = 0; k < 2; ++k) {
+      g.set_value(0, j, k, a);
+      g.set_value(1, j, k, b);
+    }
+  }
+  const LocalFields f = local_fields(g, 2);
+  EXPECT_EQ(f.blocks, 1U);
+  EXPECT_DOUBLE_EQ(f.mean.voxel_size(), 1.0);
+  EXPECT_NEAR(f.mean.value(0, 0, 0), 0.5, 1e-7);
+  EXPECT_EQ(f.variance[0].value(0, 0, 0), 0.0f);
+  EXPECT_TRUE(std::isinf(f.alpha[0].value(0, 0, 0)));
+  EXPECT_NEAR(f.variance[1].value(0, 0, 0), 0.0625, 1e-7);
+  EXPECT_NEAR(f.variance[2].value(0, 0, 0), 0.0625, 1e-7);
+  EXPECT_NEAR(f.alpha[1].value(0, 0, 0), 0.25 / 0.0625, 1e-5);
+  EXPECT_NEAR(f.beta[2].value(0, 0, 0), 0.5 / 0.0625, 1e-5);
+  // The coarse grid covers the same world box as its fine block.
+  EXPECT_EQ(f.mean.origin(), g.origin());
+  const auto path = std::filesystem::temp_directory_path() / "weft_fit_local_fields_test.vdb";
+  save_local_fields(f, path);
+  const Grid back = Grid::load(path, "alpha_y");
+  EXPECT_NEAR(back.value(0, 0, 0), 4.0, 1e-5);
+  std::filesystem::remove(path);
+  EXPECT_THROW((void)local_fields(g, 0), Error);
+}
+
+}  // namespace
+}  // namespace weft::fit

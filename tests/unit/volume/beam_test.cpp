@@ -1,0 +1,243 @@
+// Beams: known column densities give exactly the known T(t); every tracing method gives the same
+// optical depths; log-space averaging survives T far below 1e−300; results ignore thread count.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "weft/core/error.h"
+#include "weft/core/parallel.h"
+#include "weft/core/rng.h"
+#include "weft/volume/beam.h"
+#include "weft/volume/grid.h"
+
+namespace weft::volume {
+namespace {
+
+/// Columns along z with uniform, known values c(i, j) over a 4×3 face and 6 voxels of depth.
+Grid known_columns(double h, double (*c)(int, int)) {
+  Grid g(h);
+  g.set_origin({0.3, -0.2, 1.1});
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      for (int k = 0; k < 6; ++k) g.set_value(i, j, k, static_cast<float>(c(i, j)));
+    }
+  }
+  return g;
+}
+
+double column_value(int i, int j) { return 0.25 * (i + 1) + 0.5 * j; }  // exactly representable in float
+
+TEST(Beam, HandBuiltColumnsGiveExactlyTheKnownTransmittance) {
+  const double h = 0.5;
+  const double sigma = 3.0;
+  const Grid g = known_columns(h, column_value);
+  for (BeamMethod method : {BeamMethod::streaming, BeamMethod::per_ray, BeamMethod::openvdb_dda}) {
+    for (double sense : {1.0, -1.0}) {
+      BeamSpec spec;
+      spec.direction = {0.0, 0.0, sense};
+      spec.scale = sigma;
+      spec.method = method;
+      const TransmittanceCurve c = measure_beam(g, spec);
+      ASSERT_EQ(c.size(), 7U);
+      EXPECT_EQ(c.rays, 12U);
+      for (std::size_t k = 0; k < c.size(); ++k) {
+        const double t = c.depth[k];
+        EXPECT_DOUBLE_EQ(t, std::min(k * h, 6 * h));
+        double mean = 0.0;
+        double mean2 = 0.0;
+        for (int i = 0; i < 4; ++i) {
+          for (int j = 0; j < 3; ++j) {
+            const double x = std::exp(-sigma * column_value(i, j) * t);
+            mean += x / 12.0;
+            mean2 += x * x / 12.0;
+          }
+        }
+        EXPECT_NEAR(c.log_t[k], std::log(mean), 1e-12) << to_string(method) << " k=" << k;
+        const double se = std::sqrt(std::max(0.0, mean2 - mean * mean) / 11.0) / mean;
+        EXPECT_NEAR(c.rel_stderr[k], se, 1e-9) << to_string(method) << " k=" << k;
+      }
+    }
+  }
+}
+
+TEST(Beam, FinerDepthStepInterpolatesExactly) {
+  const Grid g = known_columns(1.0, column_value);
+  BeamSpec spec;
+  spec.direction = {0.0, 0.0, 1.0};
+  spec.depth_step = 0.3;
+  const TransmittanceCurve c = measure_beam(g, spec);
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    double mean = 0.0;
+    for (int i = 0; i < 4; ++i) {
+      for (int j = 0; j < 3; ++j) mean += std::exp(-column_value(i, j) * c.depth[k]) / 12.0;
+    }
+    EXPECT_NEAR(c.log_t[k], std::log(mean), 1e-12);
+  }
+  EXPECT_DOUBLE_EQ(c.depth.back(), 6.0);
+}
+
+TEST(Beam, LogTransmittanceIsRightFarBelowDoubleUnderflow) {
+  // τ reaches 6·1e3·0.5·σ = 3e4: T = e^−30000 is 0 in double, log T is not.
+  Grid g(0.5);
+  for (int i = 0; i < 2; ++i) {
+    for (int k = 0; k < 6; ++k) {
+      g.set_value(i, 0, k, 1000.0f);
+    }
+  }
+  g.set_value(0, 0, 0, 1000.0f);
+  BeamSpec spec;
+  spec.direction = {0.0, 0.0, 1.0};
+  spec.scale = 10.0;
+  const TransmittanceCurve c = measure_beam(g, spec);
+  EXPECT_NEAR(c.log_t.back(), -10.0 * 1000.0 * 3.0, 1e-9 * 3e4);
+  EXPECT_EQ(c.transmittance(c.size() - 1), 0.0);
+  // Two columns with different depths of extinction: the mean is dominated by the lighter one.
+  Grid g2(1.0);
+  for (int k = 0; k < 4; ++k) {
+    g2.set_value(0, 0, k, 200.0f);
+    g2.set_value(1, 0, k, 100.0f);
+  }
+  const TransmittanceCurve c2 = measure_beam(g2, spec);
+  const double t = 4.0;
+  const double expected = std::log(0.5) + (-10.0 * 100.0 * t) + std::log1p(std::exp(-10.0 * 100.0 * t));
+  EXPECT_NEAR(c2.log_t.back(), expected, 1e-9 * std::abs(expected));
+}
+
+Grid random_sparse(std::uint64_t seed, int n, double h) {
+  Grid g(h);
+  g.set_origin({-0.7, 0.4, 2.2});
+  Pcg32 rng(seed, 3);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n + 3; ++j) {
+      for (int k = 0; k < n - 2; ++k) {
+        if (rng.uniform() < 0.3) g.set_value(i + 5, j - 9, k + 1, static_cast<float>(rng.uniform()));
+      }
+    }
+  }
+  return g;
+}
+
+TEST(Beam, StreamingPerRayAndOpenVdbDdaGiveTheSameOpticalDepths) {
+  const Grid g = random_sparse(11, 19, 0.2);
+  for (int axis = 0; axis < 3; ++axis) {
+    for (double sense : {1.0, -1.0}) {
+      BeamSpec spec;
+      spec.direction = {0.0, 0.0, 0.0};
+      spec.direction[axis] = sense;
+      spec.scale = 1.7;
+      spec.method = BeamMethod::streaming;
+      const BeamDepths a = beam_optical_depths(g, spec);
+      spec.method = BeamMethod::per_ray;
+      const BeamDepths b = beam_optical_depths(g, spec);
+      spec.method = BeamMethod::openvdb_dda;
+      const BeamDepths c = beam_optical_depths(g, spec);
+      ASSERT_EQ(a.tau.size(), b.tau.size());
+      ASSERT_EQ(a.tau.size(), c.tau.size());
+      ASSERT_GT(a.tau.size(), 100U);
+      for (std::size_t r = 0; r < a.tau.size(); ++r) {
+        for (std::size_t k = 0; k < a.depth.size(); ++k) {
+          EXPECT_NEAR(a.tau[r][k], b.tau[r][k], 1e-12 * (1 + a.tau[r][k])) << "axis " << axis << " ray " << r;
+          EXPECT_NEAR(a.tau[r][k], c.tau[r][k], 1e-12 * (1 + a.tau[r][k])) << "axis " << axis << " ray " << r;
+        }
+      }
+    }
+  }
+}
+
+TEST(Beam, ObliqueBeamMatchesIndependentPerRayOpticalDepths) {
+  const Grid g = random_sparse(5, 9, 0.5);
+  BeamSpec spec;
+  spec.direction = {0.3, -0.5, 0.8};
+  spec.rays_per_column = 2;
+  spec.seed = 9;
+  const BeamDepths both = beam_optical_depths(g, spec);
+  spec.method = BeamMethod::openvdb_dda;
+  const BeamDepths ref = beam_optical_depths(g, spec);
+  ASSERT_EQ(both.tau.size(), ref.tau.size());
+  ASSERT_GT(both.tau.size(), 50U);
+  for (std::size_t r = 0; r < both.tau.size(); ++r) {
+    for (std::size_t k = 0; k < both.depth.size(); ++k) EXPECT_NEAR(both.tau[r][k], ref.tau[r][k], 1e-10);
+  }
+  // Every ray starts at its entry point: τ(0) = 0 and τ never decreases.
+  for (const auto& row : both.tau) {
+    EXPECT_EQ(row.front(), 0.0);
+    for (std::size_t k = 1; k < row.size(); ++k) EXPECT_GE(row[k], row[k - 1]);
+  }
+  EXPECT_THROW((void)measure_beam(g, BeamSpec{{0.3, -0.5, 0.8}, 1.0, 1, false, 1, 0.0, BeamMethod::streaming}), Error);
+}
+
+TEST(Beam, ResultDoesNotDependOnThreadCount) {
+  const Grid g = random_sparse(3, 24, 0.1);
+  for (const auto& dir : {std::array<double, 3>{0, 1, 0}, std::array<double, 3>{1, 1, 0.5}}) {
+    BeamSpec spec;
+    spec.direction = dir;
+    spec.rays_per_column = 2;
+    TransmittanceCurve one;
+    TransmittanceCurve two;
+    {
+      const ThreadLimit limit(1);
+      one = measure_beam(g, spec);
+    }
+    {
+      const ThreadLimit limit(2);
+      two = measure_beam(g, spec);
+    }
+    ASSERT_EQ(one.size(), two.size());
+    for (std::size_t k = 0; k < one.size(); ++k) {
+      EXPECT_EQ(one.log_t[k], two.log_t[k]);
+      EXPECT_EQ(one.rel_stderr[k], two.rel_stderr[k]);
+    }
+  }
+}
+
+TEST(Beam, RejectsBadSpecsAndEmptyGrids) {
+  const Grid empty(1.0);
+  EXPECT_THROW((void)measure_beam(empty, BeamSpec{}), Error);
+  const Grid g = known_columns(1.0, column_value);
+  BeamSpec bad;
+  bad.scale = -1.0;
+  EXPECT_THROW((void)measure_beam(g, bad), Error);
+  bad = BeamSpec{};
+  bad.rays_per_column = 0;
+  EXPECT_THROW((void)measure_beam(g, bad), Error);
+  bad = BeamSpec{};
+  bad.direction = {0, 0, 0};
+  EXPECT_THROW((void)measure_beam(g, bad), Error);
+}
+
+TEST(Beam, ParsesDirections) {
+  EXPECT_EQ(parse_direction("x"), (std::array<double, 3>{1, 0, 0}));
+  EXPECT_EQ(parse_direction("-y"), (std::array<double, 3>{0, -1, 0}));
+  EXPECT_EQ(parse_direction("+z"), (std::array<double, 3>{0, 0, 1}));
+  EXPECT_EQ(parse_direction("1,2,3"), (std::array<double, 3>{1, 2, 3}));
+  EXPECT_EQ(beam_axis({0.0, -0.0, -2.0}), 2);
+  EXPECT_EQ(beam_axis({0.1, 0.0, -2.0}), -1);
+  for (const char* bad : {"w", "1,2", "0,0,0", "a,b,c", "1,2,3,4", "nan,0,1"}) {
+    EXPECT_THROW((void)parse_direction(bad), Error) << bad;
+  }
+}
+
+TEST(Beam, ScattererAndSourceRaysAgreeInAUniformMedium) {
+  // Origins ∝ C are uniform when C is: T_S and T_Q are the same law, so the two estimates must
+  // agree within their standard errors (5σ of the difference of independent means).
+  Grid g(1.0);
+  for (int i = 0; i < 8; ++i) {
+    for (int j = 0; j < 8; ++j) {
+      for (int k = 0; k < 8; ++k) g.set_value(i, j, k, 0.5f);
+    }
+  }
+  ScattererSpec spec;
+  spec.rays = 4000;
+  spec.seed = 4;
+  const ScattererCurves c = measure_scatterer(g, spec);
+  EXPECT_NEAR(c.mean_extinction, 0.5, 1e-12);
+  EXPECT_EQ(c.t_s.log_t.front(), 0.0);
+  for (std::size_t k = 0; k < c.t_s.size(); k += 3) {
+    const double se = std::hypot(c.t_s.stderr_abs(k), c.t_q.stderr_abs(k));
+    EXPECT_NEAR(c.t_s.transmittance(k), c.t_q.transmittance(k), 5.0 * se + 1e-12) << "k=" << k;
+  }
+}
+
+}  // namespace
+}  // namespace weft::volume

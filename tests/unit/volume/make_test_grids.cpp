@@ -1,0 +1,66 @@
+// Writes the .vdb fixtures of the CLI tests into the folder given as argv[1]: a good grid and
+// the bad inputs every command must refuse with a one-line error (empty, negative, NaN,
+// non-float, non-uniform voxel scale, corrupt).
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include <openvdb/io/File.h>
+#include <openvdb/openvdb.h>
+
+namespace {
+
+void write(const std::string& path, const openvdb::GridBase::Ptr& grid) {
+  openvdb::io::File file(path);
+  file.write({grid});
+  file.close();
+}
+
+openvdb::FloatGrid::Ptr float_grid(const std::string& name) {
+  auto g = openvdb::FloatGrid::create(0.0f);
+  g->setName(name);
+  g->setTransform(openvdb::math::Transform::createLinearTransform(0.05));
+  return g;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: %s OUTPUT_FOLDER\n", argv[0]);
+    return 2;
+  }
+  const std::string dir = argv[1];
+  openvdb::initialize();
+  // good.vdb: layered slab with holes, 24×20×10 voxels: non-exponential on every axis.
+  auto good = float_grid("density");
+  auto acc = good->getAccessor();
+  for (int i = 0; i < 24; ++i) {
+    for (int j = 0; j < 20; ++j) {
+      for (int k = 0; k < 10; ++k) {
+        const bool fibre = ((i / 3 + j / 4 + k / 2) % 3) != 0;
+        acc.setValue(openvdb::Coord(i, j, k), fibre ? 0.3f + 0.05f * static_cast<float>(k % 3) : 0.0f);
+      }
+    }
+  }
+  write(dir + "/good.vdb", good);
+  auto empty = float_grid("density");
+  write(dir + "/empty.vdb", empty);
+  auto negative = float_grid("density");
+  negative->getAccessor().setValue(openvdb::Coord(1, 2, 3), -0.5f);
+  write(dir + "/negative.vdb", negative);
+  auto nan = float_grid("density");
+  nan->getAccessor().setValue(openvdb::Coord(0, 0, 0), std::nanf(""));
+  write(dir + "/nan.vdb", nan);
+  auto ints = openvdb::Int32Grid::create(0);
+  ints->setName("labels");
+  ints->getAccessor().setValue(openvdb::Coord(0, 0, 0), 3);
+  write(dir + "/int.vdb", ints);
+  auto stretched = float_grid("density");
+  stretched->transform().preScale(openvdb::Vec3d(1.0, 2.0, 1.0));
+  stretched->getAccessor().setValue(openvdb::Coord(0, 0, 0), 0.5f);
+  write(dir + "/stretched.vdb", stretched);
+  std::ofstream(dir + "/corrupt.vdb", std::ios::binary) << "this is not an OpenVDB file\n";
+  return 0;
+}
