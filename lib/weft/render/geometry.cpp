@@ -1,0 +1,199 @@
+#include "weft/render/geometry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <embree3/rtcore.h>
+
+#include "weft/core/error.h"
+
+namespace weft::render {
+
+struct Geometry::Impl {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  ~Impl() {
+    if (scene != nullptr) rtcReleaseScene(scene);
+    if (device != nullptr) rtcReleaseDevice(device);
+  }
+};
+
+namespace {
+
+int lookup(const std::map<std::string, int>& table, const std::string& name) {
+  if (name.empty()) return -1;
+  return table.at(name);
+}
+
+void add_triangles(RTCDevice device, RTCScene scene, const TriangleMesh& mesh, unsigned id) {
+  RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                        3 * sizeof(float), mesh.vertices.size()));
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
+    for (int k = 0; k < 3; ++k) v[3 * i + k] = static_cast<float>(mesh.vertices[i][k]);
+  auto* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                           3 * sizeof(unsigned), mesh.triangles.size()));
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
+    for (int k = 0; k < 3; ++k) t[3 * i + k] = mesh.triangles[i][k];
+  rtcCommitGeometry(geom);
+  rtcAttachGeometryByID(scene, geom, id);
+  rtcReleaseGeometry(geom);
+}
+
+void add_sphere(RTCDevice device, RTCScene scene, const Vec3& c, double r, unsigned id) {
+  RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+  auto* v = static_cast<float*>(
+      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
+  v[0] = static_cast<float>(c.x());
+  v[1] = static_cast<float>(c.y());
+  v[2] = static_cast<float>(c.z());
+  v[3] = static_cast<float>(r);
+  rtcCommitGeometry(geom);
+  rtcAttachGeometryByID(scene, geom, id);
+  rtcReleaseGeometry(geom);
+}
+
+RTCRay make_ray(const Vec3& o, const Vec3& d, double tmin, double tmax) {
+  RTCRay ray{};
+  ray.org_x = static_cast<float>(o.x());
+  ray.org_y = static_cast<float>(o.y());
+  ray.org_z = static_cast<float>(o.z());
+  ray.dir_x = static_cast<float>(d.x());
+  ray.dir_y = static_cast<float>(d.y());
+  ray.dir_z = static_cast<float>(d.z());
+  ray.tnear = static_cast<float>(tmin);
+  ray.tfar = std::isfinite(tmax) ? static_cast<float>(tmax) : std::numeric_limits<float>::infinity();
+  ray.mask = 0xFFFFFFFFU;
+  ray.flags = 0;
+  ray.time = 0.0f;
+  return ray;
+}
+
+}  // namespace
+
+Geometry::Geometry(const SceneDesc& scene, const std::map<std::string, int>& material_index,
+                   const std::map<std::string, int>& medium_index)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->device = rtcNewDevice("threads=0");
+  if (impl_->device == nullptr)
+    fail("Embree: cannot create a device (error {})", static_cast<int>(rtcGetDeviceError(nullptr)));
+  impl_->scene = rtcNewScene(impl_->device);
+  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 hi = -lo;
+  for (std::size_t i = 0; i < scene.shapes.size(); ++i) {
+    const ShapeDesc& d = scene.shapes[i];
+    ShapeInfo s;
+    s.kind = d.kind;
+    s.material = lookup(material_index, d.material);
+    s.null_material = s.material >= 0 && scene.materials.at(d.material).kind == MaterialKind::null;
+    s.interior = lookup(medium_index, d.interior);
+    s.exterior = lookup(medium_index, d.exterior);
+    s.emission = d.emission;
+    const auto id = static_cast<unsigned>(i);
+    switch (d.kind) {
+      case ShapeKind::sphere:
+        s.center = d.center;
+        s.radius = d.radius;
+        s.area = 4.0 * std::numbers::pi * d.radius * d.radius;
+        add_sphere(impl_->device, impl_->scene, d.center, d.radius, id);
+        lo = lo.cwiseMin(d.center - Vec3::Constant(d.radius));
+        hi = hi.cwiseMax(d.center + Vec3::Constant(d.radius));
+        break;
+      case ShapeKind::box:
+      case ShapeKind::rectangle:
+      case ShapeKind::mesh: {
+        if (d.kind == ShapeKind::box) {
+          s.mesh = box_mesh(d.min, d.max);
+        } else if (d.kind == ShapeKind::rectangle) {
+          s.mesh = rectangle_mesh(d.corner, d.edge_u, d.edge_v);
+        } else {
+          s.mesh = load_obj(d.file);
+          for (auto& v : s.mesh.vertices) v = v * d.scale + d.translate;
+        }
+        double total = 0.0;
+        for (const auto& tri : s.mesh.triangles) {
+          const Vec3& a = s.mesh.vertices[tri[0]];
+          total += 0.5 * (s.mesh.vertices[tri[1]] - a).cross(s.mesh.vertices[tri[2]] - a).norm();
+          s.area_cdf.push_back(total);
+        }
+        for (auto& c : s.area_cdf) c /= total;
+        s.area = total;
+        for (const auto& v : s.mesh.vertices) {
+          lo = lo.cwiseMin(v);
+          hi = hi.cwiseMax(v);
+        }
+        add_triangles(impl_->device, impl_->scene, s.mesh, id);
+        break;
+      }
+    }
+    shapes_.push_back(std::move(s));
+  }
+  rtcCommitScene(impl_->scene);
+  if (!shapes_.empty()) extent_ = std::max(1e-6, (hi - lo).maxCoeff());
+  if (rtcGetDeviceError(impl_->device) != RTC_ERROR_NONE) fail("Embree: scene build failed");
+}
+
+Geometry::~Geometry() = default;
+
+std::optional<SurfaceHit> Geometry::intersect(const Vec3& o, const Vec3& d, double tmin, double tmax) const {
+  if (shapes_.empty()) return std::nullopt;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh{};
+  rh.ray = make_ray(o, d, tmin, tmax);
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(impl_->scene, &context, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+  SurfaceHit hit;
+  hit.t = rh.ray.tfar;
+  hit.shape = static_cast<int>(rh.hit.geomID);
+  hit.p = o + hit.t * d;
+  const ShapeInfo& s = shapes_[static_cast<std::size_t>(hit.shape)];
+  if (s.kind == ShapeKind::sphere) {
+    hit.n = (hit.p - s.center).normalized();
+    // Snap the point onto the sphere: float hit distances drift by ~1e-7 of the scene size.
+    hit.p = s.center + s.radius * hit.n;
+  } else {
+    const auto& tri = s.mesh.triangles[rh.hit.primID];
+    const Vec3& a = s.mesh.vertices[tri[0]];
+    hit.n = (s.mesh.vertices[tri[1]] - a).cross(s.mesh.vertices[tri[2]] - a).normalized();
+  }
+  return hit;
+}
+
+bool Geometry::occluded(const Vec3& o, const Vec3& d, double tmin, double tmax) const {
+  if (shapes_.empty()) return false;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay ray = make_ray(o, d, tmin, tmax);
+  rtcOccluded1(impl_->scene, &context, &ray);
+  return ray.tfar < 0.0f;  // Embree sets tfar = -inf on a hit
+}
+
+AreaSample Geometry::sample_area(int shape, Pcg32& rng) const {
+  const ShapeInfo& s = shapes_[static_cast<std::size_t>(shape)];
+  if (s.kind == ShapeKind::sphere) {
+    const double z = 1.0 - 2.0 * rng.uniform();
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    const double phi = 2.0 * std::numbers::pi * rng.uniform();
+    const Vec3 n(r * std::cos(phi), r * std::sin(phi), z);
+    return {s.center + s.radius * n, n};
+  }
+  const double u = rng.uniform();
+  const auto it = std::upper_bound(s.area_cdf.begin(), s.area_cdf.end(), u);
+  const std::size_t index =
+      std::min<std::size_t>(static_cast<std::size_t>(it - s.area_cdf.begin()), s.area_cdf.size() - 1);
+  const auto& tri = s.mesh.triangles[index];
+  const Vec3& a = s.mesh.vertices[tri[0]];
+  const Vec3& b = s.mesh.vertices[tri[1]];
+  const Vec3& c = s.mesh.vertices[tri[2]];
+  const double su = std::sqrt(rng.uniform());
+  const double b1 = 1.0 - su;
+  const double b2 = rng.uniform() * su;
+  return {a + b1 * (b - a) + b2 * (c - a), (b - a).cross(c - a).normalized()};
+}
+
+}  // namespace weft::render

@@ -1,0 +1,71 @@
+#pragma once
+/// @file
+/// @brief The Embree side of a scene: shapes, ray queries and area sampling (internal to render;
+/// no Embree type appears here).
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "weft/core/rng.h"
+#include "weft/render/mesh.h"
+#include "weft/render/scene.h"
+
+namespace weft::render {
+
+/// A shape as the integrator sees it: indices into the scene's runtime tables.
+struct ShapeInfo {
+  ShapeKind kind = ShapeKind::sphere;
+  int material = -1;  ///< -1: emitter only (absorbs what it does not emit)
+  bool null_material = false;
+  int interior = -1;  ///< medium index, -1 = vacuum
+  int exterior = -1;
+  Rgb emission{0, 0, 0};
+  Vec3 center{0, 0, 0};
+  double radius = 0.0;
+  TriangleMesh mesh;             ///< world-space triangles (not for spheres)
+  std::vector<double> area_cdf;  ///< triangle area CDF for sampling (normalised)
+  double area = 0.0;
+};
+
+struct SurfaceHit {
+  double t = 0.0;
+  int shape = -1;
+  Vec3 p{0, 0, 0};
+  Vec3 n{0, 0, 1};  ///< unit geometric normal, outward (sphere) or by winding (meshes)
+};
+
+struct AreaSample {
+  Vec3 p;
+  Vec3 n;
+};
+
+/// Shapes in an Embree BVH. Thread-safe queries after construction.
+class Geometry {
+ public:
+  /// `material_index` / `medium_index` map names to runtime indices.
+  Geometry(const SceneDesc& scene, const std::map<std::string, int>& material_index,
+           const std::map<std::string, int>& medium_index);
+  ~Geometry();
+  Geometry(const Geometry&) = delete;
+  Geometry& operator=(const Geometry&) = delete;
+
+  /// Closest hit with t in (tmin, tmax), or none.
+  [[nodiscard]] std::optional<SurfaceHit> intersect(const Vec3& o, const Vec3& d, double tmin, double tmax) const;
+  /// Whether anything lies on the ray in (tmin, tmax).
+  [[nodiscard]] bool occluded(const Vec3& o, const Vec3& d, double tmin, double tmax) const;
+
+  [[nodiscard]] const std::vector<ShapeInfo>& shapes() const { return shapes_; }
+  /// Uniform point on a shape's surface (pdf 1/area).
+  [[nodiscard]] AreaSample sample_area(int shape, Pcg32& rng) const;
+  /// Size of the scene's bounding box (for ray offsets).
+  [[nodiscard]] double extent() const { return extent_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  std::vector<ShapeInfo> shapes_;
+  double extent_ = 1.0;
+};
+
+}  // namespace weft::render

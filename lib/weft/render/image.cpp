@@ -1,0 +1,106 @@
+#include "weft/render/image.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPNGWriter.h>
+#include <vtkUnsignedCharArray.h>
+
+#include "weft/core/atomic_file.h"
+#include "weft/core/error.h"
+
+namespace weft::render {
+
+void write_exr(const std::filesystem::path& path, const Image& image) {
+  if (image.width <= 0 || image.height <= 0) fail("cannot write empty image to '{}'", path.string());
+  write_atomically(path, [&](const std::filesystem::path& tmp) {
+    try {
+      Imf::Header header(image.width, image.height);
+      const char* names[3] = {"R", "G", "B"};
+      for (const char* n : names) header.channels().insert(n, Imf::Channel(Imf::FLOAT));
+      Imf::OutputFile file(tmp.c_str(), header);
+      Imf::FrameBuffer fb;
+      const std::size_t xs = 3 * sizeof(float);
+      const std::size_t ys = xs * static_cast<std::size_t>(image.width);
+      for (int c = 0; c < 3; ++c)
+        fb.insert(names[c], Imf::Slice(Imf::FLOAT,
+                                       const_cast<char*>(reinterpret_cast<const char*>(image.rgb.data() + c)), xs, ys));
+      file.setFrameBuffer(fb);
+      file.writePixels(image.height);
+    } catch (const std::exception& e) {
+      fail("cannot write EXR '{}': {}", path.string(), e.what());
+    }
+  });
+}
+
+Image read_exr(const std::filesystem::path& path) {
+  if (!std::filesystem::exists(path)) fail("EXR file '{}' does not exist", path.string());
+  try {
+    Imf::InputFile file(path.c_str());
+    const Imath::Box2i dw = file.header().dataWindow();
+    Image image;
+    image.width = dw.max.x - dw.min.x + 1;
+    image.height = dw.max.y - dw.min.y + 1;
+    image.rgb.assign(static_cast<std::size_t>(image.width) * image.height * 3, 0.0f);
+    Imf::FrameBuffer fb;
+    const std::size_t xs = 3 * sizeof(float);
+    const std::size_t ys = xs * static_cast<std::size_t>(image.width);
+    char* base = reinterpret_cast<char*>(image.rgb.data()) -
+                 (static_cast<std::ptrdiff_t>(dw.min.x) * xs + static_cast<std::ptrdiff_t>(dw.min.y) * ys);
+    const char* names[3] = {"R", "G", "B"};
+    for (int c = 0; c < 3; ++c) fb.insert(names[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xs, ys));
+    file.setFrameBuffer(fb);
+    file.readPixels(dw.min.y, dw.max.y);
+    return image;
+  } catch (const std::exception& e) {
+    fail("cannot read EXR '{}': {}", path.string(), e.what());
+  }
+}
+
+void write_png(const std::filesystem::path& path, const Image& image, double exposure) {
+  if (image.width <= 0 || image.height <= 0) fail("cannot write empty image to '{}'", path.string());
+  vtkNew<vtkImageData> data;
+  data->SetDimensions(image.width, image.height, 1);
+  data->AllocateScalars(VTK_UNSIGNED_CHAR, 3);
+  auto* pixels = static_cast<unsigned char*>(data->GetScalarPointer());
+  auto srgb = [exposure](float linear) {
+    // IEC 61966-2-1 transfer curve.
+    const double v = std::clamp(static_cast<double>(linear) * exposure, 0.0, 1.0);
+    const double e = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+    return static_cast<unsigned char>(std::lround(255.0 * e));
+  };
+  for (int y = 0; y < image.height; ++y) {
+    const int row = image.height - 1 - y;  // VTK images start at the bottom row
+    for (int x = 0; x < image.width; ++x)
+      for (int c = 0; c < 3; ++c)
+        pixels[(static_cast<std::size_t>(row) * image.width + x) * 3 + c] = srgb(image.at(x, y, c));
+  }
+  write_atomically(path, [&](const std::filesystem::path& tmp) {
+    vtkNew<vtkPNGWriter> writer;
+    writer->SetFileName(tmp.c_str());
+    writer->SetInputData(data);
+    writer->Write();
+    if (writer->GetErrorCode() != 0 || !std::filesystem::exists(tmp) || std::filesystem::file_size(tmp) == 0)
+      fail("cannot write PNG '{}'", path.string());
+  });
+}
+
+double rmse(const Image& a, const Image& b) {
+  if (a.width != b.width || a.height != b.height)
+    fail("images differ in size: {}x{} vs {}x{}", a.width, a.height, b.width, b.height);
+  double sum = 0.0;
+  for (std::size_t i = 0; i < a.rgb.size(); ++i) {
+    const double d = static_cast<double>(a.rgb[i]) - b.rgb[i];
+    sum += d * d;
+  }
+  return a.rgb.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(a.rgb.size()));
+}
+
+}  // namespace weft::render

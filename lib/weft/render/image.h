@@ -1,0 +1,34 @@
+#pragma once
+/// @file
+/// @brief Linear RGB images with per-pixel standard errors; EXR and PNG files.
+
+#include <filesystem>
+#include <vector>
+
+namespace weft::render {
+
+/// A linear RGB image with, per pixel and channel, the variance of the pixel's mean estimate.
+struct Image {
+  int width = 0;
+  int height = 0;
+  int spp = 0;
+  std::vector<float> rgb;       ///< width·height·3, row-major from the top-left
+  std::vector<float> variance;  ///< variance of each mean (s²/n), same layout
+
+  [[nodiscard]] float at(int x, int y, int c) const { return rgb[(static_cast<std::size_t>(y) * width + x) * 3 + c]; }
+  [[nodiscard]] float var_at(int x, int y, int c) const {
+    return variance[(static_cast<std::size_t>(y) * width + x) * 3 + c];
+  }
+};
+
+/// Writes a linear 32-bit float RGB OpenEXR file, atomically.
+void write_exr(const std::filesystem::path& path, const Image& image);
+/// Reads an RGB(A) OpenEXR file (variance left empty). Throws weft::Error naming the file.
+[[nodiscard]] Image read_exr(const std::filesystem::path& path);
+/// Writes an 8-bit sRGB PNG (clamped, scaled by `exposure`), atomically.
+void write_png(const std::filesystem::path& path, const Image& image, double exposure = 1.0);
+
+/// Root-mean-square difference over all pixels and channels; images must have equal size.
+[[nodiscard]] double rmse(const Image& a, const Image& b);
+
+}  // namespace weft::render

@@ -1,0 +1,560 @@
+#include "weft/render/scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "weft/core/error.h"
+#include "weft/render/medium.h"
+#include "weft/render/mesh.h"
+
+namespace weft::render {
+
+using nlohmann::json;
+
+std::string closest_name(const std::string& word, const std::vector<std::string>& candidates) {
+  // Levenshtein distance, case-insensitive: good enough for misspelt keys and type names.
+  auto lower = [](std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return s;
+  };
+  const std::string a = lower(word);
+  std::string best;
+  std::size_t best_distance = std::string::npos;
+  for (const auto& candidate : candidates) {
+    const std::string b = lower(candidate);
+    std::vector<std::size_t> row(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+      std::size_t diagonal = row[0];
+      row[0] = i;
+      for (std::size_t j = 1; j <= b.size(); ++j) {
+        const std::size_t above = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0U : 1U)});
+        diagonal = above;
+      }
+    }
+    if (row[b.size()] < best_distance) {
+      best_distance = row[b.size()];
+      best = candidate;
+    }
+  }
+  return best;
+}
+
+TextPosition position_of(std::string_view text, std::size_t offset) {
+  TextPosition pos;
+  offset = std::min(offset, text.size());
+  for (std::size_t i = 0; i < offset; ++i) {
+    if (text[i] == '\n') {
+      ++pos.line;
+      pos.column = 1;
+    } else {
+      ++pos.column;
+    }
+  }
+  return pos;
+}
+
+namespace {
+
+std::string join(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+/// A JSON object being read: every key must be consumed or named as allowed, so a misspelt
+/// key is an error with a suggestion instead of being silently ignored.
+class Reader {
+ public:
+  Reader(const json& j, std::string where) : j_(j), where_(std::move(where)) {
+    if (!j_.is_object()) fail("{}: expected a JSON object, got {}", where_, j_.type_name());
+  }
+
+  [[nodiscard]] const std::string& where() const { return where_; }
+  [[nodiscard]] bool has(const std::string& key) {
+    known_.insert(key);
+    return j_.contains(key);
+  }
+  const json& at(const std::string& key) {
+    known_.insert(key);
+    if (!j_.contains(key)) fail("{}: missing required key '{}'", where_, key);
+    return j_.at(key);
+  }
+
+  double number(const std::string& key, double fallback) {
+    if (!has(key)) return fallback;
+    return number_value(j_.at(key), key);
+  }
+  double number(const std::string& key) { return number_value(at(key), key); }
+  double positive(const std::string& key, double fallback) {
+    const double v = number(key, fallback);
+    if (!(v > 0.0)) fail("{}: '{}' must be > 0, got {}", where_, key, v);
+    return v;
+  }
+  double non_negative(const std::string& key, double fallback) {
+    const double v = number(key, fallback);
+    if (!(v >= 0.0)) fail("{}: '{}' must be >= 0, got {}", where_, key, v);
+    return v;
+  }
+  int integer(const std::string& key, int fallback, int lo, int hi) {
+    if (!has(key)) return fallback;
+    const json& v = j_.at(key);
+    if (!v.is_number_integer()) fail("{}: '{}' must be an integer, got {}", where_, key, v.dump());
+    const auto x = v.get<std::int64_t>();
+    if (x < lo || x > hi) fail("{}: '{}' must be in [{}, {}], got {}", where_, key, lo, hi, x);
+    return static_cast<int>(x);
+  }
+  std::string string(const std::string& key, const std::string& fallback) {
+    if (!has(key)) return fallback;
+    const json& v = j_.at(key);
+    if (v.is_null()) return "";
+    if (!v.is_string()) fail("{}: '{}' must be a string, got {}", where_, key, v.dump());
+    return v.get<std::string>();
+  }
+  Vec3 vec3(const std::string& key, const Vec3& fallback) {
+    if (!has(key)) return fallback;
+    const json& v = j_.at(key);
+    if (!v.is_array() || v.size() != 3) fail("{}: '{}' must be an array of 3 numbers, got {}", where_, key, v.dump());
+    return {number_value(v[0], key), number_value(v[1], key), number_value(v[2], key)};
+  }
+  /// A colour: one number (grey) or three; each finite and >= 0.
+  Rgb rgb(const std::string& key, const Rgb& fallback) {
+    if (!has(key)) return fallback;
+    const json& v = j_.at(key);
+    Rgb c;
+    if (v.is_number()) {
+      c.setConstant(number_value(v, key));
+    } else if (v.is_array() && v.size() == 3) {
+      c = Rgb(number_value(v[0], key), number_value(v[1], key), number_value(v[2], key));
+    } else {
+      fail("{}: '{}' must be a number or an array of 3 numbers, got {}", where_, key, v.dump());
+    }
+    if ((c < 0.0).any()) fail("{}: '{}' must be >= 0, got {}", where_, key, v.dump());
+    return c;
+  }
+
+  /// Throws for the first key that nothing read, naming the closest known key.
+  void finish() const {
+    for (const auto& [key, value] : j_.items()) {
+      if (known_.count(key) == 0) {
+        const std::vector<std::string> names(known_.begin(), known_.end());
+        fail("{}: unknown key '{}' (did you mean '{}'?)", where_, key, closest_name(key, names));
+      }
+    }
+  }
+
+ private:
+  double number_value(const json& v, const std::string& key) const {
+    if (!v.is_number()) fail("{}: '{}' must be a number, got {}", where_, key, v.dump());
+    const double x = v.get<double>();
+    if (!std::isfinite(x)) fail("{}: '{}' must be finite, got {}", where_, key, x);
+    return x;
+  }
+
+  const json& j_;
+  std::string where_;
+  std::set<std::string> known_;
+};
+
+template <typename Enum>
+Enum parse_choice(const std::string& where, const std::string& what, const std::string& value,
+                  const std::vector<std::pair<std::string, Enum>>& choices) {
+  std::vector<std::string> names;
+  for (const auto& [name, e] : choices) {
+    if (name == value) return e;
+    names.push_back(name);
+  }
+  fail("{}: unknown {} '{}' (did you mean '{}'? known: {})", where, what, value, closest_name(value, names),
+       join(names));
+}
+
+template <typename Enum>
+std::string choice_name(Enum e, const std::vector<std::pair<std::string, Enum>>& choices) {
+  for (const auto& [name, c] : choices)
+    if (c == e) return name;
+  return "?";
+}
+
+const std::vector<std::pair<std::string, MaterialKind>> kMaterialKinds = {{"diffuse", MaterialKind::diffuse},
+                                                                          {"mirror", MaterialKind::mirror},
+                                                                          {"dielectric", MaterialKind::dielectric},
+                                                                          {"null", MaterialKind::null}};
+const std::vector<std::pair<std::string, MediumKind>> kMediumKinds = {{"homogeneous", MediumKind::homogeneous},
+                                                                      {"grid", MediumKind::grid}};
+const std::vector<std::pair<std::string, Tracking>> kTrackings = {{"delta", Tracking::delta},
+                                                                  {"optical-depth", Tracking::optical_depth}};
+const std::vector<std::pair<std::string, ShapeKind>> kShapeKinds = {{"sphere", ShapeKind::sphere},
+                                                                    {"box", ShapeKind::box},
+                                                                    {"rectangle", ShapeKind::rectangle},
+                                                                    {"mesh", ShapeKind::mesh}};
+const std::vector<std::pair<std::string, LightKind>> kLightKinds = {
+    {"point", LightKind::point}, {"directional", LightKind::directional}, {"environment", LightKind::environment}};
+const std::vector<std::pair<std::string, transmittance::PairMode>> kModes = {
+    {"reciprocal", transmittance::PairMode::reciprocal},
+    {"same", transmittance::PairMode::same},
+    {"explicit", transmittance::PairMode::explicit_}};
+const std::vector<std::pair<std::string, transmittance::Origin>> kOrigins = {
+    {"source", transmittance::Origin::source}, {"scatterer", transmittance::Origin::scatterer}};
+
+CameraDesc parse_camera(const json& j, const std::string& where) {
+  Reader r(j, where);
+  CameraDesc c;
+  const std::string type = r.string("type", "perspective");
+  if (type != "perspective") fail("{}: unknown camera type '{}' (did you mean 'perspective'?)", where, type);
+  c.position = r.vec3("position", c.position);
+  c.look_at = r.vec3("look_at", c.look_at);
+  c.up = r.vec3("up", c.up);
+  c.fov_deg = r.positive("fov", c.fov_deg);
+  if (c.fov_deg >= 180.0) fail("{}: 'fov' must be < 180 degrees, got {}", where, c.fov_deg);
+  c.aperture_radius = r.non_negative("aperture_radius", c.aperture_radius);
+  c.focus_distance = r.non_negative("focus_distance", c.focus_distance);
+  c.width = r.integer("width", c.width, 1, 16384);
+  c.height = r.integer("height", c.height, 1, 16384);
+  r.finish();
+  if ((c.look_at - c.position).norm() == 0.0) fail("{}: 'look_at' equals 'position'", where);
+  if ((c.look_at - c.position).cross(c.up).norm() == 0.0) fail("{}: 'up' is parallel to the view direction", where);
+  return c;
+}
+
+IntegratorDesc parse_integrator(const json& j, const std::string& where) {
+  Reader r(j, where);
+  IntegratorDesc d;
+  const std::string type = r.string("type", "volpath");
+  if (type != "volpath") fail("{}: unknown integrator type '{}' (did you mean 'volpath'?)", where, type);
+  d.spp = r.integer("spp", d.spp, 1, 1 << 24);
+  d.max_depth = r.integer("max_depth", d.max_depth, 1, 100000);
+  d.rr_depth = r.integer("rr_depth", d.rr_depth, 0, 100000);
+  if (r.has("seed")) {
+    const json& s = r.at("seed");
+    if (!s.is_number_unsigned()) fail("{}: 'seed' must be a non-negative integer, got {}", where, s.dump());
+    d.seed = s.get<std::uint64_t>();
+  }
+  r.finish();
+  return d;
+}
+
+MaterialDesc parse_material(const json& j, const std::string& where) {
+  Reader r(j, where);
+  MaterialDesc m;
+  m.kind = parse_choice(where, "material type", r.string("type", "diffuse"), kMaterialKinds);
+  if (m.kind != MaterialKind::null)
+    m.albedo = r.rgb("albedo", m.kind == MaterialKind::diffuse ? m.albedo : Rgb(1, 1, 1));
+  if (m.kind == MaterialKind::diffuse && (m.albedo > 1.0).any())
+    fail("{}: diffuse 'albedo' must be <= 1 to conserve energy", where);
+  if (m.kind == MaterialKind::dielectric) m.ior = r.positive("ior", m.ior);
+  r.finish();
+  return m;
+}
+
+transmittance::LawSpec parse_law(const json& j, const std::string& where) {
+  transmittance::LawSpec spec;
+  if (j.is_string()) {
+    spec.name = j.get<std::string>();
+    return spec;
+  }
+  if (!j.is_object()) fail("{}: a law is a name or an object {{\"name\": ..., parameters}}, got {}", where, j.dump());
+  for (const auto& [key, value] : j.items()) {
+    if (key == "name") {
+      if (!value.is_string()) fail("{}: 'name' must be a string", where);
+      spec.name = value.get<std::string>();
+    } else if (key == "table") {
+      if (!value.is_string()) fail("{}: 'table' must be a file name", where);
+      spec.table = value.get<std::string>();
+    } else if (key == "sampler") {
+      if (!value.is_string()) fail("{}: 'sampler' must be a string", where);
+      spec.sampler = value.get<std::string>();
+    } else {
+      if (!value.is_number()) fail("{}: law parameter '{}' must be a number, got {}", where, key, value.dump());
+      const double x = value.get<double>();
+      if (!std::isfinite(x)) fail("{}: law parameter '{}' must be finite", where, key);
+      spec.params[key] = x;
+    }
+  }
+  if (spec.name.empty()) fail("{}: missing required key 'name'", where);
+  return spec;
+}
+
+MediumDesc parse_medium(const json& j, const std::string& where, const std::filesystem::path& base_dir) {
+  Reader r(j, where);
+  MediumDesc m;
+  m.kind = parse_choice(where, "medium type", r.string("type", "homogeneous"), kMediumKinds);
+  if (m.kind == MediumKind::grid) {
+    m.file = r.string("file", "");
+    if (m.file.empty()) fail("{}: missing required key 'file'", where);
+    std::filesystem::path p(m.file);
+    if (p.is_relative()) p = base_dir / p;
+    if (!std::filesystem::exists(p)) fail("{}: grid file '{}' does not exist", where, p.string());
+    m.file = p.string();
+    m.grid_name = r.string("grid", "");
+    const std::string values = r.string("values", "concentration");
+    if (values != "concentration" && values != "extinction")
+      fail("{}: 'values' must be 'concentration' or 'extinction', got '{}'", where, values);
+    m.concentration = values == "concentration";
+    if (m.concentration) m.sigma = r.non_negative("sigma", m.sigma);
+    m.tracking = parse_choice(where, "tracking", r.string("tracking", "delta"), kTrackings);
+    // The law of a grid medium is in optical depth; exponential with μ = 1 by default.
+    m.law = r.has("law") ? parse_law(r.at("law"), where + ".law")
+                         : transmittance::LawSpec{"exponential", {{"mu", 1.0}}, "", ""};
+  } else {
+    m.law = parse_law(r.at("law"), where + ".law");
+  }
+  if (!m.law.table.empty() && std::filesystem::path(m.law.table).is_relative())
+    m.law.table = (base_dir / m.law.table).string();
+  m.mode = parse_choice(where, "mode", r.string("mode", "reciprocal"), kModes);
+  m.given = parse_choice(where, "origin", r.string("given", "source"), kOrigins);
+  if (m.mode == transmittance::PairMode::explicit_) {
+    m.scatterer_law = parse_law(r.at("scatterer_law"), where + ".scatterer_law");
+    if (!m.scatterer_law.table.empty() && std::filesystem::path(m.scatterer_law.table).is_relative())
+      m.scatterer_law.table = (base_dir / m.scatterer_law.table).string();
+  }
+  m.albedo = r.rgb("albedo", m.albedo);
+  if ((m.albedo > 1.0).any()) fail("{}: 'albedo' must be <= 1", where);
+  m.g = r.number("g", m.g);
+  if (!(m.g > -1.0 && m.g < 1.0)) fail("{}: 'g' must be in (-1, 1), got {}", where, m.g);
+  r.finish();
+  // Builds the laws (and reads the grid) now so bad input is reported at load.
+  (void)make_medium(m, where);
+  return m;
+}
+
+ShapeDesc parse_shape(const json& j, const std::string& where, const SceneDesc& scene) {
+  Reader r(j, where);
+  ShapeDesc s;
+  s.kind = parse_choice(where, "shape type", r.string("type", ""), kShapeKinds);
+  switch (s.kind) {
+    case ShapeKind::sphere:
+      s.center = r.vec3("center", s.center);
+      s.radius = r.positive("radius", s.radius);
+      break;
+    case ShapeKind::box:
+      s.min = r.vec3("min", s.min);
+      s.max = r.vec3("max", s.max);
+      if (!(s.min.array() < s.max.array()).all()) fail("{}: box 'min' must be < 'max' on every axis", where);
+      break;
+    case ShapeKind::rectangle:
+      s.corner = r.vec3("corner", s.corner);
+      s.edge_u = r.vec3("edge_u", s.edge_u);
+      s.edge_v = r.vec3("edge_v", s.edge_v);
+      if (s.edge_u.cross(s.edge_v).norm() == 0.0) fail("{}: rectangle edges are parallel or zero", where);
+      break;
+    case ShapeKind::mesh: {
+      s.file = r.string("file", "");
+      if (s.file.empty()) fail("{}: missing required key 'file'", where);
+      std::filesystem::path p(s.file);
+      if (p.is_relative()) p = scene.base_dir / p;
+      if (!std::filesystem::exists(p)) fail("{}: mesh file '{}' does not exist", where, p.string());
+      s.file = p.string();
+      s.scale = r.positive("scale", s.scale);
+      s.translate = r.vec3("translate", s.translate);
+      break;
+    }
+  }
+  s.material = r.string("material", "");
+  s.interior = r.string("interior", "");
+  s.exterior = r.string("exterior", "");
+  s.emission = r.rgb("emission", s.emission);
+  r.finish();
+  auto check_name = [&](const std::string& name, const auto& table, const char* what) {
+    if (name.empty() || table.count(name) != 0) return;
+    std::vector<std::string> names;
+    for (const auto& [n, v] : table) names.push_back(n);
+    if (names.empty()) fail("{}: {} '{}' is not defined (the scene defines none)", where, what, name);
+    fail("{}: {} '{}' is not defined (did you mean '{}'?)", where, what, name, closest_name(name, names));
+  };
+  check_name(s.material, scene.materials, "material");
+  check_name(s.interior, scene.media, "medium");
+  check_name(s.exterior, scene.media, "medium");
+  if (s.material.empty() && (!s.interior.empty() || !s.exterior.empty()))
+    fail("{}: a shape that bounds a medium needs a material (use \"null\" for an index-matched boundary)", where);
+  if (s.material.empty() && (s.emission == 0.0).all()) fail("{}: a shape needs a material or an emission", where);
+  return s;
+}
+
+LightDesc parse_light(const json& j, const std::string& where) {
+  Reader r(j, where);
+  LightDesc l;
+  l.kind = parse_choice(where, "light type", r.string("type", ""), kLightKinds);
+  switch (l.kind) {
+    case LightKind::point:
+      l.position = r.vec3("position", l.position);
+      l.intensity = r.rgb("intensity", l.intensity);
+      break;
+    case LightKind::directional:
+      l.direction = r.vec3("direction", l.direction);
+      if (l.direction.norm() == 0.0) fail("{}: 'direction' must not be zero", where);
+      l.direction.normalize();
+      l.intensity = r.rgb("irradiance", l.intensity);
+      break;
+    case LightKind::environment:
+      l.intensity = r.rgb("radiance", l.intensity);
+      break;
+  }
+  r.finish();
+  return l;
+}
+
+json to_json(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+json to_json(const Rgb& c) { return json::array({c[0], c[1], c[2]}); }
+json to_json(const transmittance::LawSpec& spec) {
+  json j;
+  j["name"] = spec.name;
+  for (const auto& [k, v] : spec.params) j[k] = v;
+  if (!spec.table.empty()) j["table"] = spec.table;
+  if (!spec.sampler.empty()) j["sampler"] = spec.sampler;
+  return j;
+}
+
+}  // namespace
+
+SceneDesc parse_scene(std::string_view json_text, const std::string& source, const std::filesystem::path& base_dir) {
+  json root;
+  try {
+    root = json::parse(json_text.begin(), json_text.end());
+  } catch (const json::parse_error& e) {
+    // nlohmann reports the byte just past the offending token; users want line and column.
+    const std::size_t offset = e.byte == 0 ? 0 : e.byte - 1;
+    const TextPosition pos = position_of(json_text, offset);
+    std::string what = e.what();
+    const auto colon = what.rfind(": ");
+    if (colon != std::string::npos) what = what.substr(colon + 2);
+    fail("{}:{}:{}: invalid JSON: {}", source, pos.line, pos.column, what);
+  }
+  SceneDesc scene;
+  scene.base_dir = base_dir;
+  Reader r(root, source);
+  if (r.has("camera")) scene.camera = parse_camera(r.at("camera"), source + ": camera");
+  if (r.has("integrator")) scene.integrator = parse_integrator(r.at("integrator"), source + ": integrator");
+  auto named_objects = [&](const std::string& key, auto&& parse_one, auto& table) {
+    if (!r.has(key)) return;
+    const json& j = r.at(key);
+    if (!j.is_object()) fail("{}: '{}' must be an object of named entries", source, key);
+    for (const auto& [name, value] : j.items()) table[name] = parse_one(value, source + ": " + key + "." + name);
+  };
+  named_objects(
+      "materials", [](const json& j, const std::string& w) { return parse_material(j, w); }, scene.materials);
+  named_objects(
+      "media", [&](const json& j, const std::string& w) { return parse_medium(j, w, base_dir); }, scene.media);
+  auto lists = [&](const std::string& key, auto&& parse_one) {
+    if (!r.has(key)) return;
+    const json& j = r.at(key);
+    if (!j.is_array()) fail("{}: '{}' must be an array", source, key);
+    for (std::size_t i = 0; i < j.size(); ++i) parse_one(j[i], fmt::format("{}: {}[{}]", source, key, i));
+  };
+  lists("shapes", [&](const json& j, const std::string& w) { scene.shapes.push_back(parse_shape(j, w, scene)); });
+  lists("lights", [&](const json& j, const std::string& w) { scene.lights.push_back(parse_light(j, w)); });
+  r.finish();
+  // A mesh must be readable now, not halfway through a render.
+  for (std::size_t i = 0; i < scene.shapes.size(); ++i)
+    if (scene.shapes[i].kind == ShapeKind::mesh) (void)load_obj(scene.shapes[i].file);
+  return scene;
+}
+
+SceneDesc load_scene(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail("scene file '{}' cannot be opened (missing or unreadable)", path.string());
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_scene(text.str(), path.string(), path.parent_path());
+}
+
+std::string scene_to_json(const SceneDesc& scene) {
+  json root;
+  const CameraDesc& c = scene.camera;
+  root["camera"] = {{"type", "perspective"},
+                    {"position", to_json(c.position)},
+                    {"look_at", to_json(c.look_at)},
+                    {"up", to_json(c.up)},
+                    {"fov", c.fov_deg},
+                    {"aperture_radius", c.aperture_radius},
+                    {"focus_distance", c.focus_distance},
+                    {"width", c.width},
+                    {"height", c.height}};
+  const IntegratorDesc& d = scene.integrator;
+  root["integrator"] = {
+      {"type", "volpath"}, {"spp", d.spp}, {"max_depth", d.max_depth}, {"rr_depth", d.rr_depth}, {"seed", d.seed}};
+  json materials = json::object();
+  for (const auto& [name, m] : scene.materials) {
+    json j = {{"type", choice_name(m.kind, kMaterialKinds)}};
+    if (m.kind != MaterialKind::null) j["albedo"] = to_json(m.albedo);
+    if (m.kind == MaterialKind::dielectric) j["ior"] = m.ior;
+    materials[name] = j;
+  }
+  root["materials"] = materials;
+  json media = json::object();
+  for (const auto& [name, m] : scene.media) {
+    json j = {{"type", choice_name(m.kind, kMediumKinds)},
+              {"law", to_json(m.law)},
+              {"mode", choice_name(m.mode, kModes)},
+              {"given", choice_name(m.given, kOrigins)},
+              {"albedo", to_json(m.albedo)},
+              {"g", m.g}};
+    if (m.mode == transmittance::PairMode::explicit_) j["scatterer_law"] = to_json(m.scatterer_law);
+    if (m.kind == MediumKind::grid) {
+      j["file"] = m.file;
+      j["grid"] = m.grid_name;
+      j["values"] = m.concentration ? "concentration" : "extinction";
+      if (m.concentration) j["sigma"] = m.sigma;
+      j["tracking"] = choice_name(m.tracking, kTrackings);
+    }
+    media[name] = j;
+  }
+  root["media"] = media;
+  json shapes = json::array();
+  for (const auto& s : scene.shapes) {
+    json j = {{"type", choice_name(s.kind, kShapeKinds)}};
+    switch (s.kind) {
+      case ShapeKind::sphere:
+        j["center"] = to_json(s.center);
+        j["radius"] = s.radius;
+        break;
+      case ShapeKind::box:
+        j["min"] = to_json(s.min);
+        j["max"] = to_json(s.max);
+        break;
+      case ShapeKind::rectangle:
+        j["corner"] = to_json(s.corner);
+        j["edge_u"] = to_json(s.edge_u);
+        j["edge_v"] = to_json(s.edge_v);
+        break;
+      case ShapeKind::mesh:
+        j["file"] = s.file;
+        j["scale"] = s.scale;
+        j["translate"] = to_json(s.translate);
+        break;
+    }
+    if (!s.material.empty()) j["material"] = s.material;
+    if (!s.interior.empty()) j["interior"] = s.interior;
+    if (!s.exterior.empty()) j["exterior"] = s.exterior;
+    if ((s.emission != 0.0).any()) j["emission"] = to_json(s.emission);
+    shapes.push_back(j);
+  }
+  root["shapes"] = shapes;
+  json lights = json::array();
+  for (const auto& l : scene.lights) {
+    json j = {{"type", choice_name(l.kind, kLightKinds)}};
+    switch (l.kind) {
+      case LightKind::point:
+        j["position"] = to_json(l.position);
+        j["intensity"] = to_json(l.intensity);
+        break;
+      case LightKind::directional:
+        j["direction"] = to_json(l.direction);
+        j["irradiance"] = to_json(l.intensity);
+        break;
+      case LightKind::environment:
+        j["radiance"] = to_json(l.intensity);
+        break;
+    }
+    lights.push_back(j);
+  }
+  root["lights"] = lights;
+  return root.dump(2) + "\n";
+}
+
+}  // namespace weft::render

@@ -1,0 +1,112 @@
+# `weft render` end to end. This file is both included by tests/cli/CMakeLists.txt (it adds the
+# tests) and run as a script (`cmake -DCASE=... -P cli_render.cmake`) for checks that need a
+# scene file written first or several runs compared.
+
+if(CMAKE_SCRIPT_MODE_FILE)
+  # ---- script mode: one case --------------------------------------------------------------
+  file(REMOVE_RECURSE ${WORK})
+  file(MAKE_DIRECTORY ${WORK})
+
+  # Runs weft on a scene text; expects failure, a one-line error matching `pattern`, no images.
+  function(expect_bad_scene text pattern)
+    file(WRITE ${WORK}/bad.json "${text}")
+    execute_process(COMMAND ${WEFT} render ${WORK}/bad.json -o ${WORK}/bad.exr --spp 1
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(rc EQUAL 0)
+      message(FATAL_ERROR "expected failure for ${pattern}, got success: ${out}")
+    endif()
+    if(NOT err MATCHES "${pattern}")
+      message(FATAL_ERROR "error '${err}' does not match '${pattern}'")
+    endif()
+    string(STRIP "${err}" stripped)
+    if(stripped MATCHES "\n")
+      message(FATAL_ERROR "error is not one line: ${err}")
+    endif()
+    if(EXISTS ${WORK}/bad.exr OR EXISTS ${WORK}/bad.png)
+      message(FATAL_ERROR "a failed run left an image behind")
+    endif()
+  endfunction()
+
+  set(ok_head "{\"materials\": {\"w\": {}}, ")
+  if(CASE STREQUAL "bad_input")
+    expect_bad_scene("{\n  \"camera\": {\"fov\": 40,,}\n}" "weft: error: .*bad.json:2:[0-9]+: invalid JSON")
+    expect_bad_scene("${ok_head}\"shapes\": [{\"type\": \"sphere\", \"radius\": 1, \"materal\": \"w\"}]}"
+                     "unknown key 'materal' \\(did you mean 'material'\\?\\)")
+    expect_bad_scene("${ok_head}\"shapes\": [{\"type\": \"cylinder\", \"material\": \"w\"}]}"
+                     "unknown shape type 'cylinder'")
+    expect_bad_scene("${ok_head}\"shapes\": [{\"type\": \"mesh\", \"file\": \"gone.obj\", \"material\": \"w\"}]}"
+                     "gone.obj' does not exist")
+    expect_bad_scene("${ok_head}\"shapes\": [{\"type\": \"sphere\", \"radius\": -2, \"material\": \"w\"}]}"
+                     "'radius' must be > 0")
+    expect_bad_scene("{\"media\": {\"m\": {\"law\": {\"name\": \"gamma-path\", \"k\": 0.5, \"theta\": 1}}}}"
+                     "media.m.*does not exist")
+    expect_bad_scene("{\"media\": {\"m\": {\"law\": {\"name\": \"gamma\", \"mean_extinction\": 1, \"alpha\": -1}}}}"
+                     "media.m.*alpha")
+    execute_process(COMMAND ${WEFT} render furnase RESULT_VARIABLE rc ERROR_VARIABLE err WORKING_DIRECTORY ${WORK})
+    if(rc EQUAL 0 OR NOT err MATCHES "did you mean 'furnace'")
+      message(FATAL_ERROR "unknown built-in scene: rc=${rc} ${err}")
+    endif()
+  elseif(CASE STREQUAL "threads")
+    foreach(threads 1 2)
+      execute_process(COMMAND ${WEFT} --quiet --threads ${threads} render furnace --spp 4 --seed 3
+                              -o ${WORK}/t${threads}.exr RESULT_VARIABLE rc)
+      if(NOT rc EQUAL 0)
+        message(FATAL_ERROR "render with ${threads} threads failed")
+      endif()
+    endforeach()
+    execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${WORK}/t1.exr ${WORK}/t2.exr RESULT_VARIABLE same)
+    if(NOT same EQUAL 0)
+      message(FATAL_ERROR "images differ between --threads 1 and --threads 2")
+    endif()
+  elseif(CASE STREQUAL "round_trip")
+    execute_process(COMMAND ${WEFT} render cornell_media --print-scene OUTPUT_FILE ${WORK}/a.json RESULT_VARIABLE rc)
+    execute_process(COMMAND ${WEFT} render ${WORK}/a.json --print-scene OUTPUT_FILE ${WORK}/b.json RESULT_VARIABLE rc2)
+    execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${WORK}/a.json ${WORK}/b.json RESULT_VARIABLE same)
+    if(NOT rc EQUAL 0 OR NOT rc2 EQUAL 0 OR NOT same EQUAL 0)
+      message(FATAL_ERROR "scene does not round-trip through --print-scene")
+    endif()
+  elseif(CASE STREQUAL "convergence")
+    execute_process(COMMAND ${WEFT} --quiet render furnace --spp 16 -o ${WORK}/ref.exr RESULT_VARIABLE rc)
+    execute_process(COMMAND ${WEFT} --quiet render furnace --spp 8 --seed 9 --convergence ${WORK}/ref.exr
+                            -o ${WORK}/run.exr RESULT_VARIABLE rc2)
+    if(NOT rc EQUAL 0 OR NOT rc2 EQUAL 0 OR NOT EXISTS ${WORK}/run.convergence.csv)
+      message(FATAL_ERROR "convergence run failed")
+    endif()
+    file(STRINGS ${WORK}/run.convergence.csv rows)
+    list(LENGTH rows n)
+    # header + spp 1, 2, 4, 8
+    if(NOT n EQUAL 5)
+      message(FATAL_ERROR "expected 5 CSV rows, got ${n}: ${rows}")
+    endif()
+  else()
+    message(FATAL_ERROR "unknown CASE ${CASE}")
+  endif()
+  return()
+endif()
+
+# ---- configure mode: the tests --------------------------------------------------------------
+set(_render_work ${CMAKE_CURRENT_BINARY_DIR}/render)
+file(MAKE_DIRECTORY ${_render_work})
+
+add_test(NAME cli.render.default_scene COMMAND weft render --spp 2 WORKING_DIRECTORY ${_render_work})
+set_tests_properties(cli.render.default_scene PROPERTIES LABELS "cli;render"
+                     PASS_REGULAR_EXPRESSION "default scene 'cloth_patch'.*wrote cloth_patch.exr")
+
+add_test(NAME cli.render.list_scenes COMMAND weft render --list-scenes)
+set_tests_properties(cli.render.list_scenes PROPERTIES LABELS "cli;render" PASS_REGULAR_EXPRESSION "cornell_media")
+
+add_test(NAME cli.render.features_summary COMMAND weft render cornell_media --spp 1 -o ${_render_work}/cornell.exr)
+set_tests_properties(cli.render.features_summary PROPERTIES LABELS "cli;render"
+                     PASS_REGULAR_EXPRESSION "features: .*non-exponential media.*samples/s")
+
+add_test(NAME cli.render.time_budget COMMAND weft render furnace --spp 1000000 --time-budget 0.5
+                                             -o ${_render_work}/budget.exr)
+set_tests_properties(cli.render.time_budget PROPERTIES LABELS "cli;render" TIMEOUT 120
+                     PASS_REGULAR_EXPRESSION "64x64 at [0-9]+ spp")
+
+foreach(case bad_input threads round_trip convergence)
+  add_test(NAME cli.render.${case}
+           COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DCASE=${case} -DWORK=${_render_work}/${case}
+                   -P ${CMAKE_CURRENT_LIST_FILE})
+  set_tests_properties(cli.render.${case} PROPERTIES LABELS "cli;render")
+endforeach()

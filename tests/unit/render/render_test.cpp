@@ -1,0 +1,562 @@
+// The path tracer against answers known in closed form (white furnaces, absorbing slabs, a point
+// light over a plane), two estimators of one answer, and reproducibility. Tolerances are 5
+// standard errors of the rendered estimate (per-pixel sample variances), plus float rounding.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <string>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "weft/core/error.h"
+#include "weft/core/parallel.h"
+#include "weft/render/medium.h"
+#include "weft/render/mesh.h"
+#include "weft/render/render.h"
+#include "weft/render/scene.h"
+#include "weft/volume/grid.h"
+
+namespace weft::render {
+namespace {
+
+constexpr double kFloat = 1e-5;  // images are stored as float
+
+SceneDesc scene_from(const std::string& json) { return parse_scene(json, "test scene", "."); }
+
+/// Mean of channel 0 over pixels [x0,x1)×[y0,y1) and its standard error.
+struct Estimate {
+  double mean = 0.0;
+  double stderr_ = 0.0;
+};
+Estimate region_mean(const Image& im, int x0, int y0, int x1, int y1) {
+  double sum = 0.0;
+  double var = 0.0;
+  int n = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) {
+      sum += im.at(x, y, 0);
+      var += im.var_at(x, y, 0);
+      ++n;
+    }
+  return {sum / n, std::sqrt(var) / n};
+}
+
+std::string furnace_scene(const std::string& law, const std::string& mode, const std::string& given, int spp) {
+  return fmt::format(R"({{
+    "camera": {{"position": [0, 0, 3.2], "look_at": [0, 0, 0], "fov": 30, "width": 12, "height": 12}},
+    "integrator": {{"spp": {}, "max_depth": 100000, "rr_depth": 100000, "seed": 3}},
+    "materials": {{"boundary": {{"type": "null"}}}},
+    "media": {{"m": {{"law": {}, "mode": "{}", "given": "{}", "albedo": 1, "g": 0.3}}}},
+    "shapes": [{{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "boundary", "interior": "m"}}],
+    "lights": [{{"type": "environment", "radiance": 1}}]
+  }})",
+                     spp, law, mode, given);
+}
+
+struct FurnaceCase {
+  std::string label;
+  std::string law;
+  std::string given;
+};
+
+class ReciprocalFurnace : public ::testing::TestWithParam<FurnaceCase> {};
+
+// A closed index-matched sphere of a conservative medium under a uniform environment of radiance
+// 1 must render 1 everywhere: in reciprocal mode every full path has weight 1 (docs/render.md §2).
+TEST_P(ReciprocalFurnace, RendersOneEverywhere) {
+  const FurnaceCase& c = GetParam();
+  const RenderResult r = render(scene_from(furnace_scene(c.law, "reciprocal", c.given, 96)));
+  // The sphere covers the central 6x6 pixels fully.
+  const Estimate e = region_mean(r.image, 3, 3, 9, 9);
+  EXPECT_NEAR(e.mean, 1.0, 5.0 * e.stderr_ + kFloat) << c.label << " stderr " << e.stderr_;
+  EXPECT_GT(e.stderr_, 0.0) << "the medium must have been sampled (NEE and MIS mix)";
+  EXPECT_TRUE(r.stats.features.media);
+  EXPECT_EQ(r.stats.invalid_samples, 0U);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Laws, ReciprocalFurnace,
+    ::testing::Values(FurnaceCase{"exponential", R"({"name": "exponential", "mu": 3})", "source"},
+                      FurnaceCase{"linear", R"({"name": "linear", "mean_extinction": 3})", "source"},
+                      FurnaceCase{"gamma_a0_5", R"({"name": "gamma", "mean_extinction": 3, "alpha": 0.5})", "source"},
+                      FurnaceCase{"gamma_a2", R"({"name": "gamma", "mean_extinction": 3, "alpha": 2})", "source"},
+                      FurnaceCase{"gamma_a20", R"({"name": "gamma", "mean_extinction": 3, "alpha": 20})", "source"},
+                      FurnaceCase{"gamma_path_k2", R"({"name": "gamma-path", "k": 2, "theta": 0.2})", "scatterer"},
+                      FurnaceCase{"gamma_path_k0_5", R"({"name": "gamma-path", "k": 0.5, "theta": 0.5})", "scatterer"}),
+    [](const auto& info) { return info.param.label; });
+
+// In `same` mode (T_S = T_Q) transport is not reciprocal: the weight of a path that enters the
+// sphere at flight length t_in and leaves after t_out is Σ(t_out)/Σ(t_in) (docs/render.md §3),
+// so for a gamma law with α = 0.5 the furnace is not 1. For the exponential law Σ is constant
+// and `same` is the reciprocal pair, so it stays 1.
+TEST(SameModeFurnace, NonExponentialLawIsNotOne) {
+  const RenderResult r = render(
+      scene_from(furnace_scene(R"({"name": "gamma", "mean_extinction": 3, "alpha": 0.5})", "same", "source", 1024)));
+  const Estimate e = region_mean(r.image, 3, 3, 9, 9);
+  EXPECT_GT(std::abs(e.mean - 1.0), 5.0 * e.stderr_) << "mean " << e.mean << " stderr " << e.stderr_;
+  RecordProperty("furnace_mean", std::to_string(e.mean) + " +- " + std::to_string(e.stderr_));
+  EXPECT_TRUE(r.stats.features.non_reciprocal);
+}
+
+TEST(SameModeFurnace, ExponentialLawIsOne) {
+  const RenderResult r = render(scene_from(furnace_scene(R"({"name": "exponential", "mu": 3})", "same", "source", 96)));
+  const Estimate e = region_mean(r.image, 3, 3, 9, 9);
+  EXPECT_NEAR(e.mean, 1.0, 5.0 * e.stderr_ + kFloat);
+  EXPECT_FALSE(r.stats.features.non_reciprocal);
+}
+
+struct SlabCase {
+  std::string label;
+  std::string law;
+  std::string given;
+};
+
+class AbsorbingSlab : public ::testing::TestWithParam<SlabCase> {};
+
+// A purely absorbing slab in front of a uniform background: each pixel is the pixel-average of
+// T_Q(chord) (the flight starts at the slab's face, a boundary: source-kind).
+TEST_P(AbsorbingSlab, PixelIsSourceTransmittanceOfChord) {
+  const SlabCase& c = GetParam();
+  constexpr double kThickness = 0.5;
+  const std::string json = fmt::format(R"({{
+    "camera": {{"position": [0, 0, 3], "look_at": [0, 0, 0], "fov": 40, "width": 6, "height": 6}},
+    "integrator": {{"spp": 256, "seed": 11}},
+    "materials": {{"boundary": {{"type": "null"}}}},
+    "media": {{"m": {{"law": {}, "given": "{}", "albedo": 0}}}},
+    "shapes": [{{"type": "box", "min": [-20, -20, {}], "max": [20, 20, {}], "material": "boundary", "interior": "m"}}],
+    "lights": [{{"type": "environment", "radiance": 1}}]
+  }})",
+                                       c.law, c.given, -kThickness / 2, kThickness / 2);
+  const SceneDesc scene = scene_from(json);
+  const Medium medium = make_medium(scene.media.at("m"), "m");
+  const RenderResult r = render(scene);
+  const CameraDesc& cam = scene.camera;
+  const double tan_half = std::tan(0.5 * cam.fov_deg * std::numbers::pi / 180.0);
+  constexpr int kSub = 32;  // pixel-area average of T_Q(chord) by the midpoint rule
+  for (int y = 0; y < cam.height; ++y) {
+    for (int x = 0; x < cam.width; ++x) {
+      double expected = 0.0;
+      for (int j = 0; j < kSub; ++j)
+        for (int i = 0; i < kSub; ++i) {
+          const double sx = (2.0 * (x + (i + 0.5) / kSub) / cam.width - 1.0) * tan_half;
+          const double sy = (1.0 - 2.0 * (y + (j + 0.5) / kSub) / cam.height) * tan_half;
+          const double cos_z = 1.0 / std::sqrt(1.0 + sx * sx + sy * sy);
+          expected += medium.pair.transmittance(transmittance::Origin::source, kThickness / cos_z);
+        }
+      expected /= kSub * kSub;
+      const double sigma = std::sqrt(r.image.var_at(x, y, 0));
+      EXPECT_NEAR(r.image.at(x, y, 0), expected, 5.0 * sigma + 1e-4) << c.label << " pixel " << x << "," << y;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Laws, AbsorbingSlab,
+    ::testing::Values(SlabCase{"exponential", R"({"name": "exponential", "mu": 2})", "source"},
+                      SlabCase{"linear", R"({"name": "linear", "mean_extinction": 1.2})", "source"},
+                      SlabCase{"gamma_a0_5", R"({"name": "gamma", "mean_extinction": 2, "alpha": 0.5})", "source"},
+                      SlabCase{"gamma_a20", R"({"name": "gamma", "mean_extinction": 2, "alpha": 20})", "source"},
+                      SlabCase{"gamma_path_k2", R"({"name": "gamma-path", "k": 2, "theta": 0.3})", "scatterer"}),
+    [](const auto& info) { return info.param.label; });
+
+std::string scattering_scene(const std::string& law, int spp) {
+  return fmt::format(R"({{
+    "camera": {{"position": [0, 1.5, 4], "look_at": [0, 0.5, 0], "fov": 35, "width": 14, "height": 14}},
+    "integrator": {{"spp": {}, "max_depth": 200, "rr_depth": 5, "seed": 5}},
+    "materials": {{"boundary": {{"type": "null"}}, "floor": {{"type": "diffuse", "albedo": 0.6}}}},
+    "media": {{"m": {{"law": {}, "albedo": [0.9, 0.7, 0.5], "g": 0.4}}}},
+    "shapes": [
+      {{"type": "sphere", "center": [0, 0.8, 0], "radius": 0.8, "material": "boundary", "interior": "m"}},
+      {{"type": "rectangle", "corner": [-3, 0, 3], "edge_u": [6, 0, 0], "edge_v": [0, 0, -6], "material": "floor"}},
+      {{"type": "rectangle", "corner": [-0.5, 3, -0.5], "edge_u": [0, 0, 1], "edge_v": [1, 0, 0], "emission": 8}}
+    ],
+    "lights": [{{"type": "environment", "radiance": 0.3}}, {{"type": "point", "position": [2, 2, 2], "intensity": 3}}]
+  }})",
+                     spp, law);
+}
+
+/// z-score of Σ (a−b)²/(var_a+var_b) against its χ² expectation, over pixels with noise.
+double chi_square_z(const Image& a, const Image& b, double& max_noiseless_difference) {
+  double chi2 = 0.0;
+  int n = 0;
+  max_noiseless_difference = 0.0;
+  for (std::size_t i = 0; i < a.rgb.size(); ++i) {
+    const double d = static_cast<double>(a.rgb[i]) - b.rgb[i];
+    const double v = static_cast<double>(a.variance[i]) + b.variance[i];
+    if (v > 0.0) {
+      chi2 += d * d / v;
+      ++n;
+    } else {
+      max_noiseless_difference = std::max(max_noiseless_difference, std::abs(d));
+    }
+  }
+  return (chi2 - n) / std::sqrt(2.0 * n);
+}
+
+// The exponential law runs the fast path (inverse-CDF flights, no pair); the gamma path-length
+// law with k = 1, θ = 1/μ is the same law run through the general T_Q/T_S machinery with its own
+// sampler. Two estimators, one answer.
+TEST(TwoEstimators, ExponentialFastPathEqualsGeneralPath) {
+  const RenderResult fast = render(scene_from(scattering_scene(R"({"name": "exponential", "mu": 2.5})", 128)));
+  RenderOptions independent;  // a different seed: equal streams would correlate the two images
+  independent.seed = 1234;
+  const RenderResult general =
+      render(scene_from(scattering_scene(R"({"name": "gamma-path", "k": 1, "theta": 0.4})", 128)), independent);
+  EXPECT_EQ(fast.stats.integrator, "volpath<exponential>");
+  EXPECT_EQ(general.stats.integrator, "volpath<non-exponential>");
+  double noiseless = 0.0;
+  const double z = chi_square_z(fast.image, general.image, noiseless);
+  EXPECT_LT(std::abs(z), 5.0);
+  EXPECT_LT(noiseless, kFloat);
+  const Estimate a = region_mean(fast.image, 0, 0, 14, 14);
+  const Estimate b = region_mean(general.image, 0, 0, 14, 14);
+  EXPECT_NEAR(a.mean, b.mean, 5.0 * std::hypot(a.stderr_, b.stderr_));
+}
+
+TEST(Reproducibility, SameImageForAnyThreadCount) {
+  const SceneDesc scene = scene_from(scattering_scene(R"({"name": "gamma", "mean_extinction": 2, "alpha": 0.7})", 8));
+  Image one;
+  Image two;
+  {
+    const ThreadLimit limit(1);
+    one = render(scene).image;
+  }
+  {
+    const ThreadLimit limit(2);
+    two = render(scene).image;
+  }
+  EXPECT_EQ(one.rgb, two.rgb);
+  EXPECT_EQ(one.variance, two.variance);
+}
+
+TEST(Reproducibility, SamplePassesDoNotChangeTheImage) {
+  const SceneDesc scene = scene_from(scattering_scene(R"({"name": "exponential", "mu": 2})", 6));
+  const Image whole = render(scene).image;
+  RenderOptions passes;
+  int calls = 0;
+  passes.on_pass = [&](int, double, const Image&) { ++calls; };
+  passes.spp_per_pass = 2;
+  const Image split = render(scene, passes).image;
+  EXPECT_EQ(calls, 3);
+  EXPECT_EQ(whole.rgb, split.rgb);
+}
+
+TEST(Reproducibility, SeedChangesTheNoise) {
+  const SceneDesc scene = scene_from(scattering_scene(R"({"name": "exponential", "mu": 2})", 4));
+  RenderOptions other;
+  other.seed = 99;
+  EXPECT_NE(render(scene).image.rgb, render(scene, other).image.rgb);
+}
+
+// Surfaces only. A convex diffuse object under a uniform environment reflects ρ·L_env; glass
+// and mirrors of albedo 1 under it are invisible (radiance 1).
+TEST(SurfaceFurnace, DiffuseSphereReflectsAlbedo) {
+  const RenderResult r = render(scene_from(R"({
+    "camera": {"position": [0, 0, 3.2], "look_at": [0, 0, 0], "fov": 60, "width": 12, "height": 12},
+    "integrator": {"spp": 64, "seed": 2},
+    "materials": {"d": {"type": "diffuse", "albedo": 0.4}},
+    "shapes": [{"type": "sphere", "radius": 1, "material": "d"}],
+    "lights": [{"type": "environment", "radiance": 1}]
+  })"));
+  EXPECT_EQ(r.stats.integrator, "surfaces");
+  const Estimate e = region_mean(r.image, 4, 4, 8, 8);
+  EXPECT_NEAR(e.mean, 0.4, 5.0 * e.stderr_ + kFloat);
+  EXPECT_GT(e.stderr_, 0.0);
+  EXPECT_NEAR(r.image.at(0, 0, 0), 1.0, kFloat);  // the corner sees the environment only
+}
+
+TEST(SurfaceFurnace, GlassAndMirrorConserveEnergy) {
+  for (const char* material : {R"({"type": "dielectric", "ior": 1.5, "albedo": 1})", R"({"type": "mirror"})"}) {
+    const RenderResult r = render(scene_from(fmt::format(R"({{
+      "camera": {{"position": [0, 0, 3.2], "look_at": [0, 0, 0], "fov": 30, "width": 8, "height": 8}},
+      "integrator": {{"spp": 16, "max_depth": 1000, "rr_depth": 1000}},
+      "materials": {{"m": {}}},
+      "shapes": [{{"type": "sphere", "radius": 1, "material": "m"}}],
+      "lights": [{{"type": "environment", "radiance": 1}}]
+    }})",
+                                                         material)));
+    const Estimate e = region_mean(r.image, 0, 0, 8, 8);
+    EXPECT_NEAR(e.mean, 1.0, 5.0 * e.stderr_ + kFloat) << material;
+  }
+}
+
+// A point light of intensity I at height h over a diffuse plane: L = ρ/π · I·h/r³.
+TEST(PointLight, DiffusePlaneRadianceMatchesClosedForm) {
+  constexpr double kRho = 0.5;
+  constexpr double kIntensity = 2.0;
+  constexpr double kHeight = 1.0;
+  const SceneDesc scene = scene_from(R"({
+    "camera": {"position": [0, 0, 3], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov": 50, "width": 5, "height": 5},
+    "integrator": {"spp": 64, "max_depth": 1},
+    "materials": {"d": {"type": "diffuse", "albedo": 0.5}},
+    "shapes": [{"type": "rectangle", "corner": [-10, -10, 0], "edge_u": [20, 0, 0], "edge_v": [0, 20, 0], "material": "d"}],
+    "lights": [{"type": "point", "position": [0, 0, 1], "intensity": 2}]
+  })");
+  const RenderResult r = render(scene);
+  const double tan_half = std::tan(0.5 * 50.0 * std::numbers::pi / 180.0);
+  constexpr int kSub = 64;
+  for (int y = 0; y < 5; ++y)
+    for (int x = 0; x < 5; ++x) {
+      double expected = 0.0;
+      for (int j = 0; j < kSub; ++j)
+        for (int i = 0; i < kSub; ++i) {
+          // Pinhole at z = 3 looking down -z; the pixel ray meets z = 0 at 3·(sx, sy).
+          const double sx = (2.0 * (x + (i + 0.5) / kSub) / 5.0 - 1.0) * tan_half;
+          const double sy = (1.0 - 2.0 * (y + (j + 0.5) / kSub) / 5.0) * tan_half;
+          const double px = 3.0 * sx;
+          const double py = 3.0 * sy;
+          const double r2 = px * px + py * py + kHeight * kHeight;
+          expected += kRho / std::numbers::pi * kIntensity * kHeight / (r2 * std::sqrt(r2));
+        }
+      expected /= kSub * kSub;
+      EXPECT_NEAR(r.image.at(x, y, 0), expected, 5.0 * std::sqrt(r.image.var_at(x, y, 0)) + 1e-4 * expected)
+          << x << "," << y;
+    }
+}
+
+TEST(Features, SelectTheSpecialisedIntegrator) {
+  const Features none =
+      scene_features(scene_from(R"({"materials": {"d": {}}, "shapes": [{"type": "sphere", "material": "d"}]})"));
+  EXPECT_FALSE(none.media);
+  const Features exp = scene_features(scene_from(scattering_scene(R"({"name": "exponential", "mu": 1})", 1)));
+  EXPECT_TRUE(exp.media);
+  EXPECT_FALSE(exp.non_exponential);
+  const Features gam =
+      scene_features(scene_from(scattering_scene(R"({"name": "gamma", "mean_extinction": 1, "alpha": 2})", 1)));
+  EXPECT_TRUE(gam.non_exponential);
+  EXPECT_FALSE(gam.non_reciprocal);
+}
+
+// The surface-only specialisation computes what the general integrator computes, without the
+// medium bookkeeping (same random numbers, so equal up to Embree's occlusion vs closest-hit).
+TEST(Features, SurfaceSpecialisationMatchesGeneralIntegrator) {
+  const SceneDesc scene = scene_from(R"({
+    "camera": {"position": [0, 1, 4], "look_at": [0, 0.5, 0], "fov": 40, "width": 10, "height": 10},
+    "integrator": {"spp": 4},
+    "materials": {"d": {"type": "diffuse", "albedo": 0.5}, "g": {"type": "dielectric"}},
+    "shapes": [{"type": "sphere", "center": [0, 0.5, 0], "radius": 0.5, "material": "g"},
+               {"type": "rectangle", "corner": [-3, 0, 3], "edge_u": [6, 0, 0], "edge_v": [0, 0, -6], "material": "d"}],
+    "lights": [{"type": "point", "position": [1, 2, 1], "intensity": 2}, {"type": "environment", "radiance": 0.2}]
+  })");
+  const RenderResult special = render(scene);
+  RenderOptions general;
+  general.integrator = IntegratorChoice::general;
+  const RenderResult full = render(scene, general);
+  EXPECT_EQ(special.stats.integrator, "surfaces");
+  EXPECT_EQ(full.stats.integrator, "volpath<non-exponential>");
+  for (std::size_t i = 0; i < special.image.rgb.size(); ++i)
+    EXPECT_NEAR(special.image.rgb[i], full.image.rgb[i], 1e-5 * (1.0 + full.image.rgb[i]));
+  const SceneDesc with_medium =
+      scene_from(furnace_scene(R"({"name": "gamma", "mean_extinction": 1, "alpha": 2})", "reciprocal", "source", 1));
+  RenderOptions too_special;
+  too_special.integrator = IntegratorChoice::exponential;
+  EXPECT_THROW((void)render(with_medium, too_special), Error);
+}
+
+/// A 10³ grid of constant concentration 0.5 filling [-0.5, 0.5]³, saved as .vdb.
+std::string constant_grid_file() {
+  const auto path = std::filesystem::temp_directory_path() / "weft_render_constant_grid.vdb";
+  volume::Grid grid(0.1, "density");
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j)
+      for (int k = 0; k < 10; ++k) grid.set_value(i, j, k, 0.5f);
+  grid.set_origin({-0.5, -0.5, -0.5});
+  grid.save(path);
+  return path.string();
+}
+
+/// A cube [-0.5, 0.5]³ of `medium` (JSON), lit by the environment and a point light.
+std::string cube_scene(const std::string& medium, int spp) {
+  return fmt::format(R"({{
+    "camera": {{"position": [0.6, 0.9, 2.6], "look_at": [0, 0, 0], "fov": 40, "width": 10, "height": 10}},
+    "integrator": {{"spp": {}, "max_depth": 200, "rr_depth": 5, "seed": 21}},
+    "materials": {{"boundary": {{"type": "null"}}}},
+    "media": {{"m": {}}},
+    "shapes": [{{"type": "box", "min": [-0.5, -0.5, -0.5], "max": [0.5, 0.5, 0.5], "material": "boundary", "interior": "m"}}],
+    "lights": [{{"type": "environment", "radiance": 0.5}}, {{"type": "point", "position": [1, 2, 1], "intensity": 2}}]
+  }})",
+                     spp, medium);
+}
+
+void expect_same_image(const Image& a, const Image& b) {
+  double noiseless = 0.0;
+  const double z = chi_square_z(a, b, noiseless);
+  EXPECT_LT(std::abs(z), 5.0);
+  EXPECT_LT(noiseless, kFloat);
+  const Estimate ea = region_mean(a, 0, 0, a.width, a.height);
+  const Estimate eb = region_mean(b, 0, 0, b.width, b.height);
+  EXPECT_NEAR(ea.mean, eb.mean, 5.0 * std::hypot(ea.stderr_, eb.stderr_));
+}
+
+// A grid of constant concentration C with σ is the homogeneous medium μ = σC: delta tracking
+// through the grid (majorant, DDA-free point lookups, ratio-tracked shadows) gives the image of
+// the homogeneous fast path.
+TEST(GridMedium, ConstantGridEqualsHomogeneousMedium) {
+  const std::string file = constant_grid_file();
+  const RenderResult grid = render(scene_from(
+      cube_scene(fmt::format(R"({{"type": "grid", "file": "{}", "sigma": 6, "albedo": 0.8, "g": 0.3}})", file), 64)));
+  RenderOptions other_seed;
+  other_seed.seed = 4242;
+  const RenderResult homogeneous = render(
+      scene_from(cube_scene(R"({"law": {"name": "exponential", "mu": 3}, "albedo": 0.8, "g": 0.3})", 64)), other_seed);
+  EXPECT_TRUE(grid.stats.features.heterogeneous);
+  expect_same_image(grid.image, homogeneous.image);
+}
+
+// Two estimators, one answer: delta + ratio tracking vs sampling the optical depth and marching
+// the DDA to it (exact τ for shadows).
+TEST(GridMedium, DeltaTrackingEqualsOpticalDepthSampling) {
+  const std::string file = constant_grid_file();
+  const std::string medium = R"({{"type": "grid", "file": "{}", "sigma": 6, "albedo": 0.8, "tracking": "{}"}})";
+  const RenderResult delta = render(scene_from(cube_scene(fmt::format(fmt::runtime(medium), file, "delta"), 64)));
+  RenderOptions other_seed;
+  other_seed.seed = 77;
+  const RenderResult depth =
+      render(scene_from(cube_scene(fmt::format(fmt::runtime(medium), file, "optical-depth"), 64)), other_seed);
+  expect_same_image(delta.image, depth.image);
+}
+
+// Non-exponential by optical depth: a gamma law in τ over a constant grid (τ = σC·t) is the
+// homogeneous gamma law with mean extinction σC.
+TEST(GridMedium, NonExponentialGridEqualsHomogeneousLaw) {
+  const std::string file = constant_grid_file();
+  const RenderResult grid = render(scene_from(
+      cube_scene(fmt::format(R"({{"type": "grid", "file": "{}", "sigma": 6, "tracking": "optical-depth", "albedo": 0.8,
+                       "law": {{"name": "gamma", "mean_extinction": 1, "alpha": 0.5}}}})",
+                             file),
+                 64)));
+  RenderOptions other_seed;
+  other_seed.seed = 99;
+  const RenderResult homogeneous = render(
+      scene_from(cube_scene(R"({"law": {"name": "gamma", "mean_extinction": 3, "alpha": 0.5}, "albedo": 0.8})", 64)),
+      other_seed);
+  expect_same_image(grid.image, homogeneous.image);
+}
+
+TEST(GridMedium, BadGridInputIsReported) {
+  EXPECT_THROW((void)scene_from(R"({"media": {"m": {"type": "grid", "file": "/nonexistent/x.vdb"}}})"), Error);
+  const std::string file = constant_grid_file();
+  try {
+    (void)scene_from(fmt::format(
+        R"({{"media": {{"m": {{"type": "grid", "file": "{}", "law": {{"name": "gamma", "mean_extinction": 1, "alpha": 2}}}}}}}})",
+        file));
+    FAIL() << "delta tracking of a gamma law must be refused";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("optical-depth"), std::string::npos) << e.what();
+  }
+}
+
+// An OBJ mesh with the box's own triangles renders the box's image exactly (same seed): the
+// mesh path (reader, scale/translate, winding → inside/outside of the medium) is the box path.
+TEST(MeshShape, ObjCubeRendersLikeTheBox) {
+  const auto path = std::filesystem::temp_directory_path() / "weft_render_cube.obj";
+  {
+    const TriangleMesh cube = box_mesh(Vec3(-1, -1, -1), Vec3(1, 1, 1));
+    std::ofstream out(path);
+    for (const auto& v : cube.vertices) out << "v " << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
+    for (const auto& t : cube.triangles) out << "f " << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << '\n';
+  }
+  const std::string medium = R"({"law": {"name": "gamma", "mean_extinction": 3, "alpha": 0.5}, "albedo": 0.8})";
+  std::string box = cube_scene(medium, 8);
+  std::string mesh = box;
+  const std::string box_shape = R"("type": "box", "min": [-0.5, -0.5, -0.5], "max": [0.5, 0.5, 0.5])";
+  mesh.replace(mesh.find(box_shape), box_shape.size(),
+               fmt::format(R"("type": "mesh", "file": "{}", "scale": 0.5, "translate": [0, 0, 0])", path.string()));
+  const Image a = render(scene_from(box)).image;
+  const Image b = render(scene_from(mesh)).image;
+  for (std::size_t i = 0; i < a.rgb.size(); ++i) EXPECT_NEAR(a.rgb[i], b.rgb[i], kFloat * (1.0 + a.rgb[i]));
+  std::filesystem::remove(path);
+}
+
+// An area light tests light sampling, BSDF sampling and their MIS weights together: below the
+// centre of a w×w emitter of radiance L at height h, a Lambertian plane of albedo ρ has
+// radiance ρ·L·F with F the form factor of the rectangle, 4 corners of
+// F_c = (1/2π)[A/√(1+A²)·atan(B/√(1+A²)) + B/√(1+B²)·atan(A/√(1+B²))], A = B = (w/2)/h.
+TEST(AreaLight, RadianceUnderRectangleMatchesFormFactor) {
+  constexpr double kRho = 0.6;
+  constexpr double kL = 3.0;
+  const RenderResult r = render(scene_from(R"({
+    "camera": {"position": [0, 0, 0.5], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov": 1, "width": 4, "height": 4},
+    "integrator": {"spp": 512, "max_depth": 1, "seed": 8},
+    "materials": {"d": {"type": "diffuse", "albedo": 0.6}},
+    "shapes": [
+      {"type": "rectangle", "corner": [-20, -20, 0], "edge_u": [40, 0, 0], "edge_v": [0, 40, 0], "material": "d"},
+      {"type": "rectangle", "corner": [-1, -1, 1], "edge_u": [0, 2, 0], "edge_v": [2, 0, 0], "emission": 3}
+    ]
+  })"));
+  const double a = 1.0;  // (w/2)/h with w = 2, h = 1
+  const double s = std::sqrt(1.0 + a * a);
+  const double corner = (a / s * std::atan(a / s) + a / s * std::atan(a / s)) / (2.0 * std::numbers::pi);
+  const double expected = kRho * kL * 4.0 * corner;
+  const Estimate e = region_mean(r.image, 0, 0, 4, 4);
+  EXPECT_NEAR(e.mean, expected, 5.0 * e.stderr_ + 1e-3 * expected) << "stderr " << e.stderr_;
+  EXPECT_TRUE(r.stats.features.area_lights);
+}
+
+/// A 24³ grid, voxel 1/24, over [-0.5, 0.5]³: dense in one corner, thin elsewhere, with holes.
+std::string varying_grid_file() {
+  const auto path = std::filesystem::temp_directory_path() / "weft_render_varying_grid.vdb";
+  volume::Grid grid(1.0 / 24.0, "density");
+  for (int i = 0; i < 24; ++i)
+    for (int j = 0; j < 24; ++j)
+      for (int k = 0; k < 24; ++k) {
+        if ((i + 2 * j + 3 * k) % 7 == 0) continue;  // holes
+        grid.set_value(i, j, k, i < 12 && j < 12 ? 0.9f : 0.05f * static_cast<float>(1 + k % 3));
+      }
+  grid.set_origin({-0.5, -0.5, -0.5});
+  grid.save(path);
+  return path.string();
+}
+
+// Delta tracking over the per-block majorant grid against the exact optical depth of the DDA on
+// a strongly varying grid: two estimators, one answer.
+TEST(GridMedium, MajorantGridDeltaTrackingEqualsOpticalDepthOnVaryingGrid) {
+  const std::string file = varying_grid_file();
+  const std::string medium = R"({{"type": "grid", "file": "{}", "sigma": 8, "albedo": 0.9, "tracking": "{}"}})";
+  const RenderResult delta = render(scene_from(cube_scene(fmt::format(fmt::runtime(medium), file, "delta"), 64)));
+  RenderOptions other_seed;
+  other_seed.seed = 31;
+  const RenderResult depth =
+      render(scene_from(cube_scene(fmt::format(fmt::runtime(medium), file, "optical-depth"), 64)), other_seed);
+  expect_same_image(delta.image, depth.image);
+}
+
+// The majorant walk tiles the clipped ray with cells whose majorant bounds μ inside them.
+TEST(GridMedium, MajorantWalkTilesTheRayAndBoundsExtinction) {
+  const SceneDesc scene = scene_from(
+      fmt::format(R"({{"media": {{"m": {{"type": "grid", "file": "{}", "sigma": 8}}}}}})", varying_grid_file()));
+  const Medium m = make_medium(scene.media.at("m"), "m");
+  ASSERT_TRUE(m.majorants);
+  Pcg32 rng(5);
+  for (int trial = 0; trial < 200; ++trial) {
+    const Vec3 o(rng.uniform() * 3 - 1.5, rng.uniform() * 3 - 1.5, rng.uniform() * 3 - 1.5);
+    Vec3 d(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
+    if (trial % 4 == 0) d = Vec3(0, 0, trial % 8 == 0 ? 1 : -1);  // axis-aligned, zero components
+    d.normalize();
+    double last = -1.0;
+    bool first = true;
+    walk_majorants(*m.majorants, o, d, 0.0, 10.0, [&](double ta, double tb, double majorant) {
+      EXPECT_LE(ta, tb);
+      if (!first) {
+        EXPECT_NEAR(ta, last, 1e-12);
+      }
+      first = false;
+      last = tb;
+      for (double f : {0.1, 0.5, 0.9}) {
+        const Vec3 x = o + (ta + f * (tb - ta)) * d;
+        const auto origin = m.grid->origin();
+        const double h = m.grid->voxel_size();
+        const double mu = m.scale * m.grid->value(static_cast<int>(std::floor((x.x() - origin[0]) / h)),
+                                                  static_cast<int>(std::floor((x.y() - origin[1]) / h)),
+                                                  static_cast<int>(std::floor((x.z() - origin[2]) / h)));
+        EXPECT_LE(mu, majorant + 1e-12);
+      }
+      return true;
+    });
+  }
+}
+
+}  // namespace
+}  // namespace weft::render

@@ -1,0 +1,169 @@
+// Scene files: parsing, checking, round trips and the one-line errors of bad input.
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "weft/core/error.h"
+#include "weft/render/builtin_scenes.h"
+#include "weft/render/mesh.h"
+#include "weft/render/scene.h"
+
+namespace weft::render {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string error_of(const std::string& text) {
+  try {
+    (void)parse_scene(text, "test.json", fs::temp_directory_path());
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+const char* kMinimal = R"({
+  "materials": {"white": {"type": "diffuse", "albedo": 0.5}},
+  "shapes": [{"type": "sphere", "radius": 1, "material": "white"}],
+  "lights": [{"type": "environment", "radiance": 1}]
+})";
+
+TEST(SceneFile, MinimalSceneParsesWithDefaults) {
+  const SceneDesc s = parse_scene(kMinimal, "test.json", ".");
+  ASSERT_EQ(s.shapes.size(), 1U);
+  EXPECT_EQ(s.shapes[0].kind, ShapeKind::sphere);
+  EXPECT_EQ(s.materials.at("white").albedo[1], 0.5);
+  EXPECT_EQ(s.camera.width, 256);
+  EXPECT_EQ(s.lights[0].kind, LightKind::environment);
+}
+
+TEST(SceneFile, InvalidJsonReportsLineAndColumn) {
+  const std::string text = "{\n  \"camera\": {\n    \"fov\": 40,,\n  }\n}";
+  const std::string e = error_of(text);
+  EXPECT_NE(e.find("test.json:3:15"), std::string::npos) << e;
+  EXPECT_NE(e.find("invalid JSON"), std::string::npos) << e;
+  EXPECT_EQ(e.find('\n'), std::string::npos) << "one line: " << e;
+}
+
+TEST(SceneFile, PositionOfCountsLinesAndColumnsFromOne) {
+  EXPECT_EQ(position_of("ab\ncd", 0).line, 1U);
+  EXPECT_EQ(position_of("ab\ncd", 4).line, 2U);
+  EXPECT_EQ(position_of("ab\ncd", 4).column, 2U);
+}
+
+TEST(SceneFile, UnknownKeyIsNamedWithClosestSuggestion) {
+  const std::string e = error_of(R"({"camera": {"fvo": 30}})");
+  EXPECT_NE(e.find("unknown key 'fvo'"), std::string::npos) << e;
+  EXPECT_NE(e.find("did you mean 'fov'"), std::string::npos) << e;
+}
+
+TEST(SceneFile, UnknownTypeIsNamedWithClosestSuggestion) {
+  const std::string e = error_of(R"({"shapes": [{"type": "sphre", "radius": 1}]})");
+  EXPECT_NE(e.find("unknown shape type 'sphre'"), std::string::npos) << e;
+  EXPECT_NE(e.find("did you mean 'sphere'"), std::string::npos) << e;
+  const std::string m = error_of(R"({"materials": {"a": {"type": "difuse"}}})");
+  EXPECT_NE(m.find("did you mean 'diffuse'"), std::string::npos) << m;
+}
+
+TEST(SceneFile, UnknownLawIsReportedAtLoad) {
+  const std::string e = error_of(R"({"media": {"m": {"law": {"name": "gama", "mean_extinction": 1, "alpha": 2}}}})");
+  EXPECT_NE(e.find("media.m"), std::string::npos) << e;
+  EXPECT_NE(e.find("gama"), std::string::npos) << e;
+}
+
+TEST(SceneFile, NegativeAndOutOfRangeParametersAreRejected) {
+  EXPECT_NE(error_of(R"({"shapes": [{"type": "sphere", "radius": -1, "material": "w"}]})").find("'radius' must be > 0"),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"materials": {"w": {"albedo": -0.1}}})").find("'albedo' must be >= 0"), std::string::npos);
+  EXPECT_NE(error_of(R"({"camera": {"fov": 0}})").find("'fov' must be > 0"), std::string::npos);
+  EXPECT_NE(error_of(R"({"camera": {"width": 0}})").find("'width' must be in"), std::string::npos);
+  EXPECT_NE(error_of(R"({"media": {"m": {"law": {"name": "exponential", "mu": -2}}}})").find("mu"), std::string::npos);
+  EXPECT_NE(error_of(R"({"media": {"m": {"law": "exponential", "g": 1.5}}})").find("'g' must be in (-1, 1)"),
+            std::string::npos);
+}
+
+TEST(SceneFile, DanglingNamesSuggestTheClosestDefinedOne) {
+  const std::string e = error_of(R"({"materials": {"white": {}}, "shapes": [{"type": "sphere", "material": "whte"}]})");
+  EXPECT_NE(e.find("material 'whte' is not defined (did you mean 'white'?)"), std::string::npos) << e;
+}
+
+TEST(SceneFile, MissingMeshFileIsNamed) {
+  const std::string e =
+      error_of(R"({"materials": {"w": {}}, "shapes": [{"type": "mesh", "file": "nope.obj", "material": "w"}]})");
+  EXPECT_NE(e.find("nope.obj"), std::string::npos) << e;
+  EXPECT_NE(e.find("does not exist"), std::string::npos) << e;
+}
+
+TEST(SceneFile, ReciprocalPartnerThatDoesNotExistIsAnError) {
+  // Gamma path length with k < 1 has p_Q(0) = ∞: T_S = p_Q/p_Q(0) does not exist.
+  const std::string e =
+      error_of(R"({"media": {"m": {"law": {"name": "gamma-path", "k": 0.5, "theta": 1}, "mode": "reciprocal"}}})");
+  EXPECT_NE(e.find("media.m"), std::string::npos) << e;
+  EXPECT_FALSE(e.empty());
+  // The same law given as the scatterer's law has a source partner (ℓ_S finite).
+  EXPECT_EQ(error_of(R"({"media": {"m": {"law": {"name": "gamma-path", "k": 0.5, "theta": 1},
+                                      "mode": "reciprocal", "given": "scatterer"}}})"),
+            "");
+}
+
+TEST(SceneFile, RoundTripsThroughJson) {
+  for (const auto& name : builtin_scene_names()) {
+    const SceneDesc a = parse_scene(builtin_scene(name), name, ".");
+    const std::string once = scene_to_json(a);
+    const SceneDesc b = parse_scene(once, name + " (written)", ".");
+    EXPECT_EQ(scene_to_json(b), once) << name;
+    EXPECT_EQ(a.shapes.size(), b.shapes.size());
+    EXPECT_EQ(a.media.size(), b.media.size());
+  }
+}
+
+TEST(SceneFile, BuiltInScenesIncludeTheExamples) {
+  const auto names = builtin_scene_names();
+  for (const char* required : {"cloth_patch", "cornell_media", "furnace"})
+    EXPECT_NE(std::find(names.begin(), names.end(), required), names.end()) << required;
+  EXPECT_THROW((void)builtin_scene("furnase"), Error);
+}
+
+TEST(ObjReader, ReadsPolygonsAndNegativeIndices) {
+  const fs::path p = fs::temp_directory_path() / "weft_render_quad.obj";
+  {
+    std::ofstream out(p);
+    out << "# quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1 4/4/1\nf -4 -3 -2\n";
+  }
+  const TriangleMesh m = load_obj(p);
+  EXPECT_EQ(m.vertices.size(), 4U);
+  ASSERT_EQ(m.triangles.size(), 3U);
+  EXPECT_EQ(m.triangles[1][2], 3U);
+  EXPECT_EQ(m.triangles[2][0], 0U);
+  fs::remove(p);
+}
+
+TEST(ObjReader, BadIndexNamesFileAndLine) {
+  const fs::path p = fs::temp_directory_path() / "weft_render_bad.obj";
+  {
+    std::ofstream out(p);
+    out << "v 0 0 0\nv 1 0 0\nf 1 2 3\n";
+  }
+  try {
+    (void)load_obj(p);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("line 3"), std::string::npos) << e.what();
+  }
+  fs::remove(p);
+}
+
+TEST(BoxMesh, TrianglesFaceOutward) {
+  const TriangleMesh m = box_mesh(Vec3(-1, -2, -3), Vec3(1, 2, 3));
+  for (const auto& t : m.triangles) {
+    const Vec3 a = m.vertices[t[0]];
+    const Vec3 n = (m.vertices[t[1]] - a).cross(m.vertices[t[2]] - a);
+    const Vec3 centre = (a + m.vertices[t[1]] + m.vertices[t[2]]) / 3.0;
+    EXPECT_GT(n.dot(centre), 0.0);
+  }
+}
+
+}  // namespace
+}  // namespace weft::render
