@@ -30,7 +30,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0U, 1024U));
 
   auto& commands = registry();
-  std::stable_sort(commands.begin(), commands.end(), [](const Command& a, const Command& b) { return a.order < b.order; });
+  std::stable_sort(commands.begin(), commands.end(),
+                   [](const Command& a, const Command& b) { return a.order < b.order; });
   std::vector<std::pair<CLI::App*, Action>> actions;
   for (const auto& command : commands) {
     CLI::App* sub = app.add_subcommand(command.name, command.summary);

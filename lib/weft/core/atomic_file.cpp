@@ -16,8 +16,8 @@ fs::path temporary_beside(const fs::path& target) {
   static std::atomic<unsigned> counter{0};
   fs::path tmp = target;
   // Keep the extension last: some writers (VTK, OpenEXR) choose a format from it.
-  tmp.replace_filename(fmt::format(".{}.tmp{}-{}{}", target.stem().string(), ::getpid(), counter++,
-                                   target.extension().string()));
+  tmp.replace_filename(
+      fmt::format(".{}.tmp{}-{}{}", target.stem().string(), ::getpid(), counter++, target.extension().string()));
   return tmp;
 }
 }  // namespace

@@ -18,8 +18,7 @@ struct ThreadLimit::Impl {
 
 ThreadLimit::ThreadLimit(unsigned threads) : impl_(std::make_unique<Impl>()) {
   if (threads > 0) {
-    impl_->control =
-        std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
+    impl_->control = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
   }
 }
 

@@ -21,7 +21,8 @@ namespace {
 // Uniform scale (plus translation) is what the DDA and the voxel-size-based physics assume.
 void require_uniform_scale(const openvdb::FloatGrid& grid, const std::string& where) {
   const auto& map = *grid.transform().baseMap();
-  if (!map.isLinear()) fail("{}: grid '{}' has a non-linear transform; weft needs a uniform voxel scale", where, grid.getName());
+  if (!map.isLinear())
+    fail("{}: grid '{}' has a non-linear transform; weft needs a uniform voxel scale", where, grid.getName());
   const openvdb::Vec3d size = grid.voxelSize();
   const double tol = 1e-9 * size.length();
   if (std::abs(size[0] - size[1]) > tol || std::abs(size[0] - size[2]) > tol) {
@@ -31,7 +32,8 @@ void require_uniform_scale(const openvdb::FloatGrid& grid, const std::string& wh
   if (!grid.transform().hasUniformScale()) {
     fail("{}: grid '{}' has a non-uniform (sheared or rotated) transform", where, grid.getName());
   }
-  if (!(size[0] > 0.0) || !std::isfinite(size[0])) fail("{}: grid '{}' has voxel size {}", where, grid.getName(), size[0]);
+  if (!(size[0] > 0.0) || !std::isfinite(size[0]))
+    fail("{}: grid '{}' has voxel size {}", where, grid.getName(), size[0]);
 }
 
 void require_valid_values(const openvdb::FloatGrid& grid, const std::string& where) {
@@ -44,7 +46,8 @@ void require_valid_values(const openvdb::FloatGrid& grid, const std::string& whe
     }
   }
   const float bg = grid.background();
-  if (!std::isfinite(bg) || bg != 0.0f) fail("{}: grid '{}' has background {}; weft needs background 0", where, grid.getName(), bg);
+  if (!std::isfinite(bg) || bg != 0.0f)
+    fail("{}: grid '{}' has background {}; weft needs background 0", where, grid.getName(), bg);
 }
 
 }  // namespace
@@ -89,7 +92,8 @@ Grid Grid::load(const fs::path& path, const std::string& grid_name) {
     } else {
       if (!file.hasGrid(grid_name)) {
         std::string names;
-        for (auto it = file.beginName(); it != file.endName(); ++it) names += (names.empty() ? "" : ", ") + it.gridName();
+        for (auto it = file.beginName(); it != file.endName(); ++it)
+          names += (names.empty() ? "" : ", ") + it.gridName();
         fail("{}: no grid named '{}' (the file has: {})", where, grid_name, names.empty() ? "none" : names);
       }
       base = file.readGrid(grid_name);
@@ -150,7 +154,9 @@ IndexBox Grid::active_bbox() const {
   return box;
 }
 
-float Grid::value(int i, int j, int k) const { return impl_->grid->getConstAccessor().getValue(openvdb::Coord(i, j, k)); }
+float Grid::value(int i, int j, int k) const {
+  return impl_->grid->getConstAccessor().getValue(openvdb::Coord(i, j, k));
+}
 
 void Grid::set_value(int i, int j, int k, float v) { impl_->grid->getAccessor().setValue(openvdb::Coord(i, j, k), v); }
 
