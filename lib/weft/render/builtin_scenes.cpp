@@ -1,6 +1,7 @@
 #include "weft/render/builtin_scenes.h"
 
 #include "weft/core/error.h"
+#include "weft/core/names.h"
 #include "weft/render/scene.h"
 
 namespace weft::render {

@@ -9,42 +9,13 @@
 #include <nlohmann/json.hpp>
 
 #include "weft/core/error.h"
+#include "weft/core/names.h"
 #include "weft/render/medium.h"
 #include "weft/render/mesh.h"
 
 namespace weft::render {
 
 using nlohmann::json;
-
-std::string closest_name(const std::string& word, const std::vector<std::string>& candidates) {
-  // Levenshtein distance, case-insensitive: good enough for misspelt keys and type names.
-  auto lower = [](std::string s) {
-    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return s;
-  };
-  const std::string a = lower(word);
-  std::string best;
-  std::size_t best_distance = std::string::npos;
-  for (const auto& candidate : candidates) {
-    const std::string b = lower(candidate);
-    std::vector<std::size_t> row(b.size() + 1);
-    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-    for (std::size_t i = 1; i <= a.size(); ++i) {
-      std::size_t diagonal = row[0];
-      row[0] = i;
-      for (std::size_t j = 1; j <= b.size(); ++j) {
-        const std::size_t above = row[j];
-        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0U : 1U)});
-        diagonal = above;
-      }
-    }
-    if (row[b.size()] < best_distance) {
-      best_distance = row[b.size()];
-      best = candidate;
-    }
-  }
-  return best;
-}
 
 TextPosition position_of(std::string_view text, std::size_t offset) {
   TextPosition pos;

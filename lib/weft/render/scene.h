@@ -140,8 +140,6 @@ struct SceneDesc {
 /// Writes the scene back to JSON (every field, canonical form).
 [[nodiscard]] std::string scene_to_json(const SceneDesc& scene);
 
-/// The closest of `candidates` to `word` by edit distance (for "did you mean" hints).
-[[nodiscard]] std::string closest_name(const std::string& word, const std::vector<std::string>& candidates);
 
 /// Line and column (1-based) of byte offset `offset` in `text`.
 struct TextPosition {

@@ -8,6 +8,7 @@
 #include <fmt/ranges.h>
 
 #include "weft/core/error.h"
+#include "weft/core/names.h"
 #include "weft/transmittance/erlang.h"
 #include "weft/transmittance/exponential.h"
 #include "weft/transmittance/gamma_concentration.h"
@@ -103,24 +104,9 @@ const std::vector<Entry>& entries() {
   return table;
 }
 
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      const std::size_t cost = (std::tolower(a[i - 1]) == std::tolower(b[j - 1])) ? 0 : 1;
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + cost});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
-}
-
 std::string suggestion(const std::string& word, const std::vector<std::string>& candidates) {
-  const std::string best = closest_name(word, candidates);
+  // Only suggest when the word is plausibly a misspelling.
+  const std::string best = closest_name(word, candidates, std::max<std::size_t>(2, word.size() / 2));
   return best.empty() ? std::string{} : fmt::format(" (did you mean '{}'?)", best);
 }
 
@@ -133,21 +119,6 @@ const Entry& find_entry(const std::string& name) {
 }
 
 }  // namespace
-
-std::string closest_name(const std::string& word, const std::vector<std::string>& candidates) {
-  std::string best;
-  std::size_t best_distance = std::numeric_limits<std::size_t>::max();
-  for (const auto& candidate : candidates) {
-    const std::size_t d = edit_distance(word, candidate);
-    if (d < best_distance) {
-      best_distance = d;
-      best = candidate;
-    }
-  }
-  // Only suggest when the word is plausibly a misspelling.
-  if (best_distance > std::max<std::size_t>(2, word.size() / 2)) return {};
-  return best;
-}
 
 std::vector<std::string> law_names() {
   std::vector<std::string> names;

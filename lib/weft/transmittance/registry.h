@@ -30,8 +30,6 @@ struct LawSpec {
 /// The registered law names, in a stable order.
 [[nodiscard]] std::vector<std::string> law_names();
 
-/// The closest of `candidates` to `word` by edit distance ("" if none is reasonably close).
-[[nodiscard]] std::string closest_name(const std::string& word, const std::vector<std::string>& candidates);
 
 /// One line per accepted parameter of `name`, with units, for --help and docs.
 [[nodiscard]] std::string describe_law(const std::string& name);
