@@ -3,7 +3,9 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -156,20 +158,27 @@ int run(const ModelOptions& o, const std::vector<bool>& given_flags, const Conte
   }();
 
   if (o.sample < 0) fail("--sample: expected a count >= 0, got {}", o.sample);
+  // A sane ceiling: more is a typo, and would run for hours (use several seeds instead).
+  if (o.sample > 1000000000LL) fail("--sample: at most 1e9 samples per run, got {} (run several seeds)", o.sample);
   if (o.sample > 0) {
     const tr::Origin from = tr::parse_origin(o.from);
     if (default_law && !ctx.globals.quiet) fmt::print(stderr, "weft: note: {}\n", note);
     Pcg32 rng = stream_for(o.seed, 0);
+    // Streamed in chunks: N may be far larger than memory.
     std::string out;
-    if (proportional) {
-      const auto& gamma = dynamic_cast<const tr::GammaConcentration&>(pair.law(from));
-      for (long long i = 0; i < o.sample; ++i) {
-        out += fmt::format("{:.17g}\n", gamma.sample_proportional_to_transmittance(rng));
-      }
-    } else {
-      for (long long i = 0; i < o.sample; ++i) out += fmt::format("{:.17g}\n", pair.sample(from, rng));
+    const auto flush = [&out] {
+      if (std::fwrite(out.data(), 1, out.size(), stdout) != out.size())
+        fail("cannot write samples to stdout: {}", std::strerror(errno));
+      out.clear();
+    };
+    const auto* gamma = proportional ? &dynamic_cast<const tr::GammaConcentration&>(pair.law(from)) : nullptr;
+    for (long long i = 0; i < o.sample; ++i) {
+      const double t = gamma != nullptr ? gamma->sample_proportional_to_transmittance(rng) : pair.sample(from, rng);
+      out += fmt::format("{:.17g}\n", t);
+      if (out.size() > (1U << 16U)) flush();
     }
-    fmt::print("{}", out);
+    flush();
+    if (std::fflush(stdout) != 0) fail("cannot write samples to stdout: {}", std::strerror(errno));
     return 0;
   }
 

@@ -32,6 +32,7 @@ struct ValidateOptions {
   std::string axes = "x,y,z";
   int rays = 1;
   double sigma = 0.0;
+  CLI::Option* sigma_option = nullptr;  ///< tells "not given" from an invalid 0
   std::string window = "corr";
   bool no_plot = false;
   std::uint64_t seed = 1;
@@ -196,9 +197,10 @@ const Registrar kValidate{Command{
           ->capture_default_str();
       sub.add_option("--rays", o->rays, "Rays per column (> 1: jittered; axis rays of one column see the same voxels)")
           ->capture_default_str();
-      sub.add_option("--sigma", o->sigma,
-                     "Extinction cross-section per unit concentration [1/length]; default for a cloth 2/(pi r_fibre) "
-                     "(opaque fibres across the beam), 1 for a grid");
+      o->sigma_option = sub.add_option(
+          "--sigma", o->sigma,
+          "Extinction cross-section per unit concentration [1/length]; default for a cloth 2/(pi r_fibre) "
+          "(opaque fibres across the beam), 1 for a grid");
       sub.add_option("--window", o->window,
                      "Window of the concentration statistics: corr (each axis's correlation length, measured from "
                      "the grid), extent (the whole depth along each beam), or a length")
@@ -213,9 +215,10 @@ const Registrar kValidate{Command{
         json timings = json::object();
         // Everything is checked and computed before the output folder is touched.
         if (o->rays < 1) fail("--rays must be >= 1, got {}", o->rays);
-        if (o->sigma != 0.0) require_positive("--sigma", o->sigma);
+        const bool sigma_given = o->sigma_option->count() > 0;
+        if (sigma_given) require_positive("--sigma", o->sigma);
         const bool extinction = o->values == "extinction";
-        if (extinction && o->sigma != 0.0) fail("--sigma applies to concentration values, not --values extinction");
+        if (extinction && sigma_given) fail("--sigma applies to concentration values, not --values extinction");
         if (extinction && o->grid.empty()) fail("--values extinction needs --grid (a cloth grid holds concentrations)");
         fit::ValidationSpec spec;
         spec.directions = fit::parse_axes(o->axes);
@@ -246,7 +249,7 @@ const Registrar kValidate{Command{
           timings["load_grid"] = seconds_since(t0);
           if (grid.active_voxel_count() == 0) fail("{}: grid '{}' is empty (no active voxels)", o->grid, grid.name());
           input = {{"source", "grid"}, {"file", fs::absolute(o->grid).string()}, {"grid_name", grid.name()}};
-          spec.sigma = extinction ? 1.0 : (o->sigma != 0.0 ? o->sigma : 1.0);
+          spec.sigma = extinction ? 1.0 : (sigma_given ? o->sigma : 1.0);
           title = fmt::format("{} ({})", fs::path(o->grid).filename().string(), grid.name());
         } else {
           cloth::ClothSpec cs = o->cloth.empty() ? cloth::default_cloth_spec() : cloth::load_cloth_spec(o->cloth);
@@ -259,7 +262,7 @@ const Registrar kValidate{Command{
           grid = build.grid;
           if (grid.active_voxel_count() == 0) fail("cloth: the voxelized cloth is empty");
           const double r = build.spec.warp_yarn.fiber_radius;
-          spec.sigma = o->sigma != 0.0 ? o->sigma : 2.0 / (std::numbers::pi * r);
+          spec.sigma = sigma_given ? o->sigma : 2.0 / (std::numbers::pi * r);
           input = {{"source", "cloth"},
                    {"cloth_file", o->cloth.empty() ? json(nullptr) : json(fs::absolute(o->cloth).string())},
                    {"cloth", json::parse(cloth::cloth_spec_json(build.spec))},
@@ -286,7 +289,7 @@ const Registrar kValidate{Command{
         report["units"] = "lengths in the grid's world units (mm for cloth); sigma in 1/length";
         report["input"] = input;
         report["sigma"] = spec.sigma;
-        report["sigma_default"] = o->sigma == 0.0 && !extinction;
+        report["sigma_default"] = !sigma_given && !extinction;
         report["rays_per_column"] = spec.rays_per_column;
         report["seed"] = spec.seed;
         report["window"] = o->window == "corr"     ? json("correlation length along each beam")

@@ -80,6 +80,9 @@ Grid Grid::load(const fs::path& path, const std::string& grid_name) {
   try {
     openvdb::io::File file(path.string());
     file.open(false);  // no delayed loading: the file may change under us, and we read it whole
+    // A header cut short still opens, as a file without grids: say so rather than "no float grid".
+    if (file.beginName() == file.endName())
+      fail("{}: the file holds no grids (empty or truncated OpenVDB file)", where);
     if (grid_name.empty()) {
       for (auto it = file.beginName(); it != file.endName(); ++it) {
         auto candidate = file.readGrid(it.gridName());
