@@ -1,0 +1,47 @@
+#pragma once
+/// @file
+/// @brief The coarse local statistic fields of `weft fit --block B` as a heterogeneous gamma
+/// medium (model and its limits: docs/render.md §"Local gamma").
+
+#include <array>
+#include <filesystem>
+#include <memory>
+
+#include "weft/volume/dda.h"
+#include "weft/volume/grid.h"
+
+namespace weft::render {
+
+/// @brief Per coarse voxel v a gamma-concentration law (α_v = C̄²/V, β_v = C̄/V from the block
+/// mean C̄ and the column-mean variance V along the ray's dominant axis), applied along a ray
+/// as the hazard Σ(s) = σα_v/(β_v + σs) of that law with the memory s measured from the
+/// segment start; H(t) = ∫Σ and T = e^{−H}. A constant field is exactly the homogeneous gamma
+/// law T = (1 + σt/β)^{−α}; V = 0 gives the exponential e^{−σC̄t}.
+///
+/// Holds a volume::Tracer, so one instance per thread.
+class LocalGammaField {
+ public:
+  /// Reads "mean_concentration" and "var_concentration_{x,y,z}" from the .vdb `weft fit
+  /// --block` writes. Throws weft::Error naming the file for a missing grid, an empty mean
+  /// grid, or σ not finite and positive.
+  LocalGammaField(const std::filesystem::path& vdb, double sigma);
+
+  /// log T = −H over [t0, t1] along the ray, the memory starting at t0 (world distances).
+  [[nodiscard]] double log_transmittance(const volume::Ray& ray, double t0, double t1);
+  /// The distance t in (t0, t1] where H reaches `h` (h = −log u samples the free flight),
+  /// or +∞ when H(t1) < h.
+  [[nodiscard]] double sample_distance(const volume::Ray& ray, double t0, double t1, double h);
+
+ private:
+  /// Walks the coarse cells, calling piece(a, b, σC̄, κ) with a, b memories from t0 and
+  /// hazard σC̄/(1 + κs); stops when piece returns false.
+  template <typename Piece>
+  void walk(const volume::Ray& ray, double t0, double t1, Piece&& piece);
+
+  std::shared_ptr<const volume::Grid> mean_;
+  std::array<std::shared_ptr<const volume::Grid>, 3> var_;
+  std::unique_ptr<volume::Tracer> tracer_;
+  double sigma_ = 1.0;
+};
+
+}  // namespace weft::render
