@@ -30,7 +30,6 @@ struct LawSpec {
 /// The registered law names, in a stable order.
 [[nodiscard]] std::vector<std::string> law_names();
 
-
 /// One line per accepted parameter of `name`, with units, for --help and docs.
 [[nodiscard]] std::string describe_law(const std::string& name);
 
