@@ -41,7 +41,10 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version exit 0; every usage error exits 2 (the POSIX convention), whatever
+    // CLI11's internal code, so scripts can tell a usage error from a failed run (exit 1).
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
   } catch (const weft::Error& e) {
     fmt::print(stderr, "weft: error: {}\n", e.what());
     return 1;
@@ -61,6 +64,6 @@ int main(int argc, char** argv) {
     return 1;
   } catch (const std::exception& e) {
     fmt::print(stderr, "weft: error: internal error: {}\n", e.what());
-    return 2;
+    return 3;
   }
 }
