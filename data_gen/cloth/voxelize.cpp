@@ -161,8 +161,14 @@ void check_options(const VoxelizeOptions& o) {
   }
 }
 
-std::string mib(std::uint64_t bytes) {
-  return fmt::format("{:.1f} MiB", static_cast<double>(bytes) / (1024.0 * 1024.0));
+// Picks the unit so that a small budget never reads as "0.0 MiB" (i.e. as no budget at all).
+std::string format_bytes(std::uint64_t bytes) {
+  if (bytes < 1024U) return fmt::format("{} bytes", bytes);
+  const double kib = static_cast<double>(bytes) / 1024.0;
+  if (kib < 1024.0) return fmt::format("{:.1f} KiB", kib);
+  const double mebi = kib / 1024.0;
+  if (mebi < 1024.0) return fmt::format("{:.1f} MiB", mebi);
+  return fmt::format("{:.2f} GiB", mebi / 1024.0);
 }
 
 }  // namespace
@@ -210,7 +216,7 @@ VoxelizeEstimate estimate_voxelize_memory(const FiberSet& fibers, const Voxelize
   const std::uint64_t budget = options.max_memory_bytes > 0 ? options.max_memory_bytes : default_memory_budget();
   if (pieces * static_cast<double>(kPieceBytes) > static_cast<double>(budget)) {
     fail("voxel_size {} mm: {:.3g} fibre pieces alone would exceed the memory budget of {} (--max-memory)", h, pieces,
-         mib(budget));
+         format_bytes(budget));
   }
   e.pieces = 0;
   for_each_piece(fibers, h, h / options.samples_per_voxel, [&](const Piece& p) {
@@ -241,7 +247,7 @@ volume::Grid voxelize(const FiberSet& fibers, const VoxelizeOptions& options, Vo
     fail(
         "voxel_size {} mm: voxelizing would take up to {} ({} leaves of 8^3 voxels), over the memory budget of {} "
         "(--max-memory)",
-        h, mib(estimate.bytes), estimate.leaves, mib(budget));
+        h, format_bytes(estimate.bytes), estimate.leaves, format_bytes(budget));
   }
 
   std::vector<Piece> pieces;
