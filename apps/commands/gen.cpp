@@ -8,10 +8,10 @@
 
 #include "command.h"
 #include "data_gen/cloth/cloth.h"
-#include "data_gen/cloth/curve_io.h"
 #include "data_gen/cloth/voxelize.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
+#include "weft/curves/curve_io.h"
 #include "weft/viz/vtk_files.h"
 
 namespace weft::app {
@@ -233,8 +233,8 @@ const Registrar kGen{Command{
         const auto json = out / "cloth.json";
         build.grid.save(vdb);
         viz::write_vtp(fibers_as_polylines(build.fibers), vtp);
-        cloth::write_bcc(bcc, build.centerlines.curves, "weft yarn centrelines (mm)");
-        if (o->fibers_bcc) cloth::write_bcc(out / "fibers.bcc", cloth::fiber_curves(build.fibers), "weft fibres (mm)");
+        curves::write_bcc(bcc, build.centerlines.curves, "weft yarn centrelines (mm)");
+        if (o->fibers_bcc) curves::write_bcc(out / "fibers.bcc", cloth::fiber_curves(build.fibers), "weft fibres (mm)");
         write_text_atomically(json, cloth::cloth_spec_json(build.spec));
         const auto& r = build.report;
         ctx.say(fmt::format("{} cloth, {} yarns, {} fibres ({:.1f} mm of fibre), seed {}", build.spec.pattern,

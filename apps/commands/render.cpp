@@ -1,16 +1,21 @@
 // `weft render`: volumetric path tracing of a JSON scene (docs/render.md, docs/scene-format.md).
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <iterator>
 #include <memory>
 #include <optional>
 #include <string>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
 
 #include "command.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 #include "weft/render/builtin_scenes.h"
+#include "weft/render/convergence.h"
 #include "weft/render/render.h"
 #include "weft/viz/chart.h"
 
@@ -26,10 +31,18 @@ struct RenderCliOptions {
   double time_budget = 0.0;
   std::optional<std::uint64_t> seed;
   std::string convergence;
+  int reference_spp = 0;
+  bool quick = false;
   bool list = false;
   bool print_scene = false;
   double exposure = 1.0;
 };
+
+/// spp of the images the contact sheet shows (supplement Figs. S.7–S.8), those ≤ the run's spp.
+constexpr int kSheetSpp[] = {2, 8, 64, 128, 512};
+/// --quick: the longest image side and the series' spp.
+constexpr int kQuickSide = 48;
+constexpr int kQuickSpp = 128;
 
 /// A path that exists is a scene file; otherwise the name of a built-in scene.
 render::SceneDesc resolve_scene(const std::string& name, std::string& label) {
@@ -41,6 +54,34 @@ render::SceneDesc resolve_scene(const std::string& name, std::string& label) {
   return render::parse_scene(render::builtin_scene(name), "built-in scene '" + name + "'", fs::current_path());
 }
 
+/// `-o` names the EXR or the PNG; the other is written beside it with the other extension.
+/// Anything else is refused rather than silently renamed.
+void output_paths(const std::string& output, const std::string& label, fs::path& exr, fs::path& png) {
+  const fs::path given = output.empty() ? fs::path(label + ".exr") : fs::path(output);
+  const std::string ext = given.extension().string();
+  if (ext != ".exr" && ext != ".png")
+    fail("output '{}' must end in .exr or .png (both are written, the other one beside it)", output);
+  exr = given;
+  exr.replace_extension(".exr");
+  png = given;
+  png.replace_extension(".png");
+}
+
+fs::path beside(const fs::path& exr, const std::string& suffix) {
+  fs::path p = exr;
+  p.replace_extension(suffix);
+  return p;
+}
+
+/// The convergence study's outputs (docs/render.md §6).
+struct Convergence {
+  std::optional<render::Image> reference;
+  std::string csv = "spp,seconds,rmse,rmse_corrected\n";
+  std::vector<double> spp, seconds, error;
+  std::vector<render::Image> sheet;
+  std::vector<int> sheet_spp;
+};
+
 int run(const RenderCliOptions& o, const Context& ctx) {
   if (o.list) {
     for (const auto& name : render::builtin_scene_names()) fmt::print("{}\n", name);
@@ -48,15 +89,20 @@ int run(const RenderCliOptions& o, const Context& ctx) {
   }
   std::string label;
   const bool default_scene = o.scene.empty();
-  const render::SceneDesc scene = resolve_scene(default_scene ? render::kDefaultScene : o.scene, label);
+  render::SceneDesc scene = resolve_scene(default_scene ? render::kDefaultScene : o.scene, label);
+  if (o.quick) {
+    // Same view, a small film: the longest side kQuickSide pixels.
+    const double f = static_cast<double>(kQuickSide) / std::max(scene.camera.width, scene.camera.height);
+    scene.camera.width = std::max(1, static_cast<int>(std::lround(scene.camera.width * f)));
+    scene.camera.height = std::max(1, static_cast<int>(std::lround(scene.camera.height * f)));
+  }
   if (o.print_scene) {
     fmt::print("{}", render::scene_to_json(scene));
     return 0;
   }
-  fs::path exr = o.output.empty() ? fs::path(label + ".exr") : fs::path(o.output);
-  if (exr.extension() != ".exr") exr += ".exr";
-  fs::path png = exr;
-  png.replace_extension(".png");
+  fs::path exr;
+  fs::path png;
+  output_paths(o.output, label, exr, png);
   const fs::path folder = exr.has_parent_path() ? exr.parent_path() : fs::path(".");
   if (!fs::is_directory(folder)) fail("output folder '{}' does not exist", folder.string());
 
@@ -64,25 +110,41 @@ int run(const RenderCliOptions& o, const Context& ctx) {
   if (o.spp > 0) options.spp = o.spp;
   options.seed = o.seed;
   options.time_budget_seconds = o.time_budget;
+  if (o.reference_spp > 0 && o.convergence != "auto") fail("--reference-spp needs --convergence auto");
 
-  std::optional<render::Image> reference;
-  std::string csv = "spp,seconds,rmse\n";
-  viz::Series by_spp{"RMSE vs spp", {}, {}, {31, 119, 180}};
-  viz::Series by_time{"RMSE vs time", {}, {}, {214, 39, 40}};
+  Convergence conv;
   if (!o.convergence.empty()) {
-    reference = render::read_exr(o.convergence);
-    if (reference->width != scene.camera.width || reference->height != scene.camera.height)
-      fail("reference '{}' is {}x{} but the scene renders {}x{}", o.convergence, reference->width, reference->height,
+    // The series runs to 512 spp (128 with --quick) unless --spp says otherwise.
+    if (o.spp == 0) options.spp = o.quick ? kQuickSpp : 512;
+    if (o.convergence == "auto") {
+      // The reference: 16× the series' samples (8× with --quick) with an independent seed, so its
+      // noise is independent of the series' and can be subtracted (rmse_corrected).
+      render::RenderOptions ref;
+      ref.spp = o.reference_spp > 0 ? o.reference_spp : (o.quick ? 8 : 16) * *options.spp;
+      ref.seed = options.seed.value_or(scene.integrator.seed) + 0x9E3779B97F4A7C15ULL;
+      ctx.say(fmt::format("rendering the reference at {} spp", *ref.spp));
+      conv.reference = render::render(scene, ref, ctx.progress).image;
+      render::write_exr(beside(exr, ".reference.exr"), *conv.reference);
+    } else {
+      conv.reference = render::read_exr(o.convergence);
+    }
+    const render::Image& reference = *conv.reference;
+    if (reference.width != scene.camera.width || reference.height != scene.camera.height)
+      fail("reference '{}' is {}x{} but the scene renders {}x{}", o.convergence, reference.width, reference.height,
            scene.camera.width, scene.camera.height);
     options.on_pass = [&](int spp_done, double seconds, const render::Image& image) {
+      if (std::find(std::begin(kSheetSpp), std::end(kSheetSpp), spp_done) != std::end(kSheetSpp)) {
+        conv.sheet.push_back(image);
+        conv.sheet_spp.push_back(spp_done);
+      }
       // Only at powers of two: RMSE needs a full image, and log axes want even spacing.
       if ((spp_done & (spp_done - 1)) != 0) return;
-      const double error = render::rmse(image, *reference);
-      csv += fmt::format("{},{:.6g},{:.8g}\n", spp_done, seconds, error);
-      by_spp.x.push_back(spp_done);
-      by_spp.y.push_back(error);
-      by_time.x.push_back(seconds);
-      by_time.y.push_back(error);
+      const double raw = render::rmse(image, reference);
+      const double corrected = render::rmse_against_noisy_reference(image, reference);
+      conv.csv += fmt::format("{},{:.6g},{:.8g},{:.8g}\n", spp_done, seconds, raw, corrected);
+      conv.spp.push_back(spp_done);
+      conv.seconds.push_back(seconds);
+      conv.error.push_back(corrected);
     };
   }
 
@@ -99,21 +161,64 @@ int run(const RenderCliOptions& o, const Context& ctx) {
   if (s.invalid_samples > 0) ctx.say(fmt::format("warning: {} NaN/inf samples were dropped", s.invalid_samples));
   ctx.say(fmt::format("wrote {} (linear) and {} (sRGB)", exr.string(), png.string()));
 
-  if (reference) {
-    fs::path csv_path = exr;
-    csv_path.replace_extension(".convergence.csv");
-    write_text_atomically(csv_path, csv);
-    fs::path chart_path = exr;
-    chart_path.replace_extension(".convergence.png");
+  if (conv.reference) {
+    // The rate: fit log RMSE against log spp and log seconds over the points from 2 spp on
+    // (1 spp is dominated by the first bounce's fireflies); Monte Carlo gives slope −1/2.
+    std::vector<double> fit_spp, fit_seconds, fit_error;
+    for (std::size_t i = 0; i < conv.spp.size(); ++i) {
+      if (conv.spp[i] < 2) continue;
+      fit_spp.push_back(conv.spp[i]);
+      fit_seconds.push_back(conv.seconds[i]);
+      fit_error.push_back(conv.error[i]);
+    }
+    // A fit needs two points with error > 0 (an exact render has none): then no slope is reported.
+    std::optional<render::LogLogFit> by_spp;
+    std::optional<render::LogLogFit> by_time;
+    try {
+      by_spp = render::fit_log_log(fit_spp, fit_error);
+      by_time = render::fit_log_log(fit_seconds, fit_error);
+    } catch (const Error& e) {
+      ctx.say(fmt::format("no convergence slope: {}", e.what()));
+    }
+    const fs::path csv_path = beside(exr, ".convergence.csv");
+    write_text_atomically(csv_path, conv.csv);
+    nlohmann::json summary = {
+        {"scene", label},
+        {"width", scene.camera.width},
+        {"height", scene.camera.height},
+        {"spp", s.spp},
+        {"reference", o.convergence == "auto" ? beside(exr, ".reference.exr").string() : o.convergence},
+        {"reference_spp", conv.reference->spp},
+        {"contact_sheet_spp", conv.sheet_spp}};
+    if (by_spp && by_time) {
+      summary["fit_points"] = by_spp->points;
+      summary["slope_vs_spp"] = by_spp->slope;
+      summary["slope_vs_spp_stderr"] = by_spp->slope_stderr;
+      summary["slope_vs_seconds"] = by_time->slope;
+      summary["slope_vs_seconds_stderr"] = by_time->slope_stderr;
+      ctx.say(
+          fmt::format("RMSE slope vs spp {:.3f} (+-{:.3f}), vs time {:.3f} (+-{:.3f}) over {} points from 2 spp; "
+                      "the Monte Carlo rate is -0.5",
+                      by_spp->slope, by_spp->slope_stderr, by_time->slope, by_time->slope_stderr, by_spp->points));
+    }
+    const fs::path json_path = beside(exr, ".convergence.json");
+    write_text_atomically(json_path, summary.dump(2) + "\n");
+    const fs::path sheet_path = beside(exr, ".contact.png");
+    if (!conv.sheet.empty()) {
+      render::write_png(sheet_path, render::contact_sheet(conv.sheet, 4, 1.0F), o.exposure);
+      ctx.say(fmt::format("wrote {} (left to right: {} spp)", sheet_path.string(), fmt::join(conv.sheet_spp, ", ")));
+    }
+    const fs::path chart_path = beside(exr, ".convergence.png");
     viz::Chart chart;
     chart.title = "Convergence of " + label;
     chart.x_label = "samples per pixel (blue) / seconds (red)";
     chart.y_label = "RMSE";
     chart.log_x = true;
     chart.log_y = true;
-    chart.series = {by_spp, by_time};
+    chart.series = {viz::Series{"RMSE vs spp", conv.spp, conv.error, {31, 119, 180}},
+                    viz::Series{"RMSE vs time", conv.seconds, conv.error, {214, 39, 40}}};
     const viz::RenderOutcome outcome = viz::save_chart_png(chart, chart_path);
-    ctx.say(fmt::format("wrote {}{}", csv_path.string(),
+    ctx.say(fmt::format("wrote {}, {}{}", csv_path.string(), json_path.string(),
                         outcome.written ? " and " + chart_path.string() : " (no chart: " + outcome.reason + ")"));
   }
   return 0;
@@ -124,14 +229,23 @@ const Registrar kRender{Command{
       auto o = std::make_shared<RenderCliOptions>();
       sub.add_option("scene", o->scene,
                      "Scene file (.json, docs/scene-format.md) or built-in scene name; default: the cloth patch");
-      sub.add_option("-o,--output", o->output, "Output EXR path; a PNG is written beside it (default: <scene>.exr)");
+      sub.add_option("-o,--output", o->output,
+                     "Output path ending in .exr or .png; both are written, the other beside it "
+                     "(default: <scene>.exr)");
       sub.add_option("--spp", o->spp, "Samples per pixel (default: the scene's)")->check(CLI::Range(1, 1 << 24));
       sub.add_option("--time-budget", o->time_budget,
                      "Stop after the sample pass that ends past this many seconds (0 = no limit)")
           ->check(CLI::Range(0.0, 1e9));
       sub.add_option("--seed", o->seed, "Run seed (default: the scene's); same seed, same image for any --threads");
       sub.add_option("--convergence", o->convergence,
-                     "Reference EXR: write RMSE vs spp and time as <output>.convergence.csv and .png");
+                     "Reference EXR, or 'auto' to render one at --reference-spp: write RMSE vs spp and time "
+                     "(<output>.convergence.csv/.json/.png, fitted log-log slopes) and a contact sheet of the "
+                     "2, 8, 64, 128, 512 spp images (<output>.contact.png); the series runs to 512 spp unless --spp");
+      sub.add_option(
+             "--reference-spp", o->reference_spp,
+             "spp of the reference rendered by --convergence auto (default: 16x the series' spp, 8x with --quick)")
+          ->check(CLI::Range(1, 1 << 24));
+      sub.add_flag("--quick", o->quick, "Small film (longest side 48 px); with --convergence, a 128 spp series");
       sub.add_option("--exposure", o->exposure, "Scale before sRGB conversion of the PNG")->check(CLI::PositiveNumber);
       sub.add_flag("--list-scenes", o->list, "List the built-in scenes and exit");
       sub.add_flag("--print-scene", o->print_scene, "Print the scene as canonical JSON and exit");

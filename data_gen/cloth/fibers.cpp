@@ -60,4 +60,13 @@ double curve_length(const Curve& curve) {
   return len;
 }
 
+std::vector<Curve> fiber_curves(const FiberSet& fibers) {
+  std::vector<Curve> out(fibers.size());
+  for (std::size_t f = 0; f < fibers.size(); ++f) {
+    out[f].points.assign(fibers.points.begin() + static_cast<std::ptrdiff_t>(fibers.offsets[f]),
+                         fibers.points.begin() + static_cast<std::ptrdiff_t>(fibers.offsets[f + 1]));
+  }
+  return out;
+}
+
 }  // namespace weft::cloth

@@ -6,15 +6,13 @@
 #include <cstdint>
 #include <vector>
 
+#include "weft/curves/curve_io.h"
+
 namespace weft::cloth {
 
-using Point3 = std::array<double, 3>;
-
-/// @brief A polyline; `closed` joins the last point back to the first.
-struct Curve {
-  std::vector<Point3> points;
-  bool closed = false;
-};
+using Point3 = curves::Point3;
+/// @brief A polyline (weft/curves): the cloth generator and the curve files share one type.
+using Curve = curves::Curve;
 
 /// @brief Yarn centrelines with the yarn preset each one uses (0 = warp, 1 = weft).
 struct CurveSet {
@@ -54,5 +52,8 @@ struct FiberSet {
 
 /// Length of a polyline (closing segment included when closed).
 double curve_length(const Curve& curve);
+
+/// The fibres as open curves (for curves::write_bcc / write_obj_curves).
+std::vector<Curve> fiber_curves(const FiberSet& fibers);
 
 }  // namespace weft::cloth

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "data_gen/cloth/curve_io.h"
 #include "weft/core/error.h"
+#include "weft/curves/curve_io.h"
 
 namespace weft::cloth {
 namespace {
@@ -113,7 +113,7 @@ CurveSet cloth_centerlines(const ClothSpec& spec) {
   if (spec.pattern == "stockinette") return knit_centerlines(spec);
   if (spec.pattern == "import") {
     CurveSet set;
-    set.curves = read_curves(spec.input);
+    set.curves = curves::read_curves(spec.input);
     if (set.curves.empty()) fail("{}: the file holds no curves", spec.input);
     for (std::size_t i = 0; i < set.curves.size(); ++i) {
       if (!(curve_length(set.curves[i]) > 0.0))

@@ -7,6 +7,7 @@
 #include <embree3/rtcore.h>
 
 #include "weft/core/error.h"
+#include "weft/curves/curve_io.h"
 
 namespace weft::render {
 
@@ -52,6 +53,54 @@ void add_sphere(RTCDevice device, RTCScene scene, const Vec3& c, double r, unsig
   rtcCommitGeometry(geom);
   rtcAttachGeometryByID(scene, geom, id);
   rtcReleaseGeometry(geom);
+}
+
+/// Fibres as Embree round linear curves: a cone per polyline segment with spheres at the joints,
+/// i.e. exactly the swept tube of the generator's polylines (the geometry the voxelizer measured),
+/// where a B-spline or Catmull–Rom basis would smooth it away from the points. Returns the
+/// number of segments; the bounds grow by every point ± radius.
+std::size_t add_curves(RTCDevice device, RTCScene scene, const ShapeDesc& d, unsigned id, Vec3& lo, Vec3& hi) {
+  const std::vector<curves::Curve> polylines = curves::read_curves(d.file);
+  const double radius = d.radius * d.scale;
+  std::vector<float> vertices;
+  std::vector<unsigned> first;       // index of each segment's first vertex
+  std::vector<unsigned char> flags;  // which neighbours a segment joins (RTCCurveFlags)
+  for (const auto& c : polylines) {
+    if (c.points.size() < 2) continue;
+    const auto base = static_cast<unsigned>(vertices.size() / 4);
+    std::vector<curves::Point3> pts = c.points;
+    if (c.closed) pts.push_back(c.points.front());
+    for (const auto& q : pts) {
+      const Vec3 x = Vec3(q[0], q[1], q[2]) * d.scale + d.translate;
+      vertices.insert(vertices.end(), {static_cast<float>(x.x()), static_cast<float>(x.y()), static_cast<float>(x.z()),
+                                       static_cast<float>(radius)});
+      lo = lo.cwiseMin(x - Vec3::Constant(radius));
+      hi = hi.cwiseMax(x + Vec3::Constant(radius));
+    }
+    const std::size_t segments = pts.size() - 1;
+    for (std::size_t k = 0; k < segments; ++k) {
+      first.push_back(base + static_cast<unsigned>(k));
+      unsigned char f = 0;
+      if (k > 0) f |= RTC_CURVE_FLAG_NEIGHBOR_LEFT;
+      if (k + 1 < segments) f |= RTC_CURVE_FLAG_NEIGHBOR_RIGHT;
+      flags.push_back(f);
+    }
+  }
+  if (first.empty()) fail("curve file '{}' has no curve with two or more points", d.file);
+  RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
+                                                        4 * sizeof(float), vertices.size() / 4));
+  std::copy(vertices.begin(), vertices.end(), v);
+  auto* idx = static_cast<unsigned*>(
+      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned), first.size()));
+  std::copy(first.begin(), first.end(), idx);
+  auto* fl = static_cast<unsigned char*>(
+      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_FLAGS, 0, RTC_FORMAT_UCHAR, sizeof(unsigned char), flags.size()));
+  std::copy(flags.begin(), flags.end(), fl);
+  rtcCommitGeometry(geom);
+  rtcAttachGeometryByID(scene, geom, id);
+  rtcReleaseGeometry(geom);
+  return first.size();
 }
 
 RTCRay make_ray(const Vec3& o, const Vec3& d, double tmin, double tmax) {
@@ -109,7 +158,7 @@ Geometry::Geometry(const SceneDesc& scene, const std::map<std::string, int>& mat
         } else if (d.kind == ShapeKind::rectangle) {
           s.mesh = rectangle_mesh(d.corner, d.edge_u, d.edge_v);
         } else {
-          s.mesh = load_obj(d.file);
+          s.mesh = load_mesh(d.file);
           for (auto& v : s.mesh.vertices) v = v * d.scale + d.translate;
         }
         double total = 0.0;
@@ -127,6 +176,9 @@ Geometry::Geometry(const SceneDesc& scene, const std::map<std::string, int>& mat
         add_triangles(impl_->device, impl_->scene, s.mesh, id);
         break;
       }
+      case ShapeKind::curves:
+        s.curve_segments = add_curves(impl_->device, impl_->scene, d, id, lo, hi);
+        break;
     }
     shapes_.push_back(std::move(s));
   }
@@ -156,6 +208,9 @@ std::optional<SurfaceHit> Geometry::intersect(const Vec3& o, const Vec3& d, doub
     hit.n = (hit.p - s.center).normalized();
     // Snap the point onto the sphere: float hit distances drift by ~1e-7 of the scene size.
     hit.p = s.center + s.radius * hit.n;
+  } else if (s.kind == ShapeKind::curves) {
+    // Embree's geometric normal of the round curve's surface at the hit (not normalised).
+    hit.n = Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();
   } else {
     const auto& tri = s.mesh.triangles[rh.hit.primID];
     const Vec3& a = s.mesh.vertices[tri[0]];

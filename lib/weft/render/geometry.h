@@ -26,6 +26,7 @@ struct ShapeInfo {
   TriangleMesh mesh;             ///< world-space triangles (not for spheres)
   std::vector<double> area_cdf;  ///< triangle area CDF for sampling (normalised)
   double area = 0.0;
+  std::size_t curve_segments = 0;  ///< curves: round linear segments in the BVH
 };
 
 struct SurfaceHit {

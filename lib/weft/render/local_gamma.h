@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "weft/transmittance/pair.h"
 #include "weft/volume/dda.h"
 #include "weft/volume/grid.h"
 
@@ -18,25 +19,37 @@ namespace weft::render {
 /// segment start; H(t) = ∫Σ and T = e^{−H}. A constant field is exactly the homogeneous gamma
 /// law T = (1 + σt/β)^{−α}; V = 0 gives the exponential e^{−σC̄t}.
 ///
-/// Holds a volume::Tracer, so one instance per thread.
+/// A segment that starts at a scattering event (Origin::scatterer) uses each voxel's reciprocal
+/// partner T_S = (1 + σt/β)^{−(α+1)}, i.e. the hazard (σC̄ + κ)/(1 + κs) with κ = σV/C̄: the
+/// size-biased concentration E[C²]/E[C] = C̄ + V/C̄ replaces C̄ (docs/render.md §5b; exact for a
+/// constant field, a per-voxel approximation where the field varies along the ray).
+///
+/// Holds a volume::Tracer, so one instance per thread (clone() shares the grids).
 class LocalGammaField {
  public:
   /// Reads "mean_concentration" and "var_concentration_{x,y,z}" from the .vdb `weft fit
   /// --block` writes. Throws weft::Error naming the file for a missing grid, an empty mean
-  /// grid, or σ not finite and positive.
+  /// grid, a negative or NaN value in a grid, or σ not finite and positive.
   LocalGammaField(const std::filesystem::path& vdb, double sigma);
 
-  /// log T = −H over [t0, t1] along the ray, the memory starting at t0 (world distances).
-  [[nodiscard]] double log_transmittance(const volume::Ray& ray, double t0, double t1);
+  /// A field on the same (shared, read-only) grids with its own DDA tracer, for another thread.
+  [[nodiscard]] std::unique_ptr<LocalGammaField> clone() const;
+
+  /// log T = −H over [t0, t1] along the ray, the memory starting at t0 (world distances);
+  /// T_Q for segments from a source or surface, T_S for segments from a scattering event.
+  [[nodiscard]] double log_transmittance(const volume::Ray& ray, double t0, double t1,
+                                         transmittance::Origin origin = transmittance::Origin::source);
   /// The distance t in (t0, t1] where H reaches `h` (h = −log u samples the free flight),
   /// or +∞ when H(t1) < h.
-  [[nodiscard]] double sample_distance(const volume::Ray& ray, double t0, double t1, double h);
+  [[nodiscard]] double sample_distance(const volume::Ray& ray, double t0, double t1, double h,
+                                       transmittance::Origin origin = transmittance::Origin::source);
 
  private:
   /// Walks the coarse cells, calling piece(a, b, σC̄, κ) with a, b memories from t0 and
   /// hazard σC̄/(1 + κs); stops when piece returns false.
   template <typename Piece>
-  void walk(const volume::Ray& ray, double t0, double t1, Piece&& piece);
+  void walk(const volume::Ray& ray, double t0, double t1, transmittance::Origin origin, Piece&& piece);
+  LocalGammaField() = default;
 
   std::shared_ptr<const volume::Grid> mean_;
   std::array<std::shared_ptr<const volume::Grid>, 3> var_;

@@ -82,12 +82,28 @@ const transmittance::Exponential* as_exponential(const transmittance::Law& law) 
 }  // namespace
 
 Medium make_medium(const MediumDesc& desc, const std::string& where) {
+  if (desc.kind == MediumKind::local_gamma) {
+    // The pair is not used (the field carries its own T_Q/T_S); an exponential placeholder keeps
+    // Medium a value type.
+    Medium m(TransmittancePair::same(std::make_shared<transmittance::Exponential>(1.0)));
+    m.albedo = desc.albedo;
+    m.g = desc.g;
+    m.unit_weights = true;
+    try {
+      m.local_gamma = std::make_shared<const LocalGammaField>(desc.file, desc.sigma);
+    } catch (const Error& e) {
+      fail("{}: {}", where, e.what());
+    }
+    return m;
+  }
   Medium m(make_medium_pair(desc, where));
   m.albedo = desc.albedo;
   m.g = desc.g;
   // An exponential law is its own reciprocal partner (T_S = p_Q/p_Q(0) = e^{−μt}), so the
   // given law decides in reciprocal and same mode; explicit pairs must agree.
-  const auto* given = as_exponential(*transmittance::make_law(desc.law));
+  // Keep the law alive while `given` points into it (fuzz_scene found a use-after-free here).
+  const transmittance::LawPtr given_law = transmittance::make_law(desc.law);
+  const auto* given = as_exponential(*given_law);
   if (desc.mode == PairMode::explicit_) {
     const auto* q = as_exponential(m.pair.law(Origin::source));
     const auto* s = as_exponential(m.pair.law(Origin::scatterer));

@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "weft/render/local_gamma.h"
 #include "weft/render/scene.h"
 #include "weft/transmittance/pair.h"
 #include "weft/volume/grid.h"
@@ -112,6 +113,12 @@ struct Medium {
   std::shared_ptr<const MajorantGrid> majorants;  ///< per-block majorants (delta tracking)
   double grid_exponential_mu = 0.0;
   Tracking tracking = Tracking::optical_depth;
+
+  /// Local-gamma media: the fields of `weft fit --block`, flights by inverting the accumulated
+  /// hazard (T_Q from a source, the per-voxel partner T_S from a scatterer; local_gamma.h).
+  /// Always sampled from the physical law of the segment, so its weights are 1. The integrator
+  /// clones it per thread (it holds a DDA tracer); this instance is never traced.
+  std::shared_ptr<const LocalGammaField> local_gamma;
 
   /// w_in(t), evaluated in log space (T_S and p_Q may both underflow).
   [[nodiscard]] double entry_weight(double t) const;

@@ -1,6 +1,7 @@
 #pragma once
 /// @file
-/// @brief Triangle meshes: a strict Wavefront OBJ reader (v and f records; polygons fanned).
+/// @brief Triangle meshes: a strict Wavefront OBJ reader (v and f records; polygons fanned) and
+/// PLY through VTK.
 
 #include <array>
 #include <cstdint>
@@ -21,6 +22,17 @@ struct TriangleMesh {
 /// Throws weft::Error naming the file and line for a missing file, a malformed number, an
 /// index out of range, or a mesh without triangles.
 [[nodiscard]] TriangleMesh load_obj(const std::filesystem::path& path);
+
+/// @brief Reads a Stanford PLY file (ASCII or binary) with VTK's vtkPLYReader and triangulates
+/// its polygons (vtkTriangleFilter). The file is first checked against its own header (element
+/// counts, list lengths and byte/token counts must fit the file, `vertex` needs x, y, z and
+/// `face` a `vertex_indices` list), so malformed input is a weft::Error naming the file and
+/// never reaches VTK's C parser; face indices out of range and non-finite coordinates are
+/// refused too. VTK's messages are kept off the terminal.
+[[nodiscard]] TriangleMesh load_ply(const std::filesystem::path& path);
+
+/// @brief load_ply for `.ply` files (any case), load_obj otherwise.
+[[nodiscard]] TriangleMesh load_mesh(const std::filesystem::path& path);
 
 /// The 12 outward-facing triangles of an axis-aligned box.
 [[nodiscard]] TriangleMesh box_mesh(const Vec3& min, const Vec3& max);

@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 
 #include "weft/core/error.h"
+#include "weft/render/environment.h"
 #include "weft/render/geometry.h"
 #include "weft/render/medium.h"
 #include "weft/volume/dda.h"
@@ -22,7 +23,8 @@ using transmittance::Origin;
 std::vector<std::string> Features::names() const {
   std::vector<std::string> out{"surfaces"};
   if (area_lights) out.emplace_back("area lights");
-  if (environment) out.emplace_back("environment");
+  if (environment) out.emplace_back(environment_image ? "image environment" : "environment");
+  if (curves) out.emplace_back("curves");
   if (media) out.emplace_back(non_exponential ? "non-exponential media" : "exponential media");
   if (heterogeneous) out.emplace_back("grid media");
   if (non_reciprocal) out.emplace_back("non-reciprocal T_Q/T_S weights");
@@ -144,6 +146,7 @@ struct World {
   std::vector<int> light_of_shape;  ///< light index of an emitting shape, else -1
   Rgb environment{0, 0, 0};
   int environment_light = -1;
+  std::unique_ptr<EnvironmentMap> environment_map;  ///< image environment (replaces the constant)
   bool any_null = false;
   double eps = 1e-5;  ///< ray offsets, relative to coordinates and scene size (float hit points)
   double extent = 1.0;
@@ -155,9 +158,11 @@ struct PathCounters {
   std::uint64_t rays = 0;
   std::vector<std::unique_ptr<volume::Tracer>> tracers;
   std::vector<std::unique_ptr<openvdb::FloatGrid::ConstAccessor>> accessors;
+  std::vector<std::unique_ptr<LocalGammaField>> fields;  ///< local-gamma media (own tracers)
 
   explicit PathCounters(const std::vector<Medium>& media) {
     for (const auto& m : media) {
+      fields.push_back(m.local_gamma ? m.local_gamma->clone() : nullptr);
       tracers.push_back(m.grid ? std::make_unique<volume::Tracer>(*m.grid) : nullptr);
       accessors.push_back(
           m.grid ? std::make_unique<openvdb::FloatGrid::ConstAccessor>(m.grid->impl().grid->getConstAccessor())
@@ -301,6 +306,14 @@ class Integrator {
           if (!kNonExp || m.exponential) {
             t = m.mu > 0.0 ? -std::log(rng.uniform_open()) / m.mu : std::numeric_limits<double>::infinity();
             collided = t < t_hit;
+          } else if (m.local_gamma) {
+            // Invert the accumulated hazard of the segment's own law (T_Q or the per-voxel T_S):
+            // the flight is drawn from the law that weights it, so its weight is 1.
+            LocalGammaField& field = *counters.fields[static_cast<std::size_t>(medium)];
+            const volume::Ray ray{{o.x(), o.y(), o.z()}, {d.x(), d.y(), d.z()}};
+            t = field.sample_distance(ray, 0.0, t_hit, -std::log(rng.uniform_open()), origin);
+            collided = t < t_hit;
+            if (!collided) t = t_hit;
           } else if (m.grid) {
             const GridFlight f = grid_flight(m, medium, o, d, t_hit, origin, rng, counters);
             t = f.t;
@@ -351,8 +364,10 @@ class Integrator {
 
       if (!hit) {
         if (w_.environment_light >= 0) {
-          const double mis = specular ? 1.0 : power_heuristic(prev_pdf, light_select / (4.0 * kPi));
-          radiance += beta * w_.environment * mis;
+          const EnvironmentMap* map = w_.environment_map.get();
+          const double env_pdf = map != nullptr ? map->pdf(d) : 1.0 / (4.0 * kPi);
+          const double mis = specular ? 1.0 : power_heuristic(prev_pdf, light_select * env_pdf);
+          radiance += beta * (map != nullptr ? map->radiance(d) : w_.environment) * mis;
         }
         break;
       }
@@ -495,6 +510,16 @@ class Integrator {
         ls.delta = true;
         break;
       case Light::Kind::environment: {
+        if (w_.environment_map) {
+          const double xi1 = rng.uniform();
+          const EnvironmentMap::Sample es = w_.environment_map->sample(xi1, rng.uniform());
+          if (!(es.pdf > 0.0)) return ls;
+          ls.wi = es.wi;
+          ls.dist = std::numeric_limits<double>::infinity();
+          ls.le = es.radiance;
+          ls.pdf = select * es.pdf;
+          break;
+        }
         const double z = 1.0 - 2.0 * rng.uniform();
         const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
         const double phi = 2.0 * kPi * rng.uniform();
@@ -531,8 +556,14 @@ class Integrator {
       if constexpr (kMedia) {
         if (medium >= 0) {
           const Medium& m = w_.media[static_cast<std::size_t>(medium)];
-          tr *=
-              m.grid ? grid_shadow(m, medium, x, wi, segment, origin, rng, counters) : m.shadow_factor(origin, segment);
+          if (kNonExp && m.local_gamma) {  // compiled out of the exponential specialisation
+            const volume::Ray ray{{x.x(), x.y(), x.z()}, {wi.x(), wi.y(), wi.z()}};
+            tr *= std::exp(
+                counters.fields[static_cast<std::size_t>(medium)]->log_transmittance(ray, 0.0, segment, origin));
+          } else {
+            tr *= m.grid ? grid_shadow(m, medium, x, wi, segment, origin, rng, counters)
+                         : m.shadow_factor(origin, segment);
+          }
           if (!(tr > 0.0)) return 0.0;
         }
       }
@@ -601,7 +632,12 @@ World build_world(const SceneDesc& scene) {
         break;
       }
       case LightKind::environment:
-        w.environment += l.intensity;
+        if (!l.image.empty()) {
+          w.environment_map = std::make_unique<EnvironmentMap>(load_environment(l.image, l.scale));
+          w.environment = Rgb(1, 1, 1);  // marks the light as present; radiance comes from the map
+        } else {
+          w.environment += l.intensity;
+        }
         break;
     }
   }
@@ -680,9 +716,13 @@ Features scene_features(const SceneDesc& scene) {
   for (const auto& s : scene.shapes) {
     if ((s.emission > 0.0).any()) f.area_lights = true;
     if (!s.interior.empty() || !s.exterior.empty()) f.media = true;
+    if (s.kind == ShapeKind::curves) f.curves = true;
   }
   for (const auto& l : scene.lights)
-    if (l.kind == LightKind::environment && (l.intensity > 0.0).any()) f.environment = true;
+    if (l.kind == LightKind::environment && ((l.intensity > 0.0).any() || !l.image.empty())) {
+      f.environment = true;
+      if (!l.image.empty()) f.environment_image = true;
+    }
   if (f.media) {
     // From the description alone (no laws built, no grids read): exponential laws are their
     // own reciprocal partner; grid media always need the general integrator.
@@ -690,9 +730,11 @@ Features scene_features(const SceneDesc& scene) {
       const bool exponential_law = m.law.name == "exponential" &&
                                    (m.mode != transmittance::PairMode::explicit_ ||
                                     (m.scatterer_law.name == "exponential" && m.scatterer_law.params == m.law.params));
-      if (m.kind == MediumKind::grid) f.heterogeneous = true;
-      if (!exponential_law || m.kind == MediumKind::grid) f.non_exponential = true;
-      if (!exponential_law && m.mode != transmittance::PairMode::reciprocal) f.non_reciprocal = true;
+      // Local-gamma media carry their own per-voxel laws, always weighted as reciprocal pairs.
+      const bool local_gamma = m.kind == MediumKind::local_gamma;
+      if (m.kind != MediumKind::homogeneous) f.heterogeneous = true;
+      if (!exponential_law || m.kind != MediumKind::homogeneous) f.non_exponential = true;
+      if (!exponential_law && !local_gamma && m.mode != transmittance::PairMode::reciprocal) f.non_reciprocal = true;
     }
   }
   return f;

@@ -40,6 +40,8 @@ struct Features {
   bool non_reciprocal = false;   ///< some medium needs the T_S/(c·p_Q) weights (same/explicit mode)
   bool area_lights = false;
   bool environment = false;
+  bool environment_image = false;  ///< an environment light reads a lat-long image (importance-sampled)
+  bool curves = false;             ///< fibre curves (Embree round linear curves)
   [[nodiscard]] std::vector<std::string> names() const;
 };
 

@@ -10,6 +10,8 @@
 
 #include "weft/core/error.h"
 #include "weft/core/names.h"
+#include "weft/curves/curve_io.h"
+#include "weft/render/environment.h"
 #include "weft/render/medium.h"
 #include "weft/render/mesh.h"
 
@@ -156,14 +158,15 @@ const std::vector<std::pair<std::string, MaterialKind>> kMaterialKinds = {{"diff
                                                                           {"mirror", MaterialKind::mirror},
                                                                           {"dielectric", MaterialKind::dielectric},
                                                                           {"null", MaterialKind::null}};
-const std::vector<std::pair<std::string, MediumKind>> kMediumKinds = {{"homogeneous", MediumKind::homogeneous},
-                                                                      {"grid", MediumKind::grid}};
+const std::vector<std::pair<std::string, MediumKind>> kMediumKinds = {
+    {"homogeneous", MediumKind::homogeneous}, {"grid", MediumKind::grid}, {"local-gamma", MediumKind::local_gamma}};
 const std::vector<std::pair<std::string, Tracking>> kTrackings = {{"delta", Tracking::delta},
                                                                   {"optical-depth", Tracking::optical_depth}};
 const std::vector<std::pair<std::string, ShapeKind>> kShapeKinds = {{"sphere", ShapeKind::sphere},
                                                                     {"box", ShapeKind::box},
                                                                     {"rectangle", ShapeKind::rectangle},
-                                                                    {"mesh", ShapeKind::mesh}};
+                                                                    {"mesh", ShapeKind::mesh},
+                                                                    {"curves", ShapeKind::curves}};
 const std::vector<std::pair<std::string, LightKind>> kLightKinds = {
     {"point", LightKind::point}, {"directional", LightKind::directional}, {"environment", LightKind::environment}};
 const std::vector<std::pair<std::string, transmittance::PairMode>> kModes = {
@@ -255,6 +258,25 @@ MediumDesc parse_medium(const json& j, const std::string& where, const std::file
   Reader r(j, where);
   MediumDesc m;
   m.kind = parse_choice(where, "medium type", r.string("type", "homogeneous"), kMediumKinds);
+  if (m.kind == MediumKind::local_gamma) {
+    // Its laws come from the fields (per-voxel gamma, reciprocal partner per voxel): no law,
+    // mode or given keys, so those are unknown keys here.
+    m.file = r.string("fields", "");
+    if (m.file.empty()) fail("{}: missing required key 'fields' (the .vdb written by `weft fit --block`)", where);
+    std::filesystem::path p(m.file);
+    if (p.is_relative()) p = base_dir / p;
+    if (!std::filesystem::exists(p)) fail("{}: fields file '{}' does not exist", where, p.string());
+    m.file = p.string();
+    m.sigma = r.positive("sigma", m.sigma);
+    m.law = transmittance::LawSpec{"gamma-field", {}, "", ""};
+    m.albedo = r.rgb("albedo", m.albedo);
+    if ((m.albedo > 1.0).any()) fail("{}: 'albedo' must be <= 1", where);
+    m.g = r.number("g", m.g);
+    if (!(m.g > -1.0 && m.g < 1.0)) fail("{}: 'g' must be in (-1, 1), got {}", where, m.g);
+    r.finish();
+    (void)make_medium(m, where);  // reads and checks the fields now, not halfway through a render
+    return m;
+  }
   if (m.kind == MediumKind::grid) {
     m.file = r.string("file", "");
     if (m.file.empty()) fail("{}: missing required key 'file'", where);
@@ -314,13 +336,20 @@ ShapeDesc parse_shape(const json& j, const std::string& where, const SceneDesc& 
       s.edge_v = r.vec3("edge_v", s.edge_v);
       if (s.edge_u.cross(s.edge_v).norm() == 0.0) fail("{}: rectangle edges are parallel or zero", where);
       break;
-    case ShapeKind::mesh: {
+    case ShapeKind::mesh:
+    case ShapeKind::curves: {
+      const char* what = s.kind == ShapeKind::mesh ? "mesh" : "curve";
       s.file = r.string("file", "");
       if (s.file.empty()) fail("{}: missing required key 'file'", where);
       std::filesystem::path p(s.file);
       if (p.is_relative()) p = scene.base_dir / p;
-      if (!std::filesystem::exists(p)) fail("{}: mesh file '{}' does not exist", where, p.string());
+      if (!std::filesystem::exists(p)) fail("{}: {} file '{}' does not exist", where, what, p.string());
       s.file = p.string();
+      if (s.kind == ShapeKind::curves) {
+        // Fibre radius in the file's units (scaled with the points); BCC files carry no radii.
+        (void)r.at("radius");
+        s.radius = r.positive("radius", s.radius);
+      }
       s.scale = r.positive("scale", s.scale);
       s.translate = r.vec3("translate", s.translate);
       break;
@@ -344,10 +373,19 @@ ShapeDesc parse_shape(const json& j, const std::string& where, const SceneDesc& 
   if (s.material.empty() && (!s.interior.empty() || !s.exterior.empty()))
     fail("{}: a shape that bounds a medium needs a material (use \"null\" for an index-matched boundary)", where);
   if (s.material.empty() && (s.emission == 0.0).all()) fail("{}: a shape needs a material or an emission", where);
+  if (s.kind == ShapeKind::curves) {
+    // Fibres are opaque tubes: they bound no medium, emit nothing and are not glass (a ray
+    // inside a thin round curve is not something Embree's curve intersector handles).
+    if (!s.interior.empty() || !s.exterior.empty() || (s.emission != 0.0).any())
+      fail("{}: curves cannot bound a medium or emit light", where);
+    const MaterialKind k = s.material.empty() ? MaterialKind::diffuse : scene.materials.at(s.material).kind;
+    if (s.material.empty() || (k != MaterialKind::diffuse && k != MaterialKind::mirror))
+      fail("{}: curves need a diffuse or mirror material", where);
+  }
   return s;
 }
 
-LightDesc parse_light(const json& j, const std::string& where) {
+LightDesc parse_light(const json& j, const std::string& where, const std::filesystem::path& base_dir) {
   Reader r(j, where);
   LightDesc l;
   l.kind = parse_choice(where, "light type", r.string("type", ""), kLightKinds);
@@ -363,7 +401,19 @@ LightDesc parse_light(const json& j, const std::string& where) {
       l.intensity = r.rgb("irradiance", l.intensity);
       break;
     case LightKind::environment:
-      l.intensity = r.rgb("radiance", l.intensity);
+      if (r.has("image")) {
+        // A lat-long radiance image times `scale`; `radiance` would be a second, conflicting scale.
+        if (r.has("radiance")) fail("{}: give 'radiance' (constant) or 'image' (with 'scale'), not both", where);
+        l.image = r.string("image", "");
+        if (l.image.empty()) fail("{}: 'image' must name an EXR file", where);
+        std::filesystem::path p(l.image);
+        if (p.is_relative()) p = base_dir / p;
+        if (!std::filesystem::exists(p)) fail("{}: environment image '{}' does not exist", where, p.string());
+        l.image = p.string();
+        l.scale = r.non_negative("scale", l.scale);
+      } else {
+        l.intensity = r.rgb("radiance", l.intensity);
+      }
       break;
   }
   r.finish();
@@ -395,6 +445,9 @@ SceneDesc parse_scene(std::string_view json_text, const std::string& source, con
     const auto colon = what.rfind(": ");
     if (colon != std::string::npos) what = what.substr(colon + 2);
     fail("{}:{}:{}: invalid JSON: {}", source, pos.line, pos.column, what);
+  } catch (const json::out_of_range& e) {
+    // A number beyond double range (1e999): nlohmann throws out_of_range, not parse_error (fuzz_scene).
+    fail("{}: invalid JSON: {}", source, e.what());
   }
   SceneDesc scene;
   scene.base_dir = base_dir;
@@ -418,11 +471,30 @@ SceneDesc parse_scene(std::string_view json_text, const std::string& source, con
     for (std::size_t i = 0; i < j.size(); ++i) parse_one(j[i], fmt::format("{}: {}[{}]", source, key, i));
   };
   lists("shapes", [&](const json& j, const std::string& w) { scene.shapes.push_back(parse_shape(j, w, scene)); });
-  lists("lights", [&](const json& j, const std::string& w) { scene.lights.push_back(parse_light(j, w)); });
+  lists("lights", [&](const json& j, const std::string& w) { scene.lights.push_back(parse_light(j, w, base_dir)); });
   r.finish();
-  // A mesh must be readable now, not halfway through a render.
-  for (std::size_t i = 0; i < scene.shapes.size(); ++i)
-    if (scene.shapes[i].kind == ShapeKind::mesh) (void)load_obj(scene.shapes[i].file);
+  // One image environment at most (the light sampler holds one map), and not mixed with constant ones.
+  int env_images = 0;
+  int env_constants = 0;
+  for (const auto& l : scene.lights) {
+    if (l.kind != LightKind::environment) continue;
+    if (l.image.empty())
+      ++env_constants;
+    else
+      ++env_images;
+  }
+  if (env_images > 1 || (env_images == 1 && env_constants > 0))
+    fail("{}: an image environment must be the only environment light", source);
+  for (const auto& l : scene.lights)
+    if (!l.image.empty()) (void)load_environment(l.image, l.scale);
+  // Meshes and curves must be readable now, not halfway through a render.
+  for (std::size_t i = 0; i < scene.shapes.size(); ++i) {
+    if (scene.shapes[i].kind == ShapeKind::mesh) (void)load_mesh(scene.shapes[i].file);
+    if (scene.shapes[i].kind == ShapeKind::curves) {
+      const auto curves = curves::read_curves(scene.shapes[i].file);
+      if (curves.empty()) fail("{}: shapes[{}]: curve file '{}' holds no curves", source, i, scene.shapes[i].file);
+    }
+  }
   return scene;
 }
 
@@ -459,6 +531,14 @@ std::string scene_to_json(const SceneDesc& scene) {
   root["materials"] = materials;
   json media = json::object();
   for (const auto& [name, m] : scene.media) {
+    if (m.kind == MediumKind::local_gamma) {
+      media[name] = {{"type", choice_name(m.kind, kMediumKinds)},
+                     {"fields", m.file},
+                     {"sigma", m.sigma},
+                     {"albedo", to_json(m.albedo)},
+                     {"g", m.g}};
+      continue;
+    }
     json j = {{"type", choice_name(m.kind, kMediumKinds)},
               {"law", to_json(m.law)},
               {"mode", choice_name(m.mode, kModes)},
@@ -498,6 +578,12 @@ std::string scene_to_json(const SceneDesc& scene) {
         j["scale"] = s.scale;
         j["translate"] = to_json(s.translate);
         break;
+      case ShapeKind::curves:
+        j["file"] = s.file;
+        j["radius"] = s.radius;
+        j["scale"] = s.scale;
+        j["translate"] = to_json(s.translate);
+        break;
     }
     if (!s.material.empty()) j["material"] = s.material;
     if (!s.interior.empty()) j["interior"] = s.interior;
@@ -519,7 +605,12 @@ std::string scene_to_json(const SceneDesc& scene) {
         j["irradiance"] = to_json(l.intensity);
         break;
       case LightKind::environment:
-        j["radiance"] = to_json(l.intensity);
+        if (l.image.empty()) {
+          j["radiance"] = to_json(l.intensity);
+        } else {
+          j["image"] = l.image;
+          j["scale"] = l.scale;
+        }
         break;
     }
     lights.push_back(j);

@@ -56,6 +56,7 @@ struct MaterialDesc {
 enum class MediumKind {
   homogeneous,  ///< constant extinction; `law` in distance
   grid,         ///< voxel grid of concentration or extinction from a .vdb; `law` in optical depth τ
+  local_gamma,  ///< per-voxel gamma laws from the `weft fit --block` fields (`file`, `sigma`)
 };
 
 /// How free flights through a grid medium are found.
@@ -75,15 +76,15 @@ struct MediumDesc {
   transmittance::LawSpec scatterer_law{};
   Rgb albedo{1, 1, 1};  ///< single-scattering albedo Λ
   double g = 0.0;       ///< Henyey–Greenstein asymmetry; 0 = isotropic
-  // grid media
-  std::string file;           ///< .vdb path (resolved against the scene folder)
+  // grid and local-gamma media
+  std::string file;           ///< .vdb path (resolved against the scene folder); local-gamma: the fields
   std::string grid_name;      ///< grid in the file; empty = the first float grid
   bool concentration = true;  ///< values are concentrations C (μ = σ·C) rather than μ
-  double sigma = 1.0;         ///< σ for concentration grids
+  double sigma = 1.0;         ///< σ for concentration grids and local-gamma fields
   Tracking tracking = Tracking::delta;
 };
 
-enum class ShapeKind { sphere, box, rectangle, mesh };
+enum class ShapeKind { sphere, box, rectangle, mesh, curves };
 
 struct ShapeDesc {
   ShapeKind kind = ShapeKind::sphere;
@@ -97,7 +98,8 @@ struct ShapeDesc {
   Vec3 corner{-1, -1, 0};
   Vec3 edge_u{2, 0, 0};
   Vec3 edge_v{0, 2, 0};
-  // mesh: OBJ file (relative to the scene file), then scaled and translated
+  // mesh: OBJ or PLY file; curves: BCC or OBJ polyline file (fibres as round tubes of `radius`).
+  // Paths are resolved against the scene folder; points are scaled, then translated.
   std::string file;
   double scale = 1.0;
   Vec3 translate{0, 0, 0};
@@ -115,6 +117,9 @@ struct LightDesc {
   Vec3 position{0, 0, 0};    ///< point
   Vec3 direction{0, -1, 0};  ///< directional: direction light travels
   Rgb intensity{1, 1, 1};    ///< point: W/sr; directional: irradiance; environment: radiance
+  /// environment: lat-long radiance image (EXR; empty = constant `intensity`), times `scale`.
+  std::string image;
+  double scale = 1.0;
 };
 
 struct SceneDesc {

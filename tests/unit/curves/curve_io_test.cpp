@@ -5,12 +5,13 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <limits>
 
-#include "data_gen/cloth/curve_io.h"
-#include "data_gen/cloth/yarn.h"
 #include "weft/core/error.h"
+#include "weft/curves/curve_io.h"
 
-namespace weft::cloth {
+namespace weft::curves {
 namespace {
 namespace fs = std::filesystem;
 
@@ -18,7 +19,7 @@ class CurveFiles : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() /
-           ("weft_curve_io_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+           ("weft_curves_io_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -66,14 +67,24 @@ TEST_F(CurveFiles, BccRoundTripKeepsPointsToFloatPrecision) {
   expect_same(curves, read_bcc(dir_ / "c.bcc"), 1e-6);
 }
 
-TEST_F(CurveFiles, BccRoundTripOfGeneratedFibres) {
-  YarnParams y = yarn_preset("cotton");
-  Curve c;
-  c.points = {{0, 0, 0}, {0.5, 0.1, 0.0}, {1.0, 0.0, 0.05}};
-  const FiberSet f = yarn_fibers(c, y, 11, 0);
-  const auto curves = fiber_curves(f);
-  write_bcc(dir_ / "fibers.bcc", curves);
-  expect_same(curves, read_bcc(dir_ / "fibers.bcc"), 2e-7);
+TEST_F(CurveFiles, BccBytesParseToTheSameCurvesAsTheFile) {
+  const auto curves = sample_curves();
+  const std::string bytes = bcc_bytes(curves, "in memory");
+  write_bcc(dir_ / "c.bcc", curves, "in memory");
+  EXPECT_EQ(bytes, bytes_of(dir_ / "c.bcc"));
+  expect_same(read_bcc(dir_ / "c.bcc"), parse_bcc(bytes, "mem"), 0.0);
+  EXPECT_EQ(bytes.substr(24, 9), "in memory");
+}
+
+TEST_F(CurveFiles, BccErrorsFromBytesStartWithTheGivenName) {
+  try {
+    parse_bcc(std::string_view("BCCD", 4), "yarns-in-memory");
+    ADD_FAILURE() << "4 bytes accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("yarns-in-memory: truncated", 0), 0U) << e.what();
+  }
+  // An empty collection is valid: header only.
+  EXPECT_TRUE(parse_bcc(bcc_bytes({}), "empty").empty());
 }
 
 TEST_F(CurveFiles, BccCatmullRomPassesThroughControlPoints) {
@@ -202,4 +213,4 @@ TEST_F(CurveFiles, CorruptObjFilesAreRejected) {
 }
 
 }  // namespace
-}  // namespace weft::cloth
+}  // namespace weft::curves

@@ -1,4 +1,4 @@
-#include "data_gen/cloth/curve_io.h"
+#include "weft/curves/curve_io.h"
 
 #include <algorithm>
 #include <bit>
@@ -10,10 +10,12 @@
 #include <limits>
 #include <sstream>
 
+#include <fmt/format.h>
+
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 
-namespace weft::cloth {
+namespace weft::curves {
 namespace fs = std::filesystem;
 
 namespace {
@@ -100,21 +102,10 @@ Curve catmull_rom_polyline(const Curve& control, int subdivisions) {
 
 }  // namespace
 
-std::vector<Curve> read_bcc(const fs::path& path, int catmull_rom_subdivisions) {
-  const std::string where = path.string();
-  const std::uintmax_t size = existing_file_size(path);
+std::vector<Curve> parse_bcc(std::string_view data, const std::string& where, int catmull_rom_subdivisions) {
+  const std::uintmax_t size = data.size();
   if (size < kBccHeaderBytes) fail("{}: truncated BCC file ({} bytes, the header alone is 64)", where, size);
-  std::string bytes;
-  {
-    // Header first: the counts it declares are checked against the file length before the body
-    // is read.
-    std::ifstream in(path, std::ios::binary);
-    if (!in) fail("{}: cannot open", where);
-    bytes.resize(kBccHeaderBytes);
-    in.read(bytes.data(), kBccHeaderBytes);
-    if (in.gcount() != static_cast<std::streamsize>(kBccHeaderBytes)) fail("{}: short read of the BCC header", where);
-  }
-  const auto* h = reinterpret_cast<const unsigned char*>(bytes.data());
+  const auto* h = reinterpret_cast<const unsigned char*>(data.data());
   if (std::memcmp(h, "BCC", 3) != 0) fail("{}: not a BCC file (signature is not 'BCC')", where);
   if (h[3] != 0x44)
     fail("{}: unsupported BCC element sizes 0x{:02x} (only 0x44: 4-byte integers and floats)", where, h[3]);
@@ -126,14 +117,15 @@ std::vector<Curve> read_bcc(const fs::path& path, int catmull_rom_subdivisions) 
   const std::uint64_t curve_count = read_u64(h + 8);
   const std::uint64_t point_count = read_u64(h + 16);
   const std::uintmax_t body = size - kBccHeaderBytes;
+  // The declared counts must account for every byte before anything is reserved, so a hostile
+  // header cannot ask for a huge allocation.
   if (curve_count > body / 4 || point_count > body / 12 || curve_count * 4 + point_count * 12 != body) {
     fail("{}: BCC header declares {} curves and {} points ({} bytes) but the file has {} bytes after the header", where,
          curve_count, point_count,
          curve_count <= body / 4 && point_count <= body / 12 ? curve_count * 4 + point_count * 12 : 0, body);
   }
-  bytes = read_whole(path, size);
-  const auto* p = reinterpret_cast<const unsigned char*>(bytes.data()) + kBccHeaderBytes;
-  const auto* end = reinterpret_cast<const unsigned char*>(bytes.data()) + bytes.size();
+  const auto* p = h + kBccHeaderBytes;
+  const auto* end = h + size;
   std::vector<Curve> curves;
   curves.reserve(static_cast<std::size_t>(curve_count));
   std::uint64_t points_seen = 0;
@@ -165,11 +157,16 @@ std::vector<Curve> read_bcc(const fs::path& path, int catmull_rom_subdivisions) 
   return curves;
 }
 
-void write_bcc(const fs::path& path, const std::vector<Curve>& curves, const std::string& info) {
+std::vector<Curve> read_bcc(const fs::path& path, int catmull_rom_subdivisions) {
+  const std::uintmax_t size = existing_file_size(path);
+  return parse_bcc(read_whole(path, size), path.string(), catmull_rom_subdivisions);
+}
+
+std::string bcc_bytes(const std::vector<Curve>& curves, const std::string& info) {
   std::uint64_t points = 0;
   for (const auto& c : curves) {
     if (c.points.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max())) {
-      fail("{}: a curve of {} points does not fit a BCC int32 count", path.string(), c.points.size());
+      fail("BCC output: a curve of {} points does not fit a BCC int32 count", c.points.size());
     }
     points += c.points.size();
   }
@@ -192,7 +189,11 @@ void write_bcc(const fs::path& path, const std::vector<Curve>& curves, const std
       for (double v : q) put_u32(out, std::bit_cast<std::uint32_t>(static_cast<float>(v)));
     }
   }
-  write_text_atomically(path, out);
+  return out;
+}
+
+void write_bcc(const fs::path& path, const std::vector<Curve>& curves, const std::string& info) {
+  write_text_atomically(path, bcc_bytes(curves, info));
 }
 
 std::vector<Curve> read_obj_curves(const fs::path& path) {
@@ -290,13 +291,4 @@ std::vector<Curve> read_curves(const fs::path& path) {
   fail("{}: unknown curve file type '{}' (expected .bcc or .obj)", path.string(), ext);
 }
 
-std::vector<Curve> fiber_curves(const FiberSet& fibers) {
-  std::vector<Curve> out(fibers.size());
-  for (std::size_t f = 0; f < fibers.size(); ++f) {
-    out[f].points.assign(fibers.points.begin() + static_cast<std::ptrdiff_t>(fibers.offsets[f]),
-                         fibers.points.begin() + static_cast<std::ptrdiff_t>(fibers.offsets[f + 1]));
-  }
-  return out;
-}
-
-}  // namespace weft::cloth
+}  // namespace weft::curves

@@ -1,0 +1,37 @@
+#pragma once
+/// @file
+/// @brief Convergence studies of a render (supplement Figs. S.6–S.8; docs/render.md §6):
+/// error against a reference, the log–log rate of that error, and a contact sheet of images.
+
+#include <vector>
+
+#include "weft/render/image.h"
+
+namespace weft::render {
+
+/// @brief Least-squares line through (log x, log y): y ≈ e^intercept · x^slope.
+struct LogLogFit {
+  double slope = 0.0;
+  double intercept = 0.0;
+  double slope_stderr = 0.0;  ///< from the residuals (0 for 2 points); a fit diagnostic, not a CI
+  int points = 0;             ///< pairs used (both x and y finite and > 0)
+};
+
+/// Fits the points with x > 0 and y > 0 (others are skipped). Throws weft::Error for fewer than
+/// two usable points, or when all usable x are equal.
+[[nodiscard]] LogLogFit fit_log_log(const std::vector<double>& x, const std::vector<double>& y);
+
+/// Mean over pixels and channels of the variance of the pixel estimates (0 if the image carries none).
+[[nodiscard]] double mean_variance(const Image& image);
+
+/// RMSE of `image` against `reference`, with the reference's own noise removed:
+/// sqrt(max(0, rmse² − mean_variance(reference))). E[rmse²] = true error² + the reference's
+/// mean variance when the two are rendered with independent samples, so this is the estimate
+/// of the error against the exact image (equal to rmse() for a reference without variances).
+[[nodiscard]] double rmse_against_noisy_reference(const Image& image, const Image& reference);
+
+/// @brief Tiles `images` left to right, in order, top-aligned, separated by `gap` pixels of grey
+/// level `background` (linear); the result carries no variances. Throws weft::Error for no images.
+[[nodiscard]] Image contact_sheet(const std::vector<Image>& images, int gap = 4, float background = 1.0F);
+
+}  // namespace weft::render

@@ -1,0 +1,86 @@
+// Convergence-study helpers (docs/render.md §6): log–log fits recover known power laws, the
+// reference-noise correction removes exactly the reference's variance, and the contact sheet
+// places every image where it belongs.
+#include "weft/render/convergence.h"
+
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "weft/core/error.h"
+#include "weft/core/rng.h"
+
+namespace weft::render {
+namespace {
+
+Image constant_image(int w, int h, float value, float variance = 0.0F) {
+  Image im;
+  im.width = w;
+  im.height = h;
+  im.rgb.assign(static_cast<std::size_t>(w) * h * 3, value);
+  im.variance.assign(im.rgb.size(), variance);
+  return im;
+}
+
+TEST(LogLogFit, RecoversAnExactPowerLaw) {
+  const std::vector<double> x{2, 8, 64, 128, 512};
+  std::vector<double> y;
+  for (const double v : x) y.push_back(3.0 * std::pow(v, -0.5));
+  const LogLogFit fit = fit_log_log(x, y);
+  EXPECT_NEAR(fit.slope, -0.5, 1e-12);
+  EXPECT_NEAR(std::exp(fit.intercept), 3.0, 1e-12);
+  EXPECT_NEAR(fit.slope_stderr, 0.0, 1e-12);
+  EXPECT_EQ(fit.points, 5);
+}
+
+// Noisy y: the fitted slope lies within 5 standard errors of the true one.
+TEST(LogLogFit, NoisySlopeWithinFiveStandardErrors) {
+  Pcg32 rng = stream_for(3, 0);
+  std::vector<double> x;
+  std::vector<double> y;
+  for (int i = 0; i < 40; ++i) {
+    x.push_back(std::pow(2.0, 1 + i % 10));
+    y.push_back(std::pow(x.back(), -0.5) * std::exp(0.1 * (rng.uniform() - 0.5)));
+  }
+  const LogLogFit fit = fit_log_log(x, y);
+  EXPECT_GT(fit.slope_stderr, 0.0);
+  EXPECT_NEAR(fit.slope, -0.5, 5.0 * fit.slope_stderr);
+}
+
+TEST(LogLogFit, SkipsNonPositivePointsAndRefusesTooFew) {
+  const LogLogFit fit = fit_log_log({0.0, 1.0, 4.0, -2.0}, {5.0, 1.0, 0.25, 1.0});
+  EXPECT_EQ(fit.points, 2);
+  EXPECT_NEAR(fit.slope, -1.0, 1e-12);
+  EXPECT_THROW((void)fit_log_log({1.0, 2.0}, {1.0, 0.0}), Error);
+  EXPECT_THROW((void)fit_log_log({2.0, 2.0}, {1.0, 3.0}), Error);
+  EXPECT_THROW((void)fit_log_log({1.0}, {1.0, 2.0}), Error);
+}
+
+TEST(Convergence, ReferenceNoiseIsRemovedFromTheRmse) {
+  const Image image = constant_image(4, 3, 1.5F);
+  const Image reference = constant_image(4, 3, 1.0F, 0.09F);  // rmse² = 0.25, minus 0.09 → 0.16
+  EXPECT_NEAR(rmse(image, reference), 0.5, 1e-7);
+  EXPECT_NEAR(rmse_against_noisy_reference(image, reference), 0.4, 1e-6);
+  EXPECT_NEAR(mean_variance(reference), 0.09, 1e-7);
+  // Never below 0 when the reference is noisier than the difference.
+  EXPECT_EQ(rmse_against_noisy_reference(reference, constant_image(4, 3, 1.0F, 1.0F)), 0.0);
+}
+
+TEST(ContactSheet, TilesImagesLeftToRightWithGaps) {
+  const std::vector<Image> images{constant_image(3, 2, 0.1F), constant_image(2, 4, 0.2F), constant_image(1, 1, 0.3F)};
+  const Image sheet = contact_sheet(images, 2, 0.9F);
+  EXPECT_EQ(sheet.width, 3 + 2 + 1 + 2 * 2);
+  EXPECT_EQ(sheet.height, 4);
+  EXPECT_FLOAT_EQ(sheet.at(0, 0, 0), 0.1F);
+  EXPECT_FLOAT_EQ(sheet.at(2, 1, 2), 0.1F);
+  EXPECT_FLOAT_EQ(sheet.at(2, 2, 0), 0.9F);  // below the first image
+  EXPECT_FLOAT_EQ(sheet.at(3, 0, 0), 0.9F);  // gap
+  EXPECT_FLOAT_EQ(sheet.at(5, 3, 1), 0.2F);
+  EXPECT_FLOAT_EQ(sheet.at(9, 0, 0), 0.3F);
+  EXPECT_FLOAT_EQ(sheet.at(9, 1, 0), 0.9F);
+  EXPECT_THROW((void)contact_sheet({}), Error);
+}
+
+}  // namespace
+}  // namespace weft::render
