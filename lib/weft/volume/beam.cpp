@@ -38,6 +38,15 @@ Vec3 cross(const Vec3& a, const Vec3& b) {
 }
 double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
+/// The optical depths of the columns of one face patch on the depth grid, depth-major
+/// (tau[k·cols + c]), so that per-depth reductions over the columns are contiguous loops.
+struct TauBlock {
+  std::size_t cols = 0;
+  std::size_t stride = 0;  ///< distance between depths in `tau` (≥ cols)
+  std::vector<double> tau;
+  std::vector<std::uint64_t> ray;  ///< lattice index of each column
+};
+
 /// Mean of exp(−τ_i) and of exp(−2τ_i) per depth, in log-sum-exp form: value = e^m · s.
 struct LseAccumulator {
   std::vector<double> m;
@@ -63,6 +72,60 @@ struct LseAccumulator {
       }
     }
     n += weight;
+  }
+
+  /// Adds the rays of a patch: per depth a sum of exp(−(τ − c)) over the patch, merged with one
+  /// exp. The shift c is the patch's smallest τ, moved only when that has grown by more than
+  /// kRebase (so every term stays in [e^−kRebase·…, 1] and the largest never underflows). With
+  /// c fixed, a ray whose τ did not change since the previous depth (gaps between yarns, where
+  /// most rays spend most depths) has the same term, reused bit for bit: far fewer exp() calls
+  /// than one per ray and depth.
+  void add_block(const TauBlock& b, std::vector<double>& prev_tau, std::vector<double>& prev_e) {
+    constexpr double kRebase = 64.0;
+    const std::size_t nc = b.cols;
+    prev_tau.assign(nc, -1.0);
+    prev_e.assign(nc, 0.0);
+    double shift = 0.0;
+    for (std::size_t k = 0; k < m.size(); ++k) {
+      const double* row = b.tau.data() + k * b.stride;
+      std::array<double, 4> lo4{row[0], row[0], row[0], row[0]};
+      std::size_t c4 = 0;
+      for (; c4 + 4 <= nc; c4 += 4) {
+        for (std::size_t u = 0; u < 4; ++u) lo4[u] = std::min(lo4[u], row[c4 + u]);
+      }
+      for (; c4 < nc; ++c4) lo4[0] = std::min(lo4[0], row[c4]);
+      const double lo = std::min(std::min(lo4[0], lo4[1]), std::min(lo4[2], lo4[3]));
+      const bool rebase = lo - shift > kRebase;
+      if (rebase) shift = lo;
+      double a1 = 0.0;
+      double a2 = 0.0;
+      for (std::size_t c = 0; c < nc; ++c) {
+        double e = prev_e[c];
+        if (rebase || row[c] != prev_tau[c]) {
+          e = std::exp(shift - row[c]);
+          prev_tau[c] = row[c];
+          prev_e[c] = e;
+        }
+        a1 += e;
+        a2 += e * e;
+      }
+      const double x = -shift;
+      if (s1[k] == 0.0) {
+        m[k] = x;
+        s1[k] = a1;
+        s2[k] = a2;
+      } else if (x <= m[k]) {
+        const double r = std::exp(x - m[k]);
+        s1[k] += a1 * r;
+        s2[k] += a2 * r * r;
+      } else {
+        const double r = std::exp(m[k] - x);
+        s1[k] = s1[k] * r + a1;
+        s2[k] = s2[k] * r * r + a2;
+        m[k] = x;
+      }
+    }
+    n += nc;
   }
 
   void merge(const LseAccumulator& o) {
@@ -139,6 +202,7 @@ struct Lattice {
   int per_cell = 1;
   bool jitter = false;
   std::uint64_t seed = 1;
+  std::int64_t stride = 1;  ///< BeamSpec::column_stride
   double h = 1.0;
   std::vector<double> depths;
 };
@@ -151,6 +215,7 @@ Lattice make_lattice(const Grid& grid, const BeamSpec& spec) {
   L.per_cell = spec.rays_per_column;
   L.jitter = spec.jitter || spec.rays_per_column > 1;
   L.seed = spec.seed;
+  L.stride = spec.column_stride;
   const IndexBox box = grid.active_bbox();
   const auto o = grid.origin();
   Vec3 lo{};
@@ -214,8 +279,22 @@ Ray lattice_ray(const Lattice& L, std::int64_t i, std::int64_t j, double ja, dou
   return r;
 }
 
+/// Keeps one lattice cell per stride×stride block of cells (BeamSpec::column_stride), at an
+/// offset drawn from the block's own stream, so the subset does not depend on the method.
+bool keep_cell(const Lattice& L, std::int64_t i, std::int64_t j) {
+  if (L.stride <= 1) return true;
+  const std::int64_t s = L.stride;
+  const std::int64_t bi = i / s;
+  const std::int64_t bj = j / s;
+  const std::int64_t blocks_b = (L.nb + s - 1) / s;
+  Pcg32 rng = stream_for(L.seed ^ 0x636f6c756d6e73ULL, static_cast<std::uint64_t>(bi * blocks_b + bj));
+  const auto pick = static_cast<std::int64_t>(rng.uniform_below(static_cast<std::uint32_t>(s * s)));
+  return i - bi * s == pick / s && j - bj * s == pick % s;
+}
+
 /// Profiles from the streaming pass (axis beams): τ at voxel boundaries by prefix sums, then
-/// linear interpolation (exact: τ is linear inside a voxel) onto the depth grid.
+/// linear interpolation (exact: τ is linear inside a voxel) onto the depth grid; handed over
+/// one face patch at a time.
 template <typename Consumer>
 void stream_columns(const Grid& grid, const Lattice& L, double scale, ProgressSink& progress, Consumer&& consume) {
   const ColumnReader reader(grid, L.axis);
@@ -226,36 +305,93 @@ void stream_columns(const Grid& grid, const Lattice& L, double scale, ProgressSi
   const int ua = (L.axis + 1) % 3;
   const int va = (L.axis + 2) % 3;
   const auto ext_v = static_cast<std::uint64_t>(box.extent()[va]);
+  const std::size_t K = L.depths.size();
+  // The default depth grid is the voxel boundaries: τ is then the prefix sum itself.
+  // (to rounding: the box length is a difference of world coordinates).
+  bool on_boundaries = true;
+  for (std::size_t q = 0; q < K && on_boundaries; ++q) {
+    on_boundaries = std::abs(L.depths[q] - static_cast<double>(q) * L.h) <= 1e-12 * L.h * static_cast<double>(q + 1);
+  }
   ProgressTask task(progress, "beam " + direction_label(L.d) + " (streaming)", units);
   parallel_units(shards, [&](std::size_t shard) {
     ColumnTile tile;
+    TauBlock block;
     std::vector<double> boundary;
-    std::vector<double> tau(L.depths.size());
     const std::size_t begin = shard * units / shards;
     const std::size_t end = (shard + 1) * units / shards;
+    const double mu_h = scale * L.h;
     for (std::size_t unit = begin; unit < end; ++unit) {
       reader.read(unit, tile);
       const int n = tile.depth;
       boundary.assign(static_cast<std::size_t>(n) + 1, 0.0);
-      for (int iu = 0; iu < tile.nu; ++iu) {
-        for (int iv = 0; iv < tile.nv; ++iv) {
-          const float* col = tile.column(iu, iv);
-          double acc = 0.0;
+      block.ray.clear();
+      block.cols = 0;
+      const std::size_t max_cols = static_cast<std::size_t>(tile.nu) * static_cast<std::size_t>(tile.nv);
+      block.stride = max_cols;
+      block.tau.resize(max_cols * K);
+      const std::size_t stride = block.stride;
+      if (on_boundaries && static_cast<std::size_t>(n) + 1 == K && tile.nv <= 8) {
+        // τ at the voxel boundaries is the prefix sum itself. The columns of a row of the patch
+        // are summed side by side: independent chains (no add latency stall) and contiguous
+        // writes of one depth's row.
+        const auto nv = static_cast<std::size_t>(tile.nv);
+        std::array<double, 8> acc{};
+        for (int iu = 0; iu < tile.nu; ++iu) {
+          const float* base = tile.column(iu, 0);
+          double* out = block.tau.data() + static_cast<std::size_t>(iu) * nv;
+          acc.fill(0.0);
+          for (std::size_t iv = 0; iv < nv; ++iv) out[iv] = 0.0;
           for (int k = 0; k < n; ++k) {
-            acc += static_cast<double>(col[reverse ? n - 1 - k : k]);
-            boundary[static_cast<std::size_t>(k) + 1] = acc;
+            const auto src = static_cast<std::size_t>(reverse ? n - 1 - k : k);
+            double* row = out + (static_cast<std::size_t>(k) + 1) * stride;
+            for (std::size_t iv = 0; iv < nv; ++iv) {
+              acc[iv] += static_cast<double>(base[iv * static_cast<std::size_t>(n) + src]);
+              row[iv] = mu_h * acc[iv];
+            }
           }
-          for (std::size_t q = 0; q < L.depths.size(); ++q) {
-            const double p = L.depths[q] / L.h;
-            const auto j = std::min<std::int64_t>(static_cast<std::int64_t>(std::floor(p)), n - 1);
-            const auto ju = static_cast<std::size_t>(j);
-            tau[q] = scale * L.h * (boundary[ju] + (p - static_cast<double>(j)) * (boundary[ju + 1] - boundary[ju]));
+        }
+        block.cols = max_cols;
+        for (int iu = 0; iu < tile.nu; ++iu) {
+          for (int iv = 0; iv < tile.nv; ++iv) {
+            block.ray.push_back(static_cast<std::uint64_t>(tile.u0 + iu - box.min[ua]) * ext_v +
+                                static_cast<std::uint64_t>(tile.v0 + iv - box.min[va]));
           }
-          const std::uint64_t ray = static_cast<std::uint64_t>(tile.u0 + iu - box.min[ua]) * ext_v +
-                                    static_cast<std::uint64_t>(tile.v0 + iv - box.min[va]);
-          consume(shard, ray, tau.data());
+        }
+      } else {
+        for (int iu = 0; iu < tile.nu; ++iu) {
+          for (int iv = 0; iv < tile.nv; ++iv) {
+            const float* col = tile.column(iu, iv);
+            double acc = 0.0;
+            for (int k = 0; k < n; ++k) {
+              boundary[static_cast<std::size_t>(k) + 1] = acc += static_cast<double>(col[reverse ? n - 1 - k : k]);
+            }
+            double* out = block.tau.data() + block.cols;
+            for (std::size_t q = 0; q < K; ++q) {
+              const double p = L.depths[q] / L.h;
+              const auto j = std::min<std::int64_t>(static_cast<std::int64_t>(std::floor(p)), n - 1);
+              const auto ju = static_cast<std::size_t>(j);
+              out[q * stride] =
+                  mu_h * (boundary[ju] + (p - static_cast<double>(j)) * (boundary[ju + 1] - boundary[ju]));
+            }
+            block.ray.push_back(static_cast<std::uint64_t>(tile.u0 + iu - box.min[ua]) * ext_v +
+                                static_cast<std::uint64_t>(tile.v0 + iv - box.min[va]));
+            ++block.cols;
+          }
         }
       }
+      if (L.stride > 1) {
+        // A thinned beam: keep the chosen columns, moved to the front of every depth row.
+        std::size_t kept = 0;
+        for (std::size_t c = 0; c < block.cols; ++c) {
+          const std::uint64_t ray = block.ray[c];
+          if (!keep_cell(L, static_cast<std::int64_t>(ray / ext_v), static_cast<std::int64_t>(ray % ext_v))) continue;
+          for (std::size_t q = 0; q < K; ++q) block.tau[q * stride + kept] = block.tau[q * stride + c];
+          block.ray[kept++] = ray;
+        }
+        block.cols = kept;
+        block.ray.resize(kept);
+      }
+      if (block.cols > 0) consume(shard, block);
       task.step();
     }
   });
@@ -278,6 +414,7 @@ void trace_rays(const Grid& grid, const Lattice& L, double scale, bool use_openv
     const std::size_t end = (shard + 1) * units / shards;
     for (std::size_t i = begin; i < end; ++i) {
       for (std::int64_t j = 0; j < L.nb; ++j) {
+        if (!keep_cell(L, static_cast<std::int64_t>(i), j)) continue;
         const auto cell =
             static_cast<std::uint64_t>(i) * static_cast<std::uint64_t>(L.nb) + static_cast<std::uint64_t>(j);
         Pcg32 rng = stream_for(L.seed, cell);
@@ -327,6 +464,9 @@ void trace_rays(const Grid& grid, const Lattice& L, double scale, bool use_openv
 void check_spec(const Grid& grid, const BeamSpec& spec) {
   require_positive("beam: scale (sigma)", spec.scale);
   if (spec.rays_per_column < 1) fail("beam: rays per column must be >= 1, got {}", spec.rays_per_column);
+  if (spec.column_stride < 1 || spec.column_stride > 4096) {
+    fail("beam: column stride must be in 1..4096, got {}", spec.column_stride);
+  }
   if (spec.depth_step != 0.0) require_positive("beam: depth step", spec.depth_step);
   if (grid.active_voxel_count() == 0) fail("beam: grid '{}' has no active voxels", grid.name());
   (void)normalized(spec.direction, "beam");
@@ -335,14 +475,14 @@ void check_spec(const Grid& grid, const BeamSpec& spec) {
   }
 }
 
-template <typename Consumer>
-void run_beam(const Grid& grid, const BeamSpec& spec, const Lattice& L, ProgressSink& progress, Consumer&& consume,
-              std::string& method_name) {
+template <typename BlockConsumer, typename RayConsumer>
+void run_beam(const Grid& grid, const BeamSpec& spec, const Lattice& L, ProgressSink& progress,
+              BlockConsumer&& consume_block, RayConsumer&& consume, std::string& method_name) {
   BeamMethod method = spec.method;
   if (method == BeamMethod::automatic) method = L.axis >= 0 ? BeamMethod::streaming : BeamMethod::per_ray;
   method_name = to_string(method);
   if (method == BeamMethod::streaming) {
-    stream_columns(grid, L, spec.scale, progress, consume);
+    stream_columns(grid, L, spec.scale, progress, consume_block);
   } else {
     trace_rays(grid, L, spec.scale, method == BeamMethod::openvdb_dda, progress, consume);
   }
@@ -427,10 +567,14 @@ TransmittanceCurve measure_beam(const Grid& grid, const BeamSpec& spec, Progress
   const Lattice L = make_lattice(grid, spec);
   const std::size_t shards = kMaxShards;
   std::vector<LseAccumulator> parts(shards, LseAccumulator(L.depths.size()));
+  std::vector<std::pair<std::vector<double>, std::vector<double>>> scratch(shards);  // one per shard: no sharing
   TransmittanceCurve curve;
   run_beam(
-      grid, spec, L, progress, [&](std::size_t shard, std::uint64_t, const double* tau) { parts[shard].add(tau); },
-      curve.method);
+      grid, spec, L, progress,
+      [&](std::size_t shard, const TauBlock& block) {
+        parts[shard].add_block(block, scratch[shard].first, scratch[shard].second);
+      },
+      [&](std::size_t shard, std::uint64_t, const double* tau) { parts[shard].add(tau); }, curve.method);
   LseAccumulator total(L.depths.size());
   for (const auto& p : parts) total.merge(p);
   curve.depth = L.depths;
@@ -457,10 +601,17 @@ BeamDepths beam_optical_depths(const Grid& grid, const BeamSpec& spec) {
   if (count > 4'000'000) fail("beam optical depths: {} rays is too many to return", count);
   out.tau.assign(count, {});
   std::string method;
+  const std::size_t K = L.depths.size();
   run_beam(
       grid, spec, L, null_progress(),
-      [&](std::size_t, std::uint64_t ray, const double* tau) { out.tau[ray].assign(tau, tau + L.depths.size()); },
-      method);
+      [&](std::size_t, const TauBlock& block) {
+        for (std::size_t c = 0; c < block.cols; ++c) {
+          auto& row = out.tau[block.ray[c]];
+          row.resize(K);
+          for (std::size_t k = 0; k < K; ++k) row[k] = block.tau[k * block.stride + c];
+        }
+      },
+      [&](std::size_t, std::uint64_t ray, const double* tau) { out.tau[ray].assign(tau, tau + K); }, method);
   // Rays of a general direction that miss the box leave empty rows.
   std::erase_if(out.tau, [](const std::vector<double>& row) { return row.empty(); });
   return out;

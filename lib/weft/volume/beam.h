@@ -46,6 +46,9 @@ struct BeamSpec {
   /// Depth spacing (world units); 0 means one voxel.
   double depth_step = 0.0;
   BeamMethod method = BeamMethod::automatic;
+  /// Keeps one lattice cell (column) per stride × stride block of cells, at an offset drawn
+  /// per block from `seed`: 1/stride² of the rays, a cheaper and noisier ground truth. 1 = all.
+  int column_stride = 1;
 };
 
 /// T(t) on a depth grid, as log T with the relative standard error of T.

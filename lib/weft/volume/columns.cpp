@@ -58,7 +58,10 @@ ColumnReader::ColumnReader(const Grid& grid, int axis) : impl_(std::make_unique<
     const std::int64_t tv = floor_div(o[m.va] - m.base_v, kPatch);
     m.leaves[static_cast<std::size_t>(tu * m.tiles_v + tv)].push_back(&*it);
   }
-  for (auto it = tree.cbeginValueOn(); it; ++it) {
+  // Active tiles only: stopping above the leaf level skips the voxels themselves.
+  auto it = tree.cbeginValueOn();
+  it.setMaxDepth(openvdb::FloatTree::ValueOnCIter::LEAF_DEPTH - 1);
+  for (; it; ++it) {
     if (it.isVoxelValue()) continue;
     openvdb::CoordBBox b;
     it.getBoundingBox(b);
@@ -103,10 +106,18 @@ void ColumnReader::read(std::size_t tile, ColumnTile& out) const {
         static_cast<std::size_t>(ca - out.depth0);
     out.values[idx] = value;
   };
+  // Leaves lie inside the active box and inside one patch: no bounds checks per voxel.
+  using Leaf = openvdb::FloatTree::LeafNodeType;
+  const auto su = static_cast<std::size_t>(out.nv) * static_cast<std::size_t>(out.depth);
+  const auto sv = static_cast<std::size_t>(out.depth);
   for (const auto* leaf : m.leaves[tile]) {
-    for (auto it = leaf->cbeginValueOn(); it; ++it) {
-      const openvdb::Coord c = it.getCoord();
-      put(c[m.ua], c[m.va], c[m.axis], *it);
+    const openvdb::Coord o = leaf->origin();
+    const float* data = leaf->buffer().data();
+    for (auto on = leaf->getValueMask().beginOn(); on; ++on) {
+      const openvdb::Index n = on.pos();
+      const openvdb::Coord c = o + Leaf::offsetToLocalCoord(n);
+      out.values[static_cast<std::size_t>(c[m.ua] - u0) * su + static_cast<std::size_t>(c[m.va] - v0) * sv +
+                 static_cast<std::size_t>(c[m.axis] - out.depth0)] = data[n];
     }
   }
   for (const auto& t : m.tiles) {

@@ -1,0 +1,70 @@
+#include "weft/volume/downsample.h"
+
+#include "weft/core/error.h"
+#include "weft/volume/grid_openvdb.h"
+
+namespace weft::volume {
+namespace {
+
+int floor_div(int a, int b) {
+  int q = a / b;
+  if ((a % b != 0) && ((a < 0) != (b < 0))) --q;
+  return q;
+}
+
+}  // namespace
+
+Grid downsample(const Grid& fine, int factor) {
+  if (factor < 1 || factor > 4096) fail("downsample: factor must be in 1..4096, got {}", factor);
+  if (fine.active_voxel_count() == 0) fail("downsample: grid '{}' has no active voxels", fine.name());
+  ensure_openvdb_initialized();
+  const auto& src = *fine.impl().grid;
+  // Sums per coarse voxel in double: leaves first (the bulk), then active tiles voxel by voxel
+  // of their overlap with each block. The iteration order of a tree is fixed, so is the sum.
+  openvdb::DoubleGrid sums(0.0);
+  auto acc = sums.getAccessor();
+  const auto add = [&](const openvdb::Coord& c, double v) {
+    const openvdb::Coord cc(floor_div(c.x(), factor), floor_div(c.y(), factor), floor_div(c.z(), factor));
+    acc.setValueOn(cc, acc.getValue(cc) + v);
+  };
+  for (auto leaf = src.tree().cbeginLeaf(); leaf; ++leaf) {
+    const float* data = leaf->buffer().data();
+    const openvdb::Coord o = leaf->origin();
+    for (auto on = leaf->getValueMask().beginOn(); on; ++on) {
+      add(o + openvdb::FloatTree::LeafNodeType::offsetToLocalCoord(on.pos()), static_cast<double>(data[on.pos()]));
+    }
+  }
+  auto tiles = src.tree().cbeginValueOn();
+  tiles.setMaxDepth(openvdb::FloatTree::ValueOnCIter::LEAF_DEPTH - 1);
+  for (; tiles; ++tiles) {
+    if (tiles.isVoxelValue()) continue;
+    openvdb::CoordBBox b;
+    tiles.getBoundingBox(b);
+    const double v = static_cast<double>(*tiles);
+    for (int i = floor_div(b.min().x(), factor); i <= floor_div(b.max().x(), factor); ++i) {
+      for (int j = floor_div(b.min().y(), factor); j <= floor_div(b.max().y(), factor); ++j) {
+        for (int k = floor_div(b.min().z(), factor); k <= floor_div(b.max().z(), factor); ++k) {
+          const openvdb::Coord lo(i * factor, j * factor, k * factor);
+          const openvdb::CoordBBox block(lo, lo.offsetBy(factor - 1));
+          openvdb::CoordBBox overlap = b;
+          overlap.intersect(block);
+          acc.setValueOn(openvdb::Coord(i, j, k),
+                         acc.getValue(openvdb::Coord(i, j, k)) + v * static_cast<double>(overlap.volume()));
+        }
+      }
+    }
+  }
+  const double cells = static_cast<double>(factor) * static_cast<double>(factor) * static_cast<double>(factor);
+  Grid coarse(fine.voxel_size() * factor, fine.name());
+  coarse.set_origin(fine.origin());
+  for (const auto& [k, v] : fine.metadata()) {
+    if (k.rfind("weft:", 0) == 0) coarse.set_metadata(k, v);
+  }
+  coarse.set_metadata("weft:downsample_factor", std::to_string(factor));
+  auto& dst = *coarse.impl().grid;
+  auto out = dst.getAccessor();
+  for (auto it = sums.cbeginValueOn(); it; ++it) out.setValueOn(it.getCoord(), static_cast<float>(*it / cells));
+  return coarse;
+}
+
+}  // namespace weft::volume

@@ -1,0 +1,26 @@
+#pragma once
+/// @file
+/// @brief Volume-fraction preserving downsampling of a grid by an integer factor.
+
+#include "weft/volume/grid.h"
+
+namespace weft::volume {
+
+/// @brief The grid at `factor`× coarser voxels, conserving the amount of what it holds.
+///
+/// Coarse voxel (I, J, K) covers the fine voxels [f·I, f·I + f)³ in index space (blocks aligned
+/// to multiples of f, as `weft fit --block`), and its value is the mean of those f³ fine values,
+/// inactive fine voxels counting as 0: Σ_coarse C·(f·h)³ = Σ_fine C·h³ to float rounding, for
+/// any extent (blocks straddling the active box are simply partly empty). A coarse voxel is
+/// active when any of its fine voxels is. Same origin; voxel size f·h; metadata kept. This is
+/// the exponential (RTE) model of the coarse resolution: each coarse voxel a homogeneous medium
+/// with the mean concentration. Sums are in double, per block in a fixed order, so the result
+/// does not depend on the thread count.
+///
+/// (`openvdb::tools::resampleToMatch` with a box sampler would interpolate point samples
+/// rather than integrate the fine voxels, which does not conserve volume in general.)
+///
+/// Throws weft::Error for factor < 1 or > 4096, or a grid without active voxels.
+[[nodiscard]] Grid downsample(const Grid& fine, int factor);
+
+}  // namespace weft::volume
