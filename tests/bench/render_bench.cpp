@@ -1,11 +1,26 @@
 // Render throughput on small versions of the example scenes: samples/s and rays/s (counters),
-// the cost of non-exponential vs exponential media, and the surface-only specialisation.
+// the cost of non-exponential vs exponential media, and the surface-only specialisation; and the
+// path tracer's kernels alone: a free flight + shadow transmittance per medium kind, and Embree
+// ray queries. scripts/bench reads the ratios from these names (keep them stable).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <memory>
+#include <numbers>
+#include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 
+#include "weft/core/error.h"
+#include "weft/core/rng.h"
 #include "weft/render/builtin_scenes.h"
+#include "weft/render/geometry.h"
+#include "weft/render/medium.h"
 #include "weft/render/render.h"
 
 namespace {
@@ -66,12 +81,137 @@ void BM_CornellSurfacesOnlyGeneralIntegrator(benchmark::State& state) {
 void BM_ClothPatch(benchmark::State& state) { run(state, builtin("cloth_patch")); }
 void BM_Furnace(benchmark::State& state) { run(state, builtin("furnace")); }
 
-BENCHMARK(BM_CornellSurfacesOnly)->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
-BENCHMARK(BM_CornellSurfacesOnlyGeneralIntegrator)->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
-BENCHMARK(BM_CornellExponential)->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
-BENCHMARK(BM_CornellGammaReciprocal)->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
-BENCHMARK(BM_CornellLinearReciprocal)->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
-BENCHMARK(BM_ClothPatch)->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
-BENCHMARK(BM_Furnace)->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
+/// One medium-vertex step of the integrator's homogeneous branch (render.cpp): a free flight
+/// from a scatterer (the fast path −log ξ/μ for exponential media, else the pair's sampler and,
+/// outside reciprocal mode, its weights) and the transmittance of a shadow segment leaving it.
+void free_flight(benchmark::State& state, const MediumDesc& desc) {
+  std::optional<Medium> built;
+  try {
+    built.emplace(make_medium(desc, "benchmark medium"));
+  } catch (const weft::Error& e) {
+    state.SkipWithError(e.what());
+    return;
+  }
+  const Medium& m = *built;
+  weft::Pcg32 rng = weft::stream_for(11, 0);
+  constexpr auto origin = weft::transmittance::Origin::scatterer;
+  for (auto _ : state) {
+    const double t_hit = 2.0 * rng.uniform();  // distance to the next surface, in mean free paths / 2
+    double t = 0.0;
+    double beta = 1.0;
+    if (m.exponential) {
+      t = -std::log(rng.uniform_open()) / m.mu;
+    } else {
+      t = m.pair.sample(origin, rng);
+      if (!m.unit_weights && !(t < t_hit)) beta *= m.exit_weight(t_hit);
+    }
+    const double segment = 2.0 * rng.uniform();
+    beta *= m.shadow_factor(origin, segment);
+    benchmark::DoNotOptimize(t);
+    benchmark::DoNotOptimize(beta);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+MediumDesc medium_with(weft::transmittance::LawSpec law, weft::transmittance::Origin given) {
+  MediumDesc desc;
+  desc.law = std::move(law);
+  desc.given = given;
+  return desc;
+}
+
+// Mean free path 1 for every kind; gamma α = 0.5 is strongly positively correlated. The
+// gamma-path law (k = 2) is given as the scatterer law T_S: as a source law its p_Q(0) = 0 and
+// no reciprocal T_S exists.
+const bool kFreeFlightRegistered = [] {
+  using weft::transmittance::Origin;
+  struct Kind {
+    std::string name;
+    weft::transmittance::LawSpec law;
+    Origin given;
+  };
+  const std::vector<Kind> kinds{
+      {"exponential", {"exponential", {{"mu", 1.0}}, "", ""}, Origin::source},
+      {"gamma", {"gamma", {{"mean_extinction", 1.0}, {"alpha", 0.5}}, "", ""}, Origin::source},
+      {"linear", {"linear", {{"mean_extinction", 1.0}}, "", ""}, Origin::source},
+      {"gamma-path", {"gamma-path", {{"k", 2.0}, {"theta", 0.5}}, "", ""}, Origin::scatterer},
+  };
+  for (const auto& k : kinds) {
+    benchmark::RegisterBenchmark(("BM_FreeFlight/" + k.name).c_str(),
+                                 [desc = medium_with(k.law, k.given)](benchmark::State& s) { free_flight(s, desc); });
+  }
+  return true;
+}();
+
+/// Embree ray queries in the Cornell box with its media cubes: rays from random points inside
+/// the box in uniform random directions (closest hit, and any hit over half the box size).
+struct CornellGeometry {
+  CornellGeometry() : scene(builtin("cornell_media")) {
+    std::map<std::string, int> materials;
+    std::map<std::string, int> media;
+    for (const auto& [name, m] : scene.materials) materials.emplace(name, static_cast<int>(materials.size()));
+    for (const auto& [name, m] : scene.media) media.emplace(name, static_cast<int>(media.size()));
+    geometry = std::make_unique<Geometry>(scene, materials, media);
+  }
+  SceneDesc scene;
+  std::unique_ptr<Geometry> geometry;
+};
+
+const Geometry& cornell_geometry() {
+  static const CornellGeometry g;
+  return *g.geometry;
+}
+
+/// Random rays, precomputed so the loop times the query alone.
+struct RayBatch {
+  std::vector<Vec3> o;
+  std::vector<Vec3> d;
+};
+RayBatch random_rays(double extent) {
+  RayBatch b;
+  weft::Pcg32 rng = weft::stream_for(12, 0);
+  for (int i = 0; i < 4096; ++i) {
+    b.o.emplace_back((rng.uniform() - 0.5) * 0.5 * extent, (rng.uniform() - 0.5) * 0.5 * extent,
+                     (rng.uniform() - 0.5) * 0.5 * extent);
+    const double z = 1.0 - 2.0 * rng.uniform();
+    const double phi = 2.0 * std::numbers::pi * rng.uniform();
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    b.d.emplace_back(r * std::cos(phi), r * std::sin(phi), z);
+  }
+  return b;
+}
+
+void BM_EmbreeIntersect(benchmark::State& state) {
+  const Geometry& g = cornell_geometry();
+  const RayBatch rays = random_rays(g.extent());
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const std::size_t k = i++ & 4095U;
+    benchmark::DoNotOptimize(g.intersect(rays.o[k], rays.d[k], 1e-6, std::numeric_limits<double>::infinity()));
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+void BM_EmbreeOccluded(benchmark::State& state) {
+  const Geometry& g = cornell_geometry();
+  const RayBatch rays = random_rays(g.extent());
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const std::size_t k = i++ & 4095U;
+    benchmark::DoNotOptimize(g.occluded(rays.o[k], rays.d[k], 1e-6, 0.5 * g.extent()));
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+// Whole renders take ~10–60 ms per iteration: scripts/bench sets --benchmark_min_time for them.
+BENCHMARK(BM_CornellSurfacesOnly)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_CornellSurfacesOnlyGeneralIntegrator)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_CornellExponential)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_CornellGammaReciprocal)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_CornellLinearReciprocal)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_ClothPatch)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Furnace)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_EmbreeIntersect);
+BENCHMARK(BM_EmbreeOccluded);
 
 }  // namespace

@@ -62,7 +62,7 @@ void BM_ChartPng(benchmark::State& state) {
     if (!viz::save_chart_png(chart, png).written) state.SkipWithError("chart not written");
   }
 }
-BENCHMARK(BM_ChartPng)->Unit(benchmark::kMillisecond)->Iterations(5);
+BENCHMARK(BM_ChartPng)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // A plain weave of n x n x n/4 voxels: yarns along x and y, undulating in z.
 volume::Grid woven(int n) {
@@ -99,6 +99,6 @@ void BM_VolumeViewPng(benchmark::State& state) {
   state.counters["voxels"] = static_cast<double>(grid.active_voxel_count());
 }
 // 128: shown at full resolution; 512 (~6.5 M active voxels in a 512x512x128 box): averaged down.
-BENCHMARK(BM_VolumeViewPng)->Arg(128)->Arg(512)->Unit(benchmark::kMillisecond)->Iterations(2);
+BENCHMARK(BM_VolumeViewPng)->Arg(128)->Arg(512)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

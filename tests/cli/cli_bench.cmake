@@ -1,0 +1,66 @@
+# `scripts/bench --quick` on the built tree: runs every benchmark executable once, the whole-run
+# timings and the scaling study, and checks the markdown it writes. Included by
+# tests/cli/CMakeLists.txt to declare the test; the same file runs in script mode (cmake -P) to
+# drive the script and check its output.
+if(CMAKE_SCRIPT_MODE_FILE)
+  file(REMOVE_RECURSE "${OUT}")
+  file(MAKE_DIRECTORY "${OUT}")
+  set(md "${OUT}/benchmarks.md")
+  execute_process(COMMAND bash "${SOURCE_DIR}/scripts/bench" --quick --no-build --build-dir "${BUILD_DIR}" --out "${md}"
+                          --keep "${OUT}/raw" RESULT_VARIABLE rc ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "scripts/bench --quick failed (${rc}): ${err}")
+  endif()
+  if(NOT EXISTS "${md}")
+    message(FATAL_ERROR "scripts/bench --quick exited 0 but wrote no ${md}")
+  endif()
+  file(READ "${md}" text)
+  set(needles
+      "## Machine" "| CPU |" "| cores (online) |" "| memory |" "| load average" "| OS |" "| compiler |" "| commit |"
+      "## Headline ratios" "## Micro-benchmarks (Google Benchmark)" "## Whole runs (`/usr/bin/time -v`)"
+      "| validate |" "| sim2d --quick |" "## Scaling: `weft gen` + `weft validate` vs active voxels"
+      "## Notes and analysis")
+  # One table per benchmark executable that was built, one row per built-in scene.
+  file(GLOB bench_cmake "${SOURCE_DIR}/tests/bench/bench_*.cmake")
+  foreach(f ${bench_cmake})
+    get_filename_component(exe "${f}" NAME_WE)
+    if(EXISTS "${BUILD_DIR}/tests/bench/${exe}")
+      list(APPEND needles "### ${exe}\n")
+    endif()
+  endforeach()
+  execute_process(COMMAND "${BUILD_DIR}/weft" render --list-scenes OUTPUT_VARIABLE scenes RESULT_VARIABLE rc)
+  string(REGEX MATCHALL "[^\n]+" scenes "${scenes}")
+  foreach(s ${scenes})
+    list(APPEND needles "| render ${s} |")
+  endforeach()
+  foreach(n ${needles})
+    string(FIND "${text}" "${n}" pos)
+    if(pos EQUAL -1)
+      message(FATAL_ERROR "${md} lacks '${n}'")
+    endif()
+  endforeach()
+  # Four scaling rows with active voxel counts, and a fitted exponent.
+  string(REGEX MATCHALL "\n\\| [0-9]+×[0-9]+ \\| [0-9]+ \\|" rows "${text}")
+  list(LENGTH rows nrows)
+  if(NOT nrows EQUAL 4)
+    message(FATAL_ERROR "${md}: ${nrows} scaling rows, expected 4")
+  endif()
+  if(NOT text MATCHES "\\*\\*total -?[0-9]+\\.[0-9][0-9]\\*\\*")
+    message(FATAL_ERROR "${md}: no fitted scaling exponent")
+  endif()
+  string(TOLOWER "${text}" lower)
+  if(lower MATCHES "[^a-z]nan[^a-z]" OR lower MATCHES "[^a-z]inf[^a-z]")
+    message(FATAL_ERROR "${md} contains a nan or inf figure")
+  endif()
+  if(text MATCHES "\\| failed \\|")
+    message(FATAL_ERROR "${md}: a benchmark failed")
+  endif()
+  return()
+endif()
+
+add_test(NAME cli.bench.quick
+         COMMAND ${CMAKE_COMMAND} -DSOURCE_DIR=${PROJECT_SOURCE_DIR} -DBUILD_DIR=${PROJECT_BINARY_DIR}
+                 -DOUT=${CMAKE_CURRENT_BINARY_DIR}/bench_quick -P ${CMAKE_CURRENT_LIST_FILE})
+# Runs every benchmark executable once plus whole runs: RUN_SERIAL keeps it from competing with
+# (and slowing) the rest of the suite.
+set_tests_properties(cli.bench.quick PROPERTIES LABELS "cli" TIMEOUT 300 RUN_SERIAL TRUE)
