@@ -10,6 +10,26 @@ if(WEFT_SANITIZE)
   target_link_options(weft_warnings INTERFACE -fsanitize=address,undefined)
 endif()
 
+# Fuzzing (issue 8, preset `fuzz`): weft code gets libFuzzer's coverage instrumentation plus
+# ASan/UBSan; the targets in fuzz/ link libFuzzer's main. fuzz/targets.cmake is included once the
+# whole project has been read (deferred: subdirectories cannot be added then), so it can link any
+# weft module.
+option(WEFT_FUZZ "Build the libFuzzer targets in fuzz/ (needs clang)" OFF)
+if(WEFT_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+    message(FATAL_ERROR "WEFT_FUZZ needs clang (libFuzzer); use the `fuzz` preset")
+  endif()
+  target_compile_options(weft_warnings INTERFACE -fsanitize=fuzzer-no-link,address,undefined
+                                                 -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+  target_link_options(weft_warnings INTERFACE -fsanitize=address,undefined)
+  cmake_language(DEFER DIRECTORY ${PROJECT_SOURCE_DIR} CALL include ${PROJECT_SOURCE_DIR}/fuzz/targets.cmake)
+endif()
+
+# Floating-point traps (issue 8, preset `fp-trap`): every unit test links a GoogleTest
+# environment that enables FE_INVALID | FE_DIVBYZERO | FE_OVERFLOW before the tests run, so an
+# unintended NaN, division by zero or overflow stops the test with SIGFPE where it happens.
+option(WEFT_TRAP_FP "Unit tests trap floating-point exceptions (invalid, divide-by-zero, overflow)" OFF)
+
 # weft_module(NAME SOURCES ... DEPS ... [PRIVATE_DEPS ...])
 # One static library per module under lib/weft/<name> or data_gen/<name>; include paths are
 # rooted at lib/ and the repository root so headers read as <weft/core/error.h> and
@@ -34,6 +54,9 @@ function(weft_unit_test name)
   add_executable(${name} ${T_SOURCES})
   target_link_libraries(${name} PRIVATE ${T_DEPS} GTest::gtest GTest::gtest_main weft_warnings)
   target_compile_definitions(${name} PRIVATE WEFT_TEST_DATA_DIR="${PROJECT_SOURCE_DIR}/tests/data")
+  if(WEFT_TRAP_FP)
+    target_sources(${name} PRIVATE ${PROJECT_SOURCE_DIR}/tests/unit/fp_trap_environment.cpp)
+  endif()
   if(NOT T_LABELS)
     set(T_LABELS unit)
   endif()

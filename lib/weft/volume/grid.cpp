@@ -1,11 +1,13 @@
 #include <cmath>
 #include <mutex>
+#include <new>
 
 #include <openvdb/io/File.h>
 #include <openvdb/tools/ValueTransformer.h>
 
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
+#include "weft/volume/grid_io.h"
 #include "weft/volume/grid_openvdb.h"
 
 namespace weft::volume {
@@ -76,6 +78,7 @@ Grid Grid::load(const fs::path& path, const std::string& grid_name) {
   std::error_code ec;
   if (!fs::exists(path, ec)) fail("{}: no such file", where);
   if (!fs::is_regular_file(path, ec)) fail("{}: not a regular file", where);
+  check_vdb_file(path);  // bounds every length OpenVDB will read (grid_io.cpp)
   openvdb::GridBase::Ptr base;
   try {
     openvdb::io::File file(path.string());
@@ -106,6 +109,9 @@ Grid Grid::load(const fs::path& path, const std::string& grid_name) {
     fail("{}: cannot read OpenVDB file: {}", where, e.what());
   } catch (const std::ios_base::failure& e) {
     fail("{}: cannot read OpenVDB file: {}", where, e.what());
+  } catch (const std::bad_alloc&) {
+    // OpenVDB allocates the buffer sizes a grid declares (fuzz_vdb, io::bloscFromStream).
+    fail("{}: cannot read OpenVDB file: corrupt (a declared buffer size does not fit in memory)", where);
   }
   auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
   if (!grid) fail("{}: grid '{}' is of type {}, weft needs a float grid", where, base->getName(), base->valueType());

@@ -1,0 +1,11 @@
+# Reproducibility (issue 8): `weft validate`, `weft render` and `weft sim2d --quick` with the same
+# seed write bit-identical files for --threads 1 and --threads 2 (report.json compared without its
+# timing entries). The comparison is reproducible_compare.cmake; PNGs need a display (scripts/test
+# runs ctest under xvfb-run).
+foreach(case validate render sim2d)
+  add_test(NAME cli.reproducible.${case}
+           COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DCASE=${case}
+                   -DWORK=${CMAKE_CURRENT_BINARY_DIR}/reproducible_${case}
+                   -P ${CMAKE_CURRENT_SOURCE_DIR}/reproducible_compare.cmake)
+  set_tests_properties(cli.reproducible.${case} PROPERTIES LABELS cli TIMEOUT 120)
+endforeach()
