@@ -78,6 +78,33 @@ if(CMAKE_SCRIPT_MODE_FILE)
     if(NOT n EQUAL 5)
       message(FATAL_ERROR "expected 5 CSV rows, got ${n}: ${rows}")
     endif()
+  elseif(CASE STREQUAL "fibres")
+    # The fibre-curves example: Embree round curves from a BCC file next to the scene.
+    execute_process(COMMAND ${WEFT} render ${SCENES}/cloth_fibres/cloth_fibres.json --spp 1 -o ${WORK}/fibres.exr
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0 OR NOT EXISTS ${WORK}/fibres.exr OR NOT EXISTS ${WORK}/fibres.png)
+      message(FATAL_ERROR "fibre example failed (rc=${rc}): ${out}${err}")
+    endif()
+    if(NOT out MATCHES "features: [^\n]*curves")
+      message(FATAL_ERROR "run summary does not list the curves feature: ${out}")
+    endif()
+  elseif(CASE STREQUAL "local_gamma")
+    # gen -> fit -> render: the local-gamma example renders the fields that `weft fit` writes.
+    execute_process(COMMAND ${WEFT} --quiet gen --yarns 2x2 --out ${WORK}/cloth RESULT_VARIABLE rc)
+    execute_process(COMMAND ${WEFT} --quiet fit --grid ${WORK}/cloth/cloth.vdb --block 8 --out ${WORK}/fit
+                    RESULT_VARIABLE rc2 ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0 OR NOT rc2 EQUAL 0 OR NOT EXISTS ${WORK}/fit/local_fields.vdb)
+      message(FATAL_ERROR "gen/fit for the local-gamma example failed: ${rc} ${rc2} ${err}")
+    endif()
+    file(COPY ${SCENES}/local_gamma/cloth_local_gamma.json ${WORK}/fit/local_fields.vdb DESTINATION ${WORK}/scene)
+    execute_process(COMMAND ${WEFT} render ${WORK}/scene/cloth_local_gamma.json --spp 1 -o ${WORK}/lg.exr
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0 OR NOT EXISTS ${WORK}/lg.exr)
+      message(FATAL_ERROR "local-gamma render failed (rc=${rc}): ${out}${err}")
+    endif()
+    if(NOT out MATCHES "features: [^\n]*grid media")
+      message(FATAL_ERROR "run summary does not list grid media: ${out}")
+    endif()
   else()
     message(FATAL_ERROR "unknown CASE ${CASE}")
   endif()
@@ -104,9 +131,9 @@ add_test(NAME cli.render.time_budget COMMAND weft render furnace --spp 1000000 -
 set_tests_properties(cli.render.time_budget PROPERTIES LABELS "cli;render" TIMEOUT 120
                      PASS_REGULAR_EXPRESSION "64x64 at [0-9]+ spp")
 
-foreach(case bad_input threads round_trip convergence)
+foreach(case bad_input threads round_trip convergence fibres local_gamma)
   add_test(NAME cli.render.${case}
            COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DCASE=${case} -DWORK=${_render_work}/${case}
-                   -P ${CMAKE_CURRENT_LIST_FILE})
+                   -DSCENES=${PROJECT_SOURCE_DIR}/scenes -P ${CMAKE_CURRENT_LIST_FILE})
   set_tests_properties(cli.render.${case} PROPERTIES LABELS "cli;render")
 endforeach()
