@@ -153,10 +153,10 @@ YarnParams yarn_preset(const std::string& name) {
 void validate(const YarnParams& y, const std::string& where) {
   const auto is = [&](const char* field) { return fmt::format("{}.{}", where, field); };
   const auto positive = [&](const char* field, double v) {
-    if (!(v > 0.0) || !std::isfinite(v)) fail("{} must be finite and > 0, got {}", is(field), v);
+    if (!std::isfinite(v) || !(v > 0.0)) fail("{} must be finite and > 0, got {}", is(field), v);
   };
   const auto non_negative = [&](const char* field, double v) {
-    if (!(v >= 0.0) || !std::isfinite(v)) fail("{} must be finite and >= 0, got {}", is(field), v);
+    if (!std::isfinite(v) || !(v >= 0.0)) fail("{} must be finite and >= 0, got {}", is(field), v);
   };
   if (y.ply_count < 1 || y.ply_count > 64) fail("{} must be in [1, 64], got {}", is("ply_count"), y.ply_count);
   if (y.fiber_count < 1 || y.fiber_count > 100000) {

@@ -1,5 +1,6 @@
 // Levenberg–Marquardt fit of the gamma law (Eq. 20) to a measured T(t): the best any gamma
 // law can do, as a reference for the moment-matched (predicted) model.
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Dense>
@@ -7,9 +8,18 @@
 
 #include "weft/core/error.h"
 #include "weft/fit/fit.h"
+#include "weft/transmittance/overflow.h"
 
 namespace weft::fit {
 namespace {
+
+using transmittance::quotient_or_infinity;
+using transmittance::saturating_quotient;
+
+/// e^v for a log-parameter of the fit, kept inside [e^−700, e^700]: Levenberg–Marquardt may
+/// step log α or log β far out, and α = ∞ or β = 0 would turn the residuals into ∞·0 = NaN
+/// (and overflow on the way). The bound is far beyond any meaningful α or β.
+double bounded_exp(double v) { return std::exp(std::clamp(v, -700.0, 700.0)); }
 
 /// Residuals T_model(t_k) − T_gt(t_k) in the parameters x = (log α, log β), which keeps both
 /// positive. T = exp(−α log1p(σt/β)); the Jacobian is analytic:
@@ -22,19 +32,20 @@ struct GammaResiduals : Eigen::DenseFunctor<double> {
       : Eigen::DenseFunctor<double>(2, static_cast<int>(depths.size())), t(depths), target(values), sigma(s) {}
 
   int operator()(const InputType& x, ValueType& f) const {
-    const double alpha = std::exp(x[0]);
-    const double beta = std::exp(x[1]);
+    const double alpha = bounded_exp(x[0]);
+    const double beta = bounded_exp(x[1]);
     for (std::size_t k = 0; k < t.size(); ++k) {
-      const double u = sigma * t[k] / beta;
+      // σt/β saturates at DBL_MAX (T is 0 to double precision there), so log1p stays finite.
+      const double u = saturating_quotient(sigma * t[k], beta);
       f[static_cast<Eigen::Index>(k)] = std::exp(-alpha * std::log1p(u)) - target[k];
     }
     return 0;
   }
   int df(const InputType& x, JacobianType& j) const {
-    const double alpha = std::exp(x[0]);
-    const double beta = std::exp(x[1]);
+    const double alpha = bounded_exp(x[0]);
+    const double beta = bounded_exp(x[1]);
     for (std::size_t k = 0; k < t.size(); ++k) {
-      const double u = sigma * t[k] / beta;
+      const double u = saturating_quotient(sigma * t[k], beta);
       const double l = std::log1p(u);
       const double T = std::exp(-alpha * l);
       const auto r = static_cast<Eigen::Index>(k);
@@ -83,10 +94,11 @@ LeastSquaresFit fit_gamma_to_curve(const volume::TransmittanceCurve& gt, double 
   Eigen::VectorXd fv(static_cast<Eigen::Index>(gt.size()));
   f(x, fv);
   out.rms = std::sqrt(fv.squaredNorm() / static_cast<double>(gt.size()));
-  const double a = std::exp(x[0]);
-  const double b = std::exp(x[1]);
-  // Report the fit as the moments it implies: C̄ = α/β, Var C = α/β².
-  out.fit = gamma_from_moments(a / b, a / (b * b), sigma);
+  const double a = bounded_exp(x[0]);
+  const double b = bounded_exp(x[1]);
+  // Report the fit as the moments it implies: C̄ = α/β, Var C = α/β² (refused with weft::Error
+  // by gamma_from_moments if the fit ran off to moments beyond the doubles).
+  out.fit = gamma_from_moments(quotient_or_infinity(a, b), quotient_or_infinity(quotient_or_infinity(a, b), b), sigma);
   out.fit.alpha = a;
   out.fit.beta = b;
   return out;

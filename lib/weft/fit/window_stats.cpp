@@ -43,7 +43,7 @@ struct Moments {
 
 ConcentrationStats window_stats(const volume::Grid& grid, int axis, double window, ProgressSink& progress) {
   if (axis < 0 || axis > 2) fail("window statistics: axis must be 0, 1 or 2, got {}", axis);
-  if (!(window >= 0.0) || !std::isfinite(window)) fail("window statistics: window must be >= 0, got {}", window);
+  if (!std::isfinite(window) || !(window >= 0.0)) fail("window statistics: window must be >= 0, got {}", window);
   if (grid.active_voxel_count() == 0) fail("window statistics: grid '{}' has no active voxels", grid.name());
   const volume::ColumnReader reader(grid, axis);
   const int n = static_cast<int>(reader.box().extent()[axis]);

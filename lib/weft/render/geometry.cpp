@@ -7,6 +7,7 @@
 #include <embree3/rtcore.h>
 
 #include "weft/core/error.h"
+#include "weft/core/fp_hold.h"
 #include "weft/curves/curve_io.h"
 
 namespace weft::render {
@@ -182,7 +183,10 @@ Geometry::Geometry(const SceneDesc& scene, const std::map<std::string, int>& mat
     }
     shapes_.push_back(std::move(s));
   }
-  rtcCommitScene(impl_->scene);
+  {
+    const HeldFpExceptions hold;  // Embree's builder computes with ±inf bounds on purpose
+    rtcCommitScene(impl_->scene);
+  }
   if (!shapes_.empty()) extent_ = std::max(1e-6, (hi - lo).maxCoeff());
   if (rtcGetDeviceError(impl_->device) != RTC_ERROR_NONE) fail("Embree: scene build failed");
 }
@@ -197,7 +201,10 @@ std::optional<SurfaceHit> Geometry::intersect(const Vec3& o, const Vec3& d, doub
   rh.ray = make_ray(o, d, tmin, tmax);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(impl_->scene, &context, &rh);
+  {
+    const HeldFpExceptions hold;  // traversal uses 1/d of zero direction components (= ±inf)
+    rtcIntersect1(impl_->scene, &context, &rh);
+  }
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
   SurfaceHit hit;
   hit.t = rh.ray.tfar;
@@ -224,7 +231,10 @@ bool Geometry::occluded(const Vec3& o, const Vec3& d, double tmin, double tmax) 
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRay ray = make_ray(o, d, tmin, tmax);
-  rtcOccluded1(impl_->scene, &context, &ray);
+  {
+    const HeldFpExceptions hold;  // as in intersect()
+    rtcOccluded1(impl_->scene, &context, &ray);
+  }
   return ray.tfar < 0.0f;  // Embree sets tfar = -inf on a hit
 }
 

@@ -13,8 +13,10 @@ namespace weft::transmittance {
 /// sampling by inverting T_S (TOMS 748), ℓ_S = 1/p_Q(0) exactly.
 class ScattererFromSource final : public Law {
  public:
-  /// Throws weft::Error if p_Q(0) is not finite and > 0, or p_Q increases somewhere (then
-  /// p_Q/p_Q(0) is not a transmittance).
+  /// Throws weft::Error if p_Q(0) is not finite and > 0 (or ℓ_S = 1/p_Q(0) not a normal
+  /// double), or p_Q increases somewhere (then p_Q/p_Q(0) is not a transmittance): checked on a
+  /// grid, and exactly at every sample of a tabulated law, whose p_Q jumps there (a table is
+  /// a valid source law only if it is convex: its interval hazards do not increase).
   explicit ScattererFromSource(LawPtr source);
 
   [[nodiscard]] std::string name() const override { return source_->name() + "/scatterer"; }
@@ -39,7 +41,8 @@ class ScattererFromSource final : public Law {
 /// inversion (table search, then TOMS 748 inside the interval).
 class SourceFromScatterer final : public Law {
  public:
-  /// Throws weft::Error if ℓ_S is not finite and > 0.
+  /// Throws weft::Error if ℓ_S is not finite and ≥ DBL_MIN (1/ℓ_S, the scale of p_Q, must be
+  /// representable).
   explicit SourceFromScatterer(LawPtr scatterer);
 
   [[nodiscard]] std::string name() const override { return scatterer_->name() + "/source"; }
@@ -55,11 +58,15 @@ class SourceFromScatterer final : public Law {
   [[nodiscard]] std::shared_ptr<const Law> closed_form_scatterer_partner() const override { return scatterer_; }
 
  private:
-  [[nodiscard]] double integral_to_infinity(double t) const;  ///< ∫_t^∞ T_S, unnormalised
+  // Internally depths are u = t/ℓ_S, so the tables stay O(1) for any scale of the law.
+  [[nodiscard]] double t_s(double u) const;                   ///< T_S(u·ℓ_S)
+  [[nodiscard]] double integral_to_infinity(double u) const;  ///< ∫_u^∞ T_S(vℓ_S) dv
+  [[nodiscard]] double sample_scaled(Pcg32& rng) const;       ///< a draw of u = t/ℓ_S
   LawPtr scatterer_;
-  double ell_s_ = 0.0;        ///< ∫_0^∞ T_S as integrated (≈ the law's ℓ_S)
-  std::vector<double> grid_;  ///< 0 = t_0 < … < t_N
-  std::vector<double> tail_;  ///< ∫_{t_i}^∞ T_S
+  double scale_ = 1.0;        ///< ℓ_S as the law states it [length], a normal double
+  double ell_u_ = 1.0;        ///< ∫_0^∞ T_S(uℓ_S) du as integrated (≈ 1)
+  std::vector<double> grid_;  ///< 0 = u_0 < … < u_N
+  std::vector<double> tail_;  ///< ∫_{u_i}^∞ T_S(vℓ_S) dv
   double mean_free_path_ = 0.0;
 };
 

@@ -10,9 +10,14 @@
 namespace weft::transmittance {
 
 /// @brief Erlang(k, λ) law: the sum of k exponential flights of rate λ [1/length].
+///
+/// Valid range: integer k in [1, 1e6] and any finite λ > 0 (DBL_MIN ... DBL_MAX): λt is
+/// evaluated with λ itself, T and p underflow to 0 while log T and Σ ≤ λ stay finite, ℓ = k/λ
+/// becomes +∞ where it overflows and draws beyond the largest double are DBL_MAX (law.h).
 class Erlang final : public Law {
  public:
-  /// k must be an integer ≥ 1 (given as double for the registry), λ finite > 0.
+  /// k must be an integer in [1, 1e6] (given as double for the registry), λ finite > 0;
+  /// throws weft::Error otherwise.
   Erlang(double k, double rate);
 
   [[nodiscard]] int k() const { return k_; }
@@ -31,8 +36,8 @@ class Erlang final : public Law {
   /// Sum of k exponential flights −log(u_i)/λ for k ≤ 16, Marsaglia–Tsang beyond.
   [[nodiscard]] double sample(Pcg32& rng) const override;
   [[nodiscard]] std::string sampling_method() const override;
-  /// ℓ = k/λ.
-  [[nodiscard]] double mean_free_path() const override { return k_ / rate_; }
+  /// ℓ = k/λ (+∞ where it overflows the doubles).
+  [[nodiscard]] double mean_free_path() const override { return gamma_.mean_free_path(); }
   [[nodiscard]] std::unique_ptr<Law> clone() const override { return std::make_unique<Erlang>(*this); }
   [[nodiscard]] std::shared_ptr<const Law> closed_form_scatterer_partner() const override;
   /// T_Q = ∫_t^∞ T_S/ℓ_S = (1/k) Σ_{j=1..k} Q(j, λt): an equal mixture of Erlang(1..k)
@@ -46,6 +51,10 @@ class Erlang final : public Law {
 };
 
 /// @brief Equal mixture of Erlang(j, λ), j = 1..k: the source law reciprocal to Erlang(k, λ).
+///
+/// Same valid range as Erlang. T, p and Σ come from Poisson sums scaled by their largest term
+/// (or, for k > 64 and 0.5 ≤ λt ≤ k, from incomplete gamma functions, O(1) per call), written
+/// so that no term cancels or overflows for any k in range and any λt.
 class ErlangMixture final : public Law {
  public:
   ErlangMixture(double k, double rate);
@@ -64,8 +73,8 @@ class ErlangMixture final : public Law {
   [[nodiscard]] std::string sampling_method() const override {
     return "composition: j ~ U{1..k}, then a sum of j exponential flights";
   }
-  /// ℓ = (k + 1)/(2λ).
-  [[nodiscard]] double mean_free_path() const override { return (k_ + 1.0) / (2.0 * rate_); }
+  /// ℓ = (k + 1)/(2λ) (+∞ where it overflows the doubles).
+  [[nodiscard]] double mean_free_path() const override { return quotient_or_infinity(0.5 * (k_ + 1.0), rate_); }
   [[nodiscard]] std::unique_ptr<Law> clone() const override { return std::make_unique<ErlangMixture>(*this); }
   [[nodiscard]] std::shared_ptr<const Law> closed_form_scatterer_partner() const override;
 

@@ -26,6 +26,14 @@ class Exponential final : public Law {
   /// ℓ = 1/μ (+∞ for μ = 0).
   [[nodiscard]] double mean_free_path() const override;
   [[nodiscard]] std::unique_ptr<Law> clone() const override { return std::make_unique<Exponential>(*this); }
+  /// The exponential law is its own reciprocal partner: p_Q/p_Q(0) = e^{−μt}, ∫_t^∞ e^{−μs}μ ds = e^{−μt}
+  /// (μ = 0 never gets here: the pair refuses p_Q(0) = 0 and ℓ = ∞ first).
+  [[nodiscard]] std::shared_ptr<const Law> closed_form_scatterer_partner() const override {
+    return std::make_shared<Exponential>(*this);
+  }
+  [[nodiscard]] std::shared_ptr<const Law> closed_form_source_partner() const override {
+    return std::make_shared<Exponential>(*this);
+  }
 
  private:
   double mu_;

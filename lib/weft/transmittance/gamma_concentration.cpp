@@ -1,25 +1,32 @@
 #include "weft/transmittance/gamma_concentration.h"
 
 #include <cmath>
+#include <limits>
 
 #include "weft/core/error.h"
+#include "weft/transmittance/overflow.h"
 
 namespace weft::transmittance {
 
 GammaConcentration::GammaConcentration(double mean_extinction, double alpha)
-    : mean_extinction_(mean_extinction), alpha_(alpha), inverse_alpha_(1.0 / alpha), scale_(alpha / mean_extinction) {
+    : mean_extinction_(mean_extinction), alpha_(alpha), inverse_alpha_(0.0), scale_(kInfinity) {
   if (!(std::isfinite(mean_extinction) && mean_extinction >= 0.0)) {
     fail("gamma law: mean_extinction must be finite and >= 0, got {}", mean_extinction);
   }
-  if (!(alpha > 0.0)) fail("gamma law: alpha must be > 0 (or inf for the exponential limit), got {}", alpha);
+  // NaN first: an ordered comparison with NaN raises FE_INVALID (traps in the fp-trap build).
+  if (std::isnan(alpha) || !(alpha > 0.0)) {
+    fail("gamma law: alpha must be > 0 (or inf for the exponential limit), got {}", alpha);
+  }
+  inverse_alpha_ = quotient_or_infinity(1.0, alpha);
+  if (mean_extinction > 0.0) scale_ = quotient_or_infinity(alpha, mean_extinction);
 }
 
 GammaConcentration GammaConcentration::from_sigma_alpha_beta(double sigma, double alpha, double beta) {
   if (!(std::isfinite(sigma) && sigma >= 0.0)) fail("gamma law: sigma must be finite and >= 0, got {}", sigma);
-  if (!(alpha > 0.0 && std::isfinite(alpha))) fail("gamma law: alpha must be finite and > 0, got {}", alpha);
-  if (!(beta > 0.0 && std::isfinite(beta))) fail("gamma law: beta must be finite and > 0, got {}", beta);
+  if (!(std::isfinite(alpha) && alpha > 0.0)) fail("gamma law: alpha must be finite and > 0, got {}", alpha);
+  if (!(std::isfinite(beta) && beta > 0.0)) fail("gamma law: beta must be finite and > 0, got {}", beta);
   // Eq. 20: σt/β = μ̄t/α with μ̄ = σα/β.
-  const double mean = sigma * (alpha / beta);
+  const double mean = product_or_infinity(sigma, quotient_or_infinity(alpha, beta));
   if (!std::isfinite(mean))
     fail("gamma law: mean extinction sigma*alpha/beta overflows ({}*{}/{})", sigma, alpha, beta);
   return {mean, alpha};
@@ -39,12 +46,14 @@ GammaConcentration GammaConcentration::from_concentration(double sigma, double m
   }
   // α = C̄²/Var C (Eq. 19); Var C = 0 is the exact exponential limit (S.46), not 0/0.
   const double alpha =
-      var_concentration == 0.0 ? kInfinity : mean_concentration * (mean_concentration / var_concentration);
+      var_concentration == 0.0
+          ? kInfinity
+          : product_or_infinity(mean_concentration, quotient_or_infinity(mean_concentration, var_concentration));
   if (!(alpha > 0.0)) {
     fail("gamma law: alpha = mean_concentration^2/var_concentration underflows to 0 ({}^2/{})", mean_concentration,
          var_concentration);
   }
-  return {sigma * mean_concentration, alpha};
+  return {product_or_infinity(sigma, mean_concentration), alpha};
 }
 
 namespace {
@@ -59,16 +68,17 @@ double log1p_over_x(double x) {
 double GammaConcentration::optical_exponent(double t) const {
   if (mean_extinction_ == 0.0 || t == 0.0) return 0.0;
   if (t == kInfinity) return kInfinity;
-  if (alpha_ == kInfinity) return mean_extinction_ * t;  // S.46: the exponential limit
-  const double mu_t = mean_extinction_ * t;
-  const double x = std::isfinite(mu_t) ? mu_t / alpha_ : mean_extinction_ * (t / alpha_);
+  if (alpha_ == kInfinity) return product_or_infinity(mean_extinction_, t);  // S.46: the exponential limit
+  const double mu_t = product_or_infinity(mean_extinction_, t);
+  const double x = std::isfinite(mu_t) ? quotient_or_infinity(mu_t, alpha_)
+                                       : product_or_infinity(mean_extinction_, quotient_or_infinity(t, alpha_));
   if (x < 1e-4) {
     // α·log1p(x) = μ̄t·log1p(x)/x; μ̄t = αx is finite here because x is small.
     return (std::isfinite(mu_t) ? mu_t : alpha_ * x) * log1p_over_x(x);
   }
-  if (std::isfinite(x)) return alpha_ * std::log1p(x);
+  if (std::isfinite(x)) return product_or_infinity(alpha_, std::log1p(x));
   // μ̄t/α overflows: log1p(x) = log x to double precision.
-  return alpha_ * (std::log(mean_extinction_) + std::log(t) - std::log(alpha_));
+  return product_or_infinity(alpha_, std::log(mean_extinction_) + std::log(t) - std::log(alpha_));
 }
 
 double GammaConcentration::transmittance(double t) const { return std::exp(-optical_exponent(t)); }
@@ -80,8 +90,9 @@ double GammaConcentration::hazard(double t) const {
   if (mean_extinction_ == 0.0) return 0.0;
   if (alpha_ == kInfinity) return mean_extinction_;
   if (t == kInfinity) return 0.0;
-  const double mu_t = mean_extinction_ * t;
-  const double x = std::isfinite(mu_t) ? mu_t / alpha_ : mean_extinction_ * (t / alpha_);
+  const double mu_t = product_or_infinity(mean_extinction_, t);
+  const double x = std::isfinite(mu_t) ? quotient_or_infinity(mu_t, alpha_)
+                                       : product_or_infinity(mean_extinction_, quotient_or_infinity(t, alpha_));
   if (!std::isfinite(x)) return alpha_ / t;  // μ̄/(μ̄t/α)
   return mean_extinction_ / (1.0 + x);
 }
@@ -99,24 +110,40 @@ double GammaConcentration::sample(Pcg32& rng) const {
   if (mean_extinction_ == 0.0) return kInfinity;
   // 1 − T(t) = ξ ⇔ (1 + μ̄t/α)^α = 1/u ⇔ t = (α/μ̄)·expm1(E/α), E = −log u ~ Exp(1).
   const double e = -std::log(1.0 - rng.uniform());
-  if (alpha_ == kInfinity) return e / mean_extinction_;
-  if (std::isfinite(scale_)) return scale_ * std::expm1(e * inverse_alpha_);
+  if (alpha_ == kInfinity) return saturating_quotient(e, mean_extinction_);
+  // Small α: E/α may be far beyond expm1's range (T ~ t^−α has mass past DBL_MAX); the draw
+  // then saturates at DBL_MAX (law.h) without overflowing.
+  const double exponent = product_or_infinity(e, inverse_alpha_);
+  if (exponent > 700.0) {
+    // (α/μ̄)·expm1(y) = e^{log α − log μ̄ + y} to double precision for y > 700.
+    const double log_t = std::log(alpha_) - std::log(mean_extinction_) + exponent;
+    constexpr double kLogMax = 709.78;  // just below log(DBL_MAX) = 709.7827…
+    return log_t < kLogMax ? std::exp(log_t) : std::numeric_limits<double>::max();
+  }
+  if (std::isfinite(scale_)) return saturating_product(scale_, std::expm1(exponent));
   // α/μ̄ overflows (huge α, tiny μ̄): α·expm1(E/α) stays near E, so divide by μ̄ last.
-  return (alpha_ * std::expm1(e / alpha_)) / mean_extinction_;
+  return saturating_quotient(alpha_ * std::expm1(e / alpha_), mean_extinction_);
 }
 
 double GammaConcentration::mean_free_path() const {
   if (mean_extinction_ == 0.0) return kInfinity;
-  if (alpha_ == kInfinity) return 1.0 / mean_extinction_;
+  if (alpha_ == kInfinity) return quotient_or_infinity(1.0, mean_extinction_);
   if (!(alpha_ > 1.0)) return kInfinity;
   // S.54: ∫(1 + μ̄t/α)^−α dt = α/(μ̄(α − 1)).
-  return alpha_ / (mean_extinction_ * (alpha_ - 1.0));
+  return quotient_or_infinity(alpha_ / (alpha_ - 1.0), mean_extinction_);
 }
 
 std::shared_ptr<const Law> GammaConcentration::closed_form_scatterer_partner() const {
   if (alpha_ == kInfinity) return std::make_shared<GammaConcentration>(*this);
   // Same scale α/μ̄, shape α + 1 ⇒ mean extinction μ̄(α + 1)/α.
-  return std::make_shared<GammaConcentration>(mean_extinction_ * (1.0 + 1.0 / alpha_), alpha_ + 1.0);
+  const double mean = product_or_infinity(mean_extinction_, 1.0 + inverse_alpha_);
+  if (mean == kInfinity) {
+    fail(
+        "reciprocal pair: the scatterer partner of gamma {{mean_extinction={}, alpha={}}} has mean extinction "
+        "mean_extinction*(1 + 1/alpha) beyond the largest double",
+        mean_extinction_, alpha_);
+  }
+  return std::make_shared<GammaConcentration>(mean, alpha_ + 1.0);
 }
 
 std::shared_ptr<const Law> GammaConcentration::closed_form_source_partner() const {
@@ -148,9 +175,16 @@ double GammaConcentration::cdf_proportional_to_transmittance(double t) const {
 double GammaConcentration::sample_proportional_to_transmittance(Pcg32& rng) const {
   require_alpha_above_one("sampling p proportional to T");
   const double e = -std::log(1.0 - rng.uniform());
-  if (alpha_ == kInfinity) return e / mean_extinction_;
-  // (1 + μ̄t/α)^{α−1} = 1/u ⇔ t = (α/μ̄)·expm1(E/(α − 1)), which is S.57.
-  return (alpha_ * std::expm1(e / (alpha_ - 1.0))) / mean_extinction_;
+  if (alpha_ == kInfinity) return saturating_quotient(e, mean_extinction_);
+  // (1 + μ̄t/α)^{α−1} = 1/u ⇔ t = (α/μ̄)·expm1(E/(α − 1)), which is S.57; for α near 1 the
+  // exponent leaves expm1's range and the draw saturates at DBL_MAX (law.h), as in sample().
+  const double exponent = quotient_or_infinity(e, alpha_ - 1.0);
+  if (exponent > 700.0) {
+    const double log_t = std::log(alpha_) - std::log(mean_extinction_) + exponent;
+    constexpr double kLogMax = 709.78;  // just below log(DBL_MAX) = 709.7827…
+    return log_t < kLogMax ? std::exp(log_t) : std::numeric_limits<double>::max();
+  }
+  return saturating_quotient(alpha_ * std::expm1(exponent), mean_extinction_);
 }
 
 }  // namespace weft::transmittance

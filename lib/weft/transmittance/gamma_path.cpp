@@ -1,12 +1,15 @@
 #include "weft/transmittance/gamma_path.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <boost/math/special_functions/gamma.hpp>
 #include <boost/random/normal_distribution.hpp>
 
 #include "weft/core/error.h"
 #include "weft/transmittance/exponential.h"
+#include "weft/core/fp_hold.h"
 
 namespace weft::transmittance {
 
@@ -18,6 +21,33 @@ using Policy = bmp::policy<bmp::underflow_error<bmp::ignore_error>, bmp::overflo
 const Policy kPolicy{};
 // Below this Q we switch to the continued fraction in log space.
 constexpr double kTinyQ = 1e-280;
+
+}  // namespace
+
+// The Boost.Math incomplete gamma family, with FP exceptions held (fp_hold.h): Boost evaluates
+// the prefix x^k e^{−x}/Γ(k) through intermediate quantities (Γ(k), x^k, e^{−x}) that overflow,
+// underflow or divide by zero for large k or extreme x, then recovers (Lanczos-scaled prefix,
+// log-space fallback, or the policy above: underflow → 0, overflow → +∞). The exceptions raised
+// inside are part of that algorithm, not a weft error; each result is checked by the callers
+// (CF fallback where Q underflows, saturation where a scale overflows).
+double regularized_gamma_q(double k, double x) {
+  const HeldFpExceptions hold;
+  return boost::math::gamma_q(k, x, kPolicy);
+}
+double regularized_gamma_p(double k, double x) {
+  const HeldFpExceptions hold;
+  return boost::math::gamma_p(k, x, kPolicy);
+}
+double gamma_density(double k, double x) {
+  const HeldFpExceptions hold;
+  return boost::math::gamma_p_derivative(k, x, kPolicy);
+}
+namespace {
+double log_gamma(double k) {
+  const HeldFpExceptions hold;
+  return boost::math::lgamma(k, kPolicy);
+}
+
 }  // namespace
 
 std::string to_string(GammaSampler sampler) {
@@ -30,9 +60,36 @@ GammaSampler parse_gamma_sampler(const std::string& text) {
   fail("gamma-path law: unknown sampler '{}' (known: marsaglia-tsang, inversion)", text);
 }
 
-GammaPath::GammaPath(double k, double theta, GammaSampler sampler) : k_(k), theta_(theta), sampler_(sampler) {
+GammaPath::GammaPath(double k, double theta, GammaSampler sampler)
+    : k_(k), theta_(theta), rate_(0.0), sampler_(sampler) {
   if (!(std::isfinite(k) && k > 0.0)) fail("gamma-path law: k must be finite and > 0, got {}", k);
   if (!(std::isfinite(theta) && theta > 0.0)) fail("gamma-path law: theta must be finite and > 0, got {}", theta);
+  rate_ = quotient_or_infinity(1.0, theta);
+}
+
+GammaPath::GammaPath(double k, double rate, GammaSampler sampler, RateTag)
+    : k_(k), theta_(0.0), rate_(rate), from_rate_(true), sampler_(sampler) {
+  if (!(std::isfinite(k) && k > 0.0)) fail("gamma-path law: k must be finite and > 0, got {}", k);
+  if (!(std::isfinite(rate) && rate > 0.0)) fail("gamma-path law: rate must be finite and > 0, got {}", rate);
+  theta_ = quotient_or_infinity(1.0, rate);  // for parameters(); may be subnormal, never used to scale
+}
+
+GammaPath GammaPath::from_rate(double k, double rate, GammaSampler sampler) { return {k, rate, sampler, RateTag{}}; }
+
+double GammaPath::t_over_theta(double t) const {
+  return from_rate_ ? product_or_infinity(t, rate_) : quotient_or_infinity(t, theta_);
+}
+
+double GammaPath::per_length(double v) const {
+  return from_rate_ ? product_or_infinity(v, rate_) : quotient_or_infinity(v, theta_);
+}
+
+double GammaPath::length(double x) const {
+  return from_rate_ ? saturating_quotient(x, rate_) : saturating_product(x, theta_);
+}
+
+double GammaPath::mean_free_path() const {
+  return from_rate_ ? quotient_or_infinity(k_, rate_) : product_or_infinity(k_, theta_);
 }
 
 double log_upper_gamma_q_cf(double k, double x, double* x_times_cf) {
@@ -57,42 +114,50 @@ double log_upper_gamma_q_cf(double k, double x, double* x_times_cf) {
     if (std::fabs(delta - 1.0) < kEps) break;
   }
   if (x_times_cf != nullptr) *x_times_cf = x * h;
-  return -x + k * std::log(x) - boost::math::lgamma(k, kPolicy) + std::log(h);
+  return -x + k * std::log(x) - log_gamma(k) + std::log(h);
 }
 
 double GammaPath::transmittance(double t) const {
-  const double x = t / theta_;
+  const double x = t_over_theta(t);
   if (x == kInfinity) return 0.0;
-  return boost::math::gamma_q(k_, x, kPolicy);
+  return regularized_gamma_q(k_, x);
 }
 
 double GammaPath::log_transmittance(double t) const {
-  const double x = t / theta_;
+  const double x = t_over_theta(t);
   if (x == 0.0) return 0.0;
   if (x == kInfinity) return -kInfinity;
-  const double q = boost::math::gamma_q(k_, x, kPolicy);
-  if (q > 0.5) return std::log1p(-boost::math::gamma_p(k_, x, kPolicy));  // Q ≈ 1: use P
-  if (q > kTinyQ || x < k_ + 1.0) return std::log(q);
-  return log_upper_gamma_q_cf(k_, x);
+  const double q = regularized_gamma_q(k_, x);
+  if (q > 0.5) return std::log1p(-regularized_gamma_p(k_, x));  // Q ≈ 1: use P
+  if (x >= k_ + 1.0 && !(q > kTinyQ)) return log_upper_gamma_q_cf(k_, x);
+  return q > 0.0 ? std::log(q) : -kInfinity;
 }
 
 double GammaPath::pdf(double t) const {
-  const double x = t / theta_;
+  const double x = t_over_theta(t);
   if (x == kInfinity) return 0.0;
-  if (x == 0.0) return k_ < 1.0 ? kInfinity : (k_ == 1.0 ? 1.0 / theta_ : 0.0);
-  return boost::math::gamma_p_derivative(k_, x, kPolicy) / theta_;  // S.63
+  if (x == 0.0) return k_ < 1.0 ? kInfinity : (k_ == 1.0 ? per_length(1.0) : 0.0);
+  return per_length(gamma_density(k_, x));  // S.63
 }
 
 double GammaPath::hazard(double t) const {
-  const double x = t / theta_;
+  const double x = t_over_theta(t);
   if (x == 0.0) return pdf(0.0);
-  if (x == kInfinity) return 1.0 / theta_;  // the limit of 1/(θ·x·CF)
-  const double q = boost::math::gamma_q(k_, x, kPolicy);
-  if (q > kTinyQ || x < k_ + 1.0) return boost::math::gamma_p_derivative(k_, x, kPolicy) / theta_ / q;
+  if (x == kInfinity) return per_length(1.0);  // the limit of 1/(θ·x·CF)
+  const double q = regularized_gamma_q(k_, x);
+  if (x < k_ + 1.0 || q > kTinyQ) {
+    if (!(q > 0.0)) return kInfinity;
+    // Σ may exceed DBL_MAX near t = 0 for k < 1 and tiny θ: saturate (law.h), T > 0 here.
+    const double theta_sigma = quotient_or_infinity(gamma_density(k_, x), q);
+    return std::min(per_length(k_ >= 1.0 ? std::min(1.0, theta_sigma) : theta_sigma),
+                    std::numeric_limits<double>::max());
+  }
   // p/Q = [x^{k−1}e^{−x}/(θΓ(k))] / [x^k e^{−x} CF/Γ(k)] = 1/(θ·x·CF): no underflow.
   double x_cf = 1.0;
   (void)log_upper_gamma_q_cf(k_, x, &x_cf);
-  return 1.0 / (theta_ * x_cf);
+  // For k ≥ 1 the hazard rises to its limit 1/θ and never exceeds it: clamp the rounding, so
+  // θ·Σ ≤ 1 cannot overflow for θ = 1/DBL_MAX.
+  return per_length(k_ >= 1.0 ? std::min(1.0, 1.0 / x_cf) : 1.0 / x_cf);
 }
 
 double sample_standard_gamma(double k, Pcg32& rng) {
@@ -120,13 +185,18 @@ double sample_standard_gamma(double k, Pcg32& rng) {
   }
 }
 
-double GammaPath::sample_marsaglia_tsang(Pcg32& rng) const { return theta_ * sample_standard_gamma(k_, rng); }
+double GammaPath::sample_marsaglia_tsang(Pcg32& rng) const { return length(sample_standard_gamma(k_, rng)); }
 
 double GammaPath::sample_inversion(Pcg32& rng) const {
-  // Invert whichever tail is smaller, so both tails keep full relative accuracy.
+  // Invert whichever tail is smaller, so both tails keep full relative accuracy. The inverses
+  // iterate on the incomplete gamma functions above, so they too run with exceptions held.
   const double u = rng.uniform_open();
-  const double x = u < 0.5 ? boost::math::gamma_q_inv(k_, u, kPolicy) : boost::math::gamma_p_inv(k_, 1.0 - u, kPolicy);
-  return theta_ * x;
+  double x = 0.0;
+  {
+    const HeldFpExceptions hold;
+    x = u < 0.5 ? boost::math::gamma_q_inv(k_, u, kPolicy) : boost::math::gamma_p_inv(k_, 1.0 - u, kPolicy);
+  }
+  return length(x);
 }
 
 double GammaPath::sample(Pcg32& rng) const {

@@ -3,6 +3,7 @@
 /// @brief Gamma-distributed free paths (S.62–S.64): p(t) = Γ(t; k, θ), T(t) = Q(k, t/θ).
 
 #include "weft/transmittance/law.h"
+#include "weft/transmittance/overflow.h"
 
 namespace weft::transmittance {
 
@@ -17,9 +18,16 @@ enum class GammaSampler {
 [[nodiscard]] GammaSampler parse_gamma_sampler(const std::string& text);
 
 /// @brief Gamma free-path law with shape k > 0 and scale θ > 0 [length]; ℓ = kθ.
+///
+/// Valid range: any finite k > 0 and θ > 0. Where a quantity leaves the doubles it saturates
+/// rather than turning NaN: ℓ = kθ and p may overflow to +∞, T and p underflow to 0 (log T and
+/// Σ stay finite), and a draw beyond the largest double is returned as DBL_MAX (see law.h).
 class GammaPath final : public Law {
  public:
   GammaPath(double k, double theta, GammaSampler sampler = GammaSampler::marsaglia_tsang);
+  /// The same law given by its rate λ = 1/θ [1/length], as Erlang does: λt and λ·(…) are then
+  /// evaluated with λ itself, exact even where 1/λ is subnormal (λ near DBL_MAX).
+  static GammaPath from_rate(double k, double rate, GammaSampler sampler = GammaSampler::marsaglia_tsang);
 
   [[nodiscard]] double k() const { return k_; }
   [[nodiscard]] double theta() const { return theta_; }
@@ -36,7 +44,8 @@ class GammaPath final : public Law {
   [[nodiscard]] double hazard(double t) const override;
   [[nodiscard]] double sample(Pcg32& rng) const override;
   [[nodiscard]] std::string sampling_method() const override;
-  [[nodiscard]] double mean_free_path() const override { return k_ * theta_; }
+  /// kθ (k/λ when built from a rate); +∞ where it overflows.
+  [[nodiscard]] double mean_free_path() const override;
   [[nodiscard]] std::unique_ptr<Law> clone() const override { return std::make_unique<GammaPath>(*this); }
   /// k = 1 is the exponential law, whose partner is itself; other k have none in closed form
   /// (as T_Q: p_Q(0) is 0 or +∞, so no partner exists at all).
@@ -46,10 +55,26 @@ class GammaPath final : public Law {
   [[nodiscard]] double sample_inversion(Pcg32& rng) const;
 
  private:
+  struct RateTag {};
+  GammaPath(double k, double rate, GammaSampler sampler, RateTag);
+  /// x = t/θ (or λt when built from a rate); +∞ where it overflows.
+  [[nodiscard]] double t_over_theta(double t) const;
+  /// v/θ [1/length] (or λv), for densities and hazards; +∞ where it overflows.
+  [[nodiscard]] double per_length(double v) const;
+  /// xθ [length] (or x/λ), for draws; DBL_MAX where it overflows.
+  [[nodiscard]] double length(double x) const;
   double k_;
   double theta_;
+  double rate_;  ///< 1/θ, or the given rate
+  bool from_rate_ = false;
   GammaSampler sampler_;
 };
+
+/// Q(k, x), P(k, x) and the Gamma(k, 1) density x^{k−1}e^{−x}/Γ(k) (Boost.Math, underflow to 0,
+/// overflow to +∞, FP exceptions held inside: see fp_hold.h), for k > 0 and x ≥ 0.
+[[nodiscard]] double regularized_gamma_q(double k, double x);
+[[nodiscard]] double regularized_gamma_p(double k, double x);
+[[nodiscard]] double gamma_density(double k, double x);
 
 /// @brief Standard Gamma(k, 1) variate by Marsaglia & Tsang (2000), k > 0 (k < 1 by the
 /// G(k+1)·u^{1/k} boost, in log space so tiny k underflows to 0 only where the true value does).

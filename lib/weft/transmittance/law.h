@@ -40,10 +40,13 @@ class Law {
   [[nodiscard]] virtual double log_transmittance(double t) const = 0;
   /// p(t) = −dT/dt.
   [[nodiscard]] virtual double pdf(double t) const = 0;
-  /// Σ(t) = p(t)/T(t), finite wherever T > 0 even if both underflow; +∞ where T = 0.
+  /// Σ(t) = p(t)/T(t), finite wherever T > 0 even if both underflow (saturating at DBL_MAX
+  /// where the exact hazard exceeds it, e.g. λ = DBL_MAX); +∞ where T = 0.
   [[nodiscard]] virtual double hazard(double t) const = 0;
 
-  /// Draws t ~ p; returns +∞ for the probability mass that never collides (e.g. μ = 0).
+  /// Draws t ~ p; returns +∞ for the probability mass that never collides (e.g. μ = 0). A draw
+  /// that collides beyond the largest double (possible only where T(DBL_MAX) > 0, e.g. rates
+  /// near DBL_MIN) is returned as DBL_MAX, not +∞: it is farther than any scene, yet finite.
   [[nodiscard]] virtual double sample(Pcg32& rng) const = 0;
   /// How `sample` works, for reports ("inversion", "Marsaglia-Tsang", ...).
   [[nodiscard]] virtual std::string sampling_method() const = 0;

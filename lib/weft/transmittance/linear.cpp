@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "weft/core/error.h"
+#include "weft/transmittance/overflow.h"
 
 namespace weft::transmittance {
 
@@ -15,7 +16,7 @@ Linear::Linear(double mean_extinction) : mean_extinction_(mean_extinction) {
 
 double Linear::remainder(double t) const {
   if (mean_extinction_ == 0.0) return 1.0;
-  if (t == kInfinity) return 0.0;
+  if (t == kInfinity || product_or_infinity(mean_extinction_, t) >= 2.0) return 0.0;  // fma would overflow
   return std::max(0.0, std::fma(-mean_extinction_, t, 1.0));
 }
 
@@ -36,15 +37,17 @@ double Linear::pdf(double t) const { return remainder(t) > 0.0 ? mean_extinction
 double Linear::hazard(double t) const {
   const double r = remainder(t);
   if (r == 0.0) return kInfinity;
-  return mean_extinction_ / r;  // S.60
+  return saturating_quotient(mean_extinction_, r);  // S.60; DBL_MAX where μ̄/r overflows (law.h)
 }
 
 double Linear::sample(Pcg32& rng) const {
   if (mean_extinction_ == 0.0) return kInfinity;
-  return rng.uniform() / mean_extinction_;  // S.61, ξ ∈ [0, 1)
+  return saturating_quotient(rng.uniform(), mean_extinction_);  // S.61, ξ ∈ [0, 1)
 }
 
-double Linear::mean_free_path() const { return mean_extinction_ == 0.0 ? kInfinity : 0.5 / mean_extinction_; }
+double Linear::mean_free_path() const {
+  return mean_extinction_ == 0.0 ? kInfinity : quotient_or_infinity(0.5, mean_extinction_);
+}
 
 std::shared_ptr<const Law> Linear::closed_form_scatterer_partner() const {
   return std::make_shared<LinearScatterer>(mean_extinction_);
@@ -58,8 +61,7 @@ LinearScatterer::LinearScatterer(double mean_extinction) : mean_extinction_(mean
   // The first double where Linear's remainder max(0, fma(−μ̄, t, 1)) is 0, so that the step
   // sits exactly where p_Q drops to 0: start at the rounded 1/μ̄ and move by single ulps.
   const Linear source(mean_extinction);
-  double t = 1.0 / mean_extinction;
-  if (!std::isfinite(t)) t = std::numeric_limits<double>::max();
+  double t = saturating_quotient(1.0, mean_extinction);
   for (int i = 0; i < 64 && source.pdf(t) > 0.0; ++i) t = std::nextafter(t, kInfinity);
   for (int i = 0; i < 64 && t > 0.0; ++i) {
     const double below = std::nextafter(t, 0.0);

@@ -5,9 +5,11 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "weft/core/error.h"
+#include "weft/transmittance/overflow.h"
 
 namespace weft::transmittance {
 
@@ -21,7 +23,7 @@ Tabulated::Tabulated(std::vector<double> t, std::vector<double> transmittance, s
   if (value_[0] != 1.0) fail("tabulated law ({}): T(0) must be 1, got {}", source_, value_[0]);
   for (std::size_t i = 0; i < t_.size(); ++i) {
     if (!std::isfinite(t_[i])) fail("tabulated law ({}): sample {}: t is not finite ({})", source_, i + 1, t_[i]);
-    if (!(value_[i] >= 0.0 && value_[i] <= 1.0)) {
+    if (std::isnan(value_[i]) || !(value_[i] >= 0.0 && value_[i] <= 1.0)) {  // NaN first: no FE_INVALID
       fail("tabulated law ({}): sample {}: T must be in [0, 1], got {}", source_, i + 1, value_[i]);
     }
     if (i == 0) continue;
@@ -45,7 +47,7 @@ Tabulated::Tabulated(std::vector<double> t, std::vector<double> transmittance, s
     value_.resize(keep);
   }
   log_value_.resize(t_.size());
-  for (std::size_t i = 0; i < t_.size(); ++i) log_value_[i] = std::log(value_[i]);
+  for (std::size_t i = 0; i < t_.size(); ++i) log_value_[i] = value_[i] > 0.0 ? std::log(value_[i]) : -kInfinity;
   hazard_.resize(t_.size() - 1);
   for (std::size_t i = 0; i + 1 < t_.size(); ++i) {
     hazard_[i] = value_[i + 1] == 0.0 ? std::numeric_limits<double>::quiet_NaN()
@@ -108,7 +110,7 @@ double Tabulated::log_transmittance(double t) const {
     if (value_.back() == 0.0) return -kInfinity;
     const double h = hazard_.back();
     if (h == 0.0) return log_value_.back();
-    return log_value_.back() - h * (t - t_.back());
+    return log_value_.back() - product_or_infinity(h, t - t_.back());
   }
   if (std::isnan(hazard_[i])) return std::log(transmittance(t));
   return log_value_[i] - hazard_[i] * (t - t_[i]);
@@ -148,7 +150,10 @@ double Tabulated::sample(Pcg32& rng) const {
     const double h = hazard_.back();
     if (value_.back() == 0.0) return t_.back();
     if (h == 0.0) return kInfinity;  // never collides
-    return t_.back() + (log_value_.back() - log_u) / h;
+    // Past DBL_MAX the draw saturates (law.h), without overflowing.
+    constexpr double kMax = std::numeric_limits<double>::max();
+    const double beyond = saturating_quotient(log_value_.back() - log_u, h);
+    return beyond >= kMax - t_.back() ? kMax : t_.back() + beyond;
   }
   const auto j = static_cast<std::size_t>(it - log_value_.begin());  // j ≥ 1 since log T_0 = 0 ≥ log u
   const std::size_t i = j - 1;

@@ -22,6 +22,7 @@
 
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
+#include "weft/core/fp_hold.h"
 #include "weft/viz/display.h"
 #include "weft/viz/vtk_support.h"
 
@@ -236,7 +237,10 @@ RenderOutcome save_chart_png(const Chart& chart, const std::filesystem::path& pa
 
   // The axes' automatic ranges are known only after a first layout; the legend corner and the
   // vertical markers depend on them.
-  if (any_label || !chart.vertical_lines.empty()) window->Render();
+  if (any_label || !chart.vertical_lines.empty()) {
+    const HeldFpExceptions hold;  // Mesa's software rasterizer overflows in clipping
+    window->Render();
+  }
 
   // A vertical marker spans the y range shown: the fixed one, else the one the chart chose for
   // the data (known after a first layout), which is then frozen so the markers do not move it.

@@ -14,6 +14,7 @@
 #include <vtkWindowToImageFilter.h>
 
 #include "weft/core/error.h"
+#include "weft/core/fp_hold.h"
 
 namespace weft::viz::detail {
 namespace {
@@ -80,6 +81,7 @@ void require_writable_folder(const std::filesystem::path& target) {
 }
 
 void capture_png(vtkRenderWindow& window, const std::filesystem::path& path, const std::filesystem::path& target) {
+  const HeldFpExceptions hold;  // Mesa's software rasterizer (llvmpipe) overflows in clipping
   window.Render();
   vtkNew<vtkWindowToImageFilter> grab;
   grab->SetInput(&window);

@@ -23,7 +23,7 @@ inline double ks_critical_value(int n, double significance = kSignificance) {
 
 /// D = sup |F_n − F|. Samples are doubles, so a sample v stands for the true values that round
 /// to it: the empirical step at v is compared with F just above and just below v. This makes
-/// atoms that rounding creates (0 for k ≪ 1, +∞ for heavy tails) legitimate, not failures.
+/// atoms that rounding creates (0 for k ≪ 1, DBL_MAX or +∞ for heavy tails) legitimate, not failures.
 /// Subnormal samples carry no relative precision (nor does t/θ at such t), so everything
 /// below DBL_MIN is one bin [0, DBL_MIN).
 inline double ks_statistic(std::vector<double> samples, const std::function<double(double)>& cdf) {
@@ -45,7 +45,12 @@ inline double ks_statistic(std::vector<double> samples, const std::function<doub
     std::size_t j = i;
     while (j < samples.size() && samples[j] == v) ++j;
     const double below = cdf_at(std::nextafter(v, -std::numeric_limits<double>::infinity()));
-    const double above = cdf_at(v == 0.0 ? kSmallest : std::nextafter(v, std::numeric_limits<double>::infinity()));
+    // Draws beyond the largest double saturate at DBL_MAX (law.h): F just above it is 1 (and
+    // nextafter(DBL_MAX, +inf) would raise FE_OVERFLOW).
+    const double above =
+        v == std::numeric_limits<double>::max()
+            ? 1.0
+            : cdf_at(v == 0.0 ? kSmallest : std::nextafter(v, std::numeric_limits<double>::infinity()));
     d = std::max({d, static_cast<double>(j) / n - above, below - static_cast<double>(i) / n});
     i = j;
   }

@@ -13,6 +13,7 @@
 #include <vtkUnsignedCharArray.h>
 
 #include "image_probe.h"
+#include "weft/core/fp_hold.h"
 
 namespace weft::viz {
 namespace {
@@ -35,6 +36,7 @@ namespace {
   vtkNew<vtkRenderer> renderer;
   renderer->SetBackground(1.0, 0.0, 0.0);
   window->AddRenderer(renderer);
+  const weft::HeldFpExceptions hold;  // Mesa's software rasterizer computes with NaN on purpose
   window->Render();
   vtkNew<vtkUnsignedCharArray> pixels;
   window->GetPixelData(0, 0, 63, 47, 0, pixels);
