@@ -4,11 +4,13 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <type_traits>
 
 #include <openvdb/math/DDA.h>
 #include <openvdb/math/Ray.h>
 
 #include "weft/core/error.h"
+#include "weft/core/fp_hold.h"
 #include "weft/core/parallel.h"
 #include "weft/core/rng.h"
 #include "weft/volume/columns.h"
@@ -74,6 +76,9 @@ struct LseAccumulator {
     n += weight;
   }
 
+  /// Largest growth of a patch's smallest τ before its shift c moves (add_block, add_sparse).
+  static constexpr double kRebase = 64.0;
+
   /// Adds the rays of a patch: per depth a sum of exp(−(τ − c)) over the patch, merged with one
   /// exp. The shift c is the patch's smallest τ, moved only when that has grown by more than
   /// kRebase (so every term stays in [e^−kRebase·…, 1] and the largest never underflows). With
@@ -81,7 +86,6 @@ struct LseAccumulator {
   /// most rays spend most depths) has the same term, reused bit for bit: far fewer exp() calls
   /// than one per ray and depth.
   void add_block(const TauBlock& b, std::vector<double>& prev_tau, std::vector<double>& prev_e) {
-    constexpr double kRebase = 64.0;
     const std::size_t nc = b.cols;
     prev_tau.assign(nc, -1.0);
     prev_e.assign(nc, 0.0);
@@ -109,22 +113,110 @@ struct LseAccumulator {
         a1 += e;
         a2 += e * e;
       }
-      const double x = -shift;
-      if (s1[k] == 0.0) {
-        m[k] = x;
-        s1[k] = a1;
-        s2[k] = a2;
-      } else if (x <= m[k]) {
-        const double r = std::exp(x - m[k]);
-        s1[k] += a1 * r;
-        s2[k] += a2 * r * r;
-      } else {
-        const double r = std::exp(m[k] - x);
-        s1[k] = s1[k] * r + a1;
-        s2[k] = s2[k] * r * r + a2;
-        m[k] = x;
-      }
+      add_at(k, -shift, a1, a2);
     }
+    n += nc;
+  }
+
+  /// Adds e^x·a1 and e^x·a2 to depth k's sums (a1, a2 > 0).
+  void add_at(std::size_t k, double x, double a1, double a2) {
+    if (s1[k] == 0.0) {
+      m[k] = x;
+      s1[k] = a1;
+      s2[k] = a2;
+    } else if (x == m[k]) {
+      s1[k] += a1;  // = a1·exp(0): the common case of one shift for the whole beam
+      s2[k] += a2;
+    } else if (x < m[k]) {
+      const double r = std::exp(x - m[k]);
+      s1[k] += a1 * r;
+      s2[k] += a2 * r * r;
+    } else {
+      const double r = std::exp(m[k] - x);
+      s1[k] = s1[k] * r + a1;
+      s2[k] = s2[k] * r * r + a2;
+      m[k] = x;
+    }
+  }
+
+  /// The state of add_sparse for one patch (≤ 64 columns), kept per shard.
+  struct SparseScratch {
+    std::array<double, 64> acc{};  ///< Σ value along each column so far
+    std::array<double, 64> tau{};  ///< μh·acc: τ at the current depth
+    std::array<double, 64> e{};    ///< exp(shift − τ)
+    std::array<double, 64> p1{};   ///< prefix sums of e over the columns
+    std::array<double, 64> p2{};   ///< prefix sums of e²
+  };
+
+  /// The same sums as add_block on the dense τ of the patch (bit for bit: same shifts, same
+  /// terms, same summation order), in work that follows the active voxels: τ of a column changes
+  /// only at its active voxels, so the per-depth sum over the patch changes only at depths with
+  /// active voxels. There the changed terms are recomputed and the prefix sums over the columns
+  /// redone from the first changed column on; every other depth adds the previous sums again.
+  /// `mu_h` = scale × voxel size; the depth grid must be the voxel boundaries (K = depth + 1).
+  void add_sparse(const SparseColumnTile& t, bool reverse, double mu_h, SparseScratch& w) {
+    const auto nc = static_cast<std::size_t>(t.nu) * static_cast<std::size_t>(t.nv);
+    const std::size_t K = m.size();
+    std::fill_n(w.acc.begin(), nc, 0.0);
+    std::fill_n(w.tau.begin(), nc, 0.0);
+    std::fill_n(w.e.begin(), nc, 1.0);  // exp(0 − 0)
+    double a1 = 0.0;
+    double a2 = 0.0;
+    for (std::size_t c = 0; c < nc; ++c) {
+      w.p1[c] = a1 += 1.0;
+      w.p2[c] = a2 += 1.0;
+    }
+    double shift = 0.0;
+    double lo = 0.0;       // min over the columns of τ
+    std::size_t next = 0;  // the first depth not yet added
+    const std::size_t ns = t.slices.size();
+    for (std::size_t q = 0; q < ns; ++q) {
+      const SparseColumnTile::Slice& sl = t.slices[reverse ? ns - 1 - q : q];
+      // τ changes at the far boundary of the slice's voxels: depth index j + 1 for voxel j.
+      const std::size_t k = static_cast<std::size_t>(reverse ? t.depth - 1 - sl.k : sl.k) + 1;
+      for (; next < k; ++next) add_at(next, -shift, a1, a2);
+      std::size_t first = nc;  // first column whose τ changed
+      std::uint64_t changed = 0;
+      bool rescan = false;  // a column at the minimum τ changed: find the minimum again
+      for (std::uint32_t i = sl.begin; i < sl.end; ++i) {
+        const std::size_t c = t.column[i];
+        w.acc[c] += static_cast<double>(t.value[i]);
+        const double tau = mu_h * w.acc[c];
+        if (tau != w.tau[c]) {
+          rescan = rescan || w.tau[c] == lo;
+          lo = std::min(lo, tau);
+          w.tau[c] = tau;
+          changed |= std::uint64_t{1} << c;
+          first = std::min(first, c);
+        }
+      }
+      if (changed != 0) {
+        if (rescan) {
+          lo = w.tau[0];
+          for (std::size_t c = 1; c < nc; ++c) lo = std::min(lo, w.tau[c]);
+        }
+        if (lo - shift > kRebase) {
+          shift = lo;
+          for (std::size_t c = 0; c < nc; ++c) w.e[c] = std::exp(shift - w.tau[c]);
+          first = 0;
+        } else {
+          for (std::uint64_t bits = changed; bits != 0; bits &= bits - 1) {
+            const auto c = static_cast<std::size_t>(__builtin_ctzll(bits));
+            w.e[c] = std::exp(shift - w.tau[c]);
+          }
+        }
+        a1 = first == 0 ? 0.0 : w.p1[first - 1];
+        a2 = first == 0 ? 0.0 : w.p2[first - 1];
+        for (std::size_t c = first; c < nc; ++c) {
+          const double e = w.e[c];
+          w.p1[c] = a1 += e;
+          w.p2[c] = a2 += e * e;
+        }
+      }
+      add_at(k, -shift, a1, a2);
+      next = k + 1;
+    }
+    for (; next < K; ++next) add_at(next, -shift, a1, a2);
     n += nc;
   }
 
@@ -295,8 +387,13 @@ bool keep_cell(const Lattice& L, std::int64_t i, std::int64_t j) {
 /// Profiles from the streaming pass (axis beams): τ at voxel boundaries by prefix sums, then
 /// linear interpolation (exact: τ is linear inside a voxel) onto the depth grid; handed over
 /// one face patch at a time.
-template <typename Consumer>
-void stream_columns(const Grid& grid, const Lattice& L, double scale, ProgressSink& progress, Consumer&& consume) {
+/// `consume_sparse(shard, tile, reverse, mu_h)`, unless it is nullptr, takes the patches whose
+/// depth grid is the voxel boundaries and whose columns are all kept, as their active voxels
+/// (SparseColumnTile) instead of dense τ profiles.
+template <typename Consumer, typename SparseConsumer>
+void stream_columns(const Grid& grid, const Lattice& L, double scale, ProgressSink& progress, Consumer&& consume,
+                    SparseConsumer&& consume_sparse) {
+  constexpr bool kSparse = !std::is_same_v<std::decay_t<SparseConsumer>, std::nullptr_t>;
   const ColumnReader reader(grid, L.axis);
   const std::size_t units = reader.tile_count();
   const std::size_t shards = std::min(kMaxShards, units);
@@ -313,14 +410,25 @@ void stream_columns(const Grid& grid, const Lattice& L, double scale, ProgressSi
     on_boundaries = std::abs(L.depths[q] - static_cast<double>(q) * L.h) <= 1e-12 * L.h * static_cast<double>(q + 1);
   }
   ProgressTask task(progress, "beam " + direction_label(L.d) + " (streaming)", units);
+  const bool sparse = kSparse && on_boundaries && L.stride == 1;
   parallel_units(shards, [&](std::size_t shard) {
     ColumnTile tile;
+    SparseColumnTile sparse_tile;
     TauBlock block;
     std::vector<double> boundary;
     const std::size_t begin = shard * units / shards;
     const std::size_t end = (shard + 1) * units / shards;
     const double mu_h = scale * L.h;
     for (std::size_t unit = begin; unit < end; ++unit) {
+      if constexpr (kSparse) {
+        // (Patches are 8×8 columns: add_sparse keeps a 64-bit set of changed columns.)
+        if (sparse && reader.read_sparse(unit, sparse_tile) && static_cast<std::size_t>(sparse_tile.depth) + 1 == K &&
+            sparse_tile.nu * sparse_tile.nv <= 64) {
+          consume_sparse(shard, sparse_tile, reverse, mu_h);
+          task.step();
+          continue;
+        }
+      }
       reader.read(unit, tile);
       const int n = tile.depth;
       boundary.assign(static_cast<std::size_t>(n) + 1, 0.0);
@@ -439,6 +547,8 @@ void trace_rays(const Grid& grid, const Lattice& L, double scale, bool use_openv
             double t1 = L.depths.back();
             if (detail::clip(cr, box, t0, t1)) {
               using VRay = openvdb::math::Ray<double>;
+              // math::Ray stores 1/d, ±inf for an axis-aligned ray, and its DDA relies on it.
+              const HeldFpExceptions hold;
               const VRay vray(openvdb::Vec3d(cr.o[0], cr.o[1], cr.o[2]), openvdb::Vec3d(cr.d[0], cr.d[1], cr.d[2]), t0,
                               t1);
               openvdb::math::DDA<VRay, 0> dda(vray, t0, t1);
@@ -468,21 +578,23 @@ void check_spec(const Grid& grid, const BeamSpec& spec) {
     fail("beam: column stride must be in 1..4096, got {}", spec.column_stride);
   }
   if (spec.depth_step != 0.0) require_positive("beam: depth step", spec.depth_step);
-  if (grid.active_voxel_count() == 0) fail("beam: grid '{}' has no active voxels", grid.name());
+  // The first active value, not a count of them all (a parallel pass over every leaf).
+  if (!grid.impl().grid->tree().cbeginValueOn()) fail("beam: grid '{}' has no active voxels", grid.name());
   (void)normalized(spec.direction, "beam");
   if (spec.method == BeamMethod::streaming && beam_axis(spec.direction) < 0) {
     fail("beam: the streaming method needs an axis direction, got {}", direction_label(spec.direction));
   }
 }
 
-template <typename BlockConsumer, typename RayConsumer>
+template <typename BlockConsumer, typename RayConsumer, typename SparseConsumer>
 void run_beam(const Grid& grid, const BeamSpec& spec, const Lattice& L, ProgressSink& progress,
-              BlockConsumer&& consume_block, RayConsumer&& consume, std::string& method_name) {
+              BlockConsumer&& consume_block, RayConsumer&& consume, SparseConsumer&& consume_sparse,
+              std::string& method_name) {
   BeamMethod method = spec.method;
   if (method == BeamMethod::automatic) method = L.axis >= 0 ? BeamMethod::streaming : BeamMethod::per_ray;
   method_name = to_string(method);
   if (method == BeamMethod::streaming) {
-    stream_columns(grid, L, spec.scale, progress, consume_block);
+    stream_columns(grid, L, spec.scale, progress, consume_block, consume_sparse);
   } else {
     trace_rays(grid, L, spec.scale, method == BeamMethod::openvdb_dda, progress, consume);
   }
@@ -568,13 +680,18 @@ TransmittanceCurve measure_beam(const Grid& grid, const BeamSpec& spec, Progress
   const std::size_t shards = kMaxShards;
   std::vector<LseAccumulator> parts(shards, LseAccumulator(L.depths.size()));
   std::vector<std::pair<std::vector<double>, std::vector<double>>> scratch(shards);  // one per shard: no sharing
+  std::vector<LseAccumulator::SparseScratch> sparse_scratch(shards);
   TransmittanceCurve curve;
   run_beam(
       grid, spec, L, progress,
       [&](std::size_t shard, const TauBlock& block) {
         parts[shard].add_block(block, scratch[shard].first, scratch[shard].second);
       },
-      [&](std::size_t shard, std::uint64_t, const double* tau) { parts[shard].add(tau); }, curve.method);
+      [&](std::size_t shard, std::uint64_t, const double* tau) { parts[shard].add(tau); },
+      [&](std::size_t shard, const SparseColumnTile& tile, bool reverse, double mu_h) {
+        parts[shard].add_sparse(tile, reverse, mu_h, sparse_scratch[shard]);
+      },
+      curve.method);
   LseAccumulator total(L.depths.size());
   for (const auto& p : parts) total.merge(p);
   curve.depth = L.depths;
@@ -611,7 +728,7 @@ BeamDepths beam_optical_depths(const Grid& grid, const BeamSpec& spec) {
           for (std::size_t k = 0; k < K; ++k) row[k] = block.tau[k * block.stride + c];
         }
       },
-      [&](std::size_t, std::uint64_t ray, const double* tau) { out.tau[ray].assign(tau, tau + K); }, method);
+      [&](std::size_t, std::uint64_t ray, const double* tau) { out.tau[ray].assign(tau, tau + K); }, nullptr, method);
   // Rays of a general direction that miss the box leave empty rows.
   std::erase_if(out.tau, [](const std::vector<double>& row) { return row.empty(); });
   return out;

@@ -25,7 +25,8 @@ struct ColumnReader::Impl {
     openvdb::CoordBBox bbox;
     float value;
   };
-  std::vector<ActiveTile> tiles;  // active tiles above leaf level (rare)
+  std::vector<ActiveTile> tiles;             // active tiles above leaf level (rare)
+  std::vector<std::uint8_t> patch_has_tile;  // per patch: overlapped by one of `tiles`
 };
 
 namespace {
@@ -58,6 +59,11 @@ ColumnReader::ColumnReader(const Grid& grid, int axis) : impl_(std::make_unique<
     const std::int64_t tv = floor_div(o[m.va] - m.base_v, kPatch);
     m.leaves[static_cast<std::size_t>(tu * m.tiles_v + tv)].push_back(&*it);
   }
+  // Leaves of a patch in depth order (read_sparse emits slices in increasing depth).
+  for (auto& list : m.leaves) {
+    std::sort(list.begin(), list.end(),
+              [&](const auto* a, const auto* b) { return a->origin()[m.axis] < b->origin()[m.axis]; });
+  }
   // Active tiles only: stopping above the leaf level skips the voxels themselves.
   auto it = tree.cbeginValueOn();
   it.setMaxDepth(openvdb::FloatTree::ValueOnCIter::LEAF_DEPTH - 1);
@@ -66,6 +72,16 @@ ColumnReader::ColumnReader(const Grid& grid, int axis) : impl_(std::make_unique<
     openvdb::CoordBBox b;
     it.getBoundingBox(b);
     m.tiles.push_back({b, *it});
+  }
+  m.patch_has_tile.assign(m.leaves.size(), 0);
+  for (const auto& t : m.tiles) {
+    const std::int64_t tu0 = std::max<std::int64_t>(floor_div(t.bbox.min()[m.ua] - m.base_u, kPatch), 0);
+    const std::int64_t tu1 = std::min<std::int64_t>(floor_div(t.bbox.max()[m.ua] - m.base_u, kPatch), m.tiles_u - 1);
+    const std::int64_t tv0 = std::max<std::int64_t>(floor_div(t.bbox.min()[m.va] - m.base_v, kPatch), 0);
+    const std::int64_t tv1 = std::min<std::int64_t>(floor_div(t.bbox.max()[m.va] - m.base_v, kPatch), m.tiles_v - 1);
+    for (std::int64_t tu = tu0; tu <= tu1; ++tu) {
+      for (std::int64_t tv = tv0; tv <= tv1; ++tv) m.patch_has_tile[static_cast<std::size_t>(tu * m.tiles_v + tv)] = 1;
+    }
   }
 }
 
@@ -134,6 +150,72 @@ void ColumnReader::read(std::size_t tile, ColumnTile& out) const {
       }
     }
   }
+}
+
+bool ColumnReader::read_sparse(std::size_t tile, SparseColumnTile& out) const {
+  const auto& m = *impl_;
+  if (tile >= tile_count()) fail("column reader: patch {} out of range ({} patches)", tile, tile_count());
+  if (m.patch_has_tile[tile] != 0) return false;
+  const auto tu = static_cast<std::int64_t>(tile) / m.tiles_v;
+  const auto tv = static_cast<std::int64_t>(tile) % m.tiles_v;
+  out.axis = m.axis;
+  out.u0 = std::max<std::int64_t>(m.base_u + tu * kPatch, m.box.min[m.ua]);
+  out.v0 = std::max<std::int64_t>(m.base_v + tv * kPatch, m.box.min[m.va]);
+  out.nu = static_cast<int>(std::min<std::int64_t>(m.base_u + (tu + 1) * kPatch - 1, m.box.max[m.ua]) - out.u0 + 1);
+  out.nv = static_cast<int>(std::min<std::int64_t>(m.base_v + (tv + 1) * kPatch - 1, m.box.max[m.va]) - out.v0 + 1);
+  out.depth0 = m.box.min[m.axis];
+  out.depth = static_cast<int>(m.box.max[m.axis] - m.box.min[m.axis] + 1);
+  out.slices.clear();
+  std::uint32_t used = 0;  // entries written; the vectors only grow (no clearing, no per-entry checks)
+  // A leaf lies in one patch and spans 8 depth slices (leaf-local coordinate `sl` along the
+  // axis). Its value mask is 8 words, word x holding bit y·8 + z: the active voxels of a slice
+  // are read from the words with shifts and masks, slice by slice, so they come out grouped by
+  // slice without a sort. Leaves are in depth order and do not overlap: so are the slices.
+  const auto nv = static_cast<std::int64_t>(out.nv);
+  for (const auto* leaf : m.leaves[tile]) {
+    const openvdb::Coord o = leaf->origin();
+    const float* data = leaf->buffer().data();
+    const auto& mask = leaf->getValueMask();
+    const std::int64_t cu0 = o[m.ua] - out.u0;
+    const std::int64_t cv0 = o[m.va] - out.v0;
+    if (out.column.size() < used + 512U) {
+      out.column.resize(used + 512U);
+      out.value.resize(used + 512U);
+    }
+    std::uint16_t* column = out.column.data();
+    float* value = out.value.data();
+    // Appends voxel (x, y, z) of the leaf, whose transverse coordinates are (lu, lv).
+    const auto put = [&](std::uint32_t x, std::uint32_t y, std::uint32_t z, std::int64_t lu, std::int64_t lv) {
+      column[used] = static_cast<std::uint16_t>((cu0 + lu) * nv + cv0 + lv);
+      value[used++] = data[(x << 6) | (y << 3) | z];
+    };
+    for (std::uint32_t sl = 0; sl < 8; ++sl) {
+      const std::uint32_t begin = used;
+      if (m.axis == 0) {  // slice x = sl: word sl; (u, v) = (y, z)
+        for (std::uint64_t w = mask.getWord<std::uint64_t>(sl); w != 0; w &= w - 1) {
+          const auto b = static_cast<std::uint32_t>(__builtin_ctzll(w));
+          put(sl, b >> 3, b & 7U, b >> 3, b & 7U);
+        }
+      } else if (m.axis == 1) {  // slice y = sl: byte sl of every word; (u, v) = (z, x)
+        for (std::uint32_t x = 0; x < 8; ++x) {
+          for (std::uint64_t w = (mask.getWord<std::uint64_t>(x) >> (8 * sl)) & 0xffU; w != 0; w &= w - 1) {
+            const auto z = static_cast<std::uint32_t>(__builtin_ctzll(w));
+            put(x, sl, z, z, x);
+          }
+        }
+      } else {  // slice z = sl: bit sl of every byte; (u, v) = (x, y)
+        for (std::uint32_t x = 0; x < 8; ++x) {
+          for (std::uint64_t w = (mask.getWord<std::uint64_t>(x) >> sl) & 0x0101010101010101ULL; w != 0; w &= w - 1) {
+            const auto y = static_cast<std::uint32_t>(__builtin_ctzll(w)) >> 3;
+            put(x, y, sl, x, y);
+          }
+        }
+      }
+      if (used > begin)
+        out.slices.push_back({static_cast<int>(o[m.axis] + static_cast<int>(sl) - out.depth0), begin, used});
+    }
+  }
+  return true;
 }
 
 }  // namespace weft::volume

@@ -36,6 +36,30 @@ struct ColumnTile {
   }
 };
 
+/// The active voxels of one face patch, depth slice by depth slice: the sparse counterpart of
+/// ColumnTile for passes whose work should follow the active voxels, not the box.
+struct SparseColumnTile {
+  int axis = 2;
+  std::int64_t u0 = 0;  ///< as in ColumnTile
+  std::int64_t v0 = 0;
+  int nu = 0;
+  int nv = 0;
+  std::int64_t depth0 = 0;
+  int depth = 0;
+  /// A depth slice holding active voxels: its index k along the axis (from depth0) and its
+  /// voxels' range [begin, end) in `column`/`value`.
+  struct Slice {
+    int k = 0;
+    std::uint32_t begin = 0;
+    std::uint32_t end = 0;
+  };
+  std::vector<Slice> slices;  ///< in increasing k; slices without active voxels are absent
+  /// iu·nv + iv of each active voxel, and its value; entries past the last slice's end are
+  /// unused (the storage is reused from patch to patch and only grows).
+  std::vector<std::uint16_t> column;
+  std::vector<float> value;
+};
+
 /// Buckets the grid's leaves and active tiles by face patch once; `read` is then thread-safe.
 class ColumnReader {
  public:
@@ -53,6 +77,10 @@ class ColumnReader {
   [[nodiscard]] std::uint64_t column_count() const;
   /// Fills `out` with the dense columns of patch `tile` (reusing its storage).
   void read(std::size_t tile, ColumnTile& out) const;
+  /// Fills `out` with the active voxels of patch `tile` (reusing its storage), in work
+  /// proportional to them. Returns false, and leaves `out` unspecified, when an active tile
+  /// above leaf level (a constant 8³ block or larger) overlaps the patch: `read` handles those.
+  [[nodiscard]] bool read_sparse(std::size_t tile, SparseColumnTile& out) const;
 
  private:
   struct Impl;

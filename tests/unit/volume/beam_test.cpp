@@ -1,6 +1,7 @@
 // Beams: known column densities give exactly the known T(t); every tracing method gives the same
 // optical depths; log-space averaging survives T far below 1e−300; results ignore thread count.
 #include <gtest/gtest.h>
+#include <openvdb/openvdb.h>
 
 #include <cmath>
 #include <filesystem>
@@ -10,6 +11,7 @@
 #include "weft/core/rng.h"
 #include "weft/volume/beam.h"
 #include "weft/volume/grid.h"
+#include "weft/volume/grid_openvdb.h"
 
 namespace weft::volume {
 namespace {
@@ -139,6 +141,39 @@ TEST(Beam, StreamingPerRayAndOpenVdbDdaGiveTheSameOpticalDepths) {
         for (std::size_t k = 0; k < a.depth.size(); ++k) {
           EXPECT_NEAR(a.tau[r][k], b.tau[r][k], 1e-12 * (1 + a.tau[r][k])) << "axis " << axis << " ray " << r;
           EXPECT_NEAR(a.tau[r][k], c.tau[r][k], 1e-12 * (1 + a.tau[r][k])) << "axis " << axis << " ray " << r;
+        }
+      }
+    }
+  }
+}
+
+TEST(Beam, StreamingMatchesPerRayTransmittanceFarBelowUnderflowAndAcrossActiveTiles) {
+  // The streaming beam sums over the active voxels of each face patch (and falls back to dense
+  // columns where an active tile overlaps a patch); the per-ray beam averages every ray's own
+  // exp(−τ). Same numbers to rounding, from T = 1 down to T ≪ 1e−300 (scale 5000: log T < −1000).
+  Grid g = random_sparse(7, 40, 0.2);
+  g.impl().grid->tree().addTile(1, openvdb::Coord(8, -8, 8), 0.3f, true);  // one 8³ active tile
+  for (double scale : {1.7, 5000.0}) {
+    for (int axis = 0; axis < 3; ++axis) {
+      for (double sense : {1.0, -1.0}) {
+        BeamSpec spec;
+        spec.direction = {0.0, 0.0, 0.0};
+        spec.direction[axis] = sense;
+        spec.scale = scale;
+        spec.method = BeamMethod::streaming;
+        const TransmittanceCurve a = measure_beam(g, spec);
+        spec.method = BeamMethod::per_ray;
+        const TransmittanceCurve b = measure_beam(g, spec);
+        ASSERT_EQ(a.size(), b.size());
+        EXPECT_EQ(a.rays, b.rays);
+        if (scale > 100.0) {
+          EXPECT_LT(a.log_t.back(), -700.0) << "axis " << axis;  // T < 1e−300
+        }
+        for (std::size_t k = 0; k < a.size(); ++k) {
+          EXPECT_NEAR(a.log_t[k], b.log_t[k], 1e-12 * (1.0 + std::abs(b.log_t[k])))
+              << "axis " << axis << " sense " << sense << " scale " << scale << " k=" << k;
+          EXPECT_NEAR(a.rel_stderr[k], b.rel_stderr[k], 1e-9 * b.rel_stderr[k] + 1e-15)
+              << "axis " << axis << " sense " << sense << " scale " << scale << " k=" << k;
         }
       }
     }
