@@ -22,6 +22,10 @@ if(WEFT_FUZZ)
   target_compile_options(weft_warnings INTERFACE -fsanitize=fuzzer-no-link,address,undefined
                                                  -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
   target_link_options(weft_warnings INTERFACE -fsanitize=address,undefined)
+endif()
+# Every build with tests gets the replay drivers fuzz_replay_<target> instead (fuzz/replay_main.cpp
+# calls the same entry points without libFuzzer; CTest fuzz.replay.* replays the regression inputs).
+if(WEFT_FUZZ OR WEFT_BUILD_TESTS)
   cmake_language(DEFER DIRECTORY ${PROJECT_SOURCE_DIR} CALL include ${PROJECT_SOURCE_DIR}/fuzz/targets.cmake)
 endif()
 
@@ -29,6 +33,11 @@ endif()
 # environment that enables FE_INVALID | FE_DIVBYZERO | FE_OVERFLOW before the tests run, so an
 # unintended NaN, division by zero or overflow stops the test with SIGFPE where it happens.
 option(WEFT_TRAP_FP "Unit tests trap floating-point exceptions (invalid, divide-by-zero, overflow)" OFF)
+if(WEFT_TRAP_FP)
+  # Turns on weft::HeldFpExceptions (weft/core/fp_hold.h) around library calls that compute with
+  # infinities on purpose; in every other build the scope compiles to nothing.
+  add_compile_definitions(WEFT_TRAP_FP=1)
+endif()
 
 # weft_module(NAME SOURCES ... DEPS ... [PRIVATE_DEPS ...])
 # One static library per module under lib/weft/<name> or data_gen/<name>; include paths are
@@ -56,6 +65,8 @@ function(weft_unit_test name)
   target_compile_definitions(${name} PRIVATE WEFT_TEST_DATA_DIR="${PROJECT_SOURCE_DIR}/tests/data")
   if(WEFT_TRAP_FP)
     target_sources(${name} PRIVATE ${PROJECT_SOURCE_DIR}/tests/unit/fp_trap_environment.cpp)
+    # -rdynamic: the SIGFPE backtrace then names the functions (weft's static libraries included).
+    target_link_options(${name} PRIVATE -rdynamic)
   endif()
   if(NOT T_LABELS)
     set(T_LABELS unit)

@@ -86,11 +86,11 @@ Grid Grid::load(const fs::path& path, const std::string& grid_name) {
     // A header cut short still opens, as a file without grids: say so rather than "no float grid".
     if (file.beginName() == file.endName())
       fail("{}: the file holds no grids (empty or truncated OpenVDB file)", where);
+    // Only float grids are read: check_vdb_file checks the trees of float grids only.
     if (grid_name.empty()) {
       for (auto it = file.beginName(); it != file.endName(); ++it) {
-        auto candidate = file.readGrid(it.gridName());
-        if (candidate->isType<openvdb::FloatGrid>()) {
-          base = candidate;
+        if (file.readGridMetadata(it.gridName())->isType<openvdb::FloatGrid>()) {
+          base = file.readGrid(it.gridName());
           break;
         }
       }
@@ -102,6 +102,9 @@ Grid Grid::load(const fs::path& path, const std::string& grid_name) {
           names += (names.empty() ? "" : ", ") + it.gridName();
         fail("{}: no grid named '{}' (the file has: {})", where, grid_name, names.empty() ? "none" : names);
       }
+      const auto meta = file.readGridMetadata(grid_name);
+      if (!meta->isType<openvdb::FloatGrid>())
+        fail("{}: grid '{}' is of type {}, weft needs a float grid", where, grid_name, meta->valueType());
       base = file.readGrid(grid_name);
     }
     file.close();
