@@ -4,7 +4,10 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <numbers>
+#include <utility>
+#include <vector>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Periodic_2_Delaunay_triangulation_2.h>
@@ -36,9 +39,19 @@ std::vector<double> delaunay_nearest(const Medium& medium, double& mean_degree) 
     triangulation.convert_to_1_sheeted_covering();
   }
   if (!triangulation.is_1_cover()) return {};
+  // Vertices are labelled with their centre's input index, not CGAL's iteration order: a large
+  // insert is spatially sorted after a shuffle drawn from CGAL's process-wide default random
+  // source, so the iteration order (and with it the summation order of the statistics, in the
+  // last bits) would depend on what else ran in the process.
+  std::map<std::pair<double, double>, std::uint32_t> input_index;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    input_index.emplace(std::pair{points[i].x(), points[i].y()}, static_cast<std::uint32_t>(i));
   std::uint32_t index = 0;
-  for (auto v = triangulation.vertices_begin(); v != triangulation.vertices_end(); ++v) v->info() = index++;
-  std::vector<double> nearest(index, std::numeric_limits<double>::infinity());
+  for (auto v = triangulation.vertices_begin(); v != triangulation.vertices_end(); ++v) {
+    v->info() = input_index.at({v->point().x(), v->point().y()});
+    ++index;
+  }
+  std::vector<double> nearest(points.size(), std::numeric_limits<double>::infinity());
   std::size_t edges = 0;
   for (auto e = triangulation.edges_begin(); e != triangulation.edges_end(); ++e) {
     const double length = std::sqrt(CGAL::to_double(triangulation.segment(*e).squared_length()));
@@ -50,6 +63,8 @@ std::vector<double> delaunay_nearest(const Medium& medium, double& mean_degree) 
     ++edges;
   }
   mean_degree = index > 0 ? 2.0 * static_cast<double>(edges) / static_cast<double>(index) : 0.0;
+  // Coincident centres are one vertex: drop the copies that CGAL did not keep.
+  std::erase_if(nearest, [](double l) { return std::isinf(l); });
   return nearest;
 }
 

@@ -2,6 +2,8 @@
 
 #include <mutex>
 
+#include <dlfcn.h>
+#include <link.h>
 #include <unistd.h>
 
 #include <vtkNew.h>
@@ -21,6 +23,26 @@ namespace {
 
 std::mutex g_message_mutex;
 std::string g_last_message;
+
+#if defined(__SANITIZE_ADDRESS__)
+// LeakSanitizer runs after libGL has dlclose'd Mesa's DRI driver, so every block the driver still
+// pointed to (one per render window) reads as leaked from "<unknown module>" and cannot be
+// suppressed by name. In sanitizer builds the driver is pinned (RTLD_NODELETE) once it is loaded.
+void pin_gl_driver() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    dl_iterate_phdr(
+        [](dl_phdr_info* info, std::size_t, void*) {
+          const std::string name = info->dlpi_name != nullptr ? info->dlpi_name : "";
+          if (name.ends_with("_dri.so")) dlopen(name.c_str(), RTLD_LAZY | RTLD_NOLOAD | RTLD_NODELETE);
+          return 0;
+        },
+        nullptr);
+  });
+}
+#else
+void pin_gl_driver() {}
+#endif
 
 // VTK reports through a process-wide output window; this one remembers instead of printing.
 class BufferedOutputWindow : public vtkOutputWindow {
@@ -83,6 +105,7 @@ void require_writable_folder(const std::filesystem::path& target) {
 void capture_png(vtkRenderWindow& window, const std::filesystem::path& path, const std::filesystem::path& target) {
   const HeldFpExceptions hold;  // Mesa's software rasterizer (llvmpipe) overflows in clipping
   window.Render();
+  pin_gl_driver();
   vtkNew<vtkWindowToImageFilter> grab;
   grab->SetInput(&window);
   grab->SetInputBufferTypeToRGB();

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <numbers>
 
+#include <CGAL/Random.h>
+
 #include "data_gen/media2d/structure.h"
 
 namespace weft::media2d {
@@ -36,6 +38,21 @@ TEST(Structure, PoissonNearestNeighbourAndPairCorrelationMatchClosedForms) {
     const double pairs = 0.5 * n * std::numbers::pi * (b * b - a * a);  // ρ in units of d: n·(d²)=1
     EXPECT_NEAR(s.g[k], 1.0, 5.0 / std::sqrt(pairs)) << "rho/d = " << s.g_centres[k];
   }
+}
+
+// CGAL shuffles a large insert with its per-thread default random source; the statistics must
+// not depend on that state (cli.reproducible.sim2d found last-bit differences between thread
+// counts when they did).
+TEST(Structure, StatisticsDoNotDependOnCgalsRandomState) {
+  Pcg32 rng(33);
+  const Medium m = generate(MediumSpec{0.0, kRadius, kLambda, 1000, 0.0}, rng);
+  const StructureStats a = structure_stats(m);
+  for (int i = 0; i < 1000; ++i) (void)CGAL::get_default_random().get_int(0, 1 << 20);
+  const StructureStats b = structure_stats(m);
+  ASSERT_TRUE(a.delaunay_ok) << a.note;
+  EXPECT_EQ(a.mean_nn, b.mean_nn);
+  EXPECT_EQ(a.sd_nn, b.sd_nn);
+  EXPECT_EQ(a.nn_density, b.nn_density);
 }
 
 TEST(Structure, LatticeHasEquidistantNeighboursAndAnEmptyCore) {
