@@ -39,10 +39,9 @@ std::vector<double> delaunay_nearest(const Medium& medium, double& mean_degree) 
     triangulation.convert_to_1_sheeted_covering();
   }
   if (!triangulation.is_1_cover()) return {};
-  // Vertices are labelled with their centre's input index, not CGAL's iteration order: a large
-  // insert is spatially sorted after a shuffle drawn from CGAL's process-wide default random
-  // source, so the iteration order (and with it the summation order of the statistics, in the
-  // last bits) would depend on what else ran in the process.
+  // Vertices are labelled with their centre's input index, so the statistics are summed in input
+  // order whatever order CGAL keeps its vertices in (a thread-count-dependent last-bit difference
+  // in the mean nearest-neighbour distance was seen once under ASan; docs/robustness.md).
   std::map<std::pair<double, double>, std::uint32_t> input_index;
   for (std::size_t i = 0; i < points.size(); ++i)
     input_index.emplace(std::pair{points[i].x(), points[i].y()}, static_cast<std::uint32_t>(i));

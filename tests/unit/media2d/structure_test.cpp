@@ -40,9 +40,9 @@ TEST(Structure, PoissonNearestNeighbourAndPairCorrelationMatchClosedForms) {
   }
 }
 
-// CGAL shuffles a large insert with its per-thread default random source; the statistics must
-// not depend on that state (cli.reproducible.sim2d found last-bit differences between thread
-// counts when they did).
+// The statistics are a function of the centres alone: per-thread state that CGAL may use (its
+// default random source) must not reach them, or realizations computed on different threads
+// would differ in the last bits (cli.reproducible.sim2d compares them byte for byte).
 TEST(Structure, StatisticsDoNotDependOnCgalsRandomState) {
   Pcg32 rng(33);
   const Medium m = generate(MediumSpec{0.0, kRadius, kLambda, 1000, 0.0}, rng);
