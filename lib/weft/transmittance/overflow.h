@@ -19,6 +19,10 @@ inline constexpr double kMax = std::numeric_limits<double>::max();
 /// Results within this relative margin below DBL_MAX count as overflowing, so neither the test
 /// nor the rounded result can exceed DBL_MAX.
 inline constexpr double kSafe = 1.0 - 1e-15;
+/// Operands below this bound can neither overflow a product nor (divisor above its inverse) a
+/// quotient: the common case takes two quiet comparisons and no division (these sit on the
+/// samplers' hot paths).
+inline constexpr double kSmall = 1e150;
 }  // namespace overflow_detail
 
 /// a·b for a, b ≥ 0 (0 if either is 0), or +∞ where it exceeds DBL_MAX; +∞·b = +∞ for b > 0.
@@ -26,6 +30,7 @@ inline constexpr double kSafe = 1.0 - 1e-15;
 /// raising FE_INVALID.)
 [[nodiscard]] inline double product_or_infinity(double a, double b) {
   using namespace overflow_detail;
+  if (std::isless(a, kSmall) && std::isless(b, kSmall)) return a * b;
   if (a == 0.0 || b == 0.0) return 0.0;
   if (std::isgreater(a, 1.0) && std::isgreater(b, 1.0) && std::isgreaterequal(a, (kMax / b) * kSafe)) {
     return std::numeric_limits<double>::infinity();
@@ -36,6 +41,7 @@ inline constexpr double kSafe = 1.0 - 1e-15;
 /// a/b for a ≥ 0 and b > 0, or +∞ where it exceeds DBL_MAX.
 [[nodiscard]] inline double quotient_or_infinity(double a, double b) {
   using namespace overflow_detail;
+  if (std::isless(a, kSmall) && std::isgreater(b, 1.0 / kSmall)) return a / b;
   if (a == 0.0) return 0.0;
   if (std::isless(b, 1.0) && std::isgreaterequal(a, (kMax * b) * kSafe)) return std::numeric_limits<double>::infinity();
   return a / b;
