@@ -4,17 +4,12 @@
 #include <cmath>
 
 #include "weft/core/error.h"
+#include "weft/core/floor_div.h"
 
 namespace weft::media2d {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-std::int64_t floor_div(std::int64_t a, std::int64_t b) {
-  std::int64_t q = a / b;
-  if ((a % b != 0) && ((a < 0) != (b < 0))) --q;
-  return q;
-}
 
 Point2 normalised(Point2 d, const char* what) {
   const double len = std::hypot(d.x, d.y);

@@ -5,6 +5,7 @@
 #include <set>
 
 #include "weft/core/error.h"
+#include "weft/core/floor_div.h"
 #include "weft/core/parallel.h"
 #include "weft/fit/fit.h"
 #include "weft/volume/grid_io.h"
@@ -12,12 +13,6 @@
 
 namespace weft::fit {
 namespace {
-
-std::int64_t floor_div(std::int64_t a, std::int64_t b) {
-  std::int64_t q = a / b;
-  if ((a % b != 0) && ((a < 0) != (b < 0))) --q;
-  return q;
-}
 
 struct BlockResult {
   std::array<std::int64_t, 3> key{};

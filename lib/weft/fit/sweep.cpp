@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "weft/core/error.h"
+#include "weft/core/floor_div.h"
 #include "weft/core/parallel.h"
 #include "weft/fit/fit.h"
 #include "weft/volume/beam.h"
@@ -15,12 +16,6 @@
 
 namespace weft::fit {
 namespace {
-
-std::int64_t floor_div(std::int64_t a, std::int64_t b) {
-  std::int64_t q = a / b;
-  if ((a % b != 0) && ((a < 0) != (b < 0))) --q;
-  return q;
-}
 
 /// One coarse voxel along a ray: [a, b) in world distance from the entry, and its statistics.
 struct Segment {

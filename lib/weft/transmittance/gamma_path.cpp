@@ -8,8 +8,8 @@
 #include <boost/random/normal_distribution.hpp>
 
 #include "weft/core/error.h"
-#include "weft/transmittance/exponential.h"
 #include "weft/core/fp_hold.h"
+#include "weft/transmittance/exponential.h"
 
 namespace weft::transmittance {
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "weft/core/error.h"
+#include "weft/core/floor_div.h"
 #include "weft/volume/grid_openvdb.h"
 
 namespace weft::volume {
@@ -29,13 +30,7 @@ struct ColumnReader::Impl {
   std::vector<std::uint8_t> patch_has_tile;  // per patch: overlapped by one of `tiles`
 };
 
-namespace {
-std::int64_t floor_div(std::int64_t a, std::int64_t b) {
-  std::int64_t q = a / b;
-  if ((a % b != 0) && ((a < 0) != (b < 0))) --q;
-  return q;
-}
-}  // namespace
+namespace {}  // namespace
 
 ColumnReader::ColumnReader(const Grid& grid, int axis) : impl_(std::make_unique<Impl>()) {
   if (axis < 0 || axis > 2) fail("column reader: axis must be 0, 1 or 2, got {}", axis);

@@ -1,18 +1,11 @@
 #include "weft/volume/downsample.h"
 
 #include "weft/core/error.h"
+#include "weft/core/floor_div.h"
 #include "weft/volume/grid_openvdb.h"
 
 namespace weft::volume {
-namespace {
-
-int floor_div(int a, int b) {
-  int q = a / b;
-  if ((a % b != 0) && ((a < 0) != (b < 0))) --q;
-  return q;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 Grid downsample(const Grid& fine, int factor) {
   if (factor < 1 || factor > 4096) fail("downsample: factor must be in 1..4096, got {}", factor);
