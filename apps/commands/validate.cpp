@@ -10,6 +10,8 @@
 
 #include "command.h"
 #include "data_gen/cloth/cloth.h"
+#include "validate_common.h"
+#include "validate_sweep.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 #include "weft/fit/sweep.h"
@@ -43,13 +45,6 @@ struct ValidateOptions {
   bool quick = false;
 };
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-/// JSON cannot hold ∞: the exponential limit's α, β are written as null with a flag.
-json number_or_null(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
-
 json fit_json(const fit::GammaFit& g) {
   return {{"mean_concentration", g.mean_concentration}, {"var_concentration", g.var_concentration},
           {"alpha", number_or_null(g.alpha)},           {"beta", number_or_null(g.beta)},
@@ -70,8 +65,6 @@ json stats_json(const fit::ConcentrationStats& s) {
           {"window", s.window},
           {"window_voxels", s.window_voxels}};
 }
-
-std::string fmt_csv(double x) { return std::isfinite(x) ? fmt::format("{:.10g}", x) : (x < 0 ? "-inf" : "inf"); }
 
 /// curves.csv: one row per depth of the longest axis; shorter axes leave blanks.
 std::string curves_csv(const fit::Validation& v) {
@@ -117,17 +110,6 @@ std::string curves_csv(const fit::Validation& v) {
     out += fmt::format(",{}\n", fmt_csv(expo->transmittance(t)));
   }
   return out;
-}
-
-std::array<unsigned char, 3> axis_color(const std::array<double, 3>& d) {
-  switch (volume::beam_axis(d)) {
-    case 0:
-      return {220, 30, 30};
-    case 1:
-      return {30, 160, 40};
-    default:
-      return {30, 60, 220};
-  }
 }
 
 viz::Chart transmittance_chart(const fit::Validation& v, const std::string& title, const std::string& unit) {
@@ -185,125 +167,6 @@ viz::Chart transmittance_chart(const fit::Validation& v, const std::string& titl
 }
 
 /// accuracy_time.csv: one row per (axis, method, factor, ray fraction).
-std::string sweep_csv(const fit::Sweep& s) {
-  std::string out =
-      "axis,method,factor,ray_fraction,rays,error_rms_T,error_max_T,stderr_rms_T,accuracy_rms_T,prepare_seconds,"
-      "transport_seconds,seconds,pareto\n";
-  for (const auto& r : s.rows) {
-    out +=
-        fmt::format("{},{},{},{:.6g},{},{},{},{},{},{:.6g},{:.6g},{:.6g},{}\n", r.axis, r.method, r.factor,
-                    r.ray_fraction, r.rays, fmt_csv(r.error_rms_t), fmt_csv(r.error_max_t), fmt_csv(r.stderr_rms_t),
-                    fmt_csv(r.accuracy_rms_t), r.prepare_seconds, r.transport_seconds, r.seconds(), r.pareto ? 1 : 0);
-  }
-  return out;
-}
-
-/// Error vs time, log–log: one marker series per method, the Pareto front of each axis as a line.
-viz::Chart sweep_chart(const fit::Sweep& s, const std::string& title) {
-  viz::Chart c;
-  c.title = title + ": accuracy vs time";
-  c.x_label = "time [s] (preparation + transport, median)";
-  c.y_label = "RMS error of T (models: vs reference; rays: standard error)";
-  c.log_x = true;
-  c.log_y = true;
-  const std::vector<std::pair<std::string, std::array<unsigned char, 3>>> methods{{"ground-truth", {0, 0, 0}},
-                                                                                  {"exponential", {140, 40, 180}},
-                                                                                  {"gamma", {220, 120, 0}},
-                                                                                  {"gamma-memory", {0, 150, 150}}};
-  double lo = 1.0;
-  for (const auto& [m, color] : methods) {
-    viz::Series ser;
-    ser.label = m == "ground-truth" ? "ground truth, 1, 1/4, 1/16 of the rays" : fmt::format("{} on coarse grids", m);
-    ser.color = color;
-    ser.style = viz::LineStyle::markers;
-    for (const auto& r : s.rows) {
-      if (r.method != m || !(r.accuracy_rms_t > 0.0)) continue;
-      ser.x.push_back(r.seconds());
-      ser.y.push_back(r.accuracy_rms_t);
-      lo = std::min(lo, r.accuracy_rms_t);
-    }
-    if (!ser.x.empty()) c.series.push_back(ser);
-  }
-  for (const std::string axis : {"+x", "+y", "+z", "-x", "-y", "-z"}) {
-    std::vector<std::pair<double, double>> front;
-    for (const auto& r : s.rows) {
-      if (r.axis == axis && r.pareto && r.accuracy_rms_t > 0.0) front.emplace_back(r.seconds(), r.accuracy_rms_t);
-    }
-    if (front.empty()) continue;
-    std::sort(front.begin(), front.end());
-    viz::Series f;
-    f.label = fmt::format("Pareto front {}", axis);
-    f.color = axis_color(fit::parse_axes(axis).front());
-    f.style = viz::LineStyle::dashed;
-    f.width = 1.5f;
-    for (const auto& [x, y] : front) {
-      f.x.push_back(x);
-      f.y.push_back(y);
-    }
-    c.series.push_back(f);
-  }
-  c.y_range = std::make_pair(0.5 * lo, 1.0);
-  return c;
-}
-
-/// `weft validate --sweep`: the accuracy/time table, written after everything is computed.
-int run_sweep(const ValidateOptions& o, const Context& ctx, const volume::Grid& grid, const fit::ValidationSpec& vspec,
-              const std::string& title, json input, json timings, std::chrono::steady_clock::time_point t_start) {
-  fit::SweepSpec spec;
-  spec.directions = vspec.directions;
-  spec.sigma = vspec.sigma;
-  spec.seed = vspec.seed;
-  spec.repetitions = o.quick ? 1 : 3;
-  auto t0 = std::chrono::steady_clock::now();
-  const fit::Sweep s = fit::sweep(grid, spec, ctx.progress);
-  timings["sweep"] = seconds_since(t0);
-  const std::string csv = sweep_csv(s);
-  const fs::path out = o.out;
-  ensure_directory(out);
-  write_text_atomically(out / "accuracy_time.csv", csv);
-  json outputs = {{"accuracy_time.csv", "written"}};
-  if (o.no_plot) {
-    outputs["accuracy_time.png"] = "skipped: --no-plot";
-  } else {
-    t0 = std::chrono::steady_clock::now();
-    std::string why;
-    if (!viz::ensure_display(&why)) {
-      outputs["accuracy_time.png"] = fmt::format("not rendered: {}", why);
-    } else {
-      const auto chart = viz::save_chart_png(sweep_chart(s, title), out / "accuracy_time.png");
-      outputs["accuracy_time.png"] =
-          chart.written ? std::string("written") : fmt::format("not rendered: {}", chart.reason);
-    }
-    timings["plots"] = seconds_since(t0);
-  }
-  timings["total"] = seconds_since(t_start);
-  input["voxel_size"] = grid.voxel_size();
-  input["active_voxels"] = grid.active_voxel_count();
-  json report = {{"weft", "validate --sweep"},      {"input", input},     {"sigma", spec.sigma},
-                 {"repetitions", spec.repetitions}, {"outputs", outputs}, {"timings_seconds", timings}};
-  write_text_atomically(out / "sweep.json", report.dump(2) + "\n");
-
-  ctx.say(
-      fmt::format("weft validate --sweep: {}; sigma = {:.6g}/length, {} active voxels of {:.4g}; times are "
-                  "medians of {} run(s)",
-                  title, spec.sigma, grid.active_voxel_count(), grid.voxel_size(), spec.repetitions));
-  ctx.say(fmt::format("{:<5} {:<13} {:>6} {:>8} {:>9} {:>11} {:>11} {:>11} {:>10} {:>10}  {}", "axis", "method",
-                      "factor", "ray frac", "rays", "RMS err T", "max err T", "RMS s.e. T", "prepare s", "beam s",
-                      "pareto"));
-  for (const auto& r : s.rows) {
-    ctx.say(fmt::format("{:<5} {:<13} {:>6} {:>8.4g} {:>9} {:>11.3e} {:>11.3e} {:>11.3e} {:>10.4f} {:>10.4f}  {}",
-                        r.axis, r.method, r.factor, r.ray_fraction, r.rays, r.error_rms_t, r.error_max_t,
-                        r.stderr_rms_t, r.prepare_seconds, r.transport_seconds, r.pareto ? "*" : ""));
-  }
-  for (auto it = outputs.begin(); it != outputs.end(); ++it) {
-    const std::string status = it.value().get<std::string>();
-    if (status != "written" && status.find("--no-plot") == std::string::npos)
-      fmt::print(stderr, "weft validate: note: {} {}\n", it.key(), status);
-  }
-  ctx.say(fmt::format("wrote {}", (out / "accuracy_time.csv").string()));
-  return 0;
-}
-
 const Registrar kValidate{Command{
     "validate", "Ground-truth beams vs gamma and exponential models (Fig. S.13), default: built-in cloth", 5,
     [](CLI::App& sub) -> Action {
@@ -403,7 +266,7 @@ const Registrar kValidate{Command{
           title =
               fmt::format("{} cloth, {}x{} yarns", build.spec.pattern, build.spec.warp_count, build.spec.weft_count);
         }
-        if (o->sweep) return run_sweep(*o, ctx, grid, spec, title, input, timings, t_start);
+        if (o->sweep) return run_sweep({o->out, o->no_plot, o->quick}, ctx, grid, spec, title, input, timings, t_start);
         const fit::Validation v = fit::validate(grid, spec, ctx.progress);
 
         // Texts first (in memory), then files.
