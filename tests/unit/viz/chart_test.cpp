@@ -187,6 +187,255 @@ TEST(Chart, LegendAvoidsTheCurves) {
   test::cleanup(dir);
 }
 
+// Each style leaves a visible trace: a dotted line used to be a 1 px tick every 8 px.
+TEST(Chart, EveryLineStyleIsClearlyVisible) {
+  const auto dir = test::scratch_dir("chart_styles");
+  Chart chart;
+  chart.width = 700;
+  chart.height = 500;
+  chart.y_range = std::make_pair(0.0, 1.0);
+  const std::array<std::pair<LineStyle, std::array<unsigned char, 3>>, 4> styles{
+      {{LineStyle::solid, {255, 0, 0}},
+       {LineStyle::dashed, {0, 0, 255}},
+       {LineStyle::dotted, {0, 160, 0}},
+       {LineStyle::dash_dot, {200, 0, 200}}}};
+  for (std::size_t k = 0; k < styles.size(); ++k) {
+    Series s = constant("", 0.2 + 0.2 * static_cast<double>(k), styles[k].second, styles[k].first);
+    s.width = 2.0f;
+    chart.series.push_back(s);
+  }
+  const auto png = dir / "styles.png";
+  ASSERT_TRUE(save_chart_png(chart, png).written);
+  const test::Image image = test::read_png(png);
+  const auto solid = test::coverage(image, {255, 0, 0});
+  ASSERT_GT(solid.pixels, 500);  // a 2 px line across ~600 px
+  for (std::size_t k = 1; k < styles.size(); ++k) {
+    const auto& c = styles[k].second;
+    const auto cov = test::coverage(image, {c[0], c[1], c[2]});
+    // At least a third of the solid line's ink, spread over most of its columns.
+    EXPECT_GT(cov.pixels, solid.pixels / 3) << "style " << k;
+    EXPECT_GT(cov.columns, solid.columns / 4) << "style " << k;  // VTK's dotted: 1/8
+    EXPECT_LT(cov.pixels, solid.pixels * 2) << "style " << k;
+  }
+  test::cleanup(dir);
+}
+
+// Empty bins (zeros on a log axis) and NaNs break the line: nothing is drawn across the gap.
+TEST(Chart, LinesBreakAtPointsTheAxisCannotShow) {
+  const auto dir = test::scratch_dir("chart_gap");
+  Chart chart;
+  chart.width = 600;
+  chart.height = 400;
+  chart.log_y = true;
+  chart.x_range = std::make_pair(0.0, 1.0);
+  chart.y_range = std::make_pair(0.01, 1.0);
+  Series s;
+  s.color = {255, 0, 0};
+  s.width = 3.0f;
+  for (int i = 0; i <= 100; ++i) {
+    s.x.push_back(i / 100.0);
+    // Zero from 0.3 to 0.5, NaN from 0.5 to 0.7: two gaps side by side.
+    s.y.push_back(i > 30 && i < 50 ? 0.0 : (i >= 50 && i < 70 ? std::nan("") : 0.1));
+  }
+  chart.series.push_back(s);
+  const auto png = dir / "gap.png";
+  ASSERT_TRUE(save_chart_png(chart, png).written);
+  const test::Image image = test::read_png(png);
+  const auto all = test::coverage(image, {255, 0, 0});
+  EXPECT_GT(all.pixels, 400);
+  // The plot spans roughly 10 % .. 97 % of the width: x = 0.5 sits near 0.53.
+  const auto gap = test::coverage(image, {255, 0, 0}, 30, {0.42, 0.0, 0.62, 1.0});
+  EXPECT_EQ(gap.pixels, 0) << "a line crosses the empty bins";
+  test::cleanup(dir);
+}
+
+// A shaded band (measurement +- standard error) under the curves, on a log axis.
+TEST(Chart, BandIsShadedBetweenItsBoundsOnALogAxis) {
+  const auto dir = test::scratch_dir("chart_band");
+  Chart chart;
+  chart.width = 600;
+  chart.height = 400;
+  chart.log_y = true;
+  chart.x_range = std::make_pair(0.0, 1.0);
+  chart.y_range = std::make_pair(1e-3, 1.0);
+  Band band;
+  band.label = "+- stderr";
+  band.color = {0, 0, 255};
+  band.opacity = 0.3;
+  for (int i = 0; i <= 20; ++i) {
+    band.x.push_back(i / 20.0);
+    band.lower.push_back(0.01);
+    band.upper.push_back(0.1);
+  }
+  chart.bands.push_back(band);
+  const auto png = dir / "band.png";
+  ASSERT_TRUE(save_chart_png(chart, png).written);
+  const test::Image image = test::read_png(png);
+  // 30 % blue over white.
+  const std::array<int, 3> shade{179, 179, 255};
+  const auto cov = test::coverage(image, shade, 12);
+  // One decade of three, across the plot: about a third of the plot area (~0.85 x 0.75 of it).
+  const double plot_area = 0.85 * 0.75 * image.width * image.height;
+  EXPECT_GT(cov.pixels, 0.25 * plot_area);
+  EXPECT_LT(cov.pixels, 0.45 * plot_area);
+  // In the middle third vertically (log scale: 1e-2..1e-1 of 1e-3..1).
+  const auto top = test::coverage(image, shade, 12, {0.2, 0.0, 0.9, 0.25});
+  EXPECT_LT(top.pixels, cov.pixels / 20);
+  test::cleanup(dir);
+}
+
+// Automatic ranges leave a margin: markers at the data's extremes are drawn whole.
+TEST(Chart, AutomaticRangesKeepMarkersOffTheFrame) {
+  const auto dir = test::scratch_dir("chart_margin");
+  Chart chart;
+  chart.width = 600;
+  chart.height = 450;
+  chart.log_x = true;
+  Series corners{"", {1.0, 1.0, 100.0, 100.0}, {0.0, 1.0, 0.0, 1.0}, {255, 0, 0}, LineStyle::markers, 3.0f};
+  Series centre{"", {10.0}, {0.5}, {0, 0, 255}, LineStyle::markers, 3.0f};
+  chart.series = {corners, centre};
+  const auto png = dir / "margin.png";
+  ASSERT_TRUE(save_chart_png(chart, png).written);
+  const test::Image image = test::read_png(png);
+  const auto one = test::coverage(image, {0, 0, 255});
+  const auto four = test::coverage(image, {255, 0, 0});
+  ASSERT_GT(one.pixels, 20);
+  // Markers cut by the frame would show a quarter each (four ~ one).
+  EXPECT_GT(four.pixels, 3.5 * static_cast<double>(one.pixels));
+  test::cleanup(dir);
+}
+
+TEST(Chart, AnnotationsAreWrittenNextToTheirPoints) {
+  const auto dir = test::scratch_dir("chart_annotation");
+  Chart chart;
+  chart.width = 600;
+  chart.height = 450;
+  chart.x_range = std::make_pair(0.0, 1.0);
+  chart.y_range = std::make_pair(0.0, 1.0);
+  chart.series.push_back(Series{"", {0.25}, {0.25}, {0, 0, 0}, LineStyle::markers, 2.0f, Marker::square});
+  chart.annotations.push_back({0.25, 0.25, "factor 4", {0, 170, 0}});
+  chart.annotations.push_back({0.99, 0.99, "at the corner", {200, 0, 200}});
+  const auto png = dir / "annotation.png";
+  ASSERT_TRUE(save_chart_png(chart, png).written);
+  const test::Image image = test::read_png(png);
+  // The text sits up-right of (0.25, 0.25): in the lower-left quarter of the picture.
+  const auto near = test::coverage(image, {0, 170, 0}, 40, {0.15, 0.5, 0.6, 0.85});
+  const auto all = test::coverage(image, {0, 170, 0}, 40);
+  EXPECT_GT(near.pixels, 30);
+  EXPECT_EQ(near.pixels, all.pixels);
+  // Near the top right it is moved inside the plot (left and below its point), not cut off.
+  const auto corner = test::coverage(image, {200, 0, 200}, 40, {0.45, 0.0, 1.0, 0.3});
+  EXPECT_GT(corner.pixels, 40);
+  test::cleanup(dir);
+}
+
+// Small multiples: each panel's series in its own cell, each panel with its own legend.
+TEST(ChartGrid, PanelsAreLaidOutRowByRow) {
+  const auto dir = test::scratch_dir("chart_grid");
+  std::vector<Chart> panels;
+  const std::array<std::array<unsigned char, 3>, 3> colours{{{255, 0, 0}, {0, 0, 255}, {0, 160, 0}}};
+  for (std::size_t k = 0; k < colours.size(); ++k) {
+    Chart c;
+    c.title = "panel " + std::to_string(k);
+    c.width = 400;
+    c.height = 300;
+    c.y_range = std::make_pair(0.0, 1.0);
+    c.series.push_back(constant("series " + std::to_string(k), 0.5, colours[k], LineStyle::solid));
+    panels.push_back(c);
+  }
+  const auto png = dir / "grid.png";
+  const RenderOutcome out = save_chart_grid_png(panels, 2, png, "three panels");
+  ASSERT_TRUE(out.written) << out.reason;
+  const test::Image image = test::read_png(png);
+  ASSERT_EQ(image.width, 800);
+  EXPECT_GT(image.height, 600);  // two rows and the figure title
+  EXPECT_LT(image.height, 700);
+  const std::array<test::Region, 3> cells{{{0.0, 0.0, 0.5, 0.55}, {0.5, 0.0, 1.0, 0.55}, {0.0, 0.55, 0.5, 1.0}}};
+  for (std::size_t k = 0; k < colours.size(); ++k) {
+    const std::array<int, 3> c{colours[k][0], colours[k][1], colours[k][2]};
+    const auto inside = test::coverage(image, c, 30, cells[k]);
+    const auto all = test::coverage(image, c, 30);
+    EXPECT_GT(inside.columns, 250) << "panel " << k;  // a line across the panel
+    EXPECT_EQ(inside.pixels, all.pixels) << "panel " << k << " leaks into another cell";
+  }
+  // The fourth cell is empty: white.
+  const auto empty_cell = test::coverage(image, {255, 255, 255}, 3, {0.52, 0.6, 0.98, 0.98});
+  const double cell_px = 0.46 * 0.38 * image.width * image.height;
+  EXPECT_GT(empty_cell.pixels, 0.99 * cell_px);
+  EXPECT_THROW(save_chart_grid_png({}, 2, dir / "none.png"), weft::Error);
+  EXPECT_FALSE(std::filesystem::exists(dir / "none.png"));
+  EXPECT_THROW(save_chart_grid_png(panels, 0, dir / "none.png"), weft::Error);
+  test::cleanup(dir);
+}
+
+// The shape of validate's transmittance.png: one panel per axis with the ground truth and its
+// standard-error band, the gamma law and other models, the exponential; every series must show.
+TEST(ChartGrid, TransmittancePanelsShowEverySeriesInTheirCell) {
+  const auto dir = test::scratch_dir("chart_grid_t");
+  struct Style {
+    Rgb colour;
+    LineStyle style;
+  };
+  const std::array<Style, 5> styles{{{{0, 0, 0}, LineStyle::solid},
+                                     {{220, 30, 30}, LineStyle::dotted},
+                                     {{30, 150, 40}, LineStyle::dashed},
+                                     {{30, 60, 220}, LineStyle::dash_dot},
+                                     {{140, 40, 180}, LineStyle::dashed}}};
+  std::vector<Chart> panels;
+  const std::array<double, 3> alpha{0.6, 1.5, 4.0};
+  for (std::size_t d = 0; d < 3; ++d) {
+    Chart c;
+    c.title = std::string("beam +") + "xyz"[d];
+    c.x_label = "depth t [mm]";
+    c.y_label = "T(t)";
+    c.log_y = true;
+    c.width = 520;
+    c.height = 420;
+    c.x_range = std::make_pair(0.0, 1.0);
+    c.y_range = std::make_pair(1e-4, 1.2);
+    Band band{"ground truth +- stderr", {}, {}, {}, {120, 120, 120}, 0.3};
+    std::array<Series, 5> curves;
+    const std::array<std::string, 5> names{"ground truth", "gamma law", "model A", "model B", "exponential"};
+    for (std::size_t k = 0; k < curves.size(); ++k) {
+      curves[k].label = names[k];
+      curves[k].color = styles[k].colour;
+      curves[k].style = styles[k].style;
+    }
+    for (int i = 0; i <= 100; ++i) {
+      const double t = i / 100.0;
+      const double truth = std::pow(1.0 + 6.0 * t / alpha[d], -alpha[d]);
+      band.x.push_back(t);
+      band.lower.push_back(truth * 0.8);
+      band.upper.push_back(truth * 1.25);
+      const std::array<double, 5> ys{truth, truth * (1.0 + 2.0 * t), truth * std::exp(-2.0 * t),
+                                     truth * std::exp(-4.0 * t), std::exp(-8.0 * t)};
+      for (std::size_t k = 0; k < curves.size(); ++k) {
+        curves[k].x.push_back(t);
+        curves[k].y.push_back(ys[k]);
+      }
+    }
+    c.bands.push_back(band);
+    c.series.assign(curves.begin(), curves.end());
+    panels.push_back(c);
+  }
+  const auto png = dir / "transmittance.png";
+  ASSERT_TRUE(save_chart_grid_png(panels, 3, png, "Transmittance through cloth").written);
+  const test::Image image = test::read_png(png);
+  ASSERT_EQ(image.width, 3 * 520);
+  for (std::size_t d = 0; d < 3; ++d) {
+    const test::Region cell{d / 3.0, 0.0, (d + 1) / 3.0, 1.0};
+    for (std::size_t k = 0; k < styles.size(); ++k) {
+      const auto& c = styles[k].colour;
+      const auto cov = test::coverage(image, {c[0], c[1], c[2]}, 30, cell);
+      // Across a good part of the panel (the legend sample alone is ~40 px; the plot ~430; dots 40 %).
+      EXPECT_GT(cov.columns, 520 / 6) << "panel " << d << " series " << k;
+    }
+    // The band's grey at 30 % over white.
+    EXPECT_GT(test::coverage(image, {214, 214, 214}, 8, cell).pixels, 1500) << "panel " << d;
+  }
+  test::cleanup(dir);
+}
+
 TEST(Chart, MismatchedSeriesIsAnError) {
   const auto dir = test::scratch_dir("chart_bad");
   Chart chart;
@@ -200,6 +449,9 @@ TEST(Chart, MismatchedSeriesIsAnError) {
   ranged.log_y = true;
   ranged.y_range = std::make_pair(0.0, 1.0);
   EXPECT_THROW(save_chart_png(ranged, dir / "bad.png"), weft::Error);
+  Chart banded;
+  banded.bands.push_back(Band{"short", {0, 1}, {0.1}, {0.2, 0.3}, {0, 0, 0}, 0.3});
+  EXPECT_THROW(save_chart_png(banded, dir / "bad.png"), weft::Error);
   EXPECT_TRUE(std::filesystem::is_empty(dir));
   test::cleanup(dir);
 }

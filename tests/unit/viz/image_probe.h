@@ -1,10 +1,12 @@
 #pragma once
 // Test helper: a PNG read back through VTK's reader, with colour counts for assertions.
 
+#include <algorithm>
 #include <array>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -103,6 +105,52 @@ long count_pixels(const Image& image, Predicate keep) {
     }
   }
   return n;
+}
+
+}  // namespace weft::viz::test
+
+namespace weft::viz::test {
+
+/// A window of an image in fractions of its width and height, measured from the TOP left corner
+/// (as one reads a picture; VTK's rows run bottom-up, this converts).
+struct Region {
+  double left = 0.0;
+  double top = 0.0;
+  double right = 1.0;
+  double bottom = 1.0;
+};
+
+/// How much of a series' colour a picture shows: the pixels within `tol` per channel of `colour`
+/// in `region`, and how many distinct columns they fall in (a drawn curve spans many columns; a
+/// legend sample or a stray antialiased pixel spans few).
+struct Coverage {
+  long pixels = 0;
+  int columns = 0;
+  int rows = 0;
+};
+
+inline Coverage coverage(const Image& image, std::array<int, 3> colour, int tol = 30, Region region = {}) {
+  Coverage cov;
+  const int x0 = std::clamp(static_cast<int>(region.left * image.width), 0, image.width);
+  const int x1 = std::clamp(static_cast<int>(region.right * image.width), 0, image.width);
+  // Top-down fractions to VTK's bottom-up rows.
+  const int y0 = std::clamp(static_cast<int>((1.0 - region.bottom) * image.height), 0, image.height);
+  const int y1 = std::clamp(static_cast<int>((1.0 - region.top) * image.height), 0, image.height);
+  std::vector<char> col_hit(static_cast<std::size_t>(std::max(0, x1 - x0)), 0);
+  std::vector<char> row_hit(static_cast<std::size_t>(std::max(0, y1 - y0)), 0);
+  for (int y = y0; y < y1; ++y) {
+    for (int x = x0; x < x1; ++x) {
+      const auto c = image.rgb(x, y);
+      if (std::abs(c[0] - colour[0]) <= tol && std::abs(c[1] - colour[1]) <= tol && std::abs(c[2] - colour[2]) <= tol) {
+        ++cov.pixels;
+        col_hit[static_cast<std::size_t>(x - x0)] = 1;
+        row_hit[static_cast<std::size_t>(y - y0)] = 1;
+      }
+    }
+  }
+  cov.columns = static_cast<int>(std::count(col_hit.begin(), col_hit.end(), 1));
+  cov.rows = static_cast<int>(std::count(row_hit.begin(), row_hit.end(), 1));
+  return cov;
 }
 
 }  // namespace weft::viz::test
