@@ -36,10 +36,14 @@ struct ParamFlag {
 
 constexpr ParamFlag kParamFlags[] = {
     {"--sigma", "sigma", "gamma: extinction cross-section per unit concentration [1/length]"},
-    {"--alpha", "alpha", "gamma: shape alpha = C_bar^2/Var C [1], > 0 ('inf' = exponential)"},
+    {"--alpha", "alpha",
+     "gamma, gap-gamma: shape alpha = C_bar^2/Var C [1], > 0 ('inf' = exponential); gamma-mixture: a list"},
     {"--beta", "beta", "gamma: rate beta = C_bar/Var C [1/concentration], > 0"},
     {"--mean-extinction", "mean_extinction",
-     "gamma, linear (or exponential): mean extinction mu_bar = sigma*alpha/beta [1/length]"},
+     "gamma, gap-gamma (of the non-gap rays), linear (or exponential): mean extinction mu_bar = sigma*alpha/beta "
+     "[1/length]; gamma-mixture: a list"},
+    {"--gap", "gap", "gap-gamma: fraction of rays that see no fibre [1], in [0, 1)"},
+    {"--weights", "weight", "gamma-mixture: comma-separated component weights [1], >= 0, summing to 1"},
     {"--mean-concentration", "mean_concentration", "gamma: mean concentration C_bar [concentration]"},
     {"--var-concentration", "var_concentration",
      "gamma: concentration variance Var C [concentration^2]; 0 = exponential"},
@@ -128,9 +132,21 @@ int run(const ModelOptions& o, const std::vector<bool>& given_flags, const Conte
   if (proportional && o.law != "gamma") fail("--sampler proportional is only for the gamma law");
   spec.sampler = proportional ? std::string() : o.sampler;
   bool any_parameter = !o.table.empty();
+  // A law with list parameters (gamma-mixture) reads each flag as a comma-separated list,
+  // element j under the registry key "<key>_<j+1>".
+  const bool lists = tr::takes_parameter_lists(o.law);
   for (std::size_t i = 0; i < kParamCount; ++i) {
     if (!given_flags[i]) continue;
-    spec.params[kParamFlags[i].key] = parse_number(kParamFlags[i].flag, o.values[i]);
+    if (lists) {
+      std::stringstream in(o.values[i]);
+      std::size_t j = 0;
+      for (std::string item; std::getline(in, item, ',');)
+        spec.params[tr::list_parameter_key(kParamFlags[i].key, j++)] = parse_number(kParamFlags[i].flag, item);
+      if (j == 0 || o.values[i].back() == ',')
+        fail("{}: expected a comma-separated list of numbers, got '{}'", kParamFlags[i].flag, o.values[i]);
+    } else {
+      spec.params[kParamFlags[i].key] = parse_number(kParamFlags[i].flag, o.values[i]);
+    }
     any_parameter = true;
   }
   const bool default_law = !given_flags[kParamCount] && !any_parameter;

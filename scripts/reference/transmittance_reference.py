@@ -89,6 +89,51 @@ def exponential(mu, _unused, t):
     return mp.exp(-mu * t), -mu * t, mu * mp.exp(-mu * t), mu
 
 
+def gamma_mixture(components, t):
+    """T = sum w_i (1 + mu_i t/alpha_i)^-alpha_i over (w_i, alpha_i, mu_i); alpha_i = inf is
+    exp(-mu_i t), mu_i = 0 a gap (T_i = 1). Weights are divided by their exact sum, as the law does."""
+    t = mp.mpf(t)
+    total = mp.fsum(mp.mpf(w) for w, _, _ in components)
+    # deficit = 1 - T = sum w_i (1 - T_i), with 1 - T_i = -expm1(-E_i): log T = log1p(-deficit)
+    # keeps its digits where T is within 1e-40 of 1 (t = 1e-300).
+    value, pdf, deficit = mp.mpf(0), mp.mpf(0), mp.mpf(0)
+    for w, alpha, mu in components:
+        w, mu = mp.mpf(w) / total, mp.mpf(mu)
+        if w == 0:
+            continue
+        if mu == 0:
+            value += w
+            continue
+        if t == mp.inf:
+            deficit += w
+            continue
+        if alpha == INF:
+            e, hi = mu * t, mu
+        else:
+            a = mp.mpf(alpha)
+            x = mu * t / a
+            e, hi = a * mp.log1p(x), mu / (1 + x)
+        ti = mp.exp(-e)
+        value += w * ti
+        deficit += w * -mp.expm1(-e)
+        pdf += w * ti * hi
+    if t == mp.inf:
+        # Limit of the hazard: a gap or any gamma tail (Sigma ~ alpha/t) gives 0; all exponential,
+        # the smallest extinction.
+        live = [(a, m) for w, a, m in components if w > 0]
+        hazard = 0 if any(m == 0 or a != INF for a, m in live) else mp.mpf(min(m for _, m in live))
+        return value, (mp.log(value) if value > 0 else -mp.inf), mp.mpf(0), hazard
+    log_value = mp.log1p(-deficit) if deficit < mp.mpf("0.5") else mp.log(value)
+    return value, log_value, pdf, pdf / value
+
+
+def gap_gamma(mean_extinction, alpha, t, gap):
+    """f0 + (1 - f0)(1 + mu_c t/alpha)^-alpha: the mixture {(f0, gap), (1 - f0, alpha, mu_c)}; 1 - f0
+    in exact arithmetic (the law's double 1 - f0 is exact for f0 >= 1/2)."""
+    f0 = mp.mpf(gap)
+    return gamma_mixture([(f0, INF, 0.0), (1 - f0, alpha, mean_extinction)], t)
+
+
 LAWS = {"gamma": gamma_law, "gamma-path": gamma_path, "erlang": None, "erlang-source": erlang_source,
         "linear": linear, "exponential": exponential}
 
@@ -121,9 +166,51 @@ def cases():
     for mu in [0.0, 1.0, 1e300]:
         for t in [0.0, 1e-300, 1e-10, 1.0, 1e10, 1e300, INF]:
             yield "exponential", mu, 0.0, t
+    # gap-gamma: f0 -> 0 (the gamma law), f0 -> 1, alpha tiny and -> inf (gap + exponential), t huge.
+    for gap in [0.0, 1e-300, 0.3, 1 - 1e-12]:
+        for alpha in [1e-6, 0.5, 2.0, 1e8, 1e15, INF]:
+            for t in [0.0, 1e-300, 1e-10, 1.0, 1e10, 1e300, INF]:
+                yield "gap-gamma", 1.0, alpha, t, f"gap={gap!r}"
+    for t in [0.0, 1e-3, 0.25, 4.0, 1e3]:
+        yield "gap-gamma", 7.5, 0.3, t, "gap=0.6"
+    for t in [0.0, 1.0, INF]:  # mean extinction 0: T = 1
+        yield "gap-gamma", 0.0, 2.0, t, "gap=0.3"
+    for components in MIXTURES:
+        for t in [0.0, 1e-300, 1e-10, 1e-3, 1.0, 30.0, 1e10, 1e300, INF]:
+            yield "gamma-mixture", 0.0, 0.0, t, mixture_text(components)
 
 
-def evaluate(law, p1, p2, t):
+# (weight, alpha, mean_extinction) per component: the issue's gap + gamma example, gamma +
+# exponential, shapes at both ends with scales far apart, exponentials with a gap, exponentials only.
+MIXTURES = [
+    [(0.2, 1.0, 0.0), (0.8, 3.0, 5.0)],
+    [(0.25, 0.5, 1.0), (0.75, INF, 10.0)],
+    [(0.5, 1e-6, 1e3), (0.25, 1e15, 1e-3), (0.25, 2.0, 1.0)],
+    [(0.125, INF, 0.0), (0.375, INF, 1.0), (0.5, INF, 4.0)],
+    [(0.5, INF, 1.0), (0.5, INF, 3.0)],
+]
+
+
+def mixture_text(components):
+    """The registry's numbered keys, ';'-separated (the `more` column)."""
+    keys = []
+    for i, (w, a, m) in enumerate(components, start=1):
+        keys += [f"weight_{i}={w!r}", f"alpha_{i}={to_csv(a)}", f"mean_extinction_{i}={m!r}"]
+    return ";".join(keys)
+
+
+def parse_more(more):
+    return {k: float(v) for k, v in (item.split("=") for item in more.split(";"))} if more else {}
+
+
+def evaluate(law, p1, p2, t, more=""):
+    if law == "gap-gamma":
+        return gap_gamma(p1, p2, t, parse_more(more)["gap"])
+    if law == "gamma-mixture":
+        keys = parse_more(more)
+        n = len(keys) // 3
+        return gamma_mixture([(keys[f"weight_{i}"], keys[f"alpha_{i}"], keys[f"mean_extinction_{i}"])
+                              for i in range(1, n + 1)], t)
     if law == "erlang":
         return gamma_path_rate(p1, p2, t)
     return LAWS[law](p1, p2, t)
@@ -138,20 +225,23 @@ def main():
     out = Path(sys.argv[1]) if len(sys.argv) > 1 else (
         Path(__file__).resolve().parents[2] / "tests" / "data" / "transmittance" / "reference.csv")
     rows = []
-    for law, p1, p2, t in cases():
+    for law, p1, p2, t, *extra in cases():
+        more = extra[0] if extra else ""
         mp.mp.dps = 90
-        check = evaluate(law, p1, p2, t)
+        check = evaluate(law, p1, p2, t, more)
         mp.mp.dps = 60
-        values = evaluate(law, p1, p2, t)
+        values = evaluate(law, p1, p2, t, more)
         for a, b in zip(values, check):
             if a not in (0, mp.inf, -mp.inf) and b != 0:
                 assert abs(mp.mpf(a) / b - 1) < mp.mpf("1e-40"), (law, p1, p2, t, a, b)
-        rows.append([law, repr(p1), repr(p2), to_csv(t)] + [to_csv(v) for v in values])
+        rows.append([law, to_csv(p1), to_csv(p2), to_csv(t)] + [to_csv(v) for v in values] + [more])
     with open(out, "w") as f:
         f.write("# Generated by scripts/reference/transmittance_reference.py (mpmath, 60 digits). Do not edit.\n")
         f.write("# gamma: p1 = mean_extinction, p2 = alpha; gamma-path: k, theta; erlang(-source): k, rate;\n")
-        f.write("# linear: p1 = mean_extinction; exponential: p1 = mu.\n")
-        f.write("law,p1,p2,t,T,logT,pdf,hazard\n")
+        f.write("# linear: p1 = mean_extinction; exponential: p1 = mu; gap-gamma: p1 = mean_extinction (non-gap\n")
+        f.write("# rays), p2 = alpha, more = gap; gamma-mixture: more = weight_N, alpha_N, mean_extinction_N.\n")
+        f.write("# more: further registry parameters key=value;key=value (empty for two-parameter laws).\n")
+        f.write("law,p1,p2,t,T,logT,pdf,hazard,more\n")
         for row in rows:
             f.write(",".join(row) + "\n")
     print(f"wrote {len(rows)} rows to {out}")

@@ -60,6 +60,22 @@ weft_model_output_test(sample_scatterer
   "awk '{ s += $1 } END { m = s / NR; exit !(NR == 4000 && m > 0.85 && m < 1.15) }'"
   --law gamma --alpha 3 --mean-extinction 1 --sample 4000 --from scatterer --seed 5)
 
+# gap-gamma (gap 0.3, mean 2, alpha 1.5) at t = 1: T_Q = 0.3 + 0.7*(7/3)^-1.5; T(inf) = gap, l_Q = inf;
+# the scatterer partner is the gamma law with shape 2.5 (no gap).
+weft_model_output_test(gap_gamma
+  "grep -E '^ +1 +0.4963961012 ' && grep -E '^ +inf +0.3 +0 ' model_gap_gamma.out && \
+grep -q 'l_Q = inf' model_gap_gamma.out && grep -q 'T_S: gamma (mean_extinction = 3.333333333, alpha = 2.5)' model_gap_gamma.out"
+  --law gap-gamma --gap 0.3 --mean-extinction 2 --alpha 1.5 --t 0,1,inf)
+# gamma-mixture from lists: parameters as numbered keys; 4000 draws escape (+inf) with
+# probability weight_1 = 0.2: the count within 5 standard errors (sqrt(4000*0.16) = 25.3) of 800.
+weft_model_output_test(gamma_mixture_json
+  "grep -q '\"weight_2\": 0.8' && grep -q '\"mean_extinction_1\": 0.0' model_gamma_mixture_json.out && \
+grep -q '\"source\": \"infinite\"' model_gamma_mixture_json.out"
+  --law gamma-mixture --weights 0.2,0.8 --alpha 1,3 --mean-extinction 0,5 --t 0,1 --json)
+weft_model_output_test(gamma_mixture_sample
+  "awk '$1 == \"inf\" { n++ } END { exit !(NR == 4000 && n > 673 && n < 927) }'"
+  --law gamma-mixture --weights 0.2,0.8 --alpha 1,3 --mean-extinction 0,5 --sample 4000 --seed 4)
+
 weft_model_error_test(negative_alpha "alpha" --law gamma --alpha -1 --mean-extinction 1)
 weft_model_error_test(nan_alpha "alpha" --law gamma --alpha nan --mean-extinction 1)
 weft_model_error_test(zero_alpha "alpha must be > 0" --law gamma --alpha 0 --mean-extinction 1)

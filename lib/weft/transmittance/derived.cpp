@@ -120,6 +120,12 @@ ScattererFromSource::ScattererFromSource(LawPtr source) : source_(std::move(sour
   }
 }
 
+double ScattererFromSource::mean_free_path() const {
+  // ℓ_S = ∫T_S = ∫p_Q/p_Q(0) = (1 − T_Q(∞))/p_Q(0): a source law with a plateau (rays that never
+  // collide, e.g. a table with a flat tail) has ∫p_Q = 1 − T_Q(∞) < 1.
+  return (1.0 - source_->transmittance(kInfinity)) / p0_;
+}
+
 double ScattererFromSource::transmittance(double t) const { return std::min(1.0, source_->pdf(t) / p0_); }
 
 double ScattererFromSource::log_transmittance(double t) const {

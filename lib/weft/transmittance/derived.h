@@ -10,7 +10,7 @@
 namespace weft::transmittance {
 
 /// @brief T_S(t) = p_Q(t)/p_Q(0) from a given source law; p_S by finite differences of p_Q,
-/// sampling by inverting T_S (TOMS 748), ℓ_S = 1/p_Q(0) exactly.
+/// sampling by inverting T_S (TOMS 748), ℓ_S = (1 − T_Q(∞))/p_Q(0).
 class ScattererFromSource final : public Law {
  public:
   /// Throws weft::Error if p_Q(0) is not finite and > 0 (or ℓ_S = 1/p_Q(0) not a normal
@@ -27,7 +27,8 @@ class ScattererFromSource final : public Law {
   [[nodiscard]] double hazard(double t) const override;
   [[nodiscard]] double sample(Pcg32& rng) const override;
   [[nodiscard]] std::string sampling_method() const override { return "numerical inversion of p_Q/p_Q(0)"; }
-  [[nodiscard]] double mean_free_path() const override { return 1.0 / p0_; }
+  /// ℓ_S = (1 − T_Q(∞))/p_Q(0): 1/p_Q(0) unless the source law has a plateau.
+  [[nodiscard]] double mean_free_path() const override;
   [[nodiscard]] std::unique_ptr<Law> clone() const override { return std::make_unique<ScattererFromSource>(*this); }
   [[nodiscard]] std::shared_ptr<const Law> closed_form_source_partner() const override { return source_; }
 

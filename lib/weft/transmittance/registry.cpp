@@ -1,8 +1,11 @@
 #include "weft/transmittance/registry.h"
 
 #include <algorithm>
+#include <cstddef>
 #include <functional>
+#include <iterator>
 #include <set>
+#include <string>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -12,7 +15,9 @@
 #include "weft/transmittance/erlang.h"
 #include "weft/transmittance/exponential.h"
 #include "weft/transmittance/gamma_concentration.h"
+#include "weft/transmittance/gamma_mixture.h"
 #include "weft/transmittance/gamma_path.h"
+#include "weft/transmittance/gap_gamma.h"
 #include "weft/transmittance/linear.h"
 #include "weft/transmittance/tabulated.h"
 
@@ -67,6 +72,37 @@ const std::vector<Entry>& entries() {
         "var_concentration   variance of the concentration Var C [concentration^2], >= 0 (0 = exponential)",
         std::string("accepted sets: {mean_extinction, alpha} | {sigma, alpha, beta} | ") +
             "{sigma, mean_concentration, var_concentration}"}},
+      {"gap-gamma",
+       "gap-aware gamma law T = gap + (1 - gap)(1 + mean_extinction t/alpha)^-alpha",
+       {{{"gap", "mean_extinction", "alpha"},
+         [](const Params& p, const LawSpec&) {
+           return std::make_shared<GapGamma>(p.at("gap"), p.at("mean_extinction"), p.at("alpha"));
+         }},
+        {{"gap", "sigma", "alpha", "beta"},
+         [](const Params& p, const LawSpec&) {
+           return std::make_shared<GapGamma>(
+               GapGamma::from_sigma_alpha_beta(p.at("gap"), p.at("sigma"), p.at("alpha"), p.at("beta")));
+         }},
+        {{"gap", "sigma", "mean_concentration", "var_concentration"},
+         [](const Params& p, const LawSpec&) {
+           return std::make_shared<GapGamma>(GapGamma::from_concentration(
+               p.at("gap"), p.at("sigma"), p.at("mean_concentration"), p.at("var_concentration")));
+         }}},
+       {"gap              fraction of rays that see no fibre (open area, 1 - cover factor) [1], in [0, 1)",
+        "mean_extinction  mean extinction of the non-gap rays mu_c = sigma*alpha/beta [1/length], >= 0",
+        "alpha            gamma shape of the non-gap concentration [1], > 0 (inf = gap + exponential)",
+        "sigma, beta, mean_concentration, var_concentration  as for gamma, statistics of the non-gap rays",
+        "T(inf) = gap, so the mean free path is infinite for gap > 0; a draw is inf with probability gap",
+        std::string("accepted sets: {gap, mean_extinction, alpha} | {gap, sigma, alpha, beta} | ") +
+            "{gap, sigma, mean_concentration, var_concentration}"}},
+      {"gamma-mixture",
+       "mixture of gamma laws T = sum_i weight_i (1 + mean_extinction_i t/alpha_i)^-alpha_i",
+       {},
+       {"weight_N            share of the rays in component N = 1, 2, ... [1], >= 0, summing to 1",
+        "alpha_N             gamma shape of component N [1], > 0 (inf = exponential component)",
+        "mean_extinction_N   mean extinction of component N [1/length], >= 0 (0 = gap: never collides)",
+        "every component N = 1..n needs all three; weft model takes lists: --weights 0.2,0.8 --alpha 1,inf "
+        "--mean-extinction 0,5"}},
       {"linear",
        "perfect negative correlation (S.58) T = max(0, 1 - mean_extinction t)",
        {{{"mean_extinction"},
@@ -118,7 +154,55 @@ const Entry& find_entry(const std::string& name) {
        fmt::join(law_names(), ", "));
 }
 
+/// The gamma-mixture's parameters weight_N, alpha_N, mean_extinction_N (N = 1..n, every one).
+constexpr const char* kMixtureBases[] = {"weight", "alpha", "mean_extinction"};
+
+LawPtr make_mixture(const LawSpec& spec) {
+  const std::vector<std::string> bases(std::begin(kMixtureBases), std::end(kMixtureBases));
+  // component index (0-based) → base → value
+  std::map<std::size_t, std::map<std::string, double>> by_index;
+  for (const auto& [key, value] : spec.params) {
+    const auto underscore = key.rfind('_');
+    const std::string base = underscore == std::string::npos ? key : key.substr(0, underscore);
+    const std::string digits = underscore == std::string::npos ? std::string() : key.substr(underscore + 1);
+    const bool numbered = !digits.empty() && digits.size() <= 7 && digits[0] != '0' &&
+                          std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; });
+    if (!numbered || std::find(bases.begin(), bases.end(), base) == bases.end()) {
+      fail(
+          "gamma-mixture law: unknown parameter '{}'{}; accepted: weight_N, alpha_N, mean_extinction_N (N = 1, 2, ...)",
+          key, suggestion(numbered ? base : key, bases));
+    }
+    by_index[std::stoul(digits) - 1][base] = value;
+  }
+  if (by_index.empty()) {
+    fail(
+        "gamma-mixture law: no components; give weight_N, alpha_N, mean_extinction_N for N = 1..n "
+        "(weft model: --weights, --alpha, --mean-extinction as comma-separated lists)");
+  }
+  const std::size_t n = by_index.rbegin()->first + 1;
+  std::vector<GammaComponent> components;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto it = by_index.find(i);
+    for (const auto& base : bases) {
+      if (it == by_index.end() || it->second.count(base) == 0) {
+        fail(
+            "gamma-mixture law: missing parameter {}_{} (there are {} components; the lists of weights, alpha "
+            "and mean_extinction must have the same length)",
+            base, i + 1, n);
+      }
+    }
+    components.push_back({it->second.at("weight"), it->second.at("mean_extinction"), it->second.at("alpha")});
+  }
+  return std::make_shared<GammaMixture>(std::move(components));
+}
+
 }  // namespace
+
+bool takes_parameter_lists(const std::string& name) { return name == "gamma-mixture"; }
+
+std::string list_parameter_key(const std::string& key, std::size_t index) {
+  return fmt::format("{}_{}", key, index + 1);
+}
 
 std::vector<std::string> law_names() {
   std::vector<std::string> names;
@@ -135,6 +219,11 @@ std::string describe_law(const std::string& name) {
 
 LawPtr make_law(const LawSpec& spec) {
   const Entry& entry = find_entry(spec.name);
+  if (takes_parameter_lists(entry.name)) {
+    if (!spec.table.empty()) fail("{} law: a table file is only used by the tabulated law", entry.name);
+    if (!spec.sampler.empty()) fail("{} law: no choice of sampler (only gamma-path has one)", entry.name);
+    return make_mixture(spec);
+  }
   std::set<std::string> known;
   for (const auto& form : entry.forms) known.insert(form.keys.begin(), form.keys.end());
   const std::vector<std::string> known_list(known.begin(), known.end());

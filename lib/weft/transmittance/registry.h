@@ -27,6 +27,13 @@ struct LawSpec {
 /// (and the closest known name for a misspelt law or parameter).
 [[nodiscard]] LawPtr make_law(const LawSpec& spec);
 
+/// @brief Laws whose parameters are lists, one value per component (gamma-mixture): the registry
+/// reads them as numbered keys `<key>_1`, `<key>_2`, … (e.g. weight_1, alpha_1,
+/// mean_extinction_1), which is also how parameters() names them and how a scene file writes them.
+[[nodiscard]] bool takes_parameter_lists(const std::string& name);
+/// The registry key of element `index` (0-based) of list parameter `key`: "<key>_<index + 1>".
+[[nodiscard]] std::string list_parameter_key(const std::string& key, std::size_t index);
+
 /// The registered law names, in a stable order.
 [[nodiscard]] std::vector<std::string> law_names();
 

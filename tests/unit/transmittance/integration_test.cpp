@@ -1,6 +1,6 @@
 // Closed forms against numerical integration, independent of the formulas under test:
 // ∫₀ᵗ p = 1 − T(t), ∫₀^∞ T = ℓ, Σ = p/T, log T = log(T), and for reciprocal pairs
-// T_S/ℓ_S = p_Q and T_S(0) = 1.
+// T_S/ℓ_S = p_Q (times 1 − T_Q(∞) for laws whose rays may never collide) and T_S(0) = 1.
 #include <cmath>
 #include <functional>
 #include <memory>
@@ -18,7 +18,9 @@
 #include "weft/transmittance/erlang.h"
 #include "weft/transmittance/exponential.h"
 #include "weft/transmittance/gamma_concentration.h"
+#include "weft/transmittance/gamma_mixture.h"
 #include "weft/transmittance/gamma_path.h"
+#include "weft/transmittance/gap_gamma.h"
 #include "weft/transmittance/linear.h"
 #include "weft/transmittance/pair.h"
 #include "weft/transmittance/tabulated.h"
@@ -59,6 +61,22 @@ std::vector<LawCase> laws() {
     out.push_back(
         {fmt::format("gamma a={}", alpha), [alpha] { return std::make_shared<GammaConcentration>(1.5, alpha); }, 1.0});
   }
+  for (double alpha : {0.6, 2.5}) {
+    out.push_back(
+        {fmt::format("gap-gamma a={}", alpha), [alpha] { return std::make_shared<GapGamma>(0.3, 1.5, alpha); }, 1.0});
+  }
+  out.push_back({"gamma-mixture",
+                 [] {
+                   return std::make_shared<GammaMixture>(
+                       std::vector<GammaComponent>{{0.2, 0.0, 1.0}, {0.5, 3.0, 2.5}, {0.3, 1.0, kInfinity}});
+                 },
+                 1.0});
+  out.push_back(
+      {"gamma-mixture no gap",
+       [] {
+         return std::make_shared<GammaMixture>(std::vector<GammaComponent>{{0.4, 0.5, 1.5}, {0.6, 4.0, kInfinity}});
+       },
+       1.0});
   out.push_back({"linear", [] { return std::make_shared<Linear>(0.8); }, 0.4, {1.25}});
   for (double k : {0.3, 1.0, 2.5, 30.0}) {
     out.push_back({fmt::format("gamma-path k={}", k), [k] { return std::make_shared<GammaPath>(k, 0.7); }, 0.7 * k});
@@ -134,10 +152,14 @@ TEST_P(ClosedForms, ReciprocalPartnerSatisfiesPq_eq_Ts_over_Ls) {
     const Law& q = pair->law(Origin::source);
     const Law& s = pair->law(Origin::scatterer);
     const double ell_s = s.mean_free_path();
+    // Rays that never collide (T_Q(∞) > 0: gaps) carry no scatterers: ∫p_Q = 1 − T_Q(∞), so
+    // p_Q = (1 − T_Q(∞))·T_S/ℓ_S (docs/transmittance.md, gap-gamma).
+    const double colliding = 1.0 - q.transmittance(kInfinity);
     EXPECT_DOUBLE_EQ(s.transmittance(0.0), 1.0);
     for (double factor : {0.0, 0.05, 0.5, 1.0, 2.5}) {
       const double t = factor * GetParam().scale;
-      EXPECT_NEAR(s.transmittance(t) / ell_s, q.pdf(t), 1e-8 * q.pdf(0.0)) << to_string(origin) << " t = " << t;
+      EXPECT_NEAR(colliding * s.transmittance(t) / ell_s, q.pdf(t), 1e-8 * q.pdf(0.0))
+          << to_string(origin) << " t = " << t;
     }
   }
 }

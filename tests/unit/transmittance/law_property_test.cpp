@@ -12,6 +12,7 @@
 // law at the corners of its valid range (corner_draws), so the short sweep keeps the extremes.
 // WEFT_PROPERTY_VERBOSE=1 prints why each refused reciprocal pair was refused.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -202,6 +203,36 @@ LawSpec spec(const std::string& name, std::map<std::string, double> params) {
   return s;
 }
 
+/// A gamma-mixture spec from (weight, alpha, mean_extinction) triples, as the registry reads them.
+LawSpec mixture_spec(const std::vector<std::array<double, 3>>& components) {
+  LawSpec s;
+  s.name = "gamma-mixture";
+  for (std::size_t i = 0; i < components.size(); ++i) {
+    s.params[list_parameter_key("weight", i)] = components[i][0];
+    s.params[list_parameter_key("alpha", i)] = components[i][1];
+    s.params[list_parameter_key("mean_extinction", i)] = components[i][2];
+  }
+  return s;
+}
+
+/// A gamma shape over the whole valid range: log-uniform, sometimes ∞ or an extreme.
+double any_alpha(Pcg32& rng) {
+  const double u = rng.uniform();
+  if (u < 0.1) return std::numeric_limits<double>::infinity();
+  if (u < 0.2) return rng.uniform() < 0.5 ? 1e-300 : 1e300;
+  return log_uniform(rng, 1e-6, 1e6);
+}
+
+/// A gap fraction in [0, 1): sometimes 0, tiny or within an ulp of 1.
+double any_gap(Pcg32& rng) {
+  const double u = rng.uniform();
+  if (u < 0.1) return 0.0;
+  if (u < 0.15) return 1e-300;
+  if (u < 0.2) return std::nextafter(1.0, 0.0);
+  if (u < 0.25) return 1.0 - 1e-12;
+  return rng.uniform();
+}
+
 const std::map<std::string, Generator>& generators() {
   static const std::map<std::string, Generator> table = {
       {"exponential",
@@ -234,6 +265,53 @@ const std::map<std::string, Generator>& generators() {
          const double var = rng.uniform() < 0.15 ? 0.0 : mean * mean * log_uniform(rng, 1e-6, 1e6);
          return Draw{spec("gamma", {{"sigma", sigma}, {"mean_concentration", mean}, {"var_concentration", var}}),
                      {reciprocal(times(sigma, mean))}};
+       }},
+      {"gap-gamma",
+       [](Pcg32& rng) {
+         const double gap = any_gap(rng);
+         double alpha = any_alpha(rng);
+         const int form = static_cast<int>(rng.uniform_below(3));
+         if (form == 0) {
+           const double mu = rng.uniform() < 0.1 ? 0.0 : positive_scale(rng);
+           return Draw{spec("gap-gamma", {{"gap", gap}, {"mean_extinction", mu}, {"alpha", alpha}}),
+                       {reciprocal(mu), ratio(alpha, mu)}};
+         }
+         const double sigma = positive_scale(rng);
+         if (form == 1) {
+           if (!std::isfinite(alpha)) alpha = log_uniform(rng, 1e-6, 1e6);
+           const double beta = positive_scale(rng);
+           return Draw{spec("gap-gamma", {{"gap", gap}, {"sigma", sigma}, {"alpha", alpha}, {"beta", beta}}),
+                       {ratio(beta, sigma)}};
+         }
+         const double mean = rng.uniform() < 0.1 ? 0.0 : log_uniform(rng, 1e-6, 1.0);
+         const double var = rng.uniform() < 0.15 ? 0.0 : mean * mean * log_uniform(rng, 1e-6, 1e6);
+         return Draw{spec("gap-gamma",
+                          {{"gap", gap}, {"sigma", sigma}, {"mean_concentration", mean}, {"var_concentration", var}}),
+                     {reciprocal(times(sigma, mean))}};
+       }},
+      {"gamma-mixture",
+       [](Pcg32& rng) {
+         // 1 to 5 components, some of weight 0, some gaps (mean extinction 0), weights normalised
+         // in double (their sum is 1 only to rounding, as a user's would be).
+         const auto n = 1 + rng.uniform_below(5);
+         std::vector<std::array<double, 3>> components;
+         std::vector<double> scales;
+         double total = 0.0;
+         for (std::uint32_t i = 0; i < n; ++i) {
+           const double w = rng.uniform() < 0.1 ? 0.0 : log_uniform(rng, 1e-6, 1.0);
+           const double alpha = any_alpha(rng);
+           const double mu = rng.uniform() < 0.15 ? 0.0 : positive_scale(rng);
+           components.push_back({w, alpha, mu});
+           scales.push_back(reciprocal(mu));
+           scales.push_back(ratio(alpha, mu));
+           total += w;
+         }
+         if (total == 0.0) {
+           components[0][0] = 1.0;
+           total = 1.0;
+         }
+         for (auto& c : components) c[0] /= total;
+         return Draw{mixture_spec(components), scales};
        }},
       {"linear",
        [](Pcg32& rng) {
@@ -287,6 +365,35 @@ const std::map<std::string, std::vector<Draw>>& corner_draws() {
         {spec("gamma", {{"sigma", kMax}, {"mean_concentration", 1.0}, {"var_concentration", 0.0}}), {1.0}});
     c["gamma"].push_back(
         {spec("gamma", {{"sigma", kMinNormal}, {"mean_concentration", 1e-6}, {"var_concentration", 1e6}}), {1.0}});
+    const double inf = std::numeric_limits<double>::infinity();
+    for (double gap : {0.0, 1e-300, 0.5, std::nextafter(1.0, 0.0)}) {
+      for (double mu : {0.0, kMinNormal, kMax}) {
+        for (double alpha : {1e-300, 1e-6, 1.0 + 1e-15, 1e300, inf}) {
+          c["gap-gamma"].push_back({spec("gap-gamma", {{"gap", gap}, {"mean_extinction", mu}, {"alpha", alpha}}),
+                                    {reciprocal(mu), ratio(alpha, mu)}});
+        }
+      }
+    }
+    c["gap-gamma"].push_back(
+        {spec("gap-gamma", {{"gap", 0.25}, {"sigma", kMax}, {"alpha", 1e-6}, {"beta", kMax}}), {1.0}});
+    c["gap-gamma"].push_back(
+        {spec("gap-gamma",
+              {{"gap", 0.25}, {"sigma", kMinNormal}, {"mean_concentration", 1e-6}, {"var_concentration", 1e6}}),
+         {1.0}});
+    // Mixtures: one component, a pure gap, gap + exponential at the scale extremes, components at
+    // opposite ends of the double range, a zero-weight component, many equal components.
+    c["gamma-mixture"].push_back({mixture_spec({{1.0, 2.0, 1.0}}), {1.0}});
+    c["gamma-mixture"].push_back({mixture_spec({{1.0, 2.0, 0.0}}), {1.0}});
+    for (double mu : {kMinNormal, kMax}) {
+      c["gamma-mixture"].push_back({mixture_spec({{0.5, inf, 0.0}, {0.5, inf, mu}}), {reciprocal(mu)}});
+      c["gamma-mixture"].push_back({mixture_spec({{0.3, 1e-300, mu}, {0.7, 1e300, mu}}), {reciprocal(mu)}});
+      c["gamma-mixture"].push_back({mixture_spec({{0.25, inf, mu}, {0.75, inf, 1.0}}), {reciprocal(mu), 1.0}});
+    }
+    c["gamma-mixture"].push_back(
+        {mixture_spec({{0.5, 1e-6, kMax}, {0.5, 1e6, kMinNormal}}), {reciprocal(kMax), 1e6 / kMinNormal}});
+    c["gamma-mixture"].push_back({mixture_spec({{0.0, 2.0, 5.0}, {1.0, 1.0 + 1e-15, 3.0}}), {1.0}});
+    c["gamma-mixture"].push_back(
+        {mixture_spec(std::vector<std::array<double, 3>>(1000, {1e-3, 3.0, 2.0})), {0.5, 1.5}});
     for (double k : {1e-6, 1.0, 1e6}) {
       for (double theta : ends) {
         for (const char* sampler : {"marsaglia-tsang", "inversion"}) {
