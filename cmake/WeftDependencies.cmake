@@ -1,32 +1,28 @@
 # All dependencies come from Debian 12 packages (shared/design.md §5).
 
-# TBB must be found before OpenVDB, whose Find module looks for it.
-find_package(TBB CONFIG REQUIRED)
-find_package(Eigen3 3.4 CONFIG REQUIRED)
-find_package(Boost 1.74 REQUIRED)
-find_package(fmt CONFIG REQUIRED)
-find_package(nlohmann_json 3.10 CONFIG REQUIRED)
+# The libraries' dependencies (shared with the installed package's config).
+macro(weft_find_dependency)
+  find_package(${ARGV} REQUIRED)
+endmacro()
+include(WeftLibraryDependencies)
+
+# Only the app needs CLI11.
 find_package(CLI11 CONFIG REQUIRED)
-
-# Debian's OpenVDB ships only a Find module, outside CMake's default search path.
-list(APPEND CMAKE_MODULE_PATH /usr/lib/x86_64-linux-gnu/cmake/OpenVDB)
-find_package(OpenVDB REQUIRED)
-
-find_package(embree 3 CONFIG REQUIRED)
-find_package(CGAL CONFIG REQUIRED)
-find_package(OpenEXR CONFIG REQUIRED)
-
-find_package(VTK 9.1 REQUIRED COMPONENTS
-  CommonCore CommonDataModel CommonColor ChartsCore
-  FiltersCore FiltersSources FiltersGeneral
-  IOImage IOXML IOLegacy IOGeometry IOPLY
-  InteractionStyle RenderingCore RenderingOpenGL2 RenderingFreeType
-  RenderingVolume RenderingVolumeOpenGL2 RenderingContext2D RenderingContextOpenGL2
-  RenderingAnnotation ViewsContext2D)
 
 if(WEFT_BUILD_TESTS)
   find_package(GTest CONFIG REQUIRED)
 endif()
 if(WEFT_BUILD_BENCH)
   find_package(benchmark CONFIG REQUIRED)
+endif()
+
+if(WEFT_BUILD_PYTHON)
+  # Debian's interpreter, which sees Debian's python3-numpy/pytest/pybind11 (a python3 earlier on
+  # PATH, e.g. a pyenv build, does not); override with -DPython3_EXECUTABLE=...
+  if(NOT DEFINED Python3_EXECUTABLE AND EXISTS /usr/bin/python3)
+    set(Python3_EXECUTABLE /usr/bin/python3 CACHE FILEPATH "Python interpreter for the weft module and its tests")
+  endif()
+  find_package(Python3 3.9 REQUIRED COMPONENTS Interpreter Development.Module)
+  set(PYBIND11_FINDPYTHON ON)
+  find_package(pybind11 2.6 CONFIG REQUIRED)
 endif()

@@ -48,13 +48,20 @@ function(weft_module name)
   if(NOT M_SOURCES)
     # A module whose sources are not written yet is headers only.
     add_library(weft_${name} INTERFACE)
-    target_include_directories(weft_${name} INTERFACE ${PROJECT_SOURCE_DIR}/lib ${PROJECT_SOURCE_DIR})
+    target_include_directories(weft_${name} INTERFACE $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/lib>
+                                                      $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}>)
     target_link_libraries(weft_${name} INTERFACE ${M_DEPS})
     return()
   endif()
   add_library(weft_${name} STATIC ${M_SOURCES})
-  target_include_directories(weft_${name} PUBLIC ${PROJECT_SOURCE_DIR}/lib ${PROJECT_SOURCE_DIR})
+  # Installed headers live under <prefix>/include (weft/..., data_gen/...; cmake/WeftInstall.cmake).
+  target_include_directories(weft_${name} PUBLIC $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/lib>
+                                                 $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}>
+                                                 $<INSTALL_INTERFACE:include>)
   target_link_libraries(weft_${name} PUBLIC ${M_DEPS} PRIVATE weft_warnings ${M_PRIVATE_DEPS})
+  # Every module is part of the installed CMake package (weft::<name>, cmake/WeftInstall.cmake).
+  set_property(GLOBAL APPEND PROPERTY WEFT_MODULES weft_${name})
+  set_target_properties(weft_${name} PROPERTIES EXPORT_NAME ${name})
 endfunction()
 
 # weft_unit_test(NAME SOURCES ... DEPS ... [LABELS ...])

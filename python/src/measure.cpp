@@ -1,0 +1,206 @@
+// The main job's stages: ground truth by DDA (weft/volume/beam.h), window statistics and the
+// gamma model they predict, least-squares fits and curve errors (weft/fit/fit.h).
+#include <cmath>
+#include <string>
+
+#include "common.h"
+#include "weft/fit/fit.h"
+#include "weft/volume/beam.h"
+
+namespace weft::python {
+namespace {
+
+namespace vol = weft::volume;
+namespace fit = weft::fit;
+
+std::array<double, 3> direction_of(const py::object& axis, const py::object& direction) {
+  if (!axis.is_none() && !direction.is_none()) fail("measure_beam: give axis or direction, not both");
+  if (!direction.is_none()) {
+    if (py::isinstance<py::str>(direction)) return vol::parse_direction(direction.cast<std::string>());
+    std::array<double, 3> d{};
+    try {
+      d = direction.cast<std::array<double, 3>>();
+    } catch (const py::cast_error&) {
+      throw py::type_error("measure_beam: direction must be 3 numbers or 'dx,dy,dz'");
+    }
+    for (double c : d) require_finite("measure_beam: direction", c);
+    if (d[0] == 0.0 && d[1] == 0.0 && d[2] == 0.0) fail("measure_beam: direction must not be zero");
+    return d;
+  }
+  if (axis.is_none()) return {0.0, 0.0, 1.0};
+  if (py::isinstance<py::str>(axis)) {
+    const auto d = vol::parse_direction(axis.cast<std::string>());
+    if (vol::beam_axis(d) < 0) fail("measure_beam: axis '{}' is not x, y or z", axis.cast<std::string>());
+    return d;
+  }
+  std::array<double, 3> d{0.0, 0.0, 0.0};
+  d[static_cast<std::size_t>(axis_index(axis, "measure_beam: axis"))] = 1.0;
+  return d;
+}
+
+py::array_t<double> transmittance(const vol::TransmittanceCurve& c) {
+  std::vector<double> t(c.size());
+  for (std::size_t k = 0; k < c.size(); ++k) t[k] = c.transmittance(k);
+  return move_to_array(std::move(t));
+}
+
+py::array_t<double> stderr_abs(const vol::TransmittanceCurve& c) {
+  std::vector<double> s(c.size());
+  for (std::size_t k = 0; k < c.size(); ++k) s[k] = c.stderr_abs(k);
+  return move_to_array(std::move(s));
+}
+
+}  // namespace
+
+void init_measure(py::module_& m) {
+  py::class_<vol::TransmittanceCurve>(m, "TransmittanceCurve",
+                                      "Ground-truth T(t) of a beam: depths from the entry face, T, log T and the\n"
+                                      "standard error of T (the mean over rays of exp(-tau)).")
+      .def_property_readonly(
+          "depth", [](const vol::TransmittanceCurve& c) { return to_array(c.depth); },
+          "World distance from the entry face [length].")
+      .def_property_readonly("T", &transmittance, "Mean over rays of exp(-tau(t)).")
+      .def_property_readonly("log_T", [](const vol::TransmittanceCurve& c) { return to_array(c.log_t); })
+      .def_property_readonly("stderr", &stderr_abs, "Standard error of T over the rays.")
+      .def_property_readonly("rel_stderr", [](const vol::TransmittanceCurve& c) { return to_array(c.rel_stderr); })
+      .def_readonly("rays", &vol::TransmittanceCurve::rays, "Rays that entered the box (the samples).")
+      .def_readonly("direction", &vol::TransmittanceCurve::direction, "Unit direction of travel.")
+      .def_readonly("method", &vol::TransmittanceCurve::method)
+      .def("__len__", &vol::TransmittanceCurve::size)
+      .def("__iter__", [](const vol::TransmittanceCurve& c) {
+        // depths, T, stderr = weft.measure_beam(...)
+        return py::iter(py::make_tuple(to_array(c.depth), transmittance(c), stderr_abs(c)));
+      });
+
+  m.def(
+      "measure_beam",
+      [](const vol::Grid& grid, const py::object& axis, const py::object& direction, double sigma, int rays_per_column,
+         bool jitter, std::uint64_t seed, double depth_step, const std::string& method, int column_stride,
+         const py::object& progress) {
+        vol::BeamSpec spec;
+        spec.direction = direction_of(axis, direction);
+        spec.scale = require_positive("measure_beam: sigma", sigma);
+        if (rays_per_column < 1) fail("measure_beam: rays_per_column must be >= 1, got {}", rays_per_column);
+        if (column_stride < 1) fail("measure_beam: column_stride must be >= 1, got {}", column_stride);
+        spec.rays_per_column = rays_per_column;
+        spec.jitter = jitter;  // rays_per_column > 1 jitters anyway (beam.h)
+        spec.seed = seed;
+        spec.depth_step = require_non_negative("measure_beam: depth_step", depth_step);
+        spec.method = vol::parse_beam_method(method);
+        spec.column_stride = column_stride;
+        return run_released(progress, [&](ProgressSink& p) { return vol::measure_beam(grid, spec, p); });
+      },
+      py::arg("grid"), py::arg("axis") = py::none(), py::kw_only(), py::arg("direction") = py::none(),
+      py::arg("sigma") = 1.0, py::arg("rays_per_column") = 1, py::arg("jitter") = false, py::arg("seed") = 1,
+      py::arg("depth_step") = 0.0, py::arg("method") = "auto", py::arg("column_stride") = 1,
+      py::arg("progress") = py::none(),
+      "measure_beam(grid, axis='z' | direction=(dx, dy, dz), sigma=1, ...) -> TransmittanceCurve\n\n"
+      "Ground-truth transmittance of a beam of parallel rays through the grid's active box by DDA\n"
+      "(mu = sigma * value). axis: 0/1/2 or 'x', '-y', ...; direction: any non-zero vector (or 'dx,dy,dz').\n"
+      "method: 'auto', 'streaming', 'per-ray', 'openvdb'. progress: callable(label, done, total).\n"
+      "Unpacks as depths, T, stderr. Same numbers as `weft measure` for the same options.");
+
+  py::class_<fit::ConcentrationStats>(m, "ConcentrationStats", "Mean and variance of window-mean concentration.")
+      .def(py::init<>())
+      .def_readwrite("mean", &fit::ConcentrationStats::mean)
+      .def_readwrite("variance", &fit::ConcentrationStats::variance, "Population variance over the samples.")
+      .def_readwrite("samples", &fit::ConcentrationStats::samples)
+      .def_readwrite("window_voxels", &fit::ConcentrationStats::window_voxels)
+      .def_readwrite("window", &fit::ConcentrationStats::window, "Window length used [length].")
+      .def("__repr__", [](const fit::ConcentrationStats& s) {
+        return fmt::format("<weft.ConcentrationStats mean={} variance={} samples={} window={}>", s.mean, s.variance,
+                           s.samples, s.window);
+      });
+
+  py::class_<fit::GammaFit>(m, "GammaFit", "A gamma concentration law (Eq. 19): alpha = C^2/Var C, beta = C/Var C.")
+      .def(py::init<>())
+      .def_readwrite("sigma", &fit::GammaFit::sigma)
+      .def_readwrite("mean_concentration", &fit::GammaFit::mean_concentration)
+      .def_readwrite("var_concentration", &fit::GammaFit::var_concentration)
+      .def_readwrite("alpha", &fit::GammaFit::alpha, "+inf in the exponential limit.")
+      .def_readwrite("beta", &fit::GammaFit::beta)
+      .def_property_readonly("exponential", &fit::GammaFit::exponential)
+      .def_property_readonly("mean_extinction", &fit::GammaFit::mean_extinction, "sigma * mean concentration.")
+      .def(
+          "law", [](const fit::GammaFit& f) { return py_law(fit::model_law(f)); },
+          "The model's law: gamma, or exponential when Var C = 0.")
+      .def(
+          "exponential_law", [](const fit::GammaFit& f) { return py_law(fit::exponential_law(f)); },
+          "The exponential baseline with the same mean extinction.")
+      .def("__repr__", [](const fit::GammaFit& f) {
+        return fmt::format("<weft.GammaFit sigma={} mean={} var={} alpha={} beta={}>", f.sigma, f.mean_concentration,
+                           f.var_concentration, f.alpha, f.beta);
+      });
+
+  py::class_<fit::LeastSquaresFit>(m, "LeastSquaresFit", "Levenberg-Marquardt fit of (alpha, beta) at fixed sigma.")
+      .def_readonly("fit", &fit::LeastSquaresFit::fit)
+      .def_readonly("rms", &fit::LeastSquaresFit::rms, "RMS residual on T.")
+      .def_readonly("iterations", &fit::LeastSquaresFit::iterations)
+      .def_readonly("converged", &fit::LeastSquaresFit::converged);
+
+  py::class_<fit::CurveError>(m, "CurveError", "Errors of a model against the ground truth on its depth grid.")
+      .def_readonly("max_abs_t", &fit::CurveError::max_abs_t)
+      .def_readonly("rms_abs_t", &fit::CurveError::rms_abs_t)
+      .def_readonly("max_abs_log_t", &fit::CurveError::max_abs_log_t, "Over depths where T_gt > 1e-6.")
+      .def_readonly("rms_abs_log_t", &fit::CurveError::rms_abs_log_t)
+      .def_readonly("mean_log_bias", &fit::CurveError::mean_log_bias, "< 0: the model overestimates extinction.")
+      .def_readonly("below_fraction", &fit::CurveError::below_fraction)
+      .def_readonly("log_points", &fit::CurveError::log_points)
+      .def("__repr__", [](const fit::CurveError& e) {
+        return fmt::format("<weft.CurveError max_abs_t={:.4g} rms_abs_t={:.4g} mean_log_bias={:.4g}>", e.max_abs_t,
+                           e.rms_abs_t, e.mean_log_bias);
+      });
+
+  m.def(
+      "window_stats",
+      [](const vol::Grid& grid, const py::object& axis, double window, const py::object& progress) {
+        const int a = axis_index(axis, "window_stats: axis");
+        require_non_negative("window_stats: window", window);
+        return run_released(progress, [&](ProgressSink& p) { return fit::window_stats(grid, a, window, p); });
+      },
+      py::arg("grid"), py::arg("axis"), py::arg("window") = 0.0, py::arg("progress") = py::none(),
+      "Mean and variance of the concentration averaged over windows of `window` (0 = the grid's extent)\n"
+      "along `axis`, every window position of every column a sample (weft/fit/fit.h).");
+  m.def(
+      "correlation_length",
+      [](const vol::Grid& grid, const py::object& axis, const py::object& progress) {
+        const int a = axis_index(axis, "correlation_length: axis");
+        return run_released(progress, [&](ProgressSink& p) { return fit::correlation_length(grid, a, p); });
+      },
+      py::arg("grid"), py::arg("axis"), py::arg("progress") = py::none(),
+      "Lag at which the autocorrelation of C along `axis` first falls to 1/e [length].");
+  m.def("pool", &fit::pool, py::arg("per_axis"),
+        "Isotropic statistics: several axes' samples pooled with equal weight.");
+  m.def("gamma_from_moments", &fit::gamma_from_moments, py::arg("mean"), py::arg("variance"), py::arg("sigma"),
+        "The gamma law by moment matching (Eq. 19).");
+  m.def(
+      "fit_gamma_to_curve",
+      [](const vol::TransmittanceCurve& curve, double sigma, const std::optional<fit::GammaFit>& start) {
+        require_positive("fit_gamma_to_curve: sigma", sigma);
+        const fit::GammaFit s = start.value_or(fit::GammaFit{sigma, 0.0, 0.0, 0.0, 0.0});
+        py::gil_scoped_release release;
+        return fit::fit_gamma_to_curve(curve, sigma, s);
+      },
+      py::arg("curve"), py::arg("sigma"), py::arg("start") = py::none(),
+      "Best least-squares gamma law to a ground-truth curve (what any gamma law can do at best).");
+  m.def(
+      "log_curve",
+      [](const transmittance::Law& law, const std::vector<double>& depths) {
+        for (std::size_t k = 0; k < depths.size(); ++k) {
+          if (std::isnan(depths[k]) || depths[k] < 0.0)
+            fail("log_curve: depths must be >= 0, got {} at index {}", depths[k], k);
+        }
+        return to_array(fit::log_curve(law, depths));
+      },
+      py::arg("law"), py::arg("depths"), "log T of `law` at `depths` (a numpy array).");
+  m.def(
+      "compare",
+      [](const vol::TransmittanceCurve& curve, const std::vector<double>& model_log_t) {
+        if (model_log_t.size() != curve.size())
+          fail("compare: model_log_t has {} values, the curve {} depths", model_log_t.size(), curve.size());
+        return fit::compare(curve, model_log_t);
+      },
+      py::arg("curve"), py::arg("model_log_t"), "Errors of a model's log T against the ground truth.");
+}
+
+}  // namespace weft::python

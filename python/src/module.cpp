@@ -1,0 +1,54 @@
+// The Python module weft._weft (pybind11): the library's laws, grids, ground truth, fits, cloth
+// generator and renderer. python/weft/__init__.py re-exports it with the dict-taking helpers.
+#include <cmath>
+#include <string>
+
+#include "common.h"
+#include "weft/volume/beam.h"
+
+namespace weft::python {
+
+int axis_index(const py::object& axis, const char* what) {
+  if (py::isinstance<py::bool_>(axis)) throw py::type_error(std::string(what) + ": expected 0, 1, 2 or 'x', 'y', 'z'");
+  if (py::isinstance<py::int_>(axis)) {
+    const long a = axis.cast<long>();
+    if (a < 0 || a > 2) fail("{}: axis must be 0, 1 or 2, got {}", what, a);
+    return static_cast<int>(a);
+  }
+  if (py::isinstance<py::str>(axis)) {
+    const auto text = axis.cast<std::string>();
+    const int a = volume::beam_axis(volume::parse_direction(text));
+    if (a < 0) fail("{}: '{}' is not an axis (x, y, z)", what, text);
+    return a;
+  }
+  throw py::type_error(std::string(what) + ": expected 0, 1, 2 or 'x', 'y', 'z', got " +
+                       py::str(py::type::of(axis)).cast<std::string>());
+}
+
+double finite(const char* what, double value) { return require_finite(what, value); }
+
+}  // namespace weft::python
+
+PYBIND11_MODULE(_weft, m) {
+  namespace py = pybind11;
+  m.doc() =
+      "weft: transmittance of correlated media (cloth) - laws, voxel grids, ground truth by DDA,\n"
+      "gamma fits, the procedural cloth generator and the volumetric path tracer (docs/python.md).";
+  // One Python exception for every bad input: its message is weft's one-line error text.
+  static py::exception<weft::Error> error(m, "Error");
+  error.doc() = "Raised for bad input and impossible requests; the message names the input and the problem.";
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const weft::Error& e) {
+      error(e.what());
+    } catch (const weft::python::CallbackAbort& e) {
+      PyErr_SetString(PyExc_KeyboardInterrupt, e.what());
+    }
+  });
+  weft::python::init_laws(m);
+  weft::python::init_grid(m);
+  weft::python::init_measure(m);
+  weft::python::init_cloth(m);
+  weft::python::init_render(m);
+}

@@ -1,0 +1,104 @@
+"""Grids through Python: dense round trips, .vdb files, metadata, memory checks, bad input."""
+
+import os
+
+import numpy as np
+import pytest
+
+import weft
+from conftest import random_grid
+
+
+def test_dense_round_trip_and_counts():
+    g, a = random_grid()
+    assert g.active_voxel_count == np.count_nonzero(a)
+    nz = np.argwhere(a > 0)
+    assert g.bbox == (tuple(nz.min(axis=0)), tuple(nz.max(axis=0)))
+    assert g.sum() == pytest.approx(float(a.astype(np.float64).sum()), rel=1e-6)
+    box = ((0, 0, 0), tuple(s - 1 for s in a.shape))
+    np.testing.assert_array_equal(g.to_numpy(box), a)
+    i, j, k = nz[len(nz) // 2]
+    assert g.value(int(i), int(j), int(k)) == a[i, j, k]
+
+
+def test_sub_box_and_offset_origin():
+    rng = np.random.default_rng(1)
+    a = rng.uniform(0.1, 1, size=(4, 3, 5)).astype(np.float32)
+    g = weft.Grid.from_numpy(a, voxel_size=0.25, index_origin=(10, -3, 2))
+    assert g.bbox == ((10, -3, 2), (13, -1, 6))
+    np.testing.assert_array_equal(g.to_numpy(), a)  # default box: the active bbox
+    sub = g.to_numpy(((11, -3, 3), (12, -2, 8)))
+    assert sub.shape == (2, 2, 6)
+    np.testing.assert_array_equal(sub[:, :, :4], a[1:3, 0:2, 1:5])
+    np.testing.assert_array_equal(sub[:, :, 4:], 0)  # outside the data: background
+    assert sub.dtype == np.float32
+
+
+def test_save_load_keeps_values_transform_and_metadata(tmp_path):
+    g, a = random_grid(voxel_size=0.125)
+    g.origin = (1.0, -2.0, 0.5)
+    g.set_metadata("note", "from pytest")
+    path = tmp_path / "g.vdb"
+    g.save(path)
+    h = weft.load_grid(str(path))
+    assert h.voxel_size == 0.125
+    assert h.origin == pytest.approx((1.0, -2.0, 0.5))
+    assert h.metadata["note"] == "from pytest"
+    assert h.name == "density"
+    np.testing.assert_array_equal(h.to_numpy(((0, 0, 0), (5, 4, 6))), a)
+
+
+def test_memory_check_refuses_before_allocating():
+    g, _ = random_grid()
+    huge = ((0, 0, 0), (100000, 100000, 100000))  # 4e15 bytes
+    with pytest.raises(weft.Error, match="MiB"):
+        g.to_numpy(huge)
+    with pytest.raises(weft.Error, match="limit"):
+        g.to_numpy(((0, 0, 0), (99, 99, 99)), max_memory_mb=1.0)  # 3.8 MiB > 1 MiB
+    assert g.to_numpy(((0, 0, 0), (99, 99, 99)), max_memory_mb=4.0).shape == (100, 100, 100)
+
+
+def test_provenance_of_generated_cloth(small_cloth, small_cloth_spec):
+    md = small_cloth.grid.metadata
+    assert md["value_kind"] == "concentration"
+    assert md["units"] == "mm"
+    assert md["seed"] == str(small_cloth_spec["seed"])
+    assert '"warp_count": 2' in md["generator"] or '"warp_count":2' in md["generator"]
+
+
+@pytest.mark.parametrize("call, exc", [
+    (lambda tmp: weft.Grid.load(os.path.join(tmp, "missing.vdb")), weft.Error),
+    (lambda tmp: weft.Grid.load(3), TypeError),
+    (lambda tmp: weft.Grid.load(_write(tmp, "junk.vdb", b"\x20\xbd\xb3\x56" + os.urandom(200))), weft.Error),
+    (lambda tmp: weft.Grid.load(_write(tmp, "empty.vdb", b"")), weft.Error),
+    (lambda tmp: weft.Grid.from_numpy(np.array([[1.0]])), weft.Error),
+    (lambda tmp: weft.Grid.from_numpy(np.full((2, 2, 2), np.nan)), weft.Error),
+    (lambda tmp: weft.Grid.from_numpy(np.full((2, 2, 2), -1.0)), weft.Error),
+    (lambda tmp: weft.Grid.from_numpy(np.ones((2, 2, 2)), voxel_size=0.0), weft.Error),
+    (lambda tmp: weft.Grid.from_numpy(np.ones((2, 2, 2)), voxel_size=np.nan), weft.Error),
+    (lambda tmp: weft.Grid.from_numpy("abc"), TypeError),
+    (lambda tmp: weft.Grid.from_numpy(np.ones((2, 2, 2)), index_origin=(0, 0)), TypeError),
+    (lambda tmp: random_grid()[0].to_numpy(((3, 3, 3), (0, 0, 0))), weft.Error),
+    (lambda tmp: random_grid()[0].to_numpy("all"), TypeError),
+    (lambda tmp: weft.Grid().to_numpy(), weft.Error),
+    (lambda tmp: random_grid()[0].set_value(0, 0, 0, float("inf")), weft.Error),
+    (lambda tmp: random_grid()[0].save(os.path.join(tmp, "no", "such", "dir", "g.vdb")), weft.Error),
+])
+def test_bad_input_raises(tmp_path, call, exc):
+    with pytest.raises(exc):
+        call(str(tmp_path))
+
+
+def _write(folder, name, data):
+    path = os.path.join(folder, name)
+    with open(path, "wb") as f:
+        f.write(data)
+    return path
+
+
+def test_failed_save_leaves_no_file(tmp_path):
+    target = tmp_path / "out.vdb"
+    os.mkdir(target)  # a folder where the file should go
+    with pytest.raises(weft.Error):
+        random_grid()[0].save(target)
+    assert os.listdir(tmp_path) == ["out.vdb"]

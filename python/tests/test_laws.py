@@ -1,0 +1,148 @@
+"""Transmittance laws through Python: closed forms, vectorization, sampling, CLI identity."""
+
+import math
+
+import numpy as np
+import pytest
+
+import weft
+
+
+def gamma_T(t, alpha, mean_extinction):
+    # Jarabo et al. 2018: T(t) = (1 + sigma t / beta)^-alpha with sigma C_bar = mean extinction,
+    # beta = alpha / C_bar, i.e. (1 + mean_extinction t / alpha)^-alpha.
+    return (1.0 + mean_extinction * t / alpha) ** -alpha
+
+
+def test_gamma_by_registry_names_matches_closed_form():
+    law = weft.law("gamma", alpha=0.5, mean_extinction=1.0)
+    t = np.array([0.0, 0.1, 1.0, 7.5, 100.0])
+    np.testing.assert_allclose(law.T(t), gamma_T(t, 0.5, 1.0), rtol=1e-13)
+    np.testing.assert_allclose(law.log_T(t), np.log(gamma_T(t, 0.5, 1.0)), rtol=1e-12, atol=1e-15)
+    # p = -dT/dt = mean_extinction (1 + mean_extinction t / alpha)^-(alpha + 1); Sigma = p / T.
+    p = (1.0 + t / 0.5) ** -1.5
+    np.testing.assert_allclose(law.p(t), p, rtol=1e-12)
+    np.testing.assert_allclose(law.sigma(t), p / gamma_T(t, 0.5, 1.0), rtol=1e-12)
+    assert law.name == "gamma"
+    assert law.parameters["alpha"] == pytest.approx(0.5)
+
+
+def test_vectorized_shapes_and_scalars():
+    law = weft.law("exponential", mu=2.0)
+    t = np.linspace(0.0, 3.0, 12).reshape(3, 4)
+    out = law.T(t)
+    assert out.shape == (3, 4)
+    np.testing.assert_allclose(out, np.exp(-2.0 * t), rtol=1e-15)
+    assert isinstance(law.T(0.5), float)
+    assert law.T(0.5) == pytest.approx(math.exp(-1.0), rel=1e-15)
+    assert law.T([0, 1]).shape == (2,)  # lists and ints convert
+    assert law.T(np.inf) == 0.0
+
+
+def test_every_registered_law_round_trips_its_parameters():
+    t = np.array([0.0, 0.3, 2.0])
+    for name in weft.law_names():
+        if name == "tabulated":
+            continue  # needs a table file
+        law = {"exponential": lambda: weft.law("exponential", mu=1.5),
+               "gamma": lambda: weft.law("gamma", alpha=2.0, mean_extinction=1.5),
+               }.get(name)
+        if law is None:
+            continue
+        law = law()
+        again = weft.law(law.name, **law.parameters)
+        np.testing.assert_array_equal(again.T(t), law.T(t))
+    assert {"exponential", "gamma"} <= set(weft.law_names())
+    assert "alpha" in weft.describe_law("gamma")
+
+
+def test_samples_follow_the_law():
+    # Mean of the draws vs the mean free path, and the empirical CDF vs 1 - T, each within
+    # 5 standard errors (fixed seed).
+    law = weft.law("gamma", alpha=4.0, mean_extinction=2.0)
+    n = 200000
+    x = law.sample(n, seed=11)
+    assert x.shape == (n,) and np.all(x >= 0)
+    ell = law.mean_free_path
+    assert ell == pytest.approx(4.0 / (2.0 * 3.0), rel=1e-12)  # alpha / (mu (alpha - 1))
+    assert abs(x.mean() - ell) < 5 * x.std() / math.sqrt(n)
+    for t in [0.1, 0.5, 1.0, 2.0]:
+        F = 1.0 - law.T(t)
+        assert abs(np.mean(x <= t) - F) < 5 * math.sqrt(F * (1 - F) / n)
+
+
+def test_scatterer_samples_follow_the_reciprocal_partner():
+    law = weft.law("gamma", alpha=4.0, mean_extinction=2.0)
+    pair = weft.TransmittancePair.reciprocal(law)
+    s = pair.scatterer
+    n = 100000
+    x = law.sample(n, from_="scatterer", seed=2)
+    np.testing.assert_array_equal(x, pair.sample(n, from_="scatterer", seed=2))
+    for t in [0.1, 0.5, 1.5]:
+        F = 1.0 - s.T(t)
+        assert abs(np.mean(x <= t) - F) < 5 * math.sqrt(F * (1 - F) / n)
+    # Reciprocity: p_Q(t) = T_S(t) / l_S.
+    t = np.linspace(0.0, 5.0, 11)
+    np.testing.assert_allclose(pair.p("source", t), s.T(t) / s.mean_free_path, rtol=1e-10)
+    assert pair.mode == "reciprocal"
+    same = weft.TransmittancePair.same(law)
+    np.testing.assert_array_equal(same.T("S", t), law.T(t))
+
+
+def test_seeds_are_reproducible_and_differ():
+    law = weft.law("exponential", mu=1.0)
+    np.testing.assert_array_equal(law.sample(100, seed=3), law.sample(100, seed=3))
+    assert not np.array_equal(law.sample(100, seed=3), law.sample(100, seed=4))
+    assert law.sample(0).shape == (0,)
+
+
+@pytest.mark.parametrize("origin", ["source", "scatterer"])
+def test_samples_identical_to_cli(run_cli, origin):
+    law = weft.law("gamma", alpha=0.5, mean_extinction=1.0)
+    x = law.sample(500, from_=origin, seed=7)
+    out = run_cli("model", "--law", "gamma", "--alpha", "0.5", "--mean-extinction", "1", "--sample", "500",
+                  "--from", origin, "--seed", "7")
+    cli = np.array([float(v) for v in out.split()])
+    np.testing.assert_array_equal(x, cli)  # printed with 17 digits: exact
+
+
+@pytest.mark.parametrize("call, exc", [
+    (lambda: weft.law("gama", alpha=1, mean_extinction=1), weft.Error),
+    (lambda: weft.law("gamma", alpha="x", mean_extinction=1), TypeError),
+    (lambda: weft.law("gamma", alpha=True, mean_extinction=1), TypeError),
+    (lambda: weft.law("gamma", alpha=float("nan"), mean_extinction=1), weft.Error),
+    (lambda: weft.law("gamma", alpha=-1, mean_extinction=1), weft.Error),
+    (lambda: weft.law("gamma", alfa=1, mean_extinction=1), weft.Error),
+    (lambda: weft.law("tabulated", table="/nonexistent/table.csv"), weft.Error),
+    (lambda: weft.law("tabulated", table=3), TypeError),
+    (lambda: weft.law(3), TypeError),
+    (lambda: weft.law("exponential", mu=1).T(float("nan")), weft.Error),
+    (lambda: weft.law("exponential", mu=1).T([0.0, -1.0]), weft.Error),
+    (lambda: weft.law("exponential", mu=1).T("abc"), TypeError),
+    (lambda: weft.law("exponential", mu=1).T(None), weft.Error),  # numpy reads None as NaN
+    (lambda: weft.law("exponential", mu=1).p([[0.0], [np.nan]]), weft.Error),
+    (lambda: weft.law("exponential", mu=1).sample(-1), weft.Error),
+    (lambda: weft.law("exponential", mu=1).sample(10**12), weft.Error),
+    (lambda: weft.law("exponential", mu=1).sample("ten"), TypeError),
+    (lambda: weft.law("exponential", mu=1).sample(3, from_="nowhere"), weft.Error),
+    (lambda: weft.law("exponential", mu=1).sample(3, seed=-1), TypeError),
+    (lambda: weft.TransmittancePair.reciprocal(weft.law("exponential", mu=1), given="both"), weft.Error),
+    (lambda: weft.TransmittancePair.same("gamma"), TypeError),
+])
+def test_bad_input_raises(call, exc):
+    with pytest.raises(exc) as info:
+        call()
+    assert str(info.value)  # a message, one line
+    assert "\n" not in str(info.value).strip() or exc is TypeError
+
+
+def test_error_message_names_the_problem():
+    with pytest.raises(weft.Error, match="gamma"):
+        weft.law("gama", alpha=1, mean_extinction=1)
+    assert issubclass(weft.Error, Exception)
+
+
+def test_docstrings_visible():
+    assert "mean_extinction" in weft.law.__doc__
+    assert "source" in weft.Law.sample.__doc__
+    assert weft.Law.T.__doc__

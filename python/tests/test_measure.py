@@ -1,0 +1,189 @@
+"""Ground truth, window statistics and fits through Python, against numpy oracles and the CLI."""
+
+import csv
+import threading
+
+import numpy as np
+import pytest
+
+import weft
+from conftest import random_grid
+
+
+def beam_oracle(a, sigma, h, axis):
+    """T(t_k) of an axis beam by numpy: one ray per column, tau summed voxel by voxel."""
+    c = np.moveaxis(a.astype(np.float64), axis, -1)
+    tau = sigma * h * np.concatenate([np.zeros(c.shape[:-1] + (1,)), np.cumsum(c, axis=-1)], axis=-1)
+    e = np.exp(-tau).reshape(-1, tau.shape[-1])
+    return e.mean(axis=0), e.std(axis=0) / np.sqrt(e.shape[0]), e.shape[0]
+
+
+@pytest.mark.parametrize("axis", [0, 1, 2])
+def test_axis_beam_matches_numpy_oracle(axis):
+    g, a = random_grid(shape=(5, 6, 7), zero_fraction=0.2)
+    # Full columns: the active bbox is the whole array when its faces have active voxels.
+    a[0, 0, 0] = a[-1, -1, -1] = 0.5
+    g = weft.Grid.from_numpy(a, voxel_size=0.5)
+    curve = weft.measure_beam(g, axis, sigma=1.7)
+    T, se, rays = beam_oracle(a, 1.7, 0.5, axis)
+    assert curve.rays == rays
+    np.testing.assert_allclose(curve.depth, 0.5 * np.arange(a.shape[axis] + 1), rtol=1e-12)
+    np.testing.assert_allclose(curve.T, T, rtol=1e-9)
+    np.testing.assert_allclose(curve.log_T, np.log(T), rtol=1e-9)
+    # stderr: of the mean over rays (population std / sqrt(n) up to the n/(n-1) convention).
+    np.testing.assert_allclose(curve.stderr[1:], se[1:], rtol=5.0 / rays)
+    depths, T2, stderr = curve  # unpacks
+    np.testing.assert_array_equal(T2, curve.T)
+
+
+def test_axis_spellings_agree():
+    g, _ = random_grid()
+    a = weft.measure_beam(g, "x", sigma=2.0)
+    b = weft.measure_beam(g, 0, sigma=2.0)
+    c = weft.measure_beam(g, direction=(3.0, 0.0, 0.0), sigma=2.0)
+    np.testing.assert_array_equal(a.T, b.T)
+    np.testing.assert_array_equal(a.T, c.T)
+    assert tuple(a.direction) == (1.0, 0.0, 0.0)
+
+
+def test_oblique_beam_two_implementations_agree():
+    # weft's hierarchical DDA against OpenVDB's own DDA on the same rays; and in a uniform medium
+    # (mu = sigma C = 1) rays that leave the box stop accumulating, so T(t) >= exp(-t), = at 0.
+    g, _ = random_grid(shape=(9, 8, 10), zero_fraction=0.3)
+    ours = weft.measure_beam(g, direction=(1.0, 2.0, 3.0), sigma=2.0, method="per-ray")
+    ref = weft.measure_beam(g, direction=(1.0, 2.0, 3.0), sigma=2.0, method="openvdb")
+    np.testing.assert_allclose(ours.T, ref.T, rtol=1e-9)
+    a = np.full((12, 12, 12), 0.25, dtype=np.float32)
+    u = weft.measure_beam(weft.Grid.from_numpy(a, voxel_size=0.1), direction=(1.0, 1.0, 1.0), sigma=4.0)
+    assert u.T[0] == 1.0
+    assert np.all(u.T >= np.exp(-u.depth) * (1 - 1e-12))
+    assert u.T[-1] < 1.0
+
+
+def test_identical_to_cli(tmp_path, run_cli, small_cloth):
+    path = tmp_path / "cloth.vdb"
+    small_cloth.grid.save(path)
+    run_cli("measure", "--grid", path, "--direction", "x", "--sigma", "106.1", "--out", tmp_path / "m")
+    with open(tmp_path / "m" / "beams.csv") as f:
+        rows = list(csv.DictReader(f))
+    curve = weft.measure_beam(weft.load_grid(path), "x", sigma=106.1)
+    assert len(rows) == len(curve)
+    fmt = lambda x: "%.10g" % x
+    assert [r["t"] for r in rows] == [fmt(x) for x in curve.depth]
+    assert [r["T"] for r in rows] == [fmt(x) for x in curve.T]
+    assert [r["stderr"] for r in rows] == [fmt(x) for x in curve.stderr]
+
+
+def test_window_stats_match_numpy():
+    g, a = random_grid(shape=(4, 5, 8), zero_fraction=0.3)
+    a[0, 0, 0] = a[-1, -1, -1] = 0.5
+    g = weft.Grid.from_numpy(a, voxel_size=0.5)
+    s = weft.window_stats(g, "z")  # window = the extent: one sample per column
+    col = a.astype(np.float64).mean(axis=2).ravel()
+    assert s.samples == col.size
+    assert s.mean == pytest.approx(col.mean(), rel=1e-6)
+    assert s.variance == pytest.approx(col.var(), rel=1e-5)
+    assert s.window == pytest.approx(4.0)
+    # Window of 2 voxels: every position along every column.
+    s2 = weft.window_stats(g, 2, window=1.0)
+    w = (a[:, :, :-1].astype(np.float64) + a[:, :, 1:]) / 2
+    assert s2.samples == w.size
+    assert s2.mean == pytest.approx(w.mean(), rel=1e-6)
+    assert s2.variance == pytest.approx(w.var(), rel=1e-5)
+    fit = weft.gamma_from_moments(s.mean, s.variance, 3.0)
+    assert fit.alpha == pytest.approx(s.mean ** 2 / s.variance)
+    assert fit.beta == pytest.approx(s.mean / s.variance)
+    t = np.array([0.0, 0.5, 2.0])
+    np.testing.assert_allclose(fit.law().T(t), (1 + 3.0 * t / fit.beta) ** -fit.alpha, rtol=1e-12)
+    np.testing.assert_allclose(fit.exponential_law().T(t), np.exp(-3.0 * s.mean * t), rtol=1e-12)
+    pooled = weft.pool([weft.window_stats(g, ax) for ax in range(3)])
+    assert pooled.mean == pytest.approx(np.mean([weft.window_stats(g, ax).mean for ax in range(3)]))
+
+
+def test_least_squares_recovers_a_gamma_curve():
+    # A medium whose column means are gamma-like: the fit must at least beat the exponential.
+    g, a = random_grid(shape=(30, 30, 6), zero_fraction=0.5, seed=9)
+    curve = weft.measure_beam(g, "z", sigma=5.0)
+    s = weft.window_stats(g, "z")
+    moments = weft.gamma_from_moments(s.mean, s.variance, 5.0)
+    lsq = weft.fit_gamma_to_curve(curve, 5.0, moments)
+    err_lsq = weft.compare(curve, weft.log_curve(lsq.fit.law(), curve.depth))
+    err_exp = weft.compare(curve, weft.log_curve(moments.exponential_law(), curve.depth))
+    assert lsq.converged
+    assert err_lsq.rms_abs_t <= err_exp.rms_abs_t
+    assert err_lsq.rms_abs_t == pytest.approx(lsq.rms, rel=1e-6, abs=1e-12)
+
+
+def test_progress_callback_and_errors_from_it():
+    g, _ = random_grid(shape=(40, 40, 40), zero_fraction=0.1)
+    calls = []
+    weft.measure_beam(g, direction=(1, 2, 3), progress=lambda label, done, total: calls.append((label, done, total)))
+    assert calls and all(0 <= d <= t for _, d, t in calls)
+    assert calls[-1][1] == calls[-1][2]
+
+    def boom(label, done, total):
+        raise ValueError("stop here")
+    with pytest.raises(ValueError, match="stop here"):
+        weft.measure_beam(g, direction=(1, 2, 3), progress=boom)
+    with pytest.raises(TypeError):
+        weft.measure_beam(g, "x", progress=lambda: None)  # wrong signature: its TypeError propagates
+
+
+def test_gil_is_released_during_long_calls():
+    # Another Python thread keeps running while measure_beam works.
+    g, _ = random_grid(shape=(60, 60, 60), zero_fraction=0.1)
+    ticks = []
+    stop = threading.Event()
+
+    def count():
+        while not stop.is_set():
+            ticks.append(1)
+            stop.wait(0.001)
+    thread = threading.Thread(target=count)
+    thread.start()
+    for _ in range(3):
+        weft.measure_beam(g, direction=(1, 2, 3))
+    stop.set()
+    thread.join()
+    assert len(ticks) > 1
+
+
+@pytest.mark.parametrize("kwargs, exc", [
+    (dict(axis="w"), weft.Error),
+    (dict(axis=3), weft.Error),
+    (dict(axis=1.5), TypeError),
+    (dict(axis="x", direction=(1, 0, 0)), weft.Error),
+    (dict(direction=(0, 0, 0)), weft.Error),
+    (dict(direction=(np.nan, 0, 1)), weft.Error),
+    (dict(direction=(1, 0)), TypeError),
+    (dict(axis="x", sigma=0.0), weft.Error),
+    (dict(axis="x", sigma=np.nan), weft.Error),
+    (dict(axis="x", sigma="1"), TypeError),
+    (dict(axis="x", rays_per_column=0), weft.Error),
+    (dict(axis="x", method="magic"), weft.Error),
+    (dict(direction=(1, 1, 0), method="streaming"), weft.Error),
+    (dict(axis="x", depth_step=-1.0), weft.Error),
+])
+def test_measure_bad_input(kwargs, exc):
+    g, _ = random_grid()
+    with pytest.raises(exc):
+        weft.measure_beam(g, **kwargs)
+
+
+def test_fit_bad_input():
+    g, _ = random_grid()
+    with pytest.raises(weft.Error):
+        weft.measure_beam(weft.Grid(), "x")  # empty grid
+    with pytest.raises(weft.Error):
+        weft.window_stats(g, "x", window=-1.0)
+    with pytest.raises(weft.Error):
+        weft.gamma_from_moments(-1.0, 0.1, 1.0)
+    with pytest.raises(weft.Error):
+        weft.gamma_from_moments(0.5, 0.1, np.nan)
+    with pytest.raises(TypeError):
+        weft.window_stats("grid", "x")
+    c = weft.measure_beam(g, "x")
+    with pytest.raises(weft.Error):
+        weft.compare(c, [0.0])
+    with pytest.raises(weft.Error):
+        weft.log_curve(weft.law("exponential", mu=1), [-1.0])
