@@ -1,0 +1,163 @@
+// `weft export`: a grid plus ready scenes for Mitsuba 3 (.xml + .vol) and pbrt-v4 (.pbrt + .nvdb).
+#include <filesystem>
+#include <memory>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "command.h"
+#include "data_gen/cloth/provenance.h"
+#include "data_gen/cloth/voxelize.h"
+#include "weft/core/atomic_file.h"
+#include "weft/core/error.h"
+#include "weft/volume/dense.h"
+#include "weft/volume/renderer_export.h"
+
+namespace weft::app {
+namespace {
+namespace fs = std::filesystem;
+
+struct ExportOptions {
+  std::string grid;
+  std::string grid_name;
+  std::string out = "export";
+  std::string formats = "mitsuba,pbrt";
+  double sigma = 0.0;
+  std::string albedo = "0.8";
+  double g = 0.0;
+  int width = 256;
+  int height = 192;
+  int spp = 64;
+  double max_memory_mb = 0.0;
+};
+
+std::array<double, 3> parse_albedo(const std::string& text) {
+  std::vector<double> v;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    std::size_t used = 0;
+    double x = 0.0;
+    try {
+      x = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size()) fail("--albedo: '{}' is not a number", item);
+    v.push_back(x);
+  }
+  if (v.size() == 1) return {v[0], v[0], v[0]};
+  if (v.size() != 3) fail("--albedo: expected A or R,G,B, got '{}'", text);
+  return {v[0], v[1], v[2]};
+}
+
+// σ: given, 1 for extinction grids, else 2/(π r) from the fibre radius in the grid's provenance.
+double sigma_of(const volume::Grid& grid, const ExportOptions& o, std::string& why) {
+  const auto md = grid.metadata();
+  const auto kind = md.find("value_kind");
+  const bool extinction = kind != md.end() && kind->second == "extinction";
+  if (o.sigma != 0.0) {
+    if (extinction) fail("--sigma: grid '{}' holds extinction values already", grid.name());
+    why = "given";
+    return require_positive("--sigma", o.sigma);
+  }
+  if (extinction) {
+    why = "extinction grid";
+    return 1.0;
+  }
+  const auto spec = cloth::spec_of_grid(grid);
+  if (!spec) fail("{}: grid '{}' has no weft gen provenance to take sigma from; give --sigma", o.grid, grid.name());
+  why = fmt::format("2/(pi r), fibre radius r = {} mm from the grid's provenance", spec->warp_yarn.fiber_radius);
+  return cloth::fiber_sigma(*spec);
+}
+
+int run(const ExportOptions& o, const Context& ctx) {
+  bool mitsuba = false;
+  bool pbrt = false;
+  std::stringstream ss(o.formats);
+  std::string f;
+  while (std::getline(ss, f, ',')) {
+    if (f == "mitsuba") {
+      mitsuba = true;
+    } else if (f == "pbrt") {
+      pbrt = true;
+    } else {
+      fail("--format: unknown format '{}' (mitsuba, pbrt)", f);
+    }
+  }
+  if (!mitsuba && !pbrt) fail("--format: give mitsuba, pbrt or both");
+  if (o.max_memory_mb < 0.0) fail("--max-memory-mb must be >= 0, got {}", o.max_memory_mb);
+  volume::ExportMedium medium;
+  medium.albedo = parse_albedo(o.albedo);
+  medium.g = o.g;
+  volume::ExportView view;
+  view.width = o.width;
+  view.height = o.height;
+  view.spp = o.spp;
+  medium.sigma = 1.0;
+  volume::validate(medium, view);  // options first, before reading anything
+
+  const volume::Grid grid = volume::Grid::load(o.grid, o.grid_name);
+  const volume::IndexBox box = grid.active_bbox();
+  if (box.empty()) fail("{}: grid '{}' is empty (no active voxels)", o.grid, grid.name());
+  std::string why;
+  medium.sigma = sigma_of(grid, o, why);
+  const volume::WorldBox world = volume::world_box(grid, box);
+  const std::uint64_t budget = o.max_memory_mb > 0.0 ? static_cast<std::uint64_t>(o.max_memory_mb * 1024.0 * 1024.0)
+                                                     : cloth::default_memory_budget();
+  // Every refusal before the first file: a failed run leaves no partial output.
+  if (mitsuba && volume::dense_bytes(box) > budget) {
+    fail("{}: the dense volume of {} voxels would take {:.4g} MiB, over the limit of {:.4g} MiB",
+         (fs::path(o.out) / "mitsuba" / "cloth.vol").string(), volume::dense_bytes(box) / sizeof(float),
+         static_cast<double>(volume::dense_bytes(box)) / (1024.0 * 1024.0),
+         static_cast<double>(budget) / (1024.0 * 1024.0));
+  }
+  const std::string xml = mitsuba ? volume::mitsuba_scene_xml(world, "cloth.vol", medium, view) : std::string();
+  const std::string pbrt_text = pbrt ? volume::pbrt_scene(world, "cloth.nvdb", medium, view) : std::string();
+  const fs::path out(o.out);
+  ensure_directory(out);
+  if (mitsuba) {
+    const fs::path dir = out / "mitsuba";
+    ensure_directory(dir);
+    volume::write_mitsuba_vol(grid, box, dir / "cloth.vol", budget);
+    write_text_atomically(dir / "cloth.xml", xml);
+    ctx.say(fmt::format("wrote {} and {}", (dir / "cloth.xml").string(), (dir / "cloth.vol").string()));
+  }
+  if (pbrt) {
+    const fs::path dir = out / "pbrt";
+    ensure_directory(dir);
+    volume::write_nanovdb(grid, dir / "cloth.nvdb");
+    write_text_atomically(dir / "cloth.pbrt", pbrt_text);
+    ctx.say(fmt::format("wrote {} and {}", (dir / "cloth.pbrt").string(), (dir / "cloth.nvdb").string()));
+  }
+  ctx.say(fmt::format("sigma = {:.6g} per unit concentration ({}), albedo {}, g {}", medium.sigma, why, o.albedo, o.g));
+  return 0;
+}
+
+const Registrar kExport{Command{
+    "export", "Export a grid and a ready scene for Mitsuba 3 (.xml + .vol) and pbrt-v4 (.pbrt + .nvdb)", 65,
+    [](CLI::App& sub) -> Action {
+      auto o = std::make_shared<ExportOptions>();
+      sub.add_option("--grid", o->grid, "Input .vdb grid (e.g. cloth.vdb of weft gen)")->required();
+      sub.add_option("--grid-name", o->grid_name, "Grid to read (default: the first float grid)");
+      sub.add_option("--out", o->out, "Output folder (mitsuba/ and pbrt/ inside)")->capture_default_str();
+      sub.add_option("--format", o->formats, "mitsuba, pbrt or mitsuba,pbrt")->capture_default_str();
+      sub.add_option("--sigma", o->sigma,
+                     "Extinction per unit concentration [1/length] (default: 2/(pi r) from the fibre radius r in the "
+                     "grid's weft gen provenance; 1 for extinction grids)");
+      sub.add_option("--albedo", o->albedo, "Single-scattering albedo A or R,G,B in [0, 1]")->capture_default_str();
+      sub.add_option("--g", o->g, "Henyey-Greenstein asymmetry in (-1, 1)")->capture_default_str();
+      sub.add_option("--width", o->width, "Image width of the scenes")->capture_default_str();
+      sub.add_option("--height", o->height, "Image height of the scenes")->capture_default_str();
+      sub.add_option("--spp", o->spp, "Samples per pixel of the scenes")->capture_default_str();
+      sub.add_option("--max-memory-mb", o->max_memory_mb,
+                     "Refuse a dense .vol above this many MiB (default: half the RAM)");
+      sub.footer(
+          "Writes OUT/mitsuba/cloth.xml + cloth.vol (Mitsuba 3 heterogeneous medium, gridvolume with nearest\n"
+          "filtering, scale = sigma) and OUT/pbrt/cloth.pbrt + cloth.nvdb (pbrt-v4 nanovdb medium, grid 'density').\n"
+          "Lengths stay in the grid's units (mm for weft gen). See docs/export.md.");
+      return [o](const Context& ctx) { return run(*o, ctx); };
+    }}};
+
+}  // namespace
+}  // namespace weft::app

@@ -1,0 +1,66 @@
+#pragma once
+/// @file
+/// @brief A grid and a ready scene for other renderers (`weft export`): Mitsuba 3 (XML scene +
+/// binary .vol grid volume) and pbrt-v4 (scene file + NanoVDB .nvdb). docs/export.md lists
+/// what each file holds and the format documentation it follows.
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include "weft/volume/grid.h"
+
+namespace weft::volume {
+
+/// The medium the grid describes: μ = sigma × value, single-scattering albedo, HG asymmetry.
+struct ExportMedium {
+  double sigma = 1.0;                           ///< extinction per unit grid value [1/length]
+  std::array<double, 3> albedo{0.8, 0.8, 0.8};  ///< per RGB channel, in [0, 1]
+  double g = 0.0;                               ///< Henyey–Greenstein asymmetry in (−1, 1)
+};
+
+/// Camera and film of the exported scenes; the camera looks at the grid's centre from above
+/// and the front, far enough that the whole box is in view, lit by a white environment.
+struct ExportView {
+  int width = 256;
+  int height = 192;
+  int spp = 64;
+  double fov_deg = 40.0;  ///< vertical field of view
+  int max_depth = 64;
+};
+
+/// World-space box of the grid's active voxels (the medium's bounds in both scenes).
+struct WorldBox {
+  std::array<double, 3> min{};
+  std::array<double, 3> max{};
+};
+[[nodiscard]] WorldBox world_box(const Grid& grid, const IndexBox& box);
+
+/// @brief Mitsuba's binary grid volume ("VOL", version 3, encoding 1 = float32, one channel;
+/// little endian): resolution, world bounding box, then values with x fastest. Covers `box`;
+/// refuses (weft::Error) a dense array above `max_bytes`. Written atomically.
+void write_mitsuba_vol(const Grid& grid, const IndexBox& box, const std::filesystem::path& path,
+                       std::uint64_t max_bytes);
+
+/// @brief The Mitsuba 3 scene (XML, version 3.0.0): volpath integrator, perspective sensor,
+/// constant environment, a null-BSDF cube bounding the grid box with a heterogeneous medium
+/// inside whose sigma_t is the gridvolume `vol_file` (nearest filtering: weft's grids are
+/// piecewise constant) scaled by medium.sigma.
+[[nodiscard]] std::string mitsuba_scene_xml(const WorldBox& box, const std::string& vol_file,
+                                            const ExportMedium& medium, const ExportView& view);
+
+/// @brief The grid as a NanoVDB float grid named "density" (what pbrt-v4's nanovdb medium
+/// reads), same index-to-world transform and values, uncompressed. Written atomically.
+void write_nanovdb(const Grid& grid, const std::filesystem::path& path);
+
+/// @brief The pbrt-v4 scene: volpath integrator, perspective camera, uniform infinite light, a
+/// triangle-mesh box with an "interface" material bounding the "nanovdb" medium `nvdb_file`
+/// (sigma_a = (1 − albedo)·sigma, sigma_s = albedo·sigma per unit density).
+[[nodiscard]] std::string pbrt_scene(const WorldBox& box, const std::string& nvdb_file, const ExportMedium& medium,
+                                     const ExportView& view);
+
+/// Checks the medium and view (σ > 0 finite, albedo in [0, 1], |g| < 1, positive sizes).
+void validate(const ExportMedium& medium, const ExportView& view);
+
+}  // namespace weft::volume

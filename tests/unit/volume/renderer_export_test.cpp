@@ -1,0 +1,105 @@
+// weft export's NanoVDB grid read back with NanoVDB's own reader and compared with the source
+// grid (values at every active voxel and around it, transform), and the .vol header layout.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+#include <filesystem>
+
+#include <cmath>
+
+#include <fmt/format.h>
+#include <nanovdb/util/IO.h>
+
+#include "weft/core/error.h"
+#include "weft/core/rng.h"
+#include "weft/volume/grid.h"
+#include "weft/volume/renderer_export.h"
+
+namespace weft::volume {
+namespace {
+namespace fs = std::filesystem;
+
+Grid random_grid(std::uint64_t seed) {
+  Grid g(0.125, "density");
+  g.set_origin({1.5, -2.0, 0.25});
+  Pcg32 rng = stream_for(seed, 0);
+  for (int i = -3; i < 9; ++i)
+    for (int j = 2; j < 7; ++j)
+      for (int k = -1; k < 4; ++k)
+        if (rng.uniform() < 0.6) g.set_value(i, j, k, static_cast<float>(rng.uniform()));
+  return g;
+}
+
+fs::path temp_path(const std::string& name) {
+  return fs::temp_directory_path() / fmt::format("weft_export_{}_{}", ::getpid(), name);
+}
+
+TEST(RendererExport, NanoVdbReadsBackWithSameValuesAndTransform) {
+  const Grid g = random_grid(3);
+  const fs::path path = temp_path("g.nvdb");
+  write_nanovdb(g, path);
+  const auto handle = nanovdb::io::readGrid(path.string(), "density");
+  fs::remove(path);
+  const nanovdb::FloatGrid* nano = handle.grid<float>();
+  ASSERT_NE(nano, nullptr);
+  EXPECT_EQ(nano->activeVoxelCount(), g.active_voxel_count());
+  EXPECT_DOUBLE_EQ(nano->voxelSize()[0], g.voxel_size());
+  // Transform: NanoVDB index (i, j, k) is the centre of weft's voxel (i, j, k).
+  const auto o = g.origin();
+  const nanovdb::Vec3d w = nano->indexToWorld(nanovdb::Vec3d(2.0, 3.0, -1.0));
+  EXPECT_NEAR(w[0], o[0] + 0.125 * 2.5, 1e-12);
+  EXPECT_NEAR(w[1], o[1] + 0.125 * 3.5, 1e-12);
+  EXPECT_NEAR(w[2], o[2] + 0.125 * -0.5, 1e-12);
+  const auto acc = nano->getAccessor();
+  const IndexBox box = g.active_bbox();
+  std::uint64_t compared = 0;
+  for (int i = box.min[0] - 1; i <= box.max[0] + 1; ++i)
+    for (int j = box.min[1] - 1; j <= box.max[1] + 1; ++j)
+      for (int k = box.min[2] - 1; k <= box.max[2] + 1; ++k) {
+        ASSERT_EQ(acc.getValue(nanovdb::Coord(i, j, k)), g.value(i, j, k)) << i << "," << j << "," << k;
+        ++compared;
+      }
+  EXPECT_GT(compared, g.active_voxel_count());
+  const auto bbox = nano->indexBBox();
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_EQ(bbox.min()[a], box.min[a]);
+    EXPECT_EQ(bbox.max()[a], box.max[a]);
+  }
+}
+
+TEST(RendererExport, WorldBoxCoversTheActiveVoxels) {
+  const Grid g = random_grid(4);
+  const IndexBox b = g.active_bbox();
+  const WorldBox w = world_box(g, b);
+  EXPECT_DOUBLE_EQ(w.min[0], 1.5 + 0.125 * b.min[0]);
+  EXPECT_DOUBLE_EQ(w.max[2], 0.25 + 0.125 * (b.max[2] + 1));
+  EXPECT_THROW((void)world_box(Grid(1.0), Grid(1.0).active_bbox()), Error);
+}
+
+TEST(RendererExport, VolRefusesAboveTheMemoryLimit) {
+  const Grid g = random_grid(5);
+  const fs::path path = temp_path("g.vol");
+  EXPECT_THROW(write_mitsuba_vol(g, g.active_bbox(), path, 100), Error);
+  EXPECT_FALSE(fs::exists(path));  // nothing written
+}
+
+TEST(RendererExport, BadMediumIsRefused) {
+  ExportMedium m;
+  ExportView v;
+  m.albedo = {0.5, 1.5, 0.5};
+  EXPECT_THROW(validate(m, v), Error);
+  m.albedo = {0.5, 0.5, 0.5};
+  m.g = 1.0;
+  EXPECT_THROW(validate(m, v), Error);
+  m.g = 0.0;
+  m.sigma = std::nan("");
+  EXPECT_THROW(validate(m, v), Error);
+  m.sigma = 2.0;
+  v.spp = 0;
+  EXPECT_THROW(validate(m, v), Error);
+  v.spp = 1;
+  EXPECT_NO_THROW(validate(m, v));
+}
+
+}  // namespace
+}  // namespace weft::volume
