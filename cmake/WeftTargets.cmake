@@ -61,7 +61,9 @@ function(weft_module name)
   target_link_libraries(weft_${name} PUBLIC ${M_DEPS} PRIVATE weft_warnings ${M_PRIVATE_DEPS})
   # Every module is part of the installed CMake package (weft::<name>, cmake/WeftInstall.cmake).
   set_property(GLOBAL APPEND PROPERTY WEFT_MODULES weft_${name})
-  set_target_properties(weft_${name} PROPERTIES EXPORT_NAME ${name})
+  # Position independent: linked into the Python extension (a shared object) and, installed,
+  # into consumers' shared libraries.
+  set_target_properties(weft_${name} PROPERTIES EXPORT_NAME ${name} POSITION_INDEPENDENT_CODE ON)
 endfunction()
 
 # weft_unit_test(NAME SOURCES ... DEPS ... [LABELS ...])
