@@ -424,10 +424,9 @@ RenderOutcome save_chart_grid_png(const std::vector<Chart>& panels, int columns,
   // A bare window with a context actor, not a vtkContextView: the view brings an X interactor
   // whose initialisation crashes intermittently (XSync) on an offscreen window.
   vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
-  window->SetSize(static_cast<int>(width), static_cast<int>(height));
+  detail::prepare_window(*window, static_cast<int>(width), static_cast<int>(height));
   vtkNew<vtkRenderer> renderer;
-  renderer->SetBackground(1.0, 1.0, 1.0);
+  detail::prepare_renderer(*renderer);
   window->AddRenderer(renderer);
   vtkNew<vtkContextActor> actor;
   renderer->AddActor(actor);
