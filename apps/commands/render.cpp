@@ -209,15 +209,24 @@ int run(const RenderCliOptions& o, const Context& ctx) {
       ctx.say(fmt::format("wrote {} (left to right: {} spp)", sheet_path.string(), fmt::join(conv.sheet_spp, ", ")));
     }
     const fs::path chart_path = beside(exr, ".convergence.png");
-    viz::Chart chart;
-    chart.title = "Convergence of " + label;
-    chart.x_label = "samples per pixel (blue) / seconds (red)";
-    chart.y_label = "RMSE";
-    chart.log_x = true;
-    chart.log_y = true;
-    chart.series = {viz::Series{"RMSE vs spp", conv.spp, conv.error, {31, 119, 180}},
-                    viz::Series{"RMSE vs time", conv.seconds, conv.error, {214, 39, 40}}};
-    const viz::RenderOutcome outcome = viz::save_chart_png(chart, chart_path);
+    // Two panels: samples per pixel and seconds are different units, so each gets its own axis.
+    viz::Chart by_spp_chart;
+    by_spp_chart.title = "RMSE vs samples per pixel";
+    by_spp_chart.x_label = "samples per pixel";
+    by_spp_chart.y_label = "RMSE";
+    by_spp_chart.log_x = true;
+    by_spp_chart.log_y = true;
+    by_spp_chart.width = 700;
+    by_spp_chart.height = 560;
+    viz::Chart by_time_chart = by_spp_chart;
+    by_time_chart.title = "RMSE vs render time";
+    by_time_chart.x_label = "seconds";
+    by_spp_chart.series = {
+        viz::Series{"RMSE", conv.spp, conv.error, {31, 119, 180}, viz::LineStyle::solid, 2.0f, viz::Marker::circle}};
+    by_time_chart.series = {
+        viz::Series{"RMSE", conv.seconds, conv.error, {214, 39, 40}, viz::LineStyle::solid, 2.0f, viz::Marker::circle}};
+    const viz::RenderOutcome outcome =
+        viz::save_chart_grid_png({by_spp_chart, by_time_chart}, 2, chart_path, "Convergence of " + label);
     ctx.say(fmt::format("wrote {}, {}{}", csv_path.string(), json_path.string(),
                         outcome.written ? " and " + chart_path.string() : " (no chart: " + outcome.reason + ")"));
   }

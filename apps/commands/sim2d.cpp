@@ -215,57 +215,74 @@ viz::Series exponential_reference(const SimulationResult& r, double lambda) {
   return s;
 }
 
-std::vector<std::pair<std::string, viz::Chart>> charts_for(const SimulationResult& r) {
-  std::vector<std::pair<std::string, viz::Chart>> charts;
+/// One picture: a file name and its panels (side by side).
+struct Figure {
+  std::string file;
+  std::vector<viz::Chart> panels;
+};
+
+viz::Chart log_panel(std::string title, std::string y_label) {
+  viz::Chart c;
+  c.title = std::move(title);
+  c.x_label = "t [mean free paths]";
+  c.y_label = std::move(y_label);
+  c.log_y = true;
+  return c;
+}
+
+// Transmittances are at most 1: a fixed range down to the sampling floor (half of one count in
+// all rays) keeps panels comparable. Densities are per mean free path and may exceed 1, so their
+// range is the data's. Empty bins (0 on a log axis) break the lines there.
+std::vector<Figure> charts_for(const SimulationResult& r) {
+  std::vector<Figure> figures;
   for (const EtaResult& e : r.etas) {
     const std::string tag = eta_tag(e.eta);
     const double floor = 0.5 / static_cast<double>(r.spec.samples * r.spec.realizations);
-    const std::pair<double, double> y_range{floor, 2.0};
+    const std::pair<double, double> t_range{floor, 1.2};
     // Fig. S.9: T_Q per source angle.
-    viz::Chart tq;
-    tq.title = fmt::format("T_Q(t) from sources, eta = {} ({})", e.eta, e.generator);
-    tq.x_label = "t [mean free paths]";
-    tq.y_label = "T_Q";
-    tq.log_y = true;
-    tq.y_range = y_range;
+    viz::Chart tq = log_panel(fmt::format("T_Q(t) from sources, eta = {} ({})", e.eta, e.generator), "T_Q");
+    tq.y_range = t_range;
     for (std::size_t a = 0; a < e.t_q.size(); ++a) {
       tq.series.push_back(series(fmt::format("theta = {} deg", r.spec.thetas_deg[a]), r.edges, e.t_q[a],
                                  kPalette[a % kPalette.size()]));
     }
     tq.series.push_back(series("isotropic", r.edges, e.t_q_iso, kPalette[5]));
     tq.series.push_back(exponential_reference(r, e.santalo_mfp));
-    charts.emplace_back(fmt::format("tq_{}.png", tag), std::move(tq));
-    // Fig. S.10: p_S and T_S from scatterers.
-    viz::Chart sc;
-    sc.title = fmt::format("From scatterers, eta = {}", e.eta);
-    sc.x_label = "t [mean free paths]";
-    sc.y_label = "p_S, T_S";
-    sc.log_y = true;
-    sc.y_range = y_range;
-    sc.series.push_back(series("p_S", r.centres, e.p_s, kPalette[0]));
-    sc.series.push_back(series("T_S", r.edges, e.t_s, kPalette[1]));
-    sc.series.push_back(exponential_reference(r, e.santalo_mfp));
-    charts.emplace_back(fmt::format("ts_{}.png", tag), std::move(sc));
-    // Figs. S.11–S.12: medium-to-medium boundary.
+    figures.push_back({fmt::format("tq_{}.png", tag), {std::move(tq)}});
+    // Fig. S.10: p_S and T_S from scatterers, each on its own axis (different units).
+    viz::Chart ps = log_panel(fmt::format("p_S(t) from scatterers, eta = {}", e.eta), "p_S [1/mean free path]");
+    ps.series.push_back(series("p_S", r.centres, e.p_s, kPalette[0]));
+    viz::Chart ts = log_panel(fmt::format("T_S(t) from scatterers, eta = {}", e.eta), "T_S");
+    ts.y_range = t_range;
+    ts.series.push_back(series("T_S", r.edges, e.t_s, kPalette[1]));
+    ts.series.push_back(exponential_reference(r, e.santalo_mfp));
+    figures.push_back({fmt::format("ts_{}.png", tag), {std::move(ps), std::move(ts)}});
+    // Figs. S.11–S.12: medium-to-medium boundary; T and p each on its own axis.
     if (!e.boundary.empty()) {
-      viz::Chart bc;
-      bc.title = fmt::format("Boundary at t = {}, eta1 = {}", r.spec.boundary_t, e.eta);
-      bc.x_label = "t [mean free paths]";
-      bc.y_label = "p, T_Q";
-      bc.log_y = true;
-      bc.y_range = y_range;
-      bc.vertical_lines = {r.spec.boundary_t};
+      viz::Chart bt = log_panel(fmt::format("T across a boundary at t = {}, eta1 = {}", r.spec.boundary_t, e.eta), "T");
+      viz::Chart bp =
+          log_panel(fmt::format("p across a boundary at t = {}, eta1 = {}", r.spec.boundary_t, e.eta), "p [1/mfp]");
+      bt.y_range = t_range;
+      bt.vertical_lines = {r.spec.boundary_t};
+      bp.vertical_lines = {r.spec.boundary_t};
       for (std::size_t b = 0; b < e.boundary.size(); ++b) {
         const auto color = kPalette[b % kPalette.size()];
-        bc.series.push_back(
-            series(fmt::format("T, eta12 = {}", e.boundary[b].eta12), r.edges, e.boundary[b].transmittance, color));
-        bc.series.push_back(series(fmt::format("p, eta12 = {}", e.boundary[b].eta12), r.centres, e.boundary[b].pdf,
-                                   color, viz::LineStyle::dotted));
+        bt.series.push_back(
+            series(fmt::format("eta12 = {}", e.boundary[b].eta12), r.edges, e.boundary[b].transmittance, color));
+        bp.series.push_back(series(fmt::format("eta12 = {}", e.boundary[b].eta12), r.centres, e.boundary[b].pdf, color,
+                                   viz::LineStyle::dotted));
       }
-      charts.emplace_back(fmt::format("boundary_{}.png", tag), std::move(bc));
+      figures.push_back({fmt::format("boundary_{}.png", tag), {std::move(bt), std::move(bp)}});
     }
   }
-  return charts;
+  for (Figure& f : figures) {
+    for (viz::Chart& c : f.panels) {
+      // Two panels side by side at the size one chart had.
+      c.width = f.panels.size() > 1 ? 800 : 1000;
+      c.height = f.panels.size() > 1 ? 620 : 700;
+    }
+  }
+  return figures;
 }
 
 const Registrar kSim2d{Command{
@@ -277,7 +294,8 @@ const Registrar kSim2d{Command{
           ->capture_default_str();
       sub.add_option("--out", o->out, "Output folder (created)")->capture_default_str();
       sub.add_flag("--quick", o->quick,
-                   "Small fast run for tests: r = 1e-4, 8 realizations x 400 samples, t-max 20, boundary at 10");
+                   "Small fast run for tests: r = 1e-4, 8 realizations x 400 samples, t-max 20, boundary at 4 (where "
+                   "enough of the few rays still fly for the boundary to show)");
       sub.add_flag("--paper", o->paper, "The paper's setting: 2000 realizations x 1000 samples (slow)");
       sub.add_option("--seed", o->seed, "Run seed; results do not depend on --threads")->capture_default_str();
       sub.add_option("--radius", o->radius, "Disk radius r, unit-square units, > 0")->capture_default_str();
@@ -338,7 +356,7 @@ const Registrar kSim2d{Command{
           if (unset("--samples")) spec.samples = 400;
           if (unset("--t-max")) spec.t_max = 20.0;
           if (unset("--bins")) spec.bins = 80;
-          if (unset("--boundary-t")) spec.boundary_t = 10.0;
+          if (unset("--boundary-t")) spec.boundary_t = 4.0;
         }
         if (o->paper) {
           if (unset("--realizations")) spec.realizations = 2000;
@@ -377,8 +395,9 @@ const Registrar kSim2d{Command{
         write_text_atomically(out / "report.json", report_json(result, outputs).dump(2) + "\n");
         nlohmann::json charts = nlohmann::json::array();
         if (!o->no_plot) {
-          for (const auto& [name, chart] : charts_for(result)) {
-            const viz::RenderOutcome outcome = viz::save_chart_png(chart, out / name);
+          for (const auto& [name, panels] : charts_for(result)) {
+            const viz::RenderOutcome outcome =
+                viz::save_chart_grid_png(panels, static_cast<int>(panels.size()), out / name);
             charts.push_back({{"file", name}, {"written", outcome.written}, {"reason", outcome.reason}});
             if (!outcome.written) ctx.say(fmt::format("chart {} not written: {}", name, outcome.reason));
           }

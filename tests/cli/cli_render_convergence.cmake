@@ -68,6 +68,26 @@ if(CMAKE_SCRIPT_MODE_FILE)
   if(NOT (slope GREATER -0.6 AND slope LESS -0.4))
     message(FATAL_ERROR "RMSE slope vs spp ${slope} is not within 0.1 of -0.5")
   endif()
+  # The chart (when a display was found): RMSE vs spp (blue) left, RMSE vs seconds (red) right,
+  # each on its own axis and only in its own panel.
+  if(EXISTS ${WORK}/run.convergence.png AND PROBE)
+    foreach(probe "31,119,180|0,0,0.5,1|0.5,0,1,1" "214,39,40|0.5,0,1,1|0,0,0.5,1")
+      string(REPLACE "|" ";" parts "${probe}")
+      list(GET parts 0 rgb)
+      list(GET parts 1 inside)
+      list(GET parts 2 outside)
+      execute_process(COMMAND "${PROBE}" ${WORK}/run.convergence.png ${rgb} --region ${inside} --min-columns 150
+                      RESULT_VARIABLE prc OUTPUT_VARIABLE pout)
+      if(NOT prc EQUAL 0)
+        message(FATAL_ERROR "run.convergence.png: colour ${rgb} not drawn across ${inside}: ${pout}")
+      endif()
+      execute_process(COMMAND "${PROBE}" ${WORK}/run.convergence.png ${rgb} --region ${outside} --min-pixels 0
+                              --max-pixels 0 RESULT_VARIABLE prc OUTPUT_VARIABLE pout)
+      if(NOT prc EQUAL 0)
+        message(FATAL_ERROR "run.convergence.png: colour ${rgb} in the other panel ${outside}: ${pout}")
+      endif()
+    endforeach()
+  endif()
   message(STATUS "${SCENE}: slope vs spp ${slope}")
   return()
 endif()
@@ -75,11 +95,12 @@ endif()
 set(_convergence_work ${CMAKE_CURRENT_BINARY_DIR}/render_convergence)
 foreach(scene cornell_exponential cornell_linear cornell_gamma)
   add_test(NAME cli.render_convergence.${scene}
-           COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DSCENE=${scene} -DWORK=${_convergence_work}/${scene}
+           COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DPROBE=$<TARGET_FILE:png_probe> -DSCENE=${scene}
+                   -DWORK=${_convergence_work}/${scene}
                    -P ${CMAKE_CURRENT_LIST_FILE})
   set_tests_properties(cli.render_convergence.${scene} PROPERTIES LABELS "cli;render" TIMEOUT 120)
   add_test(NAME cli.render_convergence.${scene}_slow
-           COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DSCENE=${scene} -DSLOW=ON
+           COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DPROBE=$<TARGET_FILE:png_probe> -DSCENE=${scene} -DSLOW=ON
                    -DWORK=${_convergence_work}/${scene}_slow -P ${CMAKE_CURRENT_LIST_FILE})
   set_tests_properties(cli.render_convergence.${scene}_slow PROPERTIES LABELS "cli;render;slow" TIMEOUT 1200)
 endforeach()

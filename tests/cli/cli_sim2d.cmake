@@ -21,6 +21,23 @@ if(CMAKE_SCRIPT_MODE_FILE)
         endif()
       endforeach()
     endforeach()
+    # The quick boundary (t = 4) is within reach of the few rays for every eta: each boundary
+    # transmittance still has flights left beyond it (issue 18: at t = 10 they ended at 5-8).
+    foreach(eta -0.5 0 0.5)
+      string(REGEX MATCHALL "\n${eta},T_boundary,eta12=0,[0-9.e+-]+,[0-9.e+-]+," rows "${csv}")
+      set(beyond 0)
+      foreach(row ${rows})
+        string(REGEX REPLACE "^\n[^,]+,[^,]+,[^,]+,([^,]+),([^,]+),$" "\\1;\\2" tv "${row}")
+        list(GET tv 0 t)
+        list(GET tv 1 v)
+        if(t GREATER 4.5 AND v GREATER 0)
+          set(beyond 1)
+        endif()
+      endforeach()
+      if(NOT beyond)
+        message(FATAL_ERROR "eta ${eta}: T_boundary has no flights left past the boundary at t = 4")
+      endif()
+    endforeach()
     # T at t = 0 is 1 for every transmittance curve.
     string(REGEX MATCHALL "\n[-0-9.]+,T_[A-Za-z_]+,[^,]*,0,[^,]+," zero_rows "${csv}")
     foreach(row ${zero_rows})
@@ -71,6 +88,23 @@ if(CMAKE_SCRIPT_MODE_FILE)
     if(NOT charts EQUAL 3)
       message(FATAL_ERROR "expected 3 charts (T_Q, scatterers, boundary), report lists ${charts}")
     endif()
+    # ts_: p_S (blue) in the left panel, T_S (orange) in the right one, each drawn across its panel.
+    foreach(probe "31,119,180|0,0,0.5,1|0.5,0,1,1" "255,127,14|0.5,0,1,1|0,0,0.5,1")
+      string(REPLACE "|" ";" parts "${probe}")
+      list(GET parts 0 rgb)
+      list(GET parts 1 inside)
+      list(GET parts 2 outside)
+      execute_process(COMMAND "${PROBE}" "${OUT}/ts_eta+0.50.png" ${rgb} --region ${inside} --min-columns 200
+                      RESULT_VARIABLE prc OUTPUT_VARIABLE pout)
+      if(NOT prc EQUAL 0)
+        message(FATAL_ERROR "ts_eta+0.50.png: colour ${rgb} not drawn across region ${inside}: ${pout}")
+      endif()
+      execute_process(COMMAND "${PROBE}" "${OUT}/ts_eta+0.50.png" ${rgb} --region ${outside} --min-pixels 0
+                      --max-pixels 0 RESULT_VARIABLE prc OUTPUT_VARIABLE pout)
+      if(NOT prc EQUAL 0)
+        message(FATAL_ERROR "ts_eta+0.50.png: colour ${rgb} leaks into the other panel ${outside}: ${pout}")
+      endif()
+    endforeach()
     math(EXPR last_chart "${charts} - 1")
     foreach(i RANGE ${last_chart})
       string(JSON name GET "${report}" outputs charts ${i} file)
@@ -107,7 +141,8 @@ add_test(NAME cli.sim2d.quick_writes_curves_report_particles
                  -P ${CMAKE_CURRENT_LIST_FILE})
 set_tests_properties(cli.sim2d.quick_writes_curves_report_particles PROPERTIES LABELS cli TIMEOUT 300)
 add_test(NAME cli.sim2d.quick_charts
-         COMMAND ${CMAKE_COMMAND} -DCASE=charts -DWEFT=$<TARGET_FILE:weft> -DOUT=${CMAKE_CURRENT_BINARY_DIR}/sim2d_charts
+         COMMAND ${CMAKE_COMMAND} -DCASE=charts -DWEFT=$<TARGET_FILE:weft> -DPROBE=$<TARGET_FILE:png_probe>
+                 -DOUT=${CMAKE_CURRENT_BINARY_DIR}/sim2d_charts
                  -P ${CMAKE_CURRENT_LIST_FILE})
 set_tests_properties(cli.sim2d.quick_charts PROPERTIES LABELS cli TIMEOUT 300)
 

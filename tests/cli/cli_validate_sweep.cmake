@@ -102,6 +102,19 @@ if(CMAKE_SCRIPT_MODE_FILE)
     if(NOT head STREQUAL "89504e470d0a1a0a")
       message(FATAL_ERROR "accuracy_time.png is not a PNG (starts ${head})")
     endif()
+    # Colour per axis (markers, factor labels, Pareto fronts); the shape tells the method, so no
+    # method colour (the old chart's orange for gamma) is left.
+    foreach(probe "220,30,30|300|-1" "30,160,40|300|-1" "30,60,220|300|-1" "220,120,0|0|0")
+      string(REPLACE "|" ";" parts "${probe}")
+      list(GET parts 0 rgb)
+      list(GET parts 1 min)
+      list(GET parts 2 max)
+      execute_process(COMMAND "${PROBE}" ${OUT}/run/accuracy_time.png ${rgb} --tol 20 --min-pixels ${min}
+                              --max-pixels ${max} RESULT_VARIABLE prc OUTPUT_VARIABLE pout)
+      if(NOT prc EQUAL 0)
+        message(FATAL_ERROR "accuracy_time.png: colour ${rgb} outside [${min}, ${max}] pixels: ${pout}")
+      endif()
+    endforeach()
   elseif(DEFINED ENV{DISPLAY})
     message(FATAL_ERROR "accuracy_time.png: ${status}")
   endif()
@@ -109,10 +122,12 @@ if(CMAKE_SCRIPT_MODE_FILE)
 endif()
 
 add_test(NAME cli.validate.sweep_quick
-         COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DOUT=${CMAKE_CURRENT_BINARY_DIR}/sweep_quick -DMODE=quick
+         COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DPROBE=$<TARGET_FILE:png_probe>
+                 -DOUT=${CMAKE_CURRENT_BINARY_DIR}/sweep_quick -DMODE=quick
                  -P ${CMAKE_CURRENT_LIST_FILE})
 set_tests_properties(cli.validate.sweep_quick PROPERTIES LABELS cli TIMEOUT 120)
 add_test(NAME cli.validate.sweep_full
-         COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DOUT=${CMAKE_CURRENT_BINARY_DIR}/sweep_full -DMODE=full
+         COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DPROBE=$<TARGET_FILE:png_probe>
+                 -DOUT=${CMAKE_CURRENT_BINARY_DIR}/sweep_full -DMODE=full
                  -P ${CMAKE_CURRENT_LIST_FILE})
 set_tests_properties(cli.validate.sweep_full PROPERTIES LABELS "cli;slow" TIMEOUT 600)
