@@ -2,6 +2,9 @@
 
 #include <fmt/core.h>
 
+#include "weft/core/parallel.h"
+#include "weft/dist/distributed.h"
+
 namespace weft::app {
 
 std::vector<Command>& registry() {
@@ -12,5 +15,9 @@ std::vector<Command>& registry() {
 void Context::say(const std::string& line) const {
   if (!globals.quiet) fmt::print("{}\n", line);
 }
+
+unsigned Context::threads() const { return globals.threads > 0 ? globals.threads : default_thread_count(); }
+
+int Context::ranks() const { return dist::size(); }
 
 }  // namespace weft::app

@@ -22,8 +22,12 @@ struct GlobalOptions {
 struct Context {
   const GlobalOptions& globals;
   ProgressSink& progress;
-  /// Prints a line to stdout unless --quiet.
+  /// Prints a line to stdout unless --quiet (always quiet on MPI ranks other than 0).
   void say(const std::string& line) const;
+  /// Worker threads per process (--threads, 0 resolved to the hardware's count) and processes
+  /// (MPI ranks, 1 without mpirun): summaries and reports record both as "threads" and "ranks".
+  [[nodiscard]] unsigned threads() const;
+  [[nodiscard]] int ranks() const;
 };
 
 using Action = std::function<int(const Context&)>;
@@ -34,6 +38,8 @@ struct Command {
   std::string summary;
   int order = 100;  ///< position in `weft --help`
   std::function<Action(CLI::App& sub)> setup;
+  /// Spreads work units over MPI ranks (dist::run_units); other commands run on rank 0 only.
+  bool distributed = false;
 };
 
 std::vector<Command>& registry();

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <exception>
 #include <memory>
+#include <string>
 
 #include <fmt/core.h>
 
@@ -10,9 +11,12 @@
 #include "terminal_progress.h"
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
+#include "weft/dist/distributed.h"
 
 int main(int argc, char** argv) {
   using namespace weft::app;
+  // Under mpirun every rank runs this same main; rank 0 alone prints and writes (docs/scale-out.md).
+  weft::dist::Session mpi(argc, argv);
   CLI::App app{
       "weft: transmittance of spatially-correlated media (cloth) -- ground truth, gamma models, rendering.\n"
       "Lengths are in the scene's unit (millimetres for cloth) unless an option says otherwise."};
@@ -32,10 +36,15 @@ int main(int argc, char** argv) {
   auto& commands = registry();
   std::stable_sort(commands.begin(), commands.end(),
                    [](const Command& a, const Command& b) { return a.order < b.order; });
-  std::vector<std::pair<CLI::App*, Action>> actions;
+  struct Entry {
+    CLI::App* sub;
+    Action action;
+    bool distributed;
+  };
+  std::vector<Entry> actions;
   for (const auto& command : commands) {
     CLI::App* sub = app.add_subcommand(command.name, command.summary);
-    actions.emplace_back(sub, command.setup(*sub));
+    actions.push_back({sub, command.setup(*sub), command.distributed});
   }
 
   try {
@@ -43,27 +52,41 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // --help and --version exit 0; every usage error exits 2 (the POSIX convention), whatever
     // CLI11's internal code, so scripts can tell a usage error from a failed run (exit 1).
-    const int code = app.exit(e);
+    const int code = weft::dist::is_root() ? app.exit(e) : e.get_exit_code();
     return code == 0 ? 0 : 2;
   } catch (const weft::Error& e) {
-    fmt::print(stderr, "weft: error: {}\n", e.what());
+    if (weft::dist::is_root()) fmt::print(stderr, "weft: error: {}\n", e.what());
     return 1;
   }
 
+  if (!weft::dist::is_root()) globals.quiet = true;
+  int code = 0;
+  std::string error;
   try {
     const weft::ThreadLimit limit(globals.threads);
     TerminalProgress progress(!globals.quiet);
     const Context context{globals, progress};
-    for (auto& [sub, action] : actions) {
-      if (sub->parsed()) return action(context);
+    bool ran = false;
+    for (auto& [sub, action, distributed] : actions) {
+      if (sub->parsed()) {
+        // A command without work units runs once, on rank 0.
+        if (distributed || weft::dist::is_root()) code = action(context);
+        ran = true;
+        break;
+      }
     }
-    fmt::print("{}", app.help());
-    return 0;
+    if (!ran && weft::dist::is_root()) fmt::print("{}", app.help());
+  } catch (const weft::dist::UnitFailure& e) {
+    // Every rank has it; rank 0 prints it once.
+    code = e.internal() ? 3 : 1;
+    if (weft::dist::is_root())
+      error = fmt::format("weft: error: {}{}", e.internal() ? "internal error: " : "", e.what());
   } catch (const weft::Error& e) {
-    fmt::print(stderr, "weft: error: {}\n", e.what());
-    return 1;
+    code = 1;
+    error = fmt::format("weft: error: {}", e.what());
   } catch (const std::exception& e) {
-    fmt::print(stderr, "weft: error: internal error: {}\n", e.what());
-    return 3;
+    code = 3;
+    error = fmt::format("weft: error: internal error: {}", e.what());
   }
+  return mpi.finish(code, error);
 }

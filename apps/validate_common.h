@@ -44,6 +44,8 @@ struct SweepOutputOptions {
   std::string out;
   bool no_plot = false;
   bool quick = false;
+  bool resume = false;  ///< keep the units in out/units/ that a killed run finished
+  std::string axes;     ///< as given, for the resume key
 };
 
 }  // namespace weft::app

@@ -9,6 +9,15 @@ include(WeftLibraryDependencies)
 # Only the app needs CLI11.
 find_package(CLI11 CONFIG REQUIRED)
 
+# MPI (issue 16, docs/scale-out.md): independent work units spread over ranks under mpirun. The C
+# API only (MPI's C++ bindings left the standard in MPI 3), so Open MPI and MPICH both serve.
+# weft_dist links it privately; a consumer of an installed WEFT_MPI build needs MPI too.
+find_package(MPI COMPONENTS C)
+option(WEFT_MPI "Spread work units over MPI ranks under mpirun (weft/dist); ON when MPI is found" ${MPI_C_FOUND})
+if(WEFT_MPI AND NOT MPI_C_FOUND)
+  message(FATAL_ERROR "WEFT_MPI is ON but no MPI C library was found (Debian: libopenmpi-dev or libmpich-dev)")
+endif()
+
 if(WEFT_BUILD_TESTS)
   find_package(GTest CONFIG REQUIRED)
 endif()

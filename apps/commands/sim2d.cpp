@@ -18,6 +18,7 @@
 #include "data_gen/media2d/simulation.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
+#include "weft/dist/distributed.h"
 #include "weft/viz/chart.h"
 #include "weft/viz/vtk_files.h"
 
@@ -87,10 +88,12 @@ std::string curves_csv(const SimulationResult& r) {
   return out.str();
 }
 
-nlohmann::json report_json(const SimulationResult& r, const nlohmann::json& outputs) {
+nlohmann::json report_json(const SimulationResult& r, const nlohmann::json& outputs, const Context& ctx) {
   const SimulationSpec& s = r.spec;
   nlohmann::json j;
   j["tool"] = "weft sim2d";
+  j["ranks"] = ctx.ranks();
+  j["threads"] = ctx.threads();
   j["units"] = "t in units of the target mean free path lambda; lengths of the medium in unit-square units";
   j["spec"] = {
       {"etas", s.etas},
@@ -364,9 +367,10 @@ const Registrar kSim2d{Command{
         }
         media2d::validate(spec);
         const fs::path out(o->out);
-        ensure_directory(out);
+        if (dist::is_root()) ensure_directory(out);
 
         const SimulationResult result = media2d::simulate(spec, ctx.progress);
+        if (!dist::is_root()) return 0;  // rank 0 reduced the realizations and writes everything
 
         nlohmann::json outputs;
         write_text_atomically(out / "curves.csv", curves_csv(result));
@@ -392,7 +396,7 @@ const Registrar kSim2d{Command{
 
         // The data files are complete before any picture is attempted.
         outputs["charts"] = nlohmann::json::array();
-        write_text_atomically(out / "report.json", report_json(result, outputs).dump(2) + "\n");
+        write_text_atomically(out / "report.json", report_json(result, outputs, ctx).dump(2) + "\n");
         nlohmann::json charts = nlohmann::json::array();
         if (!o->no_plot) {
           for (const auto& [name, panels] : charts_for(result)) {
@@ -403,7 +407,7 @@ const Registrar kSim2d{Command{
           }
         }
         outputs["charts"] = charts;
-        write_text_atomically(out / "report.json", report_json(result, outputs).dump(2) + "\n");
+        write_text_atomically(out / "report.json", report_json(result, outputs, ctx).dump(2) + "\n");
 
         for (const auto& w : result.warnings) ctx.say("warning: " + w);
         for (const EtaResult& e : result.etas) {
@@ -422,10 +426,13 @@ const Registrar kSim2d{Command{
                           e.eta, e.generator, e.particles, e.ell_q_iso, e.ell_q_iso_stderr, rec.ell_s_fit,
                           rec.ell_s_fit_stderr, rec.chi2, rec.dof, best));
         }
+        ctx.say(fmt::format("{} realization(s) per eta on {} rank(s) x {} thread(s)", spec.realizations, ctx.ranks(),
+                            ctx.threads()));
         ctx.say(fmt::format("wrote {}", (out / "report.json").string()));
         return 0;
       };
-    }}};
+    },
+    /*distributed=*/true}};
 
 }  // namespace
 }  // namespace weft::app

@@ -14,6 +14,7 @@
 #include "validate_sweep.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
+#include "weft/dist/distributed.h"
 #include "weft/fit/sweep.h"
 #include "weft/fit/validation.h"
 #include "weft/viz/chart.h"
@@ -43,6 +44,7 @@ struct ValidateOptions {
   std::string out = "weft-out";
   bool sweep = false;
   bool quick = false;
+  bool resume = false;
 };
 
 json fit_json(const fit::GammaFit& g) {
@@ -201,6 +203,10 @@ const Registrar kValidate{Command{
                    "exponential and gamma models on grids downsampled 2, 4, 8, 16 times (accuracy_time.csv/.png)");
       sub.add_flag("--quick", o->quick, "With --sweep: one timing run instead of the median of 3")
           ->needs(sub.get_option("--sweep"));
+      sub.add_flag("--resume", o->resume,
+                   "With --sweep: keep the units a killed run finished (OUT/units/) and compute only the rest; "
+                   "same options required")
+          ->needs(sub.get_option("--sweep"));
       return [o](const Context& ctx) -> int {
         const auto t_start = std::chrono::steady_clock::now();
         json timings = json::object();
@@ -231,6 +237,8 @@ const Registrar kValidate{Command{
         spec.seed = o->seed;
         spec.method = volume::parse_beam_method(o->method);
 
+        // Only --sweep is spread over MPI ranks; the validation itself runs on rank 0.
+        if (!o->sweep && !dist::is_root()) return 0;
         json input;
         volume::Grid grid;
         std::string title;
@@ -266,7 +274,9 @@ const Registrar kValidate{Command{
           title =
               fmt::format("{} cloth, {}x{} yarns", build.spec.pattern, build.spec.warp_count, build.spec.weft_count);
         }
-        if (o->sweep) return run_sweep({o->out, o->no_plot, o->quick}, ctx, grid, spec, title, input, timings, t_start);
+        if (o->sweep)
+          return run_sweep({o->out, o->no_plot, o->quick, o->resume, o->axes}, ctx, grid, spec, title, input, timings,
+                           t_start);
         const fit::Validation v = fit::validate(grid, spec, ctx.progress);
 
         // Texts first (in memory), then files.
@@ -278,6 +288,8 @@ const Registrar kValidate{Command{
         input["origin"] = grid.origin();
         json report;
         report["weft"] = "validate";
+        report["ranks"] = ctx.ranks();
+        report["threads"] = ctx.threads();
         report["units"] = "lengths in the grid's world units (mm for cloth); sigma in 1/length";
         report["input"] = input;
         report["sigma"] = spec.sigma;
@@ -409,7 +421,8 @@ const Registrar kValidate{Command{
         ctx.say(fmt::format("wrote {}", (out / "report.json").string()));
         return 0;
       };
-    }}};
+    },
+    /*distributed=*/true}};
 
 }  // namespace
 }  // namespace weft::app

@@ -10,6 +10,8 @@
 #include "validate_common.h"
 #include "validate_sweep.h"
 #include "weft/core/atomic_file.h"
+#include "weft/dist/distributed.h"
+#include "weft/dist/unit_store.h"
 #include "weft/fit/sweep.h"
 #include "weft/viz/chart.h"
 #include "weft/viz/display.h"
@@ -103,12 +105,24 @@ int run_sweep(const SweepOutputOptions& o, const Context& ctx, const volume::Gri
   spec.sigma = vspec.sigma;
   spec.seed = vspec.seed;
   spec.repetitions = o.quick ? 1 : 3;
+  const fs::path out = o.out;
+  // Each finished unit is recorded in <out>/units/ (rank 0), so a run that dies can be finished
+  // with --resume; the key is everything the units' bytes depend on.
+  const json key = {{"weft", "validate --sweep"},
+                    {"input", input},
+                    {"axes", o.axes},
+                    {"sigma", spec.sigma},
+                    {"seed", spec.seed},
+                    {"repetitions", spec.repetitions},
+                    {"factors", spec.factors},
+                    {"ray_strides", spec.ray_strides}};
+  dist::UnitStore store(out / "units", key.dump(2) + "\n", o.resume);
+  if (dist::is_root()) ensure_directory(out);
   auto t0 = std::chrono::steady_clock::now();
-  const fit::Sweep s = fit::sweep(grid, spec, ctx.progress);
+  const fit::Sweep s = fit::sweep(grid, spec, ctx.progress, &store);
+  if (!dist::is_root()) return 0;  // rank 0 gathered every unit and writes
   timings["sweep"] = seconds_since(t0);
   const std::string csv = sweep_csv(s);
-  const fs::path out = o.out;
-  ensure_directory(out);
   write_text_atomically(out / "accuracy_time.csv", csv);
   json outputs = {{"accuracy_time.csv", "written"}};
   if (o.no_plot) {
@@ -128,14 +142,18 @@ int run_sweep(const SweepOutputOptions& o, const Context& ctx, const volume::Gri
   timings["total"] = seconds_since(t_start);
   input["voxel_size"] = grid.voxel_size();
   input["active_voxels"] = grid.active_voxel_count();
-  json report = {{"weft", "validate --sweep"},      {"input", input},     {"sigma", spec.sigma},
-                 {"repetitions", spec.repetitions}, {"outputs", outputs}, {"timings_seconds", timings}};
+  json report = {{"weft", "validate --sweep"},      {"input", input},       {"sigma", spec.sigma},
+                 {"repetitions", spec.repetitions}, {"ranks", ctx.ranks()}, {"threads", ctx.threads()},
+                 {"resumed_units", store.found()},  {"outputs", outputs},   {"timings_seconds", timings}};
   write_text_atomically(out / "sweep.json", report.dump(2) + "\n");
+  store.remove();  // the outputs are whole: the finished units are no longer needed
 
-  ctx.say(
-      fmt::format("weft validate --sweep: {}; sigma = {:.6g}/length, {} active voxels of {:.4g}; times are "
-                  "medians of {} run(s)",
-                  title, spec.sigma, grid.active_voxel_count(), grid.voxel_size(), spec.repetitions));
+  ctx.say(fmt::format(
+      "weft validate --sweep: {}; sigma = {:.6g}/length, {} active voxels of {:.4g}; times are "
+      "medians of {} run(s); {} rank(s) x {} thread(s){}",
+      title, spec.sigma, grid.active_voxel_count(), grid.voxel_size(), spec.repetitions, ctx.ranks(), ctx.threads(),
+      store.found() > 0 ? fmt::format("; {} unit(s) resumed from {}", store.found(), store.folder().string())
+                        : std::string()));
   ctx.say(fmt::format("{:<5} {:<13} {:>6} {:>8} {:>9} {:>11} {:>11} {:>11} {:>10} {:>10}  {}", "axis", "method",
                       "factor", "ray frac", "rays", "RMS err T", "max err T", "RMS s.e. T", "prepare s", "beam s",
                       "pareto"));

@@ -132,6 +132,10 @@ struct SimulationResult {
 };
 
 /// @brief Runs the whole sweep; progress counts realizations.
+///
+/// Under mpirun the realizations of each η are spread over the ranks (dist::run_units) and
+/// reduced on rank 0; on the other ranks the result holds the spec, the grid and the warnings but
+/// no `etas` (they write nothing).
 [[nodiscard]] SimulationResult simulate(const SimulationSpec& spec, ProgressSink& progress = null_progress());
 
 /// @brief The medium of realization `realization` for η = spec.etas[eta_index], exactly as

@@ -6,9 +6,13 @@
 #include <cmath>
 #include <limits>
 
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
 #include "weft/core/error.h"
 #include "weft/core/floor_div.h"
 #include "weft/core/parallel.h"
+#include "weft/dist/distributed.h"
 #include "weft/fit/fit.h"
 #include "weft/volume/beam.h"
 #include "weft/volume/downsample.h"
@@ -182,7 +186,7 @@ void mark_pareto(std::vector<SweepRow>& rows) {
   }
 }
 
-Sweep sweep(const volume::Grid& grid, const SweepSpec& spec, ProgressSink& progress) {
+Sweep sweep(const volume::Grid& grid, const SweepSpec& spec, ProgressSink& progress, dist::UnitStore* store) {
   require_positive("sweep: sigma", spec.sigma);
   if (grid.active_voxel_count() == 0) fail("sweep: grid '{}' has no active voxels", grid.name());
   if (spec.directions.empty()) fail("sweep: no beam directions");
@@ -204,87 +208,131 @@ Sweep sweep(const volume::Grid& grid, const SweepSpec& spec, ProgressSink& progr
   out.repetitions = reps;
   const volume::IndexBox box = grid.active_bbox();
   const double h = grid.voxel_size();
+  const std::array<std::pair<CoarseLaw, const char*>, 3> laws{{{CoarseLaw::exponential, "exponential"},
+                                                               {CoarseLaw::gamma_independent, "gamma"},
+                                                               {CoarseLaw::gamma_memory, "gamma-memory"}}};
 
-  ProgressTask task(progress, "accuracy/time sweep",
-                    spec.factors.size() + spec.directions.size() * (spec.ray_strides.size() + 3 * spec.factors.size()));
-  // Coarse inputs, shared by the axes: the downsampled grid (exponential) and the local fields
-  // (gamma), each with the median time it takes to make.
-  struct Coarse {
-    int factor = 1;
-    volume::Grid grid;
-    double grid_seconds = 0.0;
-    LocalFields fields;
-    double fields_seconds = 0.0;
+  // Work units (spread over threads and MPI ranks, dist::run_units), each independent:
+  //  - one per downsampling factor: the coarse grid (exponential) and the local fields (gamma),
+  //    each with the median time it takes to make, then every axis × law beam through them, so
+  //    the coarse inputs are made once;
+  //  - one per (axis, ray stride): the ground truth with that share of the rays; stride 1 is the
+  //    reference the errors are measured against (added as a unit even when it is not a row).
+  // Errors against the reference are computed afterwards, in the reduction on rank 0.
+  std::vector<int> strides = spec.ray_strides;
+  if (std::find(strides.begin(), strides.end(), 1) == strides.end()) strides.push_back(1);
+  const std::size_t n_factors = spec.factors.size();
+  const std::size_t n_strides = strides.size();
+  const std::size_t count = n_factors + spec.directions.size() * n_strides;
+  ProgressTask task(progress, "accuracy/time sweep", count);
+  dist::UnitsOptions how;
+  how.progress = &task;
+  how.store = store;
+  how.name = [&](std::size_t u) {
+    if (u < n_factors) return fmt::format("sweep unit {} (coarse models, factor {})", u, spec.factors[u]);
+    const std::size_t a = (u - n_factors) / n_strides;
+    const int stride = strides[(u - n_factors) % n_strides];
+    return fmt::format("sweep unit {} (ground truth {}, ray stride {})", u, volume::direction_label(spec.directions[a]),
+                       stride);
   };
-  std::vector<Coarse> coarse;
-  for (int f : spec.factors) {
-    Coarse c;
-    c.factor = f;
-    c.grid_seconds = timed(reps, [&] { c.grid = volume::downsample(grid, f); });
-    c.fields_seconds = timed(reps, [&] { c.fields = local_fields(grid, f); });
-    coarse.push_back(std::move(c));
-    task.step();
-  }
+  const std::vector<dist::Bytes> units = dist::run_units(
+      count,
+      [&](std::size_t u) {
+        nlohmann::json j;
+        if (u < n_factors) {
+          const int f = spec.factors[u];
+          volume::Grid coarse;
+          LocalFields fields;
+          j["grid_seconds"] = timed(reps, [&] { coarse = volume::downsample(grid, f); });
+          j["fields_seconds"] = timed(reps, [&] { fields = local_fields(grid, f); });
+          nlohmann::json beams = nlohmann::json::array();
+          for (const auto& d : spec.directions) {
+            const int axis = volume::beam_axis(d);
+            for (const auto& [law, name] : laws) {
+              const bool gamma = law != CoarseLaw::exponential;
+              const volume::Grid& mean = gamma ? fields.mean : coarse;
+              const volume::Grid* var = gamma ? &fields.variance[static_cast<std::size_t>(axis)] : nullptr;
+              std::vector<double> log_t;
+              const double seconds =
+                  timed(reps, [&] { log_t = coarse_beam_log_t(mean, var, box, h, f, d, spec.sigma, law); });
+              beams.push_back({{"log_t", log_t}, {"seconds", seconds}});
+            }
+          }
+          j["beams"] = std::move(beams);
+        } else {
+          const std::size_t a = (u - n_factors) / n_strides;
+          volume::BeamSpec beam;
+          beam.direction = spec.directions[a];
+          beam.scale = spec.sigma;
+          beam.seed = spec.seed;
+          beam.column_stride = strides[(u - n_factors) % n_strides];
+          volume::TransmittanceCurve c;
+          j["seconds"] = timed(reps, [&] { c = volume::measure_beam(grid, beam); });
+          j["depth"] = c.depth;
+          j["log_t"] = c.log_t;
+          j["rel_stderr"] = c.rel_stderr;
+          j["rays"] = c.rays;
+          j["direction"] = c.direction;
+          j["method"] = c.method;
+        }
+        return nlohmann::json::to_msgpack(j);
+      },
+      how);
+  if (!dist::is_root()) return out;  // rank 0 holds every unit and reduces
 
-  for (const auto& d : spec.directions) {
-    const int axis = volume::beam_axis(d);
-    const std::string label = volume::direction_label(d);
-    volume::BeamSpec beam;
-    beam.direction = d;
-    beam.scale = spec.sigma;
-    beam.seed = spec.seed;
-    volume::TransmittanceCurve reference;
-    std::vector<std::pair<SweepRow, volume::TransmittanceCurve>> thinned;
-    for (int stride : spec.ray_strides) {
-      beam.column_stride = stride;
+  std::vector<nlohmann::json> unit(units.size());
+  for (std::size_t u = 0; u < units.size(); ++u) unit[u] = nlohmann::json::from_msgpack(units[u]);
+  for (std::size_t a = 0; a < spec.directions.size(); ++a) {
+    const std::string label = volume::direction_label(spec.directions[a]);
+    const auto curve = [&](int stride, double* seconds) {
+      const std::size_t i =
+          static_cast<std::size_t>(std::find(strides.begin(), strides.end(), stride) - strides.begin());
+      const nlohmann::json& j = unit[n_factors + a * n_strides + i];
       volume::TransmittanceCurve c;
+      j.at("depth").get_to(c.depth);
+      j.at("log_t").get_to(c.log_t);
+      j.at("rel_stderr").get_to(c.rel_stderr);
+      c.rays = j.at("rays").get<std::uint64_t>();
+      c.direction = j.at("direction").get<std::array<double, 3>>();
+      c.method = j.at("method").get<std::string>();
+      if (seconds != nullptr) *seconds = j.at("seconds").get<double>();
+      return c;
+    };
+    const volume::TransmittanceCurve reference = curve(1, nullptr);
+    for (int stride : spec.ray_strides) {
       SweepRow r;
-      r.transport_seconds = timed(reps, [&] { c = volume::measure_beam(grid, beam); });
+      const volume::TransmittanceCurve c = curve(stride, &r.transport_seconds);
       r.axis = label;
       r.method = "ground-truth";
       r.ray_fraction = 1.0 / (static_cast<double>(stride) * static_cast<double>(stride));
       r.rays = c.rays;
       r.stderr_rms_t = rms_stderr(c);
       r.accuracy_rms_t = r.stderr_rms_t;
-      if (stride == 1) reference = c;
-      thinned.emplace_back(r, std::move(c));
-      task.step();
-    }
-    if (reference.size() == 0) {
-      beam.column_stride = 1;
-      reference = volume::measure_beam(grid, beam);
-    }
-    // Errors of the thinned ground truths against the reference (0 for the reference itself).
-    for (auto& [r, c] : thinned) {
+      // Error of the thinned ground truth against the reference (0 for the reference itself).
       const CurveError e = compare(reference, c.log_t);
       r.error_rms_t = e.rms_abs_t;
       r.error_max_t = e.max_abs_t;
       out.rows.push_back(r);
     }
-    for (const auto& c : coarse) {
-      const std::array<std::pair<CoarseLaw, const char*>, 3> laws{{{CoarseLaw::exponential, "exponential"},
-                                                                   {CoarseLaw::gamma_independent, "gamma"},
-                                                                   {CoarseLaw::gamma_memory, "gamma-memory"}}};
-      for (const auto& [law, name] : laws) {
-        const bool gamma = law != CoarseLaw::exponential;
-        const volume::Grid& mean = gamma ? c.fields.mean : c.grid;
-        const volume::Grid* var = gamma ? &c.fields.variance[static_cast<std::size_t>(axis)] : nullptr;
-        std::vector<double> log_t;
+    for (std::size_t fi = 0; fi < n_factors; ++fi) {
+      const nlohmann::json& j = unit[fi];
+      for (std::size_t li = 0; li < laws.size(); ++li) {
+        const nlohmann::json& b = j.at("beams").at(a * laws.size() + li);
+        const std::vector<double> log_t = b.at("log_t").get<std::vector<double>>();
+        const bool gamma = laws[li].first != CoarseLaw::exponential;
         SweepRow r;
-        r.transport_seconds =
-            timed(reps, [&] { log_t = coarse_beam_log_t(mean, var, box, h, c.factor, d, spec.sigma, law); });
+        r.transport_seconds = b.at("seconds").get<double>();
         // The reference's last depth is the box length, k·h up to rounding: same grid.
         const CurveError e = compare(reference, log_t);
         r.axis = label;
-        r.method = name;
-        r.factor = c.factor;
+        r.method = laws[li].second;
+        r.factor = spec.factors[fi];
         r.rays = reference.rays;
         r.error_rms_t = e.rms_abs_t;
         r.error_max_t = e.max_abs_t;
         r.accuracy_rms_t = e.rms_abs_t;
-        r.prepare_seconds = gamma ? c.fields_seconds : c.grid_seconds;
+        r.prepare_seconds = j.at(gamma ? "fields_seconds" : "grid_seconds").get<double>();
         out.rows.push_back(r);
-        task.step();
       }
     }
   }

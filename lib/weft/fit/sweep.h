@@ -33,6 +33,10 @@
 #include "weft/core/progress.h"
 #include "weft/volume/grid.h"
 
+namespace weft::dist {
+class UnitStore;
+}
+
 namespace weft::fit {
 
 /// How a coarse voxel's concentration composes along a ray (see the file comment).
@@ -89,7 +93,14 @@ struct Sweep {
 
 /// Runs the sweep. Throws weft::Error for an empty grid, non-axis directions, σ ≤ 0, factors
 /// outside 2..4096, strides < 1 or repetitions < 1.
-[[nodiscard]] Sweep sweep(const volume::Grid& grid, const SweepSpec& spec, ProgressSink& progress = null_progress());
+///
+/// The work is a set of units (one per downsampling factor, one per axis × ray stride) spread
+/// over threads and, under mpirun, over ranks (dist::run_units); rank 0 reduces them in unit
+/// order, so every number but the timings is the same for any ranks and threads. On other ranks
+/// the result has no rows. With `store`, rank 0 records each finished unit there and a resumed
+/// store's units are not run again (`weft validate --sweep --resume`).
+[[nodiscard]] Sweep sweep(const volume::Grid& grid, const SweepSpec& spec, ProgressSink& progress = null_progress(),
+                          dist::UnitStore* store = nullptr);
 
 /// Marks the rows on the Pareto front of each axis: no other row of the axis is at least as
 /// fast and at least as accurate, and strictly better in one.

@@ -1,0 +1,67 @@
+# Same answer for any number of ranks (issue 16): runs one `weft` command without mpirun
+# (--threads 2) and under mpirun -n 1, 2, 3 (--threads 1), each into a fresh folder, then requires
+# the same files with the same bytes. JSON reports are compared without timing entries and
+# without "ranks", "threads" and "resumed_units"; the sweep's CSV without its timing columns and
+# the Pareto flag (which is decided by the timings).
+#
+# Usage: cmake -DWEFT=<weft> -DCASE=sim2d|sweep -DMPIEXEC=<mpirun> -DMPIFLAGS=<flags> -DWORK=<dir>
+#              -P mpi_compare.cmake
+cmake_minimum_required(VERSION 3.25)
+include(${CMAKE_CURRENT_LIST_DIR}/mpi_common.cmake)
+
+file(REMOVE_RECURSE "${WORK}")
+file(MAKE_DIRECTORY "${WORK}/in")
+if(CASE STREQUAL "sim2d")
+  # 4 realizations of 12500 disks: 3 ranks get 2, 1 and 1 of them.
+  set(run_args sim2d --quick --no-plot --eta 0.5 --radius 4e-4 --mfp 0.1 --realizations 4 --samples 100 --seed 5 --out "${WORK}/@RUN@")
+elseif(CASE STREQUAL "sweep")
+  file(WRITE "${WORK}/in/cloth.json"
+       "{\"pattern\": \"plain\", \"warp_count\": 2, \"weft_count\": 2, \"voxel_size\": 0.02}\n")
+  set(run_args validate --sweep --quick --no-plot --axes x,z --cloth "${WORK}/in/cloth.json" --seed 3
+               --out "${WORK}/@RUN@")
+else()
+  message(FATAL_ERROR "unknown CASE '${CASE}'")
+endif()
+
+set(runs plain n1 n2 n3)
+foreach(run IN LISTS runs)
+  string(REPLACE "@RUN@" "${run}" args "${run_args}")
+  if(run STREQUAL "plain")
+    set(cmd "${WEFT}" --quiet --threads 2 ${args})
+  else()
+    string(SUBSTRING "${run}" 1 -1 n)
+    set(cmd "${MPIEXEC}" ${MPIFLAGS} -n ${n} "${WEFT}" --quiet --threads 1 ${args})
+  endif()
+  execute_process(COMMAND ${cmd} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${cmd} failed (${rc}): ${err}")
+  endif()
+endforeach()
+
+foreach(run n1 n2 n3)
+  compare_folders("${WORK}/plain" "${WORK}/${run}" differ)
+  if(differ)
+    message(FATAL_ERROR "${CASE}: the plain run and mpirun -n ${run} differ in: ${differ} (outputs kept in ${WORK})")
+  endif()
+endforeach()
+# The reports say how they were run.
+foreach(run plain n1 n2 n3)
+  file(GLOB reports "${WORK}/${run}/*.json")
+  foreach(r IN LISTS reports)
+    file(READ "${r}" j)
+    string(JSON ranks GET "${j}" ranks)
+    string(JSON threads GET "${j}" threads)
+    set(expect_ranks 1)
+    set(expect_threads 1)
+    if(run STREQUAL "plain")
+      set(expect_threads 2)
+    else()
+      string(SUBSTRING "${run}" 1 -1 expect_ranks)
+    endif()
+    if(NOT ranks EQUAL expect_ranks OR NOT threads EQUAL expect_threads)
+      message(FATAL_ERROR "${r}: ranks ${ranks}, threads ${threads}; expected ${expect_ranks}, ${expect_threads}")
+    endif()
+  endforeach()
+endforeach()
+file(GLOB_RECURSE files RELATIVE "${WORK}/plain" "${WORK}/plain/*")
+message(STATUS "${CASE}: identical without mpirun and with -n 1, 2, 3: ${files}")

@@ -1,0 +1,176 @@
+// dist::run_units in one process (the tests run without mpirun; the multi-rank behaviour is
+// checked end to end by tests/cli/cli_mpi.cmake) and dist::UnitStore.
+#include <atomic>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "weft/core/parallel.h"
+#include "weft/dist/distributed.h"
+#include "weft/dist/unit_store.h"
+
+namespace weft::dist {
+namespace {
+
+namespace fs = std::filesystem;
+
+Bytes bytes_of(const std::string& s) { return Bytes(s.begin(), s.end()); }
+std::string text_of(const Bytes& b) { return std::string(b.begin(), b.end()); }
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("weft_dist_test_" + name);
+  fs::remove_all(d);
+  return d;
+}
+
+TEST(RunUnits, OneProcessIsRankZeroOfOne) {
+  EXPECT_EQ(rank(), 0);
+  EXPECT_EQ(size(), 1);
+  EXPECT_TRUE(is_root());
+}
+
+TEST(RunUnits, ResultsComeBackInUnitOrderForAnyThreadsAndBatch) {
+  for (const unsigned threads : {1U, 2U, 4U}) {
+    const ThreadLimit limit(threads);
+    for (const std::size_t batch : {0U, 1U, 3U, 100U}) {
+      UnitsOptions how;
+      how.batch = batch;
+      const auto out = run_units(
+          37, [](std::size_t u) { return bytes_of("unit " + std::to_string(u * u)); }, how);
+      ASSERT_EQ(out.size(), 37U);
+      for (std::size_t u = 0; u < out.size(); ++u) EXPECT_EQ(text_of(out[u]), "unit " + std::to_string(u * u));
+    }
+  }
+}
+
+TEST(RunUnits, NoUnitsIsNoWork) {
+  const auto out = run_units(0, [](std::size_t) -> Bytes { throw Error("never called"); });
+  EXPECT_TRUE(out.empty());
+}
+
+TEST(RunUnits, ProgressCountsEveryUnit) {
+  struct Counter : ProgressSink {
+    std::atomic<std::uint64_t> last{0};
+    void begin(std::string_view, std::uint64_t) override {}
+    void advance(std::uint64_t done) override { last = std::max<std::uint64_t>(last, done); }
+    void end() override {}
+  } sink;
+  {
+    ProgressTask task(sink, "units", 20);
+    UnitsOptions how;
+    how.progress = &task;
+    (void)run_units(
+        20, [](std::size_t) { return Bytes{1}; }, how);
+  }
+  EXPECT_EQ(sink.last.load(), 20U);
+}
+
+TEST(RunUnits, AFailingUnitIsNamedAndLowestFirst) {
+  UnitsOptions how;
+  how.name = [](std::size_t u) { return "point " + std::to_string(u); };
+  how.batch = 10;
+  try {
+    (void)run_units(
+        10,
+        [](std::size_t u) -> Bytes {
+          if (u == 7 || u == 4) throw Error("bad point " + std::to_string(u));
+          return {};
+        },
+        how);
+    FAIL() << "no exception";
+  } catch (const UnitFailure& e) {
+    EXPECT_STREQ(e.what(), "point 4 failed: bad point 4");
+    EXPECT_FALSE(e.internal());
+  }
+}
+
+TEST(RunUnits, AStandardExceptionIsAnInternalFailure) {
+  try {
+    (void)run_units(3, [](std::size_t u) -> Bytes {
+      if (u == 2) throw std::runtime_error("boom");
+      return {};
+    });
+    FAIL() << "no exception";
+  } catch (const UnitFailure& e) {
+    EXPECT_STREQ(e.what(), "unit 2 failed: boom");
+    EXPECT_TRUE(e.internal());
+  }
+}
+
+TEST(UnitStore, ResumeSkipsRecordedUnitsAndGivesTheSameResults) {
+  const fs::path dir = fresh_dir("resume");
+  const auto body = [](std::size_t u) { return bytes_of(std::to_string(3 * u + 1)); };
+  std::atomic<int> calls{0};
+  {
+    UnitStore store(dir, "key A", false);
+    UnitsOptions how;
+    how.store = &store;
+    how.batch = 1;
+    // The run dies at unit 5 (after units 0..4 were recorded, one per round).
+    EXPECT_THROW((void)run_units(
+                     8,
+                     [&](std::size_t u) {
+                       if (u == 5) throw Error("died");
+                       return body(u);
+                     },
+                     how),
+                 UnitFailure);
+  }
+  for (std::size_t u = 0; u < 5; ++u) EXPECT_TRUE(fs::exists(dir / ("unit-00000" + std::to_string(u) + ".bin")));
+  EXPECT_FALSE(fs::exists(dir / "unit-000005.bin"));
+  UnitStore store(dir, "key A", true);
+  UnitsOptions how;
+  how.store = &store;
+  const auto out = run_units(
+      8,
+      [&](std::size_t u) {
+        ++calls;
+        return body(u);
+      },
+      how);
+  EXPECT_EQ(store.found(), 5U);
+  EXPECT_EQ(calls.load(), 3);
+  for (std::size_t u = 0; u < 8; ++u) EXPECT_EQ(out[u], body(u));
+  store.remove();
+  EXPECT_FALSE(fs::exists(dir));
+}
+
+TEST(UnitStore, ResumeRefusesAnotherRunsUnits) {
+  const fs::path dir = fresh_dir("other");
+  {
+    UnitStore store(dir, "key A", false);
+    UnitsOptions how;
+    how.store = &store;
+    (void)run_units(
+        2, [](std::size_t) { return Bytes{7}; }, how);
+  }
+  UnitStore other(dir, "key B", true);
+  UnitsOptions how;
+  how.store = &other;
+  try {
+    (void)run_units(
+        2, [](std::size_t) { return Bytes{7}; }, how);
+    FAIL() << "no exception";
+  } catch (const UnitFailure& e) {
+    EXPECT_NE(std::string(e.what()).find("different run"), std::string::npos) << e.what();
+  }
+  // A fresh (not resumed) run with another key starts over instead.
+  UnitStore fresh(dir, "key B", false);
+  how.store = &fresh;
+  std::atomic<int> calls{0};
+  (void)run_units(
+      2,
+      [&](std::size_t) {
+        ++calls;
+        return Bytes{8};
+      },
+      how);
+  EXPECT_EQ(calls.load(), 2);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace weft::dist
