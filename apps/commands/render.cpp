@@ -14,6 +14,7 @@
 #include "command.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
+#include "weft/dist/distributed.h"
 #include "weft/render/builtin_scenes.h"
 #include "weft/render/convergence.h"
 #include "weft/render/render.h"
@@ -97,7 +98,7 @@ int run(const RenderCliOptions& o, const Context& ctx) {
     scene.camera.height = std::max(1, static_cast<int>(std::lround(scene.camera.height * f)));
   }
   if (o.print_scene) {
-    fmt::print("{}", render::scene_to_json(scene));
+    if (dist::is_root()) fmt::print("{}", render::scene_to_json(scene));
     return 0;
   }
   fs::path exr;
@@ -124,7 +125,7 @@ int run(const RenderCliOptions& o, const Context& ctx) {
       ref.seed = options.seed.value_or(scene.integrator.seed) + 0x9E3779B97F4A7C15ULL;
       ctx.say(fmt::format("rendering the reference at {} spp", *ref.spp));
       conv.reference = render::render(scene, ref, ctx.progress).image;
-      render::write_exr(beside(exr, ".reference.exr"), *conv.reference);
+      if (dist::is_root()) render::write_exr(beside(exr, ".reference.exr"), *conv.reference);
     } else {
       conv.reference = render::read_exr(o.convergence);
     }
@@ -149,15 +150,17 @@ int run(const RenderCliOptions& o, const Context& ctx) {
   }
 
   const render::RenderResult result = render::render(scene, options, ctx.progress);
+  if (!dist::is_root()) return 0;  // the tiles were gathered on rank 0, which writes
   render::write_exr(exr, result.image);
   render::write_png(png, result.image, o.exposure);
 
   const auto& s = result.stats;
   if (default_scene) ctx.say(fmt::format("rendered the default scene '{}' (no scene given)", label));
   ctx.say(fmt::format("features: {}; integrator: {}", fmt::join(s.features.names(), ", "), s.integrator));
-  ctx.say(fmt::format("{}x{} at {} spp in {:.2f} s: {:.3g} samples/s, {:.3g} rays/s", result.image.width,
-                      result.image.height, s.spp, s.seconds, static_cast<double>(s.paths) / s.seconds,
-                      static_cast<double>(s.rays) / s.seconds));
+  ctx.say(fmt::format("{}x{} at {} spp in {:.2f} s: {:.3g} samples/s, {:.3g} rays/s; {} rank(s) x {} thread(s)",
+                      result.image.width, result.image.height, s.spp, s.seconds,
+                      static_cast<double>(s.paths) / s.seconds, static_cast<double>(s.rays) / s.seconds, ctx.ranks(),
+                      ctx.threads()));
   if (s.invalid_samples > 0) ctx.say(fmt::format("warning: {} NaN/inf samples were dropped", s.invalid_samples));
   ctx.say(fmt::format("wrote {} (linear) and {} (sRGB)", exr.string(), png.string()));
 
@@ -189,6 +192,8 @@ int run(const RenderCliOptions& o, const Context& ctx) {
         {"spp", s.spp},
         {"reference", o.convergence == "auto" ? beside(exr, ".reference.exr").string() : o.convergence},
         {"reference_spp", conv.reference->spp},
+        {"ranks", ctx.ranks()},
+        {"threads", ctx.threads()},
         {"contact_sheet_spp", conv.sheet_spp}};
     if (by_spp && by_time) {
       summary["fit_points"] = by_spp->points;
@@ -234,7 +239,8 @@ int run(const RenderCliOptions& o, const Context& ctx) {
 }
 
 const Registrar kRender{Command{
-    "render", "Render a scene with non-exponential media by volumetric path tracing", 50, [](CLI::App& sub) -> Action {
+    "render", "Render a scene with non-exponential media by volumetric path tracing", 50,
+    [](CLI::App& sub) -> Action {
       auto o = std::make_shared<RenderCliOptions>();
       sub.add_option("scene", o->scene,
                      "Scene file (.json, docs/scene-format.md) or built-in scene name; default: the cloth patch");
@@ -259,7 +265,8 @@ const Registrar kRender{Command{
       sub.add_flag("--list-scenes", o->list, "List the built-in scenes and exit");
       sub.add_flag("--print-scene", o->print_scene, "Print the scene as canonical JSON and exit");
       return [o](const Context& ctx) -> int { return run(*o, ctx); };
-    }}};
+    },
+    /*distributed=*/true}};
 
 }  // namespace
 }  // namespace weft::app

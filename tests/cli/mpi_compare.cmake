@@ -4,7 +4,7 @@
 # without "ranks", "threads" and "resumed_units"; the sweep's CSV without its timing columns and
 # the Pareto flag (which is decided by the timings).
 #
-# Usage: cmake -DWEFT=<weft> -DCASE=sim2d|sweep -DMPIEXEC=<mpirun> -DMPIFLAGS=<flags> -DWORK=<dir>
+# Usage: cmake -DWEFT=<weft> -DCASE=sim2d|sweep|render -DMPIEXEC=<mpirun> -DMPIFLAGS=<flags> -DWORK=<dir>
 #              -P mpi_compare.cmake
 cmake_minimum_required(VERSION 3.25)
 include(${CMAKE_CURRENT_LIST_DIR}/mpi_common.cmake)
@@ -19,6 +19,12 @@ elseif(CASE STREQUAL "sweep")
        "{\"pattern\": \"plain\", \"warp_count\": 2, \"weft_count\": 2, \"voxel_size\": 0.02}\n")
   set(run_args validate --sweep --quick --no-plot --axes x,z --cloth "${WORK}/in/cloth.json" --seed 3
                --out "${WORK}/@RUN@")
+elseif(CASE STREQUAL "render")
+  # Media, surfaces and lights on a small film: tiles of 16² pixels over the ranks.
+  set(run_args render cornell_media --quick --spp 2 --seed 7 -o "${WORK}/@RUN@/image.exr")
+  foreach(run plain n1 n2 n3)
+    file(MAKE_DIRECTORY "${WORK}/${run}")
+  endforeach()
 else()
   message(FATAL_ERROR "unknown CASE '${CASE}'")
 endif()

@@ -243,6 +243,12 @@ int Session::finish(int code, const std::string& error_line, double failed_wait_
 #endif
 }
 
+bool root_decides(bool value) {
+  Bytes b{static_cast<std::uint8_t>(value ? 1 : 0)};
+  broadcast(b);
+  return b.at(0) != 0;
+}
+
 int rank() { return g_rank; }
 int size() { return g_size; }
 std::string describe() { return g_describe; }

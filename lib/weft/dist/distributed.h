@@ -69,6 +69,10 @@ class Session {
 /// @brief "MPI (Open MPI 4.1.4)", or why there is none ("built without MPI", "not under mpirun").
 [[nodiscard]] std::string describe();
 
+/// @brief Rank 0's `value` on every rank (a collective: every rank calls it), for decisions that
+/// must not differ between ranks, such as a time budget measured on rank 0's clock.
+[[nodiscard]] bool root_decides(bool value);
+
 /// @brief Thrown on every rank when a unit failed on some rank: the message names the unit.
 class UnitFailure : public Error {
  public:
@@ -94,6 +98,9 @@ struct UnitsOptions {
 /// @brief Runs body(u) for u in [0, count) over all ranks; on rank 0 returns every unit's bytes in
 /// unit order, elsewhere an empty vector. Every rank must call it with the same count (it is a
 /// collective). Throws UnitFailure if a unit throws on any rank (on every rank).
+///
+/// Without a store (or when nothing was resumed) unit u runs on rank u mod size(), in every call:
+/// a caller may keep per-unit state on the owning rank between calls (render's running sums).
 ///
 /// Test hook (used by the CLI tests only): WEFT_TEST_FAIL_UNIT=u makes unit u throw on whichever
 /// rank runs it; WEFT_TEST_KILL_AFTER_UNITS=k kills the process (SIGKILL, as a crash or a cluster's

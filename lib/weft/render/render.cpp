@@ -4,12 +4,13 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 
-#include <tbb/blocked_range2d.h>
-#include <tbb/parallel_for.h>
+#include <tbb/enumerable_thread_specific.h>
 
 #include "weft/core/error.h"
+#include "weft/dist/distributed.h"
 #include "weft/render/environment.h"
 #include "weft/render/geometry.h"
 #include "weft/render/medium.h"
@@ -659,38 +660,80 @@ void render_pass(const World& world, const Camera& camera, std::uint64_t seed, i
   constexpr int kTile = 16;
   const int tiles_x = (camera.width + kTile - 1) / kTile;
   const int tiles_y = (camera.height + kTile - 1) / kTile;
-  tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 0, tiles_x), [&](const tbb::blocked_range2d<int>& r) {
-    PathCounters counters(world.media);
-    std::uint64_t bad = 0;
-    for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty) {
-      for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx) {
-        for (int y = ty * kTile; y < std::min(camera.height, (ty + 1) * kTile); ++y) {
-          for (int x = tx * kTile; x < std::min(camera.width, (tx + 1) * kTile); ++x) {
-            const std::size_t pixel = static_cast<std::size_t>(y) * camera.width + x;
-            for (int s = s_begin; s < s_end; ++s) {
-              // One stream per (sample, pixel): the image is the same for any tiling or thread count.
-              Pcg32 rng = stream_for(seed, (static_cast<std::uint64_t>(s) << 32U) | pixel);
-              Vec3 o;
-              Vec3 d;
-              camera.generate(x + rng.uniform(), y + rng.uniform(), rng, o, d);
-              Rgb value = integrator.li(o, d, rng, counters);
-              if (!value.isFinite().all()) {
-                value.setZero();
-                ++bad;
-              }
-              for (int c = 0; c < 3; ++c) {
-                sum[pixel * 3 + c] += value[c];
-                sum2[pixel * 3 + c] += value[c] * value[c];
-              }
-            }
-          }
-        }
-        task.step();
+  tbb::enumerable_thread_specific<PathCounters> thread_counters(world.media);
+  // Tiles are the work units, over threads and MPI ranks (dist::run_units). A run without a store
+  // gives tile t to rank t mod N in every pass, so each rank keeps the running sums of its own
+  // tiles in `sum`/`sum2` across passes and every pixel accumulates its samples in order, as in
+  // one process. A tile's result carries its ray counts and, from ranks other than 0, its sums
+  // after this pass (rank 0's own tiles are already in place).
+  dist::UnitsOptions how;
+  how.progress = &task;
+  how.name = [&](std::size_t t) {
+    return fmt::format("render tile {} (x {}, y {}), samples {}..{}", t, (t % tiles_x) * kTile, (t / tiles_x) * kTile,
+                       s_begin, s_end - 1);
+  };
+  const auto tile_pixels = [&](std::size_t t, auto&& f) {
+    const int tx = static_cast<int>(t % static_cast<std::size_t>(tiles_x));
+    const int ty = static_cast<int>(t / static_cast<std::size_t>(tiles_x));
+    for (int y = ty * kTile; y < std::min(camera.height, (ty + 1) * kTile); ++y) {
+      for (int x = tx * kTile; x < std::min(camera.width, (tx + 1) * kTile); ++x) {
+        f(x, y, static_cast<std::size_t>(y) * camera.width + x);
       }
     }
-    rays += counters.rays;
-    invalid += bad;
-  });
+  };
+  const std::vector<dist::Bytes> tiles = dist::run_units(
+      static_cast<std::size_t>(tiles_x) * tiles_y,
+      [&](std::size_t t) {
+        PathCounters& counters = thread_counters.local();
+        const std::uint64_t rays_before = counters.rays;
+        std::uint64_t bad = 0;
+        tile_pixels(t, [&](int x, int y, std::size_t pixel) {
+          for (int s = s_begin; s < s_end; ++s) {
+            // One stream per (sample, pixel): the image is the same for any tiling or thread count.
+            Pcg32 rng = stream_for(seed, (static_cast<std::uint64_t>(s) << 32U) | pixel);
+            Vec3 o;
+            Vec3 d;
+            camera.generate(x + rng.uniform(), y + rng.uniform(), rng, o, d);
+            Rgb value = integrator.li(o, d, rng, counters);
+            if (!value.isFinite().all()) {
+              value.setZero();
+              ++bad;
+            }
+            for (int c = 0; c < 3; ++c) {
+              sum[pixel * 3 + c] += value[c];
+              sum2[pixel * 3 + c] += value[c] * value[c];
+            }
+          }
+        });
+        std::vector<double> out{static_cast<double>(counters.rays - rays_before), static_cast<double>(bad)};
+        if (!dist::is_root()) {
+          tile_pixels(t, [&](int, int, std::size_t pixel) {
+            out.insert(out.end(), sum.begin() + static_cast<std::ptrdiff_t>(pixel * 3),
+                       sum.begin() + static_cast<std::ptrdiff_t>(pixel * 3 + 3));
+            out.insert(out.end(), sum2.begin() + static_cast<std::ptrdiff_t>(pixel * 3),
+                       sum2.begin() + static_cast<std::ptrdiff_t>(pixel * 3 + 3));
+          });
+        }
+        dist::Bytes b(out.size() * sizeof(double));
+        std::memcpy(b.data(), out.data(), b.size());
+        return b;
+      },
+      how);
+  for (std::size_t t = 0; t < tiles.size(); ++t) {
+    std::vector<double> in(tiles[t].size() / sizeof(double));
+    std::memcpy(in.data(), tiles[t].data(), in.size() * sizeof(double));
+    rays += static_cast<std::uint64_t>(in[0]);
+    invalid += static_cast<std::uint64_t>(in[1]);
+    if (in.size() == 2) continue;  // rank 0's own tile
+    std::size_t k = 2;
+    tile_pixels(t, [&](int, int, std::size_t pixel) {
+      std::copy(in.begin() + static_cast<std::ptrdiff_t>(k), in.begin() + static_cast<std::ptrdiff_t>(k + 3),
+                sum.begin() + static_cast<std::ptrdiff_t>(pixel * 3));
+      std::copy(in.begin() + static_cast<std::ptrdiff_t>(k + 3), in.begin() + static_cast<std::ptrdiff_t>(k + 6),
+                sum2.begin() + static_cast<std::ptrdiff_t>(pixel * 3));
+      k += 6;
+    });
+  }
 }
 
 Image make_image(int width, int height, int n, const std::vector<double>& sum, const std::vector<double>& sum2) {
@@ -787,8 +830,11 @@ RenderResult render(const SceneDesc& scene, const RenderOptions& options, Progre
       render_pass<true, true>(world, camera, seed, done, end, sum, sum2, rays, invalid, task);
     }
     done = end;
-    if (options.on_pass) options.on_pass(done, seconds(), make_image(camera.width, camera.height, done, sum, sum2));
-    if (options.time_budget_seconds > 0.0 && seconds() >= options.time_budget_seconds) break;
+    // Rank 0 holds the whole image after each pass (render_pass) and decides for every rank
+    // whether the time budget is spent.
+    if (options.on_pass && dist::is_root())
+      options.on_pass(done, seconds(), make_image(camera.width, camera.height, done, sum, sum2));
+    if (options.time_budget_seconds > 0.0 && dist::root_decides(seconds() >= options.time_budget_seconds)) break;
   }
   result.image = make_image(camera.width, camera.height, done, sum, sum2);
   result.stats.spp = done;
