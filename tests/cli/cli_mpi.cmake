@@ -5,7 +5,8 @@
 #    gives the bytes of an uninterrupted run: mpi_resume.cmake.
 #  - cli.mpi.failing_rank: a unit that throws on rank 1 stops the run with one line naming it.
 # Tiny runs: the machine has 2 cores and several ranks oversubscribe them. CI runs as root, which
-# Open MPI refuses without --allow-run-as-root.
+# Open MPI refuses without --allow-run-as-root. RUN_SERIAL: two mpirun jobs at once on 2 cores
+# made a launch fail under load.
 set(_mpi_launcher "")
 if(WEFT_MPI AND MPIEXEC_EXECUTABLE)
   set(_mpi_launcher ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG})
@@ -21,14 +22,14 @@ if(WEFT_MPI AND MPIEXEC_EXECUTABLE)
              COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DCASE=${case} "-DMPIEXEC=${MPIEXEC_EXECUTABLE}"
                      "-DMPIFLAGS=${_mpi_flags}" -DWORK=${CMAKE_CURRENT_BINARY_DIR}/mpi_${case}
                      -P ${CMAKE_CURRENT_SOURCE_DIR}/mpi_compare.cmake)
-    set_tests_properties(cli.mpi.same_bytes.${case} PROPERTIES LABELS "cli;mpi" TIMEOUT 300)
+    set_tests_properties(cli.mpi.same_bytes.${case} PROPERTIES LABELS "cli;mpi" TIMEOUT 300 RUN_SERIAL TRUE)
   endforeach()
 endif()
 add_test(NAME cli.mpi.resume
          COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> "-DMPIEXEC=${MPIEXEC_EXECUTABLE}" "-DMPIFLAGS=${_mpi_flags}"
                  -DWEFT_MPI=${WEFT_MPI} -DWORK=${CMAKE_CURRENT_BINARY_DIR}/mpi_resume -DMODE=resume
                  -P ${CMAKE_CURRENT_SOURCE_DIR}/mpi_resume.cmake)
-set_tests_properties(cli.mpi.resume PROPERTIES LABELS "cli;mpi" TIMEOUT 300)
+set_tests_properties(cli.mpi.resume PROPERTIES LABELS "cli;mpi" TIMEOUT 300 RUN_SERIAL TRUE)
 add_test(NAME cli.mpi.failing_rank
          COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> "-DMPIEXEC=${MPIEXEC_EXECUTABLE}" "-DMPIFLAGS=${_mpi_flags}"
                  -DWEFT_MPI=${WEFT_MPI} -DWORK=${CMAKE_CURRENT_BINARY_DIR}/mpi_failing -DMODE=failing

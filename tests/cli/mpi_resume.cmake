@@ -52,7 +52,7 @@ if(MODE STREQUAL "resume")
   file(GLOB units "${WORK}/resumed/units/unit-*.bin")
   list(LENGTH units n_units)
   if(n_units LESS 5 OR n_units GREATER 12)
-    message(FATAL_ERROR "the killed run recorded ${n_units} units; expected 5 to 12 of 13")
+    message(FATAL_ERROR "the killed run recorded ${n_units} units; expected 5 to 12 of 13 (exit ${rc}: ${err})")
   endif()
   # Leftovers of an interrupted write (.unit-*.tmp*) are allowed; a half-written unit is not.
   file(GLOB partial "${WORK}/resumed/units/unit-*.tmp*")
