@@ -10,9 +10,11 @@
 #include <nlohmann/json.hpp>
 
 #include "command.h"
+#include "grid_input.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 #include "weft/fit/fit.h"
+#include "weft/fit/scale.h"
 #include "weft/fit/validation.h"
 #include "weft/volume/grid.h"
 
@@ -23,12 +25,9 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 
 struct FitOptions {
-  std::string grid;
-  std::string grid_name;
-  std::string values = "concentration";
-  double sigma = 0.0;
+  GridInputOptions input;
   std::string axes = "x,y,z";
-  double window = 0.0;
+  std::string window = "yarn";
   int block = 0;
   std::string beams;
   std::string out = "weft-out";
@@ -43,10 +42,12 @@ json fit_json(const fit::GammaFit& g) {
 }
 
 /// Reads the axis beams of a beams.csv written by `weft measure`, keyed by label ("+x").
-std::map<std::string, volume::TransmittanceCurve> read_beams(const fs::path& path) {
+std::map<std::string, volume::TransmittanceCurve> read_beams(const fs::path& path, const BeamsRecord& now) {
   std::ifstream in(path);
   if (!in) fail("{}: cannot open", path.string());
   std::string line;
+  if (!std::getline(in, line)) fail("{}: empty, not a beams.csv from weft measure", path.string());
+  check_beams_record(parse_beams_record(line, path.string()), now, path.string());
   if (!std::getline(in, line) || line.rfind("beam,dx,dy,dz,t,T,stderr,logT", 0) != 0) {
     fail("{}: not a beams.csv from weft measure (header 'beam,dx,dy,dz,t,T,stderr,logT')", path.string());
   }
@@ -83,14 +84,11 @@ const Registrar kFit{Command{
     "fit", "Gamma-concentration fits (Eq. 19-20) from a grid's concentration statistics", 30,
     [](CLI::App& sub) -> Action {
       auto o = std::make_shared<FitOptions>();
-      sub.add_option("--grid", o->grid, "Input .vdb grid")->required();
-      sub.add_option("--grid-name", o->grid_name, "Grid to read (default: the first float grid)");
-      sub.add_option("--values", o->values, "concentration (mu = sigma*C) or extinction (mu)")
-          ->check(CLI::IsMember({"concentration", "extinction"}))
-          ->capture_default_str();
-      sub.add_option("--sigma", o->sigma, "Extinction cross-section per unit concentration [1/length] (default 1)");
+      add_grid_input(sub, o->input, true);
       sub.add_option("--axes", o->axes, "Axes, comma separated: x, y, z")->capture_default_str();
-      sub.add_option("--window", o->window, "Window length [length]; 0 = the grid's extent along each axis")
+      sub.add_option("--window", o->window,
+                     "Window of the statistics (as weft validate): yarn (the yarn diameter from the grid's "
+                     "provenance, else measured), yarn-measured, corr, extent, or a length")
           ->capture_default_str();
       sub.add_option("--block", o->block,
                      "Also write local fields per block of B^3 voxels to local_fields.vdb (0 = off)")
@@ -98,21 +96,22 @@ const Registrar kFit{Command{
       sub.add_option("--beams", o->beams, "beams.csv from `weft measure`: adds least-squares fits and model errors");
       sub.add_option("--out", o->out, "Output folder")->capture_default_str();
       return [o](const Context& ctx) -> int {
-        const bool extinction = o->values == "extinction";
-        if (extinction && o->sigma != 0.0) fail("--sigma applies to concentration values, not --values extinction");
-        if (o->sigma != 0.0) require_positive("--sigma", o->sigma);
-        const double sigma = extinction || o->sigma == 0.0 ? 1.0 : o->sigma;
-        require_non_negative("--window", o->window);
+        check_grid_input(o->input);
         if (o->block < 0) fail("--block must be >= 0, got {}", o->block);
         const auto dirs = fit::parse_axes(o->axes);
+        const LoadedGrid loaded = load_grid_input(o->input);
+        const volume::Grid& grid = loaded.grid;
+        const double sigma = loaded.sigma.sigma;
         std::map<std::string, volume::TransmittanceCurve> measured;
-        if (!o->beams.empty()) measured = read_beams(o->beams);
-        const volume::Grid grid = volume::Grid::load(o->grid, o->grid_name);
-        if (grid.active_voxel_count() == 0) fail("{}: grid '{}' is empty (no active voxels)", o->grid, grid.name());
+        if (!o->beams.empty())
+          measured =
+              read_beams(o->beams, {sigma, o->input.values, grid.voxel_size(), grid.active_voxel_count(), grid.sum()});
+        const fit::StatisticsScale scale = fit::resolve_scale(o->window, grid, loaded.provenance, ctx.progress);
 
         std::array<fit::ConcentrationStats, 3> stats;
         for (int a = 0; a < 3; ++a)
-          stats[static_cast<std::size_t>(a)] = fit::window_stats(grid, a, o->window, ctx.progress);
+          stats[static_cast<std::size_t>(a)] =
+              fit::window_stats(grid, a, scale.length[static_cast<std::size_t>(a)], ctx.progress);
         const fit::ConcentrationStats iso = fit::pool({stats[0], stats[1], stats[2]});
         const fit::GammaFit iso_fit = fit::gamma_from_moments(iso.mean, iso.variance, sigma);
         json axes = json::array();
@@ -145,11 +144,12 @@ const Registrar kFit{Command{
         std::optional<fit::LocalFields> fields;
         if (o->block > 0) fields = fit::local_fields(grid, o->block, ctx.progress);
         json report = {{"weft", "fit"},
-                       {"grid", fs::absolute(o->grid).string()},
+                       {"grid", fs::absolute(o->input.grid).string()},
                        {"grid_name", grid.name()},
-                       {"values", o->values},
+                       {"values", o->input.values},
                        {"sigma", sigma},
-                       {"window", o->window},
+                       {"sigma_source", loaded.sigma.source},
+                       {"window", {{"rule", scale.rule}, {"source", scale.source}, {"length", scale.length}}},
                        {"axes", axes},
                        {"isotropic", {{"mean", iso.mean}, {"variance", iso.variance}, {"fit", fit_json(iso_fit)}}}};
         if (fields)

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command.h"
+#include "grid_input.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 #include "weft/volume/beam.h"
@@ -19,10 +20,7 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 
 struct MeasureOptions {
-  std::string grid;
-  std::string grid_name;
-  std::string values = "concentration";
-  double sigma = 0.0;
+  GridInputOptions input;
   std::vector<std::string> directions{"x", "y", "z"};
   int rays = 1;
   bool jitter = false;
@@ -41,12 +39,7 @@ const Registrar kMeasure{Command{
     "measure", "Ground-truth transmittance of beams through a .vdb grid (Amanatides-Woo DDA)", 20,
     [](CLI::App& sub) -> Action {
       auto o = std::make_shared<MeasureOptions>();
-      sub.add_option("--grid", o->grid, "Input .vdb grid")->required();
-      sub.add_option("--grid-name", o->grid_name, "Grid to read (default: the first float grid)");
-      sub.add_option("--values", o->values, "concentration (mu = sigma*C) or extinction (mu)")
-          ->check(CLI::IsMember({"concentration", "extinction"}))
-          ->capture_default_str();
-      sub.add_option("--sigma", o->sigma, "Extinction cross-section per unit concentration [1/length] (default 1)");
+      add_grid_input(sub, o->input, true);
       sub.add_option("--direction", o->directions,
                      "Beam direction, repeatable: x, y, z (optionally signed) or dx,dy,dz")
           ->capture_default_str();
@@ -63,18 +56,19 @@ const Registrar kMeasure{Command{
       sub.add_option("--out", o->out, "Output folder")->capture_default_str();
       return [o](const Context& ctx) -> int {
         const auto t_start = std::chrono::steady_clock::now();
-        const bool extinction = o->values == "extinction";
-        if (extinction && o->sigma != 0.0) fail("--sigma applies to concentration values, not --values extinction");
-        if (o->sigma != 0.0) require_positive("--sigma", o->sigma);
-        const double sigma = extinction || o->sigma == 0.0 ? 1.0 : o->sigma;
+        check_grid_input(o->input);
         if (o->rays < 1) fail("--rays must be >= 1, got {}", o->rays);
         std::vector<std::array<double, 3>> dirs;
         for (const auto& d : o->directions) dirs.push_back(volume::parse_direction(d));
         const auto method = volume::parse_beam_method(o->method);
-        const volume::Grid grid = volume::Grid::load(o->grid, o->grid_name);
-        if (grid.active_voxel_count() == 0) fail("{}: grid '{}' is empty (no active voxels)", o->grid, grid.name());
+        const LoadedGrid loaded = load_grid_input(o->input);
+        const volume::Grid& grid = loaded.grid;
+        const double sigma = loaded.sigma.sigma;
 
-        std::string csv = "beam,dx,dy,dz,t,T,stderr,logT\n";
+        // The first line records σ and the grid, so `weft fit --beams` can refuse curves of another σ or grid.
+        std::string csv =
+            beams_record_line({sigma, o->input.values, grid.voxel_size(), grid.active_voxel_count(), grid.sum()}) +
+            "beam,dx,dy,dz,t,T,stderr,logT\n";
         json beams = json::array();
         for (std::size_t b = 0; b < dirs.size(); ++b) {
           volume::BeamSpec spec;
@@ -131,10 +125,11 @@ const Registrar kMeasure{Command{
                        {"seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}};
         }
         json report = {{"weft", "measure"},
-                       {"grid", fs::absolute(o->grid).string()},
+                       {"grid", fs::absolute(o->input.grid).string()},
                        {"grid_name", grid.name()},
-                       {"values", o->values},
+                       {"values", o->input.values},
                        {"sigma", sigma},
+                       {"sigma_source", loaded.sigma.source},
                        {"voxel_size", grid.voxel_size()},
                        {"active_voxels", grid.active_voxel_count()},
                        {"seed", o->seed},

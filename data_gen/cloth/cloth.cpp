@@ -1,7 +1,9 @@
 #include "data_gen/cloth/cloth.h"
 
 #include <chrono>
+#include <cmath>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 
 #include "data_gen/cloth/pattern.h"
@@ -9,6 +11,7 @@
 #include "data_gen/cloth/yarn.h"
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
+#include "weft/volume/provenance.h"
 
 namespace weft::cloth {
 
@@ -53,6 +56,41 @@ FiberSet generate_fibers(const ClothSpec& spec, const CurveSet& centerlines, Pro
   return all;
 }
 
+volume::Provenance cloth_provenance(const ClothBuild& build) {
+  // σ per unit concentration, fibre-volume weighted over every fibre (design §3, issue 13):
+  // each fibre of radius r and length ℓ has volume π r² ℓ and, seen across the beam, projected
+  // area 2 r ℓ, so σ = Σ 2 r ℓ / Σ π r² ℓ (= 2/(π r) when all fibres share one radius).
+  const auto& f = build.fibers;
+  double projected = 0.0;
+  double volume = 0.0;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    double len = 0.0;
+    for (std::uint64_t p = f.offsets[i] + 1; p < f.offsets[i + 1]; ++p) {
+      const auto& a = f.points[p - 1];
+      const auto& b = f.points[p];
+      len += std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]));
+    }
+    projected += 2.0 * f.radius[i] * len;
+    volume += std::numbers::pi * f.radius[i] * f.radius[i] * len;
+  }
+  volume::Provenance p;
+  p.units = "mm";
+  p.value_kind = "concentration";
+  if (volume > 0.0) {
+    p.sigma = projected / volume;
+    p.fiber_radius = 2.0 / (std::numbers::pi * *p.sigma);
+    p.sigma_rule = "sum(2 r l)/sum(pi r^2 l) over the fibres: opaque fibres across the beam (2/(pi r_f))";
+  }
+  // Yarn diameter: 2 × envelope radius, averaged over the centrelines (each uses its preset).
+  double diameter = 0.0;
+  for (int d : build.centerlines.direction)
+    diameter += 2.0 * yarn_envelope_radius(d == 1 ? build.spec.weft_yarn : build.spec.warp_yarn);
+  if (!build.centerlines.direction.empty())
+    p.yarn_diameter = diameter / static_cast<double>(build.centerlines.direction.size());
+  p.source = "weft gen";
+  return p;
+}
+
 ClothBuild build_cloth(const ClothSpec& input, ProgressSink& progress) {
   ClothBuild build;
   build.spec = resolve(input);
@@ -74,6 +112,7 @@ ClothBuild build_cloth(const ClothSpec& input, ProgressSink& progress) {
   build.grid.set_metadata("fiber_volume_mm3", fmt::format("{}", build.report.fiber_volume));
   build.grid.set_metadata("volume_relative_error", fmt::format("{}", build.report.relative_error));
   build.grid.set_metadata("overlap_fraction", fmt::format("{}", build.report.overlap_fraction));
+  volume::write_provenance(build.grid, cloth_provenance(build));
   return build;
 }
 

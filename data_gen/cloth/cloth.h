@@ -9,6 +9,7 @@
 
 #include "weft/core/progress.h"
 #include "weft/volume/grid.h"
+#include "weft/volume/provenance.h"
 
 namespace weft::cloth {
 
@@ -57,6 +58,10 @@ struct ClothBuild {
   CurveSet centerlines;  ///< yarn centrelines the fibres were generated around
   ClothSpec spec;        ///< the spec with automatic values resolved (what cloth.json records)
 };
+
+/// @brief The grid's provenance (units, σ per unit concentration from the fibres, yarn
+/// diameter) that build_cloth writes into the grid's metadata (weft/volume/provenance.h).
+volume::Provenance cloth_provenance(const ClothBuild& build);
 
 /// @brief The fibres of a spec (centrelines → yarns), yarns built in parallel and concatenated
 /// in yarn order; `spec` is resolved first.

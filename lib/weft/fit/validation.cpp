@@ -46,9 +46,8 @@ std::vector<std::array<double, 3>> parse_axes(const std::string& text) {
 
 Validation validate(const volume::Grid& grid, const ValidationSpec& spec, ProgressSink& progress) {
   require_positive("validate: sigma", spec.sigma);
-  const bool correlation_window = spec.window == ValidationSpec::kCorrelationWindow;
-  if (!correlation_window && (!(spec.window >= 0.0) || !std::isfinite(spec.window))) {
-    fail("validate: window must be >= 0, got {}", spec.window);
+  for (double L : spec.scale) {
+    if (!std::isfinite(L) || L < 0.0) fail("validate: scale must be >= 0, got {}", L);
   }
   if (spec.directions.empty()) fail("validate: no beam directions");
   if (grid.active_voxel_count() == 0) fail("validate: grid '{}' has no active voxels", grid.name());
@@ -66,22 +65,17 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
   v.exponential = gamma_from_moments(v.mean_concentration, 0.0, spec.sigma);
   const auto exp_law = exponential_law(v.exponential);
 
-  // Window statistics per axis (sense does not matter); all three when isotropic is asked.
+  // Window statistics per axis at its scale (sense does not matter); all three for isotropic.
   std::array<ConcentrationStats, 3> stats{};
   std::array<double, 3> stats_seconds{};
   std::array<bool, 3> have{};
-  std::array<double, 3> corr{};
   auto stats_for = [&](int axis) {
-    if (have[static_cast<std::size_t>(axis)]) return;
+    const auto a = static_cast<std::size_t>(axis);
+    if (have[a]) return;
     const auto t0 = std::chrono::steady_clock::now();
-    double window = spec.window;
-    if (correlation_window) {
-      corr[static_cast<std::size_t>(axis)] = correlation_length(grid, axis, progress);
-      window = corr[static_cast<std::size_t>(axis)];
-    }
-    stats[static_cast<std::size_t>(axis)] = window_stats(grid, axis, window, progress);
-    stats_seconds[static_cast<std::size_t>(axis)] = seconds_since(t0);
-    have[static_cast<std::size_t>(axis)] = true;
+    stats[a] = window_stats(grid, axis, spec.scale[a], progress);
+    stats_seconds[a] = seconds_since(t0);
+    have[a] = true;
   };
   if (spec.isotropic) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -98,37 +92,86 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
     av.direction = d;
     av.label = volume::direction_label(d);
     const int axis = volume::beam_axis(d);
+    const auto a = static_cast<std::size_t>(axis);
     volume::BeamSpec beam;
     beam.direction = d;
     beam.scale = spec.sigma;
     beam.rays_per_column = spec.rays_per_column;
     beam.seed = spec.seed;
     beam.method = spec.method;
+    // The depths of the beam follow from the grid alone (one voxel apart from the entry face).
+    const std::vector<double> depths = volume::beam_depths(grid, beam);
+    stats_for(axis);
+    av.stats = stats[a];
+    av.scale = av.stats.window;
+    av.stats_seconds = stats_seconds[a];
     auto t0 = std::chrono::steady_clock::now();
+    av.moment_fit = gamma_from_moments(av.stats.mean, av.stats.variance, spec.sigma);
+    auto add_model = [&](ModelCurve m) { av.models.push_back(std::move(m)); };
+    {
+      ModelCurve m;
+      m.name = "gamma";
+      m.description = "Eq. 19-20 (the paper): gamma concentration from the window statistics";
+      m.parameters = {{"window", av.stats.window},
+                      {"mean_concentration", av.moment_fit.mean_concentration},
+                      {"var_concentration", av.moment_fit.var_concentration},
+                      {"alpha", av.moment_fit.alpha},
+                      {"beta", av.moment_fit.beta}};
+      m.log_t = log_curve(*model_law(av.moment_fit), depths);
+      add_model(std::move(m));
+    }
+    if (spec.predictive_models) {
+      PredictionSpec ps;
+      ps.direction = d;
+      ps.sigma = spec.sigma;
+      ps.scale = spec.scale[a];
+      for (auto& p : predict_axis(grid, ps, depths, progress)) {
+        if (p.name == "gamma") continue;  // the same law as above (one row per model)
+        ModelCurve m;
+        m.name = p.name;
+        m.description = p.description;
+        m.parameters = std::move(p.parameters);
+        m.log_t = std::move(p.log_t);
+        add_model(std::move(m));
+      }
+    }
+    if (iso_law) {
+      ModelCurve m;
+      m.name = "isotropic";
+      m.description = "gamma law from the window statistics of all three axes pooled";
+      m.parameters = {{"alpha", v.isotropic_fit.alpha}, {"beta", v.isotropic_fit.beta}};
+      m.log_t = log_curve(*iso_law, depths);
+      add_model(std::move(m));
+    }
+    {
+      ModelCurve m;
+      m.name = "exponential";
+      m.description = "Beer-Lambert with the box-mean extinction (the RTE baseline)";
+      m.parameters = {{"mean_extinction", v.exponential.mean_extinction()}};
+      m.log_t = log_curve(*exp_law, depths);
+      add_model(std::move(m));
+    }
+    av.fit_seconds = seconds_since(t0);
+    // Only now the ground truth; every prediction above is already fixed.
+    t0 = std::chrono::steady_clock::now();
     av.ground_truth = volume::measure_beam(grid, beam, progress);
     av.beam_seconds = seconds_since(t0);
-    stats_for(axis);
-    av.stats = stats[static_cast<std::size_t>(axis)];
-    av.correlation_length = corr[static_cast<std::size_t>(axis)];
-    av.stats_seconds = stats_seconds[static_cast<std::size_t>(axis)];
-    t0 = std::chrono::steady_clock::now();
-    av.moment_fit = gamma_from_moments(av.stats.mean, av.stats.variance, spec.sigma);
-    const auto& depth = av.ground_truth.depth;
-    auto add_model = [&](const std::string& name, std::vector<double> log_t) {
-      ModelCurve m;
-      m.name = name;
-      m.error = compare(av.ground_truth, log_t);
-      m.log_t = std::move(log_t);
-      av.models.push_back(std::move(m));
-    };
-    add_model("gamma", log_curve(*model_law(av.moment_fit), depth));
+    if (av.ground_truth.depth != depths) fail("validate: beam depths differ from the predicted depths (internal)");
+    for (auto& m : av.models) m.error = compare(av.ground_truth, m.log_t);
     if (spec.least_squares) {
+      t0 = std::chrono::steady_clock::now();
       av.lsq_fit = fit_gamma_to_curve(av.ground_truth, spec.sigma, av.moment_fit);
-      add_model("least-squares", log_curve(*model_law(av.lsq_fit.fit), depth));
+      ModelCurve m;
+      m.name = "least-squares";
+      m.description = "reference: the gamma law fitted to the ground truth (Levenberg-Marquardt); not a prediction";
+      m.uses_ground_truth = true;
+      m.parameters = {
+          {"alpha", av.lsq_fit.fit.alpha}, {"beta", av.lsq_fit.fit.beta}, {"rms_residual_T", av.lsq_fit.rms}};
+      m.log_t = log_curve(*model_law(av.lsq_fit.fit), depths);
+      m.error = compare(av.ground_truth, m.log_t);
+      av.models.push_back(std::move(m));
+      av.fit_seconds += seconds_since(t0);
     }
-    if (iso_law) add_model("isotropic", log_curve(*iso_law, depth));
-    add_model("exponential", log_curve(*exp_law, depth));
-    av.fit_seconds = seconds_since(t0);
     v.axes.push_back(std::move(av));
   }
   return v;

@@ -11,6 +11,7 @@
 
 #include "weft/core/progress.h"
 #include "weft/fit/fit.h"
+#include "weft/fit/models.h"
 #include "weft/volume/beam.h"
 #include "weft/volume/grid.h"
 
@@ -21,10 +22,11 @@ struct ValidationSpec {
   std::vector<std::array<double, 3>> directions{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   /// μ = sigma × value. For extinction grids pass 1 (values are then μ, "C" below is μ).
   double sigma = 1.0;
-  /// Window length (world units) of the concentration statistics: > 0 fixed; 0 = each axis's
-  /// extent (the whole traversed depth); kCorrelationWindow = each axis's correlation length.
-  double window = kCorrelationWindow;
-  static constexpr double kCorrelationWindow = -1.0;
+  /// Scale L of the statistics per axis (world units; 0 = the extent along that axis), from
+  /// fit::resolve_scale (the yarn diameter by default).
+  std::array<double, 3> scale{0.0, 0.0, 0.0};
+  /// Also evaluate the predictive models of fit/models.h (else only gamma and the baseline).
+  bool predictive_models = true;
   int rays_per_column = 1;
   std::uint64_t seed = 1;
   bool isotropic = true;
@@ -34,7 +36,10 @@ struct ValidationSpec {
 
 /// One model's curve and its errors against one axis's ground truth.
 struct ModelCurve {
-  std::string name;  ///< "gamma", "least-squares", "isotropic", "exponential"
+  std::string name;  ///< "gamma", "empirical", …, "least-squares", "isotropic", "exponential"
+  std::string description;
+  bool uses_ground_truth = false;  ///< true only for fits to T_gt (labelled references)
+  std::vector<std::pair<std::string, double>> parameters;
   std::vector<double> log_t;
   CurveError error;
 };
@@ -48,7 +53,7 @@ struct AxisValidation {
   LeastSquaresFit lsq_fit;
   std::vector<ModelCurve> models;
   double beam_seconds = 0.0;
-  double correlation_length = 0.0;  ///< along this axis (computed when the window asks for it)
+  double scale = 0.0;  ///< L used along this axis (world units)
   double stats_seconds = 0.0;
   double fit_seconds = 0.0;
   [[nodiscard]] const ModelCurve& model(const std::string& name) const;
@@ -68,7 +73,8 @@ struct Validation {
   std::vector<AxisValidation> axes;
 };
 
-/// Throws weft::Error for an empty grid, non-axis directions, σ ≤ 0, or a negative window.
+/// Throws weft::Error for an empty grid, non-axis directions, σ ≤ 0, or a negative scale.
+/// The ground truth is measured after every prediction is made, and no prediction receives it.
 [[nodiscard]] Validation validate(const volume::Grid& grid, const ValidationSpec& spec,
                                   ProgressSink& progress = null_progress());
 

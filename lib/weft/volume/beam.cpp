@@ -571,6 +571,15 @@ void trace_rays(const Grid& grid, const Lattice& L, double scale, bool use_openv
   });
 }
 
+}  // namespace
+
+std::vector<double> beam_depths(const Grid& grid, const BeamSpec& spec) {
+  if (grid.active_voxel_count() == 0) fail("beam: grid '{}' has no active voxels", grid.name());
+  return make_lattice(grid, spec).depths;
+}
+
+namespace {
+
 void check_spec(const Grid& grid, const BeamSpec& spec) {
   require_positive("beam: scale (sigma)", spec.scale);
   if (spec.rays_per_column < 1) fail("beam: rays per column must be >= 1, got {}", spec.rays_per_column);

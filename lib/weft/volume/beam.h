@@ -77,6 +77,11 @@ struct TransmittanceCurve {
 [[nodiscard]] TransmittanceCurve measure_beam(const Grid& grid, const BeamSpec& spec,
                                               ProgressSink& progress = null_progress());
 
+/// The depth grid (distances from the entry face) on which measure_beam reports T for this
+/// beam: it depends on the grid's box and the spec only, so predictions can be made on it
+/// without measuring anything.
+[[nodiscard]] std::vector<double> beam_depths(const Grid& grid, const BeamSpec& spec);
+
 /// The optical depth profiles τ_i(t_k) of every ray of the beam (rays in a fixed order that
 /// does not depend on the method), with the depth grid; for tests and small grids.
 struct BeamDepths {

@@ -1,0 +1,166 @@
+#include "validate_corpus.h"
+
+#include <chrono>
+#include <filesystem>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include "data_gen/cloth/corpus.h"
+#include "validate_common.h"
+#include "validate_output.h"
+#include "weft/core/atomic_file.h"
+#include "weft/viz/chart.h"
+#include "weft/viz/display.h"
+#include "written_files.h"
+
+namespace weft::app {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+std::string corpus_csv(const std::vector<cloth::CorpusResult>& results) {
+  std::string out =
+      "case,pattern,preset,voxel_size_mm,axis,scale_mm,model,rms_abs_T,ratio_to_exponential,uses_ground_truth\n";
+  for (const auto& r : results) {
+    for (const auto& a : r.axes) {
+      for (const auto& m : a.models) {
+        out += fmt::format("{},{},{},{:g},{},{:.6g},{},{},{},{}\n", r.c.name(), r.c.pattern, r.c.preset, r.c.voxel_size,
+                           a.axis, a.scale, m.name, fmt_csv(m.rms_abs_t), fmt_csv(m.ratio),
+                           m.uses_ground_truth ? "true" : "false");
+      }
+    }
+  }
+  return out;
+}
+
+/// Ratio to the exponential per case (x: case × axis index) and model; the 1/3 line dashed.
+viz::Chart corpus_chart(const std::vector<cloth::CorpusResult>& results) {
+  viz::Chart c;
+  c.title = "corpus: RMS error on T over the exponential's, per case and axis (x, y, z)";
+  c.x_label = "case x 3 + axis (order of corpus.csv)";
+  c.y_label = "ratio to exponential";
+  c.log_y = true;
+  c.width = 1400;
+  c.height = 800;
+  std::vector<std::string> names;
+  for (const auto& m : results.front().axes.front().models) names.push_back(m.name);
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (names[i] == "exponential" || names[i] == "isotropic") continue;
+    const auto st = model_style(names[i]);
+    viz::Series s;
+    s.label = names[i];
+    s.color = st.color;
+    s.style = viz::LineStyle::markers;
+    s.marker = st.marker == viz::Marker::none ? viz::Marker::circle : st.marker;
+    double x = 0.0;
+    for (const auto& r : results) {
+      for (const auto& a : r.axes) {
+        s.x.push_back(x);
+        s.y.push_back(a.models[i].ratio);
+        x += 1.0;
+      }
+    }
+    c.series.push_back(s);
+  }
+  viz::Series third;
+  third.label = "1/3 (acceptance)";
+  third.style = viz::LineStyle::dashed;
+  third.color = {0, 0, 0};
+  third.width = 1.5f;
+  const double n = static_cast<double>(results.size() * results.front().axes.size());
+  third.x = {-0.5, n - 0.5};
+  third.y = {1.0 / 3.0, 1.0 / 3.0};
+  c.series.push_back(third);
+  return c;
+}
+
+}  // namespace
+
+int run_corpus(const CorpusOptions& o, const Context& ctx) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto cases = cloth::corpus_cases(o.quick);
+  std::vector<cloth::CorpusResult> results;
+  {
+    ProgressTask task(ctx.progress, "corpus cases", cases.size());
+    for (const auto& c : cases) {
+      results.push_back(cloth::run_corpus_case(c, o.seed, o.window));
+      task.step();
+    }
+  }
+  const fs::path out = o.out;
+  ensure_directory(out);
+  WrittenFiles files;
+  write_text_atomically(out / "corpus.csv", corpus_csv(results));
+  files.add(out / "corpus.csv", "every case, axis and model");
+  json cases_json = json::array();
+  int misses = 0;
+  for (const auto& r : results) {
+    json axes = json::array();
+    for (const auto& a : r.axes) {
+      json models = json::object();
+      for (const auto& m : a.models) models[m.name] = {{"rms_abs_T", m.rms_abs_t}, {"ratio", number_or_null(m.ratio)}};
+      axes.push_back({{"axis", a.axis},
+                      {"scale", a.scale},
+                      {"best_predictive", a.best.name},
+                      {"best_ratio", number_or_null(a.best.ratio)},
+                      {"models", models}});
+      if (!(a.best.ratio <= 1.0 / 3.0)) ++misses;
+    }
+    cases_json.push_back({{"case", r.c.name()},
+                          {"sigma", r.sigma},
+                          {"active_voxels", r.active_voxels},
+                          {"seconds", r.seconds},
+                          {"axes", axes}});
+  }
+  std::string plot = "skipped: --no-plot";
+  if (!o.no_plot) {
+    std::string why;
+    if (!viz::ensure_display(&why)) {
+      plot = fmt::format("not rendered: {}", why);
+    } else {
+      const auto pic = viz::save_chart_png(corpus_chart(results), out / "corpus.png");
+      if (pic.written) {
+        files.add(out / "corpus.png", "ratios per case and model");
+        plot = "written";
+      } else {
+        plot = fmt::format("not rendered: {}", pic.reason);
+      }
+    }
+  }
+  json report = {{"weft", "validate --corpus"},
+                 {"quick", o.quick},
+                 {"seed", o.seed},
+                 {"window", o.window},
+                 {"cases", cases_json},
+                 {"axes_missing_one_third", misses},
+                 {"corpus.png", plot},
+                 {"seconds", seconds_since(t0)}};
+  write_text_atomically(out / "corpus.json", report.dump(2) + "\n");
+  files.add(out / "corpus.json", "summary");
+
+  ctx.say(
+      fmt::format("weft validate --corpus: {} cases, sigma and scale L from each cloth's provenance", cases.size()));
+  ctx.say(fmt::format("{:<28} {:>4} {:>7} {:>7} {:>7} {:<20} {:>6}", "case", "axis", "L mm", "gamma", "local-g",
+                      "best predictive", "ratio"));
+  auto ratio_of = [](const cloth::CorpusAxis& a, const std::string& name) -> double {
+    for (const auto& m : a.models) {
+      if (m.name == name) return m.ratio;
+    }
+    return NAN;
+  };
+  for (const auto& r : results) {
+    for (const auto& a : r.axes) {
+      ctx.say(fmt::format("{:<28} {:>4} {:>7.3f} {:>7.3f} {:>7.3f} {:<20} {:>6.3f}{}", r.c.name(), a.axis, a.scale,
+                          ratio_of(a, "gamma"), ratio_of(a, "local-gamma"), a.best.name, a.best.ratio,
+                          a.best.ratio <= 1.0 / 3.0 ? "" : "  misses 1/3"));
+    }
+  }
+  ctx.say(fmt::format("{} of {} case axes miss 1/3 of the exponential's error; {:.1f} s", misses, results.size() * 3,
+                      seconds_since(t0)));
+  files.say(ctx);
+  return 0;
+}
+
+}  // namespace weft::app

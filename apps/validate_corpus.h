@@ -1,0 +1,23 @@
+#pragma once
+/// @file
+/// @brief `weft validate --corpus`: the corpus study's front-end (outputs, table, figure).
+
+#include <cstdint>
+#include <string>
+
+#include "command.h"
+
+namespace weft::app {
+
+struct CorpusOptions {
+  std::string out;
+  bool no_plot = false;
+  bool quick = false;
+  std::uint64_t seed = 1;
+  std::string window = "yarn";
+};
+
+/// Runs every case of cloth::corpus_cases, writes corpus.csv, corpus.json and corpus.png.
+int run_corpus(const CorpusOptions& o, const Context& ctx);
+
+}  // namespace weft::app

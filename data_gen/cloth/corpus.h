@@ -1,0 +1,48 @@
+#pragma once
+/// @file
+/// @brief The corpus study of `weft validate --corpus` (issue 13): every woven pattern and the
+/// knit × yarn presets × voxel sizes, each case an independent unit (a cloth generated from the
+/// run seed, voxelized, validated at the default σ and scale), so cases can be spread over
+/// threads or processes and reduced in case order.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "weft/core/progress.h"
+#include "weft/fit/report.h"
+
+namespace weft::cloth {
+
+struct CorpusCase {
+  std::string pattern;
+  std::string preset;
+  double voxel_size = 0.01;  ///< mm
+  [[nodiscard]] std::string name() const;
+};
+
+/// Every woven pattern and stockinette × cotton, polyester, wool × 10 and 20 µm (42 cases);
+/// quick: plain and stockinette, cotton, 20 µm.
+[[nodiscard]] std::vector<CorpusCase> corpus_cases(bool quick);
+
+struct CorpusAxis {
+  std::string axis;
+  double scale = 0.0;
+  std::vector<fit::ModelRatio> models;
+  fit::ModelRatio best;
+};
+
+struct CorpusResult {
+  CorpusCase c;
+  double sigma = 0.0;
+  std::uint64_t active_voxels = 0;
+  std::vector<CorpusAxis> axes;
+  double seconds = 0.0;
+};
+
+/// Generates, voxelizes and validates one case (beams x, y, z; `window` as `weft validate
+/// --window`). The cloth's seed is `seed` for every case (the same yarns at both voxel sizes).
+[[nodiscard]] CorpusResult run_corpus_case(const CorpusCase& c, std::uint64_t seed, const std::string& window,
+                                           ProgressSink& progress = null_progress());
+
+}  // namespace weft::cloth

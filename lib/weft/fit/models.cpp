@@ -1,0 +1,371 @@
+// Predictive models of axis beams from window statistics and local fields (fit/models.h).
+#include "weft/fit/models.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "weft/core/error.h"
+#include "weft/core/floor_div.h"
+#include "weft/core/parallel.h"
+#include "weft/fit/fit.h"
+#include "weft/volume/beam.h"
+#include "weft/volume/columns.h"
+
+namespace weft::fit {
+namespace {
+
+constexpr std::size_t kShards = 64;  // fixed: results do not depend on the thread count
+constexpr int kBins = 4096;          // histogram of window means for Eq. 16
+
+/// Plain sums (Σ1, Σx, Σx²) of window means: exact to merge in any fixed order.
+struct Sums {
+  double n = 0.0;
+  double s = 0.0;
+  double s2 = 0.0;
+  void add(double x) {
+    n += 1.0;
+    s += x;
+    s2 += x * x;
+  }
+  void merge(const Sums& o) {
+    n += o.n;
+    s += o.s;
+    s2 += o.s2;
+  }
+  [[nodiscard]] double mean() const { return n > 0.0 ? s / n : 0.0; }
+  [[nodiscard]] double var() const {
+    if (!(n > 0.0)) return 0.0;
+    const double m = s / n;
+    return std::max(0.0, s2 / n - m * m);
+  }
+};
+
+using GroupKey = std::pair<std::int64_t, std::int64_t>;
+
+struct Group {
+  Sums windows;
+  double rays = 0.0;
+};
+
+/// Everything one pass over the windows of length w along the columns gives.
+struct WindowSummary {
+  Sums all;
+  Sums nonzero;
+  double zeros = 0.0;
+  double max_mean = 0.0;
+  std::map<GroupKey, Group> groups;
+  std::vector<double> bin_count;
+  std::vector<double> bin_sum;
+};
+
+double log_sum_exp_mean(const std::vector<double>& log_terms, const std::vector<double>& weights) {
+  double hi = -std::numeric_limits<double>::infinity();
+  double wsum = 0.0;
+  for (std::size_t i = 0; i < log_terms.size(); ++i) {
+    if (weights[i] > 0.0) hi = std::max(hi, log_terms[i]);
+    wsum += weights[i];
+  }
+  if (!(wsum > 0.0) || !std::isfinite(hi)) return hi;
+  double s = 0.0;
+  for (std::size_t i = 0; i < log_terms.size(); ++i) {
+    if (weights[i] > 0.0) s += weights[i] * std::exp(log_terms[i] - hi);
+  }
+  return hi + std::log(s / wsum);
+}
+
+/// One pass (twice: the histogram needs the largest window mean first) over every window of
+/// w voxels of every column along the reader's axis; groups are transverse cells of `cell`
+/// voxels aligned to multiples of `cell` in index space (as coarse render grids are).
+WindowSummary summarize(const volume::ColumnReader& reader, int w, int cell, ProgressSink& progress) {
+  const int n = static_cast<int>(reader.box().extent()[reader.axis()]);
+  const std::size_t units = reader.tile_count();
+  const std::size_t shards = std::min(kShards, units);
+  const int positions = n - w + 1;
+  std::vector<WindowSummary> parts(shards);
+  for (int pass = 0; pass < 2; ++pass) {
+    double top = 0.0;
+    for (const auto& p : parts) top = std::max(top, p.max_mean);
+    ProgressTask task(progress, fmt::format("window statistics {}", "xyz"[reader.axis()]), units);
+    parallel_units(shards, [&](std::size_t shard) {
+      volume::ColumnTile tile;
+      std::vector<double> prefix(static_cast<std::size_t>(n) + 1);
+      auto& part = parts[shard];
+      if (pass == 1) {
+        part.bin_count.assign(kBins, 0.0);
+        part.bin_sum.assign(kBins, 0.0);
+      }
+      for (std::size_t unit = shard * units / shards; unit < (shard + 1) * units / shards; ++unit) {
+        reader.read(unit, tile);
+        for (int iu = 0; iu < tile.nu; ++iu) {
+          for (int iv = 0; iv < tile.nv; ++iv) {
+            const float* col = tile.column(iu, iv);
+            prefix[0] = 0.0;
+            for (int k = 0; k < n; ++k)
+              prefix[static_cast<std::size_t>(k) + 1] = prefix[static_cast<std::size_t>(k)] + col[k];
+            Group* g = nullptr;
+            if (pass == 0) {
+              const GroupKey key{floor_div(tile.u0 + iu, cell), floor_div(tile.v0 + iv, cell)};
+              g = &part.groups[key];
+              g->rays += 1.0;
+            }
+            for (int s = 0; s < positions; ++s) {
+              const double m = (prefix[static_cast<std::size_t>(s + w)] - prefix[static_cast<std::size_t>(s)]) / w;
+              if (pass == 0) {
+                part.all.add(m);
+                g->windows.add(m);
+                part.max_mean = std::max(part.max_mean, m);
+                if (m > 0.0)
+                  part.nonzero.add(m);
+                else
+                  part.zeros += 1.0;
+              } else if (m > 0.0) {
+                const int b = std::min(kBins - 1, static_cast<int>(m / top * kBins));
+                part.bin_count[static_cast<std::size_t>(b)] += 1.0;
+                part.bin_sum[static_cast<std::size_t>(b)] += m;
+              }
+            }
+          }
+        }
+        task.step();
+      }
+    });
+  }
+  WindowSummary out;
+  out.bin_count.assign(kBins, 0.0);
+  out.bin_sum.assign(kBins, 0.0);
+  for (const auto& p : parts) {
+    out.all.merge(p.all);
+    out.nonzero.merge(p.nonzero);
+    out.zeros += p.zeros;
+    out.max_mean = std::max(out.max_mean, p.max_mean);
+    for (const auto& [k, g] : p.groups) {
+      auto& dst = out.groups[k];
+      dst.windows.merge(g.windows);
+      dst.rays += g.rays;
+    }
+    for (int b = 0; b < kBins; ++b) {
+      out.bin_count[static_cast<std::size_t>(b)] += p.bin_count[static_cast<std::size_t>(b)];
+      out.bin_sum[static_cast<std::size_t>(b)] += p.bin_sum[static_cast<std::size_t>(b)];
+    }
+  }
+  return out;
+}
+
+/// Hazard integral of one block over [s0, s1) of memory (exact for the gamma hazard
+/// Σ(s) = μ̄/(1 + κ s)): α [log1p(κ s1) − log1p(κ s0)], or μ̄ (s1 − s0) without variance.
+double block_hazard(double sigma, double mean, double var, double s0, double s1) {
+  if (!(mean > 0.0)) return 0.0;
+  const double mu = sigma * mean;
+  if (!(var > 0.0)) return mu * (s1 - s0);
+  const double kappa = sigma * var / mean;
+  const double alpha = mean * mean / var;
+  return alpha * (std::log1p(kappa * s1) - std::log1p(kappa * s0));
+}
+
+enum class Memory { none, from_entry, per_block };
+
+/// log T on `depths` of a beam through block fields of side B voxels: `mean`/`var` give each
+/// block's C̄ and column-mean variance along the beam (var ignored when memory is none).
+std::vector<double> block_field_curve(const volume::IndexBox& box, int axis, bool reverse, int B, double h,
+                                      double sigma, const LocalFields& fields, Memory memory,
+                                      const std::vector<double>& depths) {
+  const int au = (axis + 1) % 3;
+  const int av = (axis + 2) % 3;
+  const auto A = static_cast<std::size_t>(axis);
+  const int n = static_cast<int>(box.extent()[A]);
+  const std::int64_t cu0 = floor_div(box.min[static_cast<std::size_t>(au)], B);
+  const std::int64_t cu1 = floor_div(box.max[static_cast<std::size_t>(au)], B);
+  const std::int64_t cv0 = floor_div(box.min[static_cast<std::size_t>(av)], B);
+  const std::int64_t cv1 = floor_div(box.max[static_cast<std::size_t>(av)], B);
+  const std::size_t columns = static_cast<std::size_t>((cu1 - cu0 + 1) * (cv1 - cv0 + 1));
+  std::vector<std::vector<double>> log_terms(depths.size(), std::vector<double>(columns, 0.0));
+  std::vector<double> weights(columns, 0.0);
+  const auto& mean_grid = fields.mean;
+  const auto& var_grid = fields.variance[A];
+  parallel_units(columns, [&](std::size_t c) {
+    const std::int64_t cu = cu0 + static_cast<std::int64_t>(c) / (cv1 - cv0 + 1);
+    const std::int64_t cv = cv0 + static_cast<std::int64_t>(c) % (cv1 - cv0 + 1);
+    auto overlap = [&](std::int64_t cb, int ax) {
+      const std::int64_t lo = std::max<std::int64_t>(box.min[static_cast<std::size_t>(ax)], cb * B);
+      const std::int64_t hi = std::min<std::int64_t>(box.max[static_cast<std::size_t>(ax)], cb * B + B - 1);
+      return static_cast<double>(std::max<std::int64_t>(0, hi - lo + 1));
+    };
+    weights[c] = overlap(cu, au) * overlap(cv, av);
+    auto block_value = [&](const volume::Grid& g, std::int64_t cb) {
+      std::array<int, 3> ijk{};
+      ijk[A] = static_cast<int>(cb);
+      ijk[static_cast<std::size_t>(au)] = static_cast<int>(cu);
+      ijk[static_cast<std::size_t>(av)] = static_cast<int>(cv);
+      return static_cast<double>(g.value(ijk[0], ijk[1], ijk[2]));
+    };
+    // Walk the fine slices from the entry face; H at the start of slice k is `H`.
+    double H = 0.0;
+    std::size_t d = 0;
+    std::int64_t current = std::numeric_limits<std::int64_t>::min();
+    double mean = 0.0;
+    double var = 0.0;
+    double block_entry = 0.0;  // memory origin of the current block (per_block)
+    for (int k = 0; k <= n && d < depths.size(); ++k) {
+      const double s0 = k * h;
+      if (k == n) {
+        while (d < depths.size()) log_terms[d++][c] = -H;  // past the box: nothing more
+        break;
+      }
+      const std::int64_t i = reverse ? box.max[A] - k : box.min[A] + k;
+      const std::int64_t cb = floor_div(i, B);
+      if (cb != current) {
+        current = cb;
+        mean = block_value(mean_grid, cb);
+        var = memory == Memory::none ? 0.0 : block_value(var_grid, cb);
+        block_entry = s0;
+      }
+      const double origin = memory == Memory::per_block ? block_entry : 0.0;
+      while (d < depths.size() && depths[d] <= s0 + h) {
+        const double t = std::max(depths[d], s0);
+        log_terms[d++][c] = -(H + block_hazard(sigma, mean, var, s0 - origin, t - origin));
+      }
+      H += block_hazard(sigma, mean, var, s0 - origin, s0 + h - origin);
+    }
+  });
+  std::vector<double> out(depths.size());
+  for (std::size_t d = 0; d < depths.size(); ++d) out[d] = log_sum_exp_mean(log_terms[d], weights);
+  return out;
+}
+
+}  // namespace
+
+double gamma_log_t(double sigma, double mean, double var, double t) {
+  if (!(mean > 0.0) || t == 0.0) return 0.0;
+  if (!(var > 0.0)) return -sigma * mean * t;
+  const double beta = mean / var;
+  const double alpha = mean * beta;
+  return -alpha * std::log1p(sigma * t / beta);
+}
+
+std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const PredictionSpec& spec,
+                                         const std::vector<double>& depths, ProgressSink& progress) {
+  require_positive("predict: sigma", spec.sigma);
+  if (!std::isfinite(spec.scale) || spec.scale < 0.0) fail("predict: scale must be >= 0, got {}", spec.scale);
+  const int axis = volume::beam_axis(spec.direction);
+  if (axis < 0) fail("predict: beam {} is not along an axis", volume::direction_label(spec.direction));
+  if (grid.active_voxel_count() == 0) fail("predict: grid '{}' has no active voxels", grid.name());
+  const bool reverse = spec.direction[static_cast<std::size_t>(axis)] < 0.0;
+  const double h = grid.voxel_size();
+  const volume::ColumnReader reader(grid, axis);
+  const auto box = reader.box();
+  const int n = static_cast<int>(box.extent()[static_cast<std::size_t>(axis)]);
+  const int w = spec.scale > 0.0 ? static_cast<int>(std::clamp<double>(std::round(spec.scale / h), 1.0, n)) : n;
+  const double sigma = spec.sigma;
+  const WindowSummary ws = summarize(reader, w, w, progress);
+  std::vector<PredictedModel> out;
+  auto add = [&](std::string name, std::string description, std::vector<std::pair<std::string, double>> params,
+                 auto&& log_t_of) {
+    PredictedModel m;
+    m.name = std::move(name);
+    m.description = std::move(description);
+    m.parameters = std::move(params);
+    m.log_t.reserve(depths.size());
+    for (std::size_t d = 0; d < depths.size(); ++d) m.log_t.push_back(log_t_of(d, depths[d]));
+    out.push_back(std::move(m));
+  };
+  const double L = w * h;
+  // The paper's law (Eq. 19–20) from all windows.
+  {
+    const double mean = ws.all.mean();
+    const double var = ws.all.var();
+    add("gamma", "Eq. 19-20: gamma concentration from all windows of length L",
+        {{"window", L},
+         {"mean_concentration", mean},
+         {"var_concentration", var},
+         {"alpha", var > 0.0 ? mean * mean / var : INFINITY},
+         {"beta", var > 0.0 ? mean / var : INFINITY}},
+        [&](std::size_t, double t) { return gamma_log_t(sigma, mean, var, t); });
+  }
+  // Eq. 16 with the empirical distribution (histogram bins at their own mean).
+  {
+    const double total = ws.all.n;
+    std::vector<double> c;
+    std::vector<double> p;
+    if (ws.zeros > 0.0) {
+      c.push_back(0.0);
+      p.push_back(ws.zeros / total);
+    }
+    for (int b = 0; b < kBins; ++b) {
+      const double cnt = ws.bin_count[static_cast<std::size_t>(b)];
+      if (cnt > 0.0) {
+        c.push_back(ws.bin_sum[static_cast<std::size_t>(b)] / cnt);
+        p.push_back(cnt / total);
+      }
+    }
+    std::vector<double> logs(c.size());
+    add("empirical", "Eq. 16: mean over all windows of length L of exp(-sigma C_w t)",
+        {{"window", L},
+         {"windows", total},
+         {"empty_fraction", ws.zeros / total},
+         {"bins", static_cast<double>(c.size())}},
+        [&](std::size_t, double t) {
+          for (std::size_t i = 0; i < c.size(); ++i) logs[i] = -sigma * c[i] * t;
+          return log_sum_exp_mean(logs, p);
+        });
+  }
+  // Gap-aware gamma: empty windows see nothing, the others a gamma law.
+  {
+    const double f0 = ws.all.n > 0.0 ? ws.zeros / ws.all.n : 0.0;
+    const double mean = ws.nonzero.mean();
+    const double var = ws.nonzero.var();
+    add("gap-gamma", "gap fraction f0 (empty windows of length L) plus a gamma law of the others",
+        {{"window", L},
+         {"gap_fraction", f0},
+         {"mean_concentration", mean},
+         {"var_concentration", var},
+         {"alpha", var > 0.0 ? mean * mean / var : INFINITY},
+         {"beta", var > 0.0 ? mean / var : INFINITY}},
+        [&](std::size_t, double t) {
+          const double lg = gamma_log_t(sigma, mean, var, t);
+          if (f0 <= 0.0) return lg;
+          if (f0 >= 1.0) return 0.0;
+          // log(f0 + (1 − f0) e^lg) without cancellation
+          const double a = std::log(f0);
+          const double b = std::log1p(-f0) + lg;
+          const double hi = std::max(a, b);
+          return hi + std::log1p(std::exp(std::min(a, b) - hi));
+        });
+  }
+  // Across the beam: a gamma law per transverse cell of side L, mixed by rays.
+  {
+    std::vector<double> weights;
+    std::vector<std::pair<double, double>> mv;
+    for (const auto& [k, g] : ws.groups) {
+      weights.push_back(g.rays);
+      mv.emplace_back(g.windows.mean(), g.windows.var());
+    }
+    std::vector<double> logs(mv.size());
+    add("across-beam", "gamma law per transverse cell of side L, T the ray-weighted mean",
+        {{"window", L}, {"cell", L}, {"groups", static_cast<double>(mv.size())}}, [&](std::size_t, double t) {
+          for (std::size_t i = 0; i < mv.size(); ++i) logs[i] = gamma_log_t(sigma, mv[i].first, mv[i].second, t);
+          return log_sum_exp_mean(logs, weights);
+        });
+  }
+  // Local fields of blocks L³ (the same fields `weft fit --block` writes for rendering).
+  {
+    const LocalFields fields = local_fields(grid, w, progress);
+    const auto blocks = static_cast<double>(fields.blocks);
+    const std::vector<std::tuple<std::string, std::string, Memory>> kinds{
+        {"local-exponential", "blocks of side L, exponential per block (a coarse grid without statistics)",
+         Memory::none},
+        {"local-gamma",
+         "blocks of side L with C and Var of column means, gamma hazard with memory from the ray's entry",
+         Memory::from_entry},
+        {"local-gamma-renewal", "blocks of side L, gamma hazard with memory restarting at every block",
+         Memory::per_block}};
+    for (const auto& [name, description, memory] : kinds) {
+      auto curve = block_field_curve(box, axis, reverse, w, h, sigma, fields, memory, depths);
+      add(name, description, {{"block", L}, {"blocks", blocks}}, [&](std::size_t d, double) { return curve[d]; });
+    }
+  }
+  return out;
+}
+
+}  // namespace weft::fit

@@ -1,0 +1,64 @@
+#pragma once
+/// @file
+/// @brief Predictive transmittance models of an axis beam from the medium's voxels alone
+/// (issue 13). Every function here receives the grid, the beam direction, σ, the statistics
+/// scale and the depths at which to evaluate — never a measured curve: predictions cannot see
+/// the ground truth.
+///
+/// All models use one length scale L (fit/scale.h: the yarn diameter by default):
+///   gamma              the paper's law (Eq. 19–20): C̄, Var of the means of every window of
+///                      length L along every column → (1 + σt/β)^−α. The reference row.
+///   empirical          Eq. 16 with the empirical distribution of those window means (no gamma
+///                      assumption): T(t) = mean over windows of exp(−σ C_w t). Its error is the
+///                      error of the locality assumption ("C constant along the whole ray");
+///                      gamma's excess over it is the error of the gamma shape.
+///   gap-gamma          a fraction f₀ of windows holds no fibre at all (gaps, open holes), the
+///                      rest a gamma law: T = f₀ + (1 − f₀)(1 + σt/β₊)^−α₊.
+///   across-beam        the beam's rays grouped by where they cross the face (transverse cells of
+///                      side L): a gamma law per group, T the ray-weighted mean.
+///   local-exponential  the grid averaged over blocks of L³ (what a coarse render grid without
+///                      statistics carries), exponential per block along each ray.
+///   local-gamma        blocks of L³ carrying C̄ and the variance of their column means along
+///                      the beam (fit::local_fields, the fields `weft render` reads), the gamma
+///                      hazard Σ = σC̄/(1 + κ s), κ = σ Var/C̄, with the memory s measured from
+///                      where the ray entered the medium (docs/render.md §5b), integrated exactly
+///                      block by block; T the mean over rays.
+///   local-gamma-renewal the same blocks, memory restarting at every block boundary (block means
+///                      along a ray taken as independent).
+
+#include <array>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "weft/core/progress.h"
+#include "weft/volume/grid.h"
+
+namespace weft::fit {
+
+/// One model's prediction on the requested depths.
+struct PredictedModel {
+  std::string name;
+  std::string description;
+  bool uses_ground_truth = false;  ///< only least-squares references set this
+  std::vector<std::pair<std::string, double>> parameters;
+  std::vector<double> log_t;
+};
+
+struct PredictionSpec {
+  std::array<double, 3> direction{1, 0, 0};  ///< an axis direction (either sense)
+  double sigma = 1.0;                        ///< μ = σ·value
+  double scale = 0.0;                        ///< L in world units; 0 = the extent along the beam
+};
+
+/// Every predictive model above, in that order, on `depths` (distances from the entry face).
+/// Throws weft::Error for an empty grid, a non-axis direction or σ ≤ 0.
+[[nodiscard]] std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const PredictionSpec& spec,
+                                                       const std::vector<double>& depths,
+                                                       ProgressSink& progress = null_progress());
+
+/// log T of the gamma law with window moments (mean, var) at σ: −α log1p(σ t/β), exactly the
+/// exponential when var = 0 and 0 when mean = 0.
+[[nodiscard]] double gamma_log_t(double sigma, double mean, double var, double t);
+
+}  // namespace weft::fit

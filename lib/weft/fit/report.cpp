@@ -1,0 +1,121 @@
+#include "weft/fit/report.h"
+
+#include <cmath>
+#include <limits>
+
+#include <nlohmann/json.hpp>
+
+#include "weft/core/error.h"
+
+namespace weft::fit {
+namespace {
+
+using json = nlohmann::json;
+
+/// JSON cannot hold ∞ or NaN: such values are written as null.
+json number_or_null(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
+
+json fit_json(const GammaFit& g) {
+  return {{"mean_concentration", g.mean_concentration}, {"var_concentration", g.var_concentration},
+          {"alpha", number_or_null(g.alpha)},           {"beta", number_or_null(g.beta)},
+          {"mean_extinction", g.mean_extinction()},     {"exponential_limit", g.exponential()}};
+}
+
+json error_json(const CurveError& e) {
+  return {{"max_abs_T", e.max_abs_t},          {"rms_abs_T", e.rms_abs_t},
+          {"max_abs_logT", e.max_abs_log_t},   {"rms_abs_logT", e.rms_abs_log_t},
+          {"mean_logT_bias", e.mean_log_bias}, {"fraction_below_ground_truth", e.below_fraction},
+          {"logT_points", e.log_points}};
+}
+
+json stats_json(const ConcentrationStats& s) {
+  return {{"mean", s.mean},
+          {"variance", s.variance},
+          {"samples", s.samples},
+          {"window", s.window},
+          {"window_voxels", s.window_voxels}};
+}
+
+}  // namespace
+
+std::vector<ModelRatio> model_ratios(const AxisValidation& axis) {
+  const double e = axis.model("exponential").error.rms_abs_t;
+  std::vector<ModelRatio> out;
+  for (const auto& m : axis.models) {
+    ModelRatio r;
+    r.name = m.name;
+    r.rms_abs_t = m.error.rms_abs_t;
+    r.ratio = e > 0.0 ? m.error.rms_abs_t / e : std::numeric_limits<double>::quiet_NaN();
+    r.uses_ground_truth = m.uses_ground_truth;
+    out.push_back(r);
+  }
+  return out;
+}
+
+ModelRatio best_predictive(const AxisValidation& axis) {
+  ModelRatio best;
+  best.rms_abs_t = std::numeric_limits<double>::infinity();
+  for (const auto& r : model_ratios(axis)) {
+    if (r.uses_ground_truth || r.name == "exponential") continue;
+    if (r.rms_abs_t < best.rms_abs_t) best = r;
+  }
+  return best;
+}
+
+std::string validation_json(const Validation& v) {
+  json j;
+  j["sigma"] = v.sigma;
+  j["voxel_size"] = v.voxel_size;
+  j["active_voxels"] = v.active_voxels;
+  j["mean_concentration_bbox"] = v.mean_concentration;
+  j["exponential"] = fit_json(v.exponential);
+  if (v.has_isotropic) j["isotropic"] = {{"stats", stats_json(v.isotropic_stats)}, {"fit", fit_json(v.isotropic_fit)}};
+  json axes = json::array();
+  bool all_pass = true;
+  for (const auto& a : v.axes) {
+    json ax;
+    ax["axis"] = a.label;
+    ax["rays"] = a.ground_truth.rays;
+    ax["method"] = a.ground_truth.method;
+    ax["depth_max"] = a.ground_truth.depth.back();
+    ax["scale"] = a.scale;
+    ax["stats"] = stats_json(a.stats);
+    ax["fits"] = {{"moment", fit_json(a.moment_fit)}};
+    if (a.lsq_fit.converged || a.lsq_fit.iterations > 0) {
+      ax["fits"]["least_squares"] = fit_json(a.lsq_fit.fit);
+      ax["fits"]["least_squares"]["rms_residual_T"] = a.lsq_fit.rms;
+      ax["fits"]["least_squares"]["converged"] = a.lsq_fit.converged;
+    }
+    json models = json::object();
+    json errors = json::object();
+    for (const auto& m : a.models) {
+      json params = json::object();
+      for (const auto& [k, x] : m.parameters) params[k] = number_or_null(x);
+      models[m.name] = {
+          {"description", m.description}, {"uses_ground_truth", m.uses_ground_truth}, {"parameters", params}};
+      errors[m.name] = error_json(m.error);
+    }
+    ax["models"] = models;
+    ax["errors"] = errors;
+    json ratios = json::object();
+    for (const auto& r : model_ratios(a)) ratios[r.name] = number_or_null(r.ratio);
+    ax["ratio_to_exponential_rms_T"] = ratios;
+    const auto best = best_predictive(a);
+    const double paper = ratios["gamma"].is_number() ? ratios["gamma"].get<double>() : NAN;
+    ax["gamma_over_exponential_rms_T"] = number_or_null(paper);
+    ax["best_predictive"] = {{"model", best.name}, {"ratio_to_exponential_rms_T", number_or_null(best.ratio)}};
+    const bool overestimates = a.model("exponential").error.mean_log_bias < 0.0;
+    ax["exponential_overestimates_extinction"] = overestimates;
+    const bool pass = best.ratio <= 1.0 / 3.0;
+    ax["acceptance_best_predictive_at_most_third_of_exponential"] = pass;
+    ax["acceptance_gamma_at_most_third_of_exponential"] = paper <= 1.0 / 3.0;
+    all_pass = all_pass && pass;
+    ax["timings"] = {{"beam", a.beam_seconds}, {"stats", a.stats_seconds}, {"models", a.fit_seconds}};
+    axes.push_back(ax);
+  }
+  j["axes"] = axes;
+  j["acceptance_all_axes"] = all_pass;
+  return j.dump(2);
+}
+
+}  // namespace weft::fit

@@ -1,0 +1,200 @@
+// The scale of the local statistics: autocorrelation of C, fibre- and yarn-scale lengths.
+#include "weft/fit/scale.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "weft/core/error.h"
+#include "weft/core/parallel.h"
+#include "weft/fit/fit.h"
+#include "weft/volume/columns.h"
+
+namespace weft::fit {
+namespace {
+
+constexpr std::size_t kShards = 64;  // fixed: results do not depend on the thread count
+
+/// Autocovariance of C along the reader's axis at lags [l0, l1) about `mean`, per pair of
+/// voxels at that lag; one streaming pass, summed per shard, merged in shard order.
+std::vector<double> covariance(const volume::ColumnReader& reader, double mean, std::size_t l0, std::size_t l1,
+                               ProgressSink& progress) {
+  const int axis = reader.axis();
+  const int n = static_cast<int>(reader.box().extent()[axis]);
+  const std::size_t units = reader.tile_count();
+  const std::size_t shards = std::min(kShards, units);
+  std::vector<std::vector<double>> parts(shards, std::vector<double>(l1 - l0, 0.0));
+  ProgressTask task(progress, fmt::format("autocorrelation {}", "xyz"[axis]), units);
+  parallel_units(shards, [&](std::size_t shard) {
+    volume::ColumnTile tile;
+    std::vector<double> dev(static_cast<std::size_t>(n));
+    auto& acc = parts[shard];
+    for (std::size_t unit = shard * units / shards; unit < (shard + 1) * units / shards; ++unit) {
+      reader.read(unit, tile);
+      for (int iu = 0; iu < tile.nu; ++iu) {
+        for (int iv = 0; iv < tile.nv; ++iv) {
+          const float* col = tile.column(iu, iv);
+          for (int k = 0; k < n; ++k) dev[static_cast<std::size_t>(k)] = static_cast<double>(col[k]) - mean;
+          for (std::size_t l = l0; l < l1; ++l) {
+            double s = 0.0;
+            for (std::size_t k = 0; k + l < static_cast<std::size_t>(n); ++k) s += dev[k] * dev[k + l];
+            acc[l - l0] += s;
+          }
+        }
+      }
+      task.step();
+    }
+  });
+  std::vector<double> cov(l1 - l0, 0.0);
+  for (const auto& p : parts) {
+    for (std::size_t l = l0; l < l1; ++l) cov[l - l0] += p[l - l0];
+  }
+  for (std::size_t l = l0; l < l1; ++l) cov[l - l0] /= static_cast<double>(n - static_cast<int>(l));
+  return cov;
+}
+
+double box_mean(const volume::Grid& grid) {
+  const auto ext = grid.active_bbox().extent();
+  return grid.sum() / (static_cast<double>(ext[0]) * static_cast<double>(ext[1]) * static_cast<double>(ext[2]));
+}
+
+/// R smoothed by a triangle of half-width w lags (R even in l): the autocorrelation of C
+/// box-averaged over w voxels along the axis, normalised to 1 at lag 0.
+std::vector<double> smoothed(const std::vector<double>& r, int w) {
+  const int n = static_cast<int>(r.size());
+  auto at = [&](int l) { return r[static_cast<std::size_t>(std::min(std::abs(l), n - 1))]; };
+  std::vector<double> out(r.size(), 0.0);
+  for (int l = 0; l < n; ++l) {
+    double s = 0.0;
+    double wsum = 0.0;
+    for (int m = -w; m <= w; ++m) {
+      const double weight = 1.0 - static_cast<double>(std::abs(m)) / (w + 1);
+      s += weight * at(l + m);
+      wsum += weight;
+    }
+    out[static_cast<std::size_t>(l)] = s / wsum;
+  }
+  const double r0 = out[0];
+  if (r0 > 0.0) {
+    for (auto& x : out) x /= r0;
+  }
+  return out;
+}
+
+}  // namespace
+
+double lag_at_inverse_e(const std::vector<double>& r) {
+  const double threshold = std::exp(-1.0);
+  for (std::size_t l = 1; l < r.size(); ++l) {
+    if (r[l] <= threshold) {
+      const double prev = r[l - 1];
+      return static_cast<double>(l) - 1.0 + (prev - threshold) / (prev - r[l]);
+    }
+  }
+  return r.empty() ? 0.0 : static_cast<double>(r.size() - 1);
+}
+
+std::vector<double> autocorrelation(const volume::Grid& grid, int axis, int max_lag, ProgressSink& progress) {
+  if (axis < 0 || axis > 2) fail("autocorrelation: axis must be 0, 1 or 2, got {}", axis);
+  if (grid.active_voxel_count() == 0) fail("autocorrelation: grid '{}' has no active voxels", grid.name());
+  const volume::ColumnReader reader(grid, axis);
+  const int n = static_cast<int>(reader.box().extent()[axis]);
+  max_lag = std::clamp(max_lag, 0, n - 1);
+  auto cov = covariance(reader, box_mean(grid), 0, static_cast<std::size_t>(max_lag) + 1, progress);
+  const double c0 = cov[0];
+  for (auto& c : cov) c = c0 > 0.0 ? c / c0 : 0.0;
+  return cov;
+}
+
+double correlation_length(const volume::Grid& grid, int axis, ProgressSink& progress) {
+  if (axis < 0 || axis > 2) fail("correlation length: axis must be 0, 1 or 2, got {}", axis);
+  if (grid.active_voxel_count() == 0) fail("correlation length: grid '{}' has no active voxels", grid.name());
+  const volume::ColumnReader reader(grid, axis);
+  const int n = static_cast<int>(reader.box().extent()[axis]);
+  const double h = grid.voxel_size();
+  const int max_lag = std::min(n - 1, 128);
+  if (max_lag < 1) return n * h;
+  const double mean = box_mean(grid);
+  // Lags in growing blocks (up to 8, 32, 128): most media decorrelate within the first.
+  std::vector<double> cov;
+  const double threshold = std::exp(-1.0);
+  double prev = 1.0;
+  std::size_t next = 0;
+  for (std::size_t end : {std::size_t{9}, std::size_t{33}, static_cast<std::size_t>(max_lag) + 1}) {
+    end = std::min(end, static_cast<std::size_t>(max_lag) + 1);
+    if (end <= next) continue;
+    const auto block = covariance(reader, mean, next, end, progress);
+    cov.insert(cov.end(), block.begin(), block.end());
+    if (!(cov[0] > 0.0)) return n * h;
+    for (std::size_t l = std::max<std::size_t>(next, 1); l < end; ++l) {
+      const double r = cov[l] / cov[0];
+      if (r <= threshold) return (static_cast<double>(l) - 1.0 + (prev - threshold) / (prev - r)) * h;
+      prev = r;
+    }
+    next = end;
+  }
+  return n * h;
+}
+
+double measured_yarn_scale(const volume::Grid& grid, ProgressSink& progress) {
+  if (grid.active_voxel_count() == 0) fail("yarn scale: grid '{}' has no active voxels", grid.name());
+  const double h = grid.voxel_size();
+  std::array<double, 3> per_axis{};
+  for (int axis = 0; axis < 3; ++axis) {
+    const int n = static_cast<int>(grid.active_bbox().extent()[static_cast<std::size_t>(axis)]);
+    // Lags up to half the extent (at most 256): the yarn-scale part must fit in the box.
+    const int max_lag = std::clamp(n / 2, 1, 256);
+    const auto r = autocorrelation(grid, axis, max_lag, progress);
+    const double fibre = lag_at_inverse_e(r);
+    const int w = std::max(1, static_cast<int>(std::lround(fibre)));
+    const double yarn = lag_at_inverse_e(smoothed(r, w));
+    per_axis[static_cast<std::size_t>(axis)] = 3.0 * yarn * h;
+  }
+  std::sort(per_axis.begin(), per_axis.end());
+  return per_axis[1];
+}
+
+StatisticsScale resolve_scale(const std::string& text, const volume::Grid& grid, const volume::Provenance& provenance,
+                              ProgressSink& progress) {
+  StatisticsScale s;
+  if (text == "yarn" || text == "yarn-measured") {
+    if (text == "yarn" && provenance.yarn_diameter) {
+      s.rule = "yarn";
+      s.length.fill(*provenance.yarn_diameter);
+      s.source = "yarn diameter from the grid's provenance";
+    } else {
+      s.rule = "yarn-measured";
+      s.length.fill(measured_yarn_scale(grid, progress));
+      s.source = text == "yarn" ? "yarn scale measured from the voxels (the grid has no yarn diameter in its metadata)"
+                                : "yarn scale measured from the voxels";
+    }
+    return s;
+  }
+  if (text == "corr") {
+    s.rule = "corr";
+    for (int a = 0; a < 3; ++a) s.length[static_cast<std::size_t>(a)] = correlation_length(grid, a, progress);
+    s.source = "fibre-scale correlation length along each axis (1/e lag; depends on the voxel size)";
+    return s;
+  }
+  if (text == "extent") {
+    s.rule = "extent";
+    s.length.fill(0.0);
+    s.source = "the grid's extent along each beam";
+    return s;
+  }
+  double v = NAN;
+  try {
+    std::size_t used = 0;
+    v = std::stod(text, &used);
+    if (used != text.size()) v = NAN;
+  } catch (const std::exception&) {
+    v = NAN;
+  }
+  if (std::isnan(v)) fail("window '{}' is not yarn, yarn-measured, corr, extent or a length", text);
+  require_positive("window", v);
+  s.rule = "length";
+  s.length.fill(v);
+  s.source = "given length";
+  return s;
+}
+
+}  // namespace weft::fit

@@ -1,0 +1,59 @@
+#pragma once
+/// @file
+/// @brief The length scale of the local concentration statistics (issue 13): a property of the
+/// cloth, not of the voxel.
+///
+/// The autocorrelation of C along an axis has a fibre-scale part (falling within a fibre
+/// diameter or a voxel, whichever is larger: the old default window, 4–5 voxels at every voxel
+/// size) and a yarn-scale part (yarns, plies and gaps). Rays "see one concentration" over the
+/// yarn scale, so that is the window of Eq. 19–20 and the block of the local fields:
+///   yarn           the yarn diameter from the grid's provenance (weft gen records it); a grid
+///                  without provenance uses the measured yarn scale below (the default);
+///   yarn-measured  the yarn scale measured from the voxels alone (below);
+///   corr           each axis's fibre-scale correlation length (1/e lag; voxel dependent, kept
+///                  for comparison with earlier versions);
+///   extent         the whole depth along each beam;
+///   a length       in the grid's world units.
+/// Measured yarn scale: the autocorrelation R(l) along each axis is smoothed with a triangle of
+/// half-width ℓ_f (its own 1/e lag, the fibre scale; smoothing R by a triangle is the same as
+/// computing the autocorrelation of C box-averaged over ℓ_f along the axis), which removes the
+/// fibre-scale part; the 1/e lag of the smoothed R is the yarn-scale correlation length ℓ_y; the
+/// yarn scale is 3 ℓ_y (a yarn's cross-section decorrelates over about a third of its diameter:
+/// checked against the provenance diameter of weft's own cloths, docs/validate.md), the median
+/// over the three axes.
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "weft/core/progress.h"
+#include "weft/volume/grid.h"
+#include "weft/volume/provenance.h"
+
+namespace weft::fit {
+
+struct StatisticsScale {
+  std::string rule;                ///< "yarn", "yarn-measured", "corr", "extent" or "length"
+  std::array<double, 3> length{};  ///< per axis, world units (0 = the extent along that axis)
+  std::string source;              ///< human-readable: where the length came from
+};
+
+/// Parses `text` (one of the names above or a positive length) and resolves it for `grid`.
+/// Throws weft::Error for an unknown name or a non-positive length.
+[[nodiscard]] StatisticsScale resolve_scale(const std::string& text, const volume::Grid& grid,
+                                            const volume::Provenance& provenance,
+                                            ProgressSink& progress = null_progress());
+
+/// Autocorrelation of C along `axis` about the box mean, lags 0..max_lag (R(0) = 1; all zeros
+/// for a uniform grid), summed per column and merged in a fixed order.
+[[nodiscard]] std::vector<double> autocorrelation(const volume::Grid& grid, int axis, int max_lag,
+                                                  ProgressSink& progress = null_progress());
+
+/// The measured yarn scale (world units), from the voxels alone (see the file comment).
+[[nodiscard]] double measured_yarn_scale(const volume::Grid& grid, ProgressSink& progress = null_progress());
+
+/// The first lag (interpolated linearly, in lags) at which `r` falls to 1/e; r.size() − 1 when
+/// it never does.
+[[nodiscard]] double lag_at_inverse_e(const std::vector<double>& r);
+
+}  // namespace weft::fit

@@ -1,0 +1,45 @@
+#pragma once
+/// @file
+/// @brief What a grid's metadata says about the medium it holds: units, the physical extinction
+/// cross-section σ per unit concentration, and the yarn scale (issue 13: "physical σ by default").
+///
+/// `weft gen` writes these keys (prefixed "weft:" so that downsampled grids and local fields
+/// carry them on):
+///   weft:units                    length unit of the grid's world space ("mm")
+///   weft:sigma_per_concentration  σ [1/length]: μ = σ·C for the fibres of this cloth
+///   weft:sigma_rule               how σ was derived (text)
+///   weft:fiber_radius             fibre radius [length] (fibre-volume-weighted mean radius)
+///   weft:yarn_diameter            yarn diameter [length] (2 × envelope radius, mean of the presets)
+/// Grids written by earlier versions of weft hold only "units" and the generator's JSON
+/// ("generator"); their σ and yarn scale are derived from that JSON with the same rules.
+
+#include <optional>
+#include <string>
+
+#include "weft/volume/grid.h"
+
+namespace weft::volume {
+
+struct Provenance {
+  std::string units;                    ///< "" when unknown
+  std::optional<double> sigma;          ///< σ per unit concentration [1/length]
+  std::string sigma_rule;               ///< derivation of σ, e.g. "2/(pi r_f), opaque fibres across the beam"
+  std::optional<double> fiber_radius;   ///< [length]
+  std::optional<double> yarn_diameter;  ///< [length]
+  std::string value_kind;               ///< "concentration", "extinction" or ""
+  std::string source;                   ///< "weft gen", "weft gen (legacy metadata)" or ""
+  [[nodiscard]] bool from_weft() const { return !source.empty(); }
+};
+
+/// Reads the provenance keys above. A key that is present but malformed (not a positive
+/// finite number) throws weft::Error naming the key: a grid never silently loses its σ.
+[[nodiscard]] Provenance read_provenance(const Grid& grid);
+
+/// Writes the keys of `p` that are set (used by the cloth generator).
+void write_provenance(Grid& grid, const Provenance& p);
+
+/// σ per unit concentration of opaque cylindrical fibres of radius r crossed by a beam
+/// perpendicular to them: projected area per unit length 2r over volume per unit length π r².
+[[nodiscard]] double fibre_sigma(double fiber_radius);
+
+}  // namespace weft::volume
