@@ -166,40 +166,85 @@ double block_hazard(double sigma, double mean, double var, double s0, double s1)
 
 enum class Memory { none, from_entry, per_block };
 
-/// log T on `depths` of a beam through block fields of side B voxels: `mean`/`var` give each
-/// block's C̄ and column-mean variance along the beam (var ignored when memory is none).
-std::vector<double> block_field_curve(const volume::IndexBox& box, int axis, bool reverse, int B, double h,
-                                      double sigma, const LocalFields& fields, Memory memory,
-                                      const std::vector<double>& depths) {
+/// Block statistics of the beam's columns: blocks of B voxels (aligned to multiples of B in
+/// index space, as coarse render grids are) clipped to the active box, so that a block holds
+/// exactly the columns (rays) of the beam that cross it. Per block: the mean of C and the
+/// variance of the column means over the block's length across its columns (Eq. 19 per block).
+struct BlockStats {
+  std::int64_t cu0 = 0, cv0 = 0, cb0 = 0;
+  std::int64_t nu = 0, nv = 0, nb = 0;
+  std::vector<Sums> sums;    ///< [(cu·nv + cv)·nb + cb]: Σ of column means, one sample per column
+  std::vector<double> rays;  ///< per coarse column (cu, cv): beam columns in it
+  [[nodiscard]] const Sums& at(std::int64_t u, std::int64_t v, std::int64_t b) const {
+    return sums[static_cast<std::size_t>((u * nv + v) * nb + b)];
+  }
+};
+
+BlockStats block_stats(const volume::ColumnReader& reader, int B, ProgressSink& progress) {
+  const int axis = reader.axis();
+  const auto box = reader.box();
   const int au = (axis + 1) % 3;
   const int av = (axis + 2) % 3;
+  BlockStats st;
+  st.cu0 = floor_div(box.min[static_cast<std::size_t>(au)], B);
+  st.cv0 = floor_div(box.min[static_cast<std::size_t>(av)], B);
+  st.cb0 = floor_div(box.min[static_cast<std::size_t>(axis)], B);
+  st.nu = floor_div(box.max[static_cast<std::size_t>(au)], B) - st.cu0 + 1;
+  st.nv = floor_div(box.max[static_cast<std::size_t>(av)], B) - st.cv0 + 1;
+  st.nb = floor_div(box.max[static_cast<std::size_t>(axis)], B) - st.cb0 + 1;
+  const std::size_t cells = static_cast<std::size_t>(st.nu * st.nv * st.nb);
+  if (cells > 50'000'000) fail("local fields: {} blocks of {} voxels is too many", cells, B);
+  const std::size_t units = reader.tile_count();
+  const std::size_t shards = std::min(kShards, units);
+  std::vector<std::vector<Sums>> parts(shards, std::vector<Sums>(cells));
+  std::vector<std::vector<double>> rays(shards, std::vector<double>(static_cast<std::size_t>(st.nu * st.nv), 0.0));
+  const std::int64_t d0 = box.min[static_cast<std::size_t>(axis)];
+  ProgressTask task(progress, fmt::format("local fields {}", "xyz"[axis]), units);
+  parallel_units(shards, [&](std::size_t shard) {
+    volume::ColumnTile tile;
+    for (std::size_t unit = shard * units / shards; unit < (shard + 1) * units / shards; ++unit) {
+      reader.read(unit, tile);
+      for (int iu = 0; iu < tile.nu; ++iu) {
+        for (int iv = 0; iv < tile.nv; ++iv) {
+          const std::int64_t cu = floor_div(tile.u0 + iu, B) - st.cu0;
+          const std::int64_t cv = floor_div(tile.v0 + iv, B) - st.cv0;
+          rays[shard][static_cast<std::size_t>(cu * st.nv + cv)] += 1.0;
+          const float* col = tile.column(iu, iv);
+          int k = 0;
+          while (k < tile.depth) {
+            const std::int64_t cb = floor_div(d0 + k, B);
+            const int end = static_cast<int>(std::min<std::int64_t>(tile.depth, (cb + 1) * B - d0));
+            double sum = 0.0;
+            for (int q = k; q < end; ++q) sum += static_cast<double>(col[q]);
+            parts[shard][static_cast<std::size_t>((cu * st.nv + cv) * st.nb + (cb - st.cb0))].add(sum / (end - k));
+            k = end;
+          }
+        }
+      }
+      task.step();
+    }
+  });
+  st.sums.assign(cells, Sums{});
+  st.rays.assign(static_cast<std::size_t>(st.nu * st.nv), 0.0);
+  for (std::size_t sh = 0; sh < shards; ++sh) {
+    for (std::size_t c = 0; c < cells; ++c) st.sums[c].merge(parts[sh][c]);
+    for (std::size_t c = 0; c < st.rays.size(); ++c) st.rays[c] += rays[sh][c];
+  }
+  return st;
+}
+
+/// log T on `depths` of the beam through block fields: per coarse column the hazard of each
+/// block integrated exactly, T the ray-weighted mean over coarse columns.
+std::vector<double> block_field_curve(const volume::IndexBox& box, int axis, bool reverse, int B, double h,
+                                      double sigma, const BlockStats& st, Memory memory,
+                                      const std::vector<double>& depths) {
   const auto A = static_cast<std::size_t>(axis);
   const int n = static_cast<int>(box.extent()[A]);
-  const std::int64_t cu0 = floor_div(box.min[static_cast<std::size_t>(au)], B);
-  const std::int64_t cu1 = floor_div(box.max[static_cast<std::size_t>(au)], B);
-  const std::int64_t cv0 = floor_div(box.min[static_cast<std::size_t>(av)], B);
-  const std::int64_t cv1 = floor_div(box.max[static_cast<std::size_t>(av)], B);
-  const std::size_t columns = static_cast<std::size_t>((cu1 - cu0 + 1) * (cv1 - cv0 + 1));
+  const std::size_t columns = static_cast<std::size_t>(st.nu * st.nv);
   std::vector<std::vector<double>> log_terms(depths.size(), std::vector<double>(columns, 0.0));
-  std::vector<double> weights(columns, 0.0);
-  const auto& mean_grid = fields.mean;
-  const auto& var_grid = fields.variance[A];
   parallel_units(columns, [&](std::size_t c) {
-    const std::int64_t cu = cu0 + static_cast<std::int64_t>(c) / (cv1 - cv0 + 1);
-    const std::int64_t cv = cv0 + static_cast<std::int64_t>(c) % (cv1 - cv0 + 1);
-    auto overlap = [&](std::int64_t cb, int ax) {
-      const std::int64_t lo = std::max<std::int64_t>(box.min[static_cast<std::size_t>(ax)], cb * B);
-      const std::int64_t hi = std::min<std::int64_t>(box.max[static_cast<std::size_t>(ax)], cb * B + B - 1);
-      return static_cast<double>(std::max<std::int64_t>(0, hi - lo + 1));
-    };
-    weights[c] = overlap(cu, au) * overlap(cv, av);
-    auto block_value = [&](const volume::Grid& g, std::int64_t cb) {
-      std::array<int, 3> ijk{};
-      ijk[A] = static_cast<int>(cb);
-      ijk[static_cast<std::size_t>(au)] = static_cast<int>(cu);
-      ijk[static_cast<std::size_t>(av)] = static_cast<int>(cv);
-      return static_cast<double>(g.value(ijk[0], ijk[1], ijk[2]));
-    };
+    const auto cu = static_cast<std::int64_t>(c) / st.nv;
+    const auto cv = static_cast<std::int64_t>(c) % st.nv;
     // Walk the fine slices from the entry face; H at the start of slice k is `H`.
     double H = 0.0;
     std::size_t d = 0;
@@ -214,11 +259,12 @@ std::vector<double> block_field_curve(const volume::IndexBox& box, int axis, boo
         break;
       }
       const std::int64_t i = reverse ? box.max[A] - k : box.min[A] + k;
-      const std::int64_t cb = floor_div(i, B);
+      const std::int64_t cb = floor_div(i, B) - st.cb0;
       if (cb != current) {
         current = cb;
-        mean = block_value(mean_grid, cb);
-        var = memory == Memory::none ? 0.0 : block_value(var_grid, cb);
+        const Sums& b = st.at(cu, cv, cb);
+        mean = b.mean();
+        var = memory == Memory::none ? 0.0 : b.var();
         block_entry = s0;
       }
       const double origin = memory == Memory::per_block ? block_entry : 0.0;
@@ -230,7 +276,7 @@ std::vector<double> block_field_curve(const volume::IndexBox& box, int axis, boo
     }
   });
   std::vector<double> out(depths.size());
-  for (std::size_t d = 0; d < depths.size(); ++d) out[d] = log_sum_exp_mean(log_terms[d], weights);
+  for (std::size_t d = 0; d < depths.size(); ++d) out[d] = log_sum_exp_mean(log_terms[d], st.rays);
   return out;
 }
 
@@ -348,10 +394,12 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
           return log_sum_exp_mean(logs, weights);
         });
   }
-  // Local fields of blocks L³ (the same fields `weft fit --block` writes for rendering).
+  // Local fields of blocks L³ (the statistics `weft fit --block` writes for rendering), clipped
+  // to the active box so that each block holds exactly the beam's columns that cross it.
   {
-    const LocalFields fields = local_fields(grid, w, progress);
-    const auto blocks = static_cast<double>(fields.blocks);
+    const BlockStats st = block_stats(reader, w, progress);
+    double blocks = 0.0;
+    for (const auto& b : st.sums) blocks += b.n > 0.0 && b.s > 0.0 ? 1.0 : 0.0;
     const std::vector<std::tuple<std::string, std::string, Memory>> kinds{
         {"local-exponential", "blocks of side L, exponential per block (a coarse grid without statistics)",
          Memory::none},
@@ -361,7 +409,7 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
         {"local-gamma-renewal", "blocks of side L, gamma hazard with memory restarting at every block",
          Memory::per_block}};
     for (const auto& [name, description, memory] : kinds) {
-      auto curve = block_field_curve(box, axis, reverse, w, h, sigma, fields, memory, depths);
+      auto curve = block_field_curve(box, axis, reverse, w, h, sigma, st, memory, depths);
       add(name, description, {{"block", L}, {"blocks", blocks}}, [&](std::size_t d, double) { return curve[d]; });
     }
   }

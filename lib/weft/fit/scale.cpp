@@ -156,17 +156,25 @@ double measured_yarn_scale(const volume::Grid& grid, ProgressSink& progress) {
 StatisticsScale resolve_scale(const std::string& text, const volume::Grid& grid, const volume::Provenance& provenance,
                               ProgressSink& progress) {
   StatisticsScale s;
-  if (text == "yarn" || text == "yarn-measured") {
-    if (text == "yarn" && provenance.yarn_diameter) {
-      s.rule = "yarn";
-      s.length.fill(*provenance.yarn_diameter);
-      s.source = "yarn diameter from the grid's provenance";
-    } else {
-      s.rule = "yarn-measured";
-      s.length.fill(measured_yarn_scale(grid, progress));
-      s.source = text == "yarn" ? "yarn scale measured from the voxels (the grid has no yarn diameter in its metadata)"
-                                : "yarn scale measured from the voxels";
+  if (text == "yarn") {
+    // No silent voxel-dependent default: the measured scale drifts with the voxel size
+    // (docs/validate.md), so a grid without a recorded yarn diameter must say its scale.
+    if (!provenance.yarn_diameter) {
+      fail(
+          "grid '{}' records no yarn diameter (not written by weft gen): pass --window LENGTH (about the yarn "
+          "diameter, in the grid's units) or --window yarn-measured (estimated from the voxels; it depends on the "
+          "voxel size)",
+          grid.name());
     }
+    s.rule = "yarn";
+    s.length.fill(*provenance.yarn_diameter);
+    s.source = "yarn diameter from the grid's provenance";
+    return s;
+  }
+  if (text == "yarn-measured") {
+    s.rule = "yarn-measured";
+    s.length.fill(measured_yarn_scale(grid, progress));
+    s.source = "yarn scale measured from the voxels (depends on the voxel size: docs/validate.md)";
     return s;
   }
   if (text == "corr") {

@@ -7,9 +7,11 @@
 /// diameter or a voxel, whichever is larger: the old default window, 4–5 voxels at every voxel
 /// size) and a yarn-scale part (yarns, plies and gaps). Rays "see one concentration" over the
 /// yarn scale, so that is the window of Eq. 19–20 and the block of the local fields:
-///   yarn           the yarn diameter from the grid's provenance (weft gen records it); a grid
-///                  without provenance uses the measured yarn scale below (the default);
-///   yarn-measured  the yarn scale measured from the voxels alone (below);
+///   yarn           the yarn diameter from the grid's provenance (weft gen records it); the
+///                  default; a grid without provenance is refused with what to pass instead;
+///   yarn-measured  the yarn scale estimated from the voxels alone (below). It is NOT resolution
+///                  independent (0.19 / 0.25 / 0.33 mm for the same cloth at 5 / 10 / 20 µm, against
+///                  its provenance diameter 0.30 mm), which is why it is not a default;
 ///   corr           each axis's fibre-scale correlation length (1/e lag; voxel dependent, kept
 ///                  for comparison with earlier versions);
 ///   extent         the whole depth along each beam;
