@@ -97,6 +97,7 @@ const Registrar kFit{Command{
       sub.add_option("--out", o->out, "Output folder")->capture_default_str();
       return [o](const Context& ctx) -> int {
         check_grid_input(o->input);
+        fit::check_scale_text(o->window);
         if (o->block < 0) fail("--block must be >= 0, got {}", o->block);
         const auto dirs = fit::parse_axes(o->axes);
         const LoadedGrid loaded = load_grid_input(o->input);

@@ -93,6 +93,7 @@ const Registrar kValidate{Command{
         // Everything is checked and computed before the output folder is touched.
         if (o->rays < 1) fail("--rays must be >= 1, got {}", o->rays);
         check_grid_input(o->input);
+        fit::check_scale_text(o->window);
         if (o->input.extinction() && o->input.grid.empty())
           fail("--values extinction needs --grid (a cloth grid holds concentrations)");
         // Only --sweep is spread over MPI ranks; the validation and the corpus run on rank 0.

@@ -9,12 +9,12 @@ set_tests_properties(cli.validate.make_grids PROPERTIES LABELS cli FIXTURES_SETU
                      FIXTURES_REQUIRED weft_grids_dir)
 
 add_test(NAME cli.validate.small_cloth
-         COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DOUT=${CMAKE_CURRENT_BINARY_DIR}/validate_small -DPLOT=ON
+         COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DOUT=${CMAKE_CURRENT_BINARY_DIR}/validate_small -DPLOT=ON -DPROBE=$<TARGET_FILE:png_probe>
                  -P ${CMAKE_CURRENT_SOURCE_DIR}/check_validate.cmake)
 set_tests_properties(cli.validate.small_cloth PROPERTIES LABELS cli TIMEOUT 300)
 
 add_test(NAME cli.validate.user_grid
-         COMMAND weft validate --grid ${WEFT_CLI_GRIDS}/good.vdb --grid-name density --axes x,-z --sigma 20 --no-plot
+         COMMAND weft validate --grid ${WEFT_CLI_GRIDS}/good.vdb --grid-name density --axes x,-z --sigma 20 --window extent --no-plot
                  --out ${CMAKE_CURRENT_BINARY_DIR}/validate_grid)
 set_tests_properties(cli.validate.user_grid PROPERTIES LABELS cli FIXTURES_REQUIRED weft_grids
                      PASS_REGULAR_EXPRESSION "[+]x .*\n-z ")
@@ -43,3 +43,14 @@ weft_bad_input(measure_empty "empty" measure --grid ${WEFT_CLI_GRIDS}/empty.vdb)
 weft_bad_input(measure_direction "direction '0,0,0'" measure --grid ${WEFT_CLI_GRIDS}/good.vdb --direction 0,0,0)
 weft_bad_input(fit_nan "invalid value nan" fit --grid ${WEFT_CLI_GRIDS}/nan.vdb)
 weft_bad_input(fit_block "--block" fit --grid ${WEFT_CLI_GRIDS}/good.vdb --block -2)
+
+# Issue 13: σ and the scale come from the grid's provenance, so `--grid cloth.vdb` of a generated
+# cloth reproduces the built-in run's numbers; beams of another σ are refused; a grid without
+# provenance needs --sigma and --window.
+add_test(NAME cli.validate.grid_equals_builtin
+         COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DOUT=${CMAKE_CURRENT_BINARY_DIR}/validate_provenance
+                 -P ${CMAKE_CURRENT_SOURCE_DIR}/check_validate_provenance.cmake)
+set_tests_properties(cli.validate.grid_equals_builtin PROPERTIES LABELS cli TIMEOUT 300)
+weft_bad_input(no_sigma "without sigma in its metadata.*--sigma" validate --grid ${WEFT_CLI_GRIDS}/good.vdb --no-plot)
+weft_bad_input(no_yarn_scale "records no yarn diameter.*--window" validate --grid ${WEFT_CLI_GRIDS}/good.vdb --sigma 3 --no-plot)
+weft_bad_input(bad_window "window 'yran' is not yarn" validate --grid ${WEFT_CLI_GRIDS}/good.vdb --sigma 3 --window yran --no-plot)

@@ -5,11 +5,14 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 
 #include "weft/core/error.h"
 #include "weft/core/floor_div.h"
 #include "weft/core/parallel.h"
 #include "weft/fit/fit.h"
+#include "weft/transmittance/gamma_mixture.h"
+#include "weft/transmittance/gap_gamma.h"
 #include "weft/volume/beam.h"
 #include "weft/volume/columns.h"
 
@@ -361,6 +364,12 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
     const double f0 = ws.all.n > 0.0 ? ws.zeros / ws.all.n : 0.0;
     const double mean = ws.nonzero.mean();
     const double var = ws.nonzero.var();
+    // The registry's gap-gamma law (one implementation of its stable log T); α = ∞ without variance.
+    const std::unique_ptr<transmittance::Law> gap_law =
+        mean > 0.0 && f0 < 1.0 ? std::unique_ptr<transmittance::Law>(std::make_unique<transmittance::GapGamma>(
+                                     f0, sigma * mean, var > 0.0 ? mean * mean / var : INFINITY))
+                               : std::unique_ptr<transmittance::Law>(std::make_unique<transmittance::GammaMixture>(
+                                     std::vector<transmittance::GammaComponent>{{1.0, 0.0, INFINITY}}));
     add("gap-gamma", "gap fraction f0 (empty windows of length L) plus a gamma law of the others",
         {{"window", L},
          {"gap_fraction", f0},
@@ -368,31 +377,23 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
          {"var_concentration", var},
          {"alpha", var > 0.0 ? mean * mean / var : INFINITY},
          {"beta", var > 0.0 ? mean / var : INFINITY}},
-        [&](std::size_t, double t) {
-          const double lg = gamma_log_t(sigma, mean, var, t);
-          if (f0 <= 0.0) return lg;
-          if (f0 >= 1.0) return 0.0;
-          // log(f0 + (1 − f0) e^lg) without cancellation
-          const double a = std::log(f0);
-          const double b = std::log1p(-f0) + lg;
-          const double hi = std::max(a, b);
-          return hi + std::log1p(std::exp(std::min(a, b) - hi));
-        });
+        [&](std::size_t, double t) { return gap_law->log_transmittance(t); });
   }
   // Across the beam: a gamma law per transverse cell of side L, mixed by rays.
   {
-    std::vector<double> weights;
-    std::vector<std::pair<double, double>> mv;
+    // The registry's gamma-mixture law: one component per group, weight = its share of the rays.
+    double rays = 0.0;
+    for (const auto& [k, g] : ws.groups) rays += g.rays;
+    std::vector<transmittance::GammaComponent> components;
     for (const auto& [k, g] : ws.groups) {
-      weights.push_back(g.rays);
-      mv.emplace_back(g.windows.mean(), g.windows.var());
+      const double m = g.windows.mean();
+      const double v = g.windows.var();
+      components.push_back({g.rays / rays, sigma * m, v > 0.0 && m > 0.0 ? m * m / v : INFINITY});
     }
-    std::vector<double> logs(mv.size());
-    add("across-beam", "gamma law per transverse cell of side L, T the ray-weighted mean",
-        {{"window", L}, {"cell", L}, {"groups", static_cast<double>(mv.size())}}, [&](std::size_t, double t) {
-          for (std::size_t i = 0; i < mv.size(); ++i) logs[i] = gamma_log_t(sigma, mv[i].first, mv[i].second, t);
-          return log_sum_exp_mean(logs, weights);
-        });
+    const transmittance::GammaMixture mixture(std::move(components));
+    add("across-beam", "gamma law per transverse cell of side L, T the ray-weighted mean (gamma-mixture)",
+        {{"window", L}, {"cell", L}, {"groups", static_cast<double>(ws.groups.size())}},
+        [&](std::size_t, double t) { return mixture.log_transmittance(t); });
   }
   // Local fields of blocks L³ (the statistics `weft fit --block` writes for rendering), clipped
   // to the active box so that each block holds exactly the beam's columns that cross it.

@@ -153,6 +153,20 @@ double measured_yarn_scale(const volume::Grid& grid, ProgressSink& progress) {
   return per_axis[1];
 }
 
+void check_scale_text(const std::string& text) {
+  if (text == "yarn" || text == "yarn-measured" || text == "corr" || text == "extent") return;
+  double v = NAN;
+  try {
+    std::size_t used = 0;
+    v = std::stod(text, &used);
+    if (used != text.size()) v = NAN;
+  } catch (const std::exception&) {
+    v = NAN;
+  }
+  if (std::isnan(v)) fail("window '{}' is not yarn, yarn-measured, corr, extent or a length", text);
+  require_positive("window", v);
+}
+
 StatisticsScale resolve_scale(const std::string& text, const volume::Grid& grid, const volume::Provenance& provenance,
                               ProgressSink& progress) {
   StatisticsScale s;

@@ -46,6 +46,10 @@ struct StatisticsScale {
                                             const volume::Provenance& provenance,
                                             ProgressSink& progress = null_progress());
 
+/// Checks `text` as resolve_scale would (a known name or a positive length) without a grid, so
+/// a bad --window is refused before anything is loaded.
+void check_scale_text(const std::string& text);
+
 /// Autocorrelation of C along `axis` about the box mean, lags 0..max_lag (R(0) = 1; all zeros
 /// for a uniform grid), summed per column and merged in a fixed order.
 [[nodiscard]] std::vector<double> autocorrelation(const volume::Grid& grid, int axis, int max_lag,
