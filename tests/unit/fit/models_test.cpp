@@ -103,7 +103,8 @@ TEST(Models, LocalGammaIntegratesTheBlockHazardExactly) {
   spec.sigma = 1.5;
   spec.scale = 2.0;
   const auto depths = depths_of(g, spec.direction);
-  const auto& m = find(predict_axis(g, spec, depths), "local-gamma");
+  const auto models = predict_axis(g, spec, depths);
+  const auto& m = find(models, "local-gamma");
   const double mean = static_cast<double>(0.4f);
   const double var = 0.25 * std::pow(static_cast<double>(0.6f) - static_cast<double>(0.2f), 2);
   const double kappa = spec.sigma * var / mean;
