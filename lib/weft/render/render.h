@@ -34,10 +34,14 @@ struct RenderOptions {
 
 /// What the scene called for: selects the specialised integrator.
 struct Features {
-  bool media = false;            ///< any participating medium
-  bool non_exponential = false;  ///< some medium is not exponential (or is a grid)
-  bool heterogeneous = false;    ///< some medium is a voxel grid
-  bool non_reciprocal = false;   ///< some medium needs the T_S/(c·p_Q) weights (same/explicit mode)
+  bool media = false;  ///< any participating medium
+  /// Some medium is not a homogeneous exponential one (MediumTraits::exponential): the general
+  /// integrator runs.
+  bool non_exponential = false;
+  bool heterogeneous = false;   ///< some medium's density varies in space (grid, local fields)
+  bool non_reciprocal = false;  ///< some medium needs the T_S/(c·p_Q) weights (same/explicit mode)
+  /// "medium 'cloth': grid medium, exponential law, delta + ratio tracking", one per medium.
+  std::vector<std::string> media_described;
   bool area_lights = false;
   bool environment = false;
   bool environment_image = false;  ///< an environment light reads a lat-long image (importance-sampled)
