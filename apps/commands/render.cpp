@@ -180,6 +180,12 @@ int run(const RenderCliOptions& o, const Context& ctx) {
   ctx.say(fmt::format("{}x{} at {} spp in {:.2f} s: {:.3g} samples/s, {:.3g} rays/s", result.image.width,
                       result.image.height, s.spp, s.seconds, static_cast<double>(s.paths) / s.seconds,
                       static_cast<double>(s.rays) / s.seconds));
+  if (s.medium_cells > 0)
+    ctx.say(fmt::format("grid media: {:.3g} cells crossed/s, {:.3g} density lookups/s ({:.3g} and {:.3g} per sample)",
+                        static_cast<double>(s.medium_cells) / s.seconds,
+                        static_cast<double>(s.medium_lookups) / s.seconds,
+                        static_cast<double>(s.medium_cells) / static_cast<double>(s.paths),
+                        static_cast<double>(s.medium_lookups) / static_cast<double>(s.paths)));
   if (s.invalid_samples > 0) ctx.say(fmt::format("warning: {} NaN/inf samples were dropped", s.invalid_samples));
   ctx.say(fmt::format("wrote {} (linear) and {} (sRGB)", exr.string(), png.string()));
 

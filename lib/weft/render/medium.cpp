@@ -190,6 +190,12 @@ std::unique_ptr<MediumScratch> DeltaTrackingGridMedium::make_scratch() const {
   return std::make_unique<MajorantScratch>(*grid_, *majorants_);
 }
 
+MediumWork DeltaTrackingGridMedium::work(const MediumScratch* scratch) const {
+  if (scratch == nullptr) return {};
+  const auto& c = static_cast<const MajorantScratch*>(scratch)->tracker.counters();
+  return {c.cells, c.lookups};
+}
+
 MediumTraits DeltaTrackingGridMedium::traits() const {
   MediumTraits t;
   t.kind = "grid";
@@ -223,6 +229,12 @@ double OpticalDepthGridMedium::transmittance(const Vec3& o, const Vec3& d, doubl
 
 std::unique_ptr<MediumScratch> OpticalDepthGridMedium::make_scratch() const {
   return std::make_unique<DepthScratch>(*grid_);
+}
+
+MediumWork OpticalDepthGridMedium::work(const MediumScratch* scratch) const {
+  if (scratch == nullptr) return {};
+  const auto& c = static_cast<const DepthScratch*>(scratch)->tracker.counters();
+  return {c.cells, c.lookups};
 }
 
 MediumTraits OpticalDepthGridMedium::traits() const {

@@ -538,7 +538,8 @@ World build_world(const SceneDesc& scene) {
 template <bool kMedia, bool kNonExp>
 void render_pass(const World& world, const Camera& camera, std::uint64_t seed, int s_begin, int s_end,
                  std::vector<double>& sum, std::vector<double>& sum2, std::atomic<std::uint64_t>& rays,
-                 std::atomic<std::uint64_t>& invalid, ProgressTask& task) {
+                 std::atomic<std::uint64_t>& invalid, std::atomic<std::uint64_t>& cells,
+                 std::atomic<std::uint64_t>& lookups, ProgressTask& task) {
   const Integrator<kMedia, kNonExp> integrator(world);
   constexpr int kTile = 16;
   const int tiles_x = (camera.width + kTile - 1) / kTile;
@@ -574,6 +575,11 @@ void render_pass(const World& world, const Camera& camera, std::uint64_t seed, i
     }
     rays += counters.rays;
     invalid += bad;
+    for (std::size_t m = 0; m < world.media.size(); ++m) {
+      const MediumWork work = world.media[m]->work(counters.scratch[m].get());
+      cells += work.cells;
+      lookups += work.lookups;
+    }
   });
 }
 
@@ -640,6 +646,8 @@ RenderResult render(const SceneDesc& scene, const RenderOptions& options, Progre
   std::vector<double> sum2(n, 0.0);
   std::atomic<std::uint64_t> rays{0};
   std::atomic<std::uint64_t> invalid{0};
+  std::atomic<std::uint64_t> cells{0};
+  std::atomic<std::uint64_t> lookups{0};
 
   const bool passes = options.time_budget_seconds > 0.0 || static_cast<bool>(options.on_pass);
   const int per_pass = passes ? std::max(1, options.spp_per_pass) : spp;
@@ -662,11 +670,11 @@ RenderResult render(const SceneDesc& scene, const RenderOptions& options, Progre
   while (done < spp) {
     const int end = std::min(spp, done + per_pass);
     if (choice == IntegratorChoice::surfaces) {
-      render_pass<false, false>(world, camera, seed, done, end, sum, sum2, rays, invalid, task);
+      render_pass<false, false>(world, camera, seed, done, end, sum, sum2, rays, invalid, cells, lookups, task);
     } else if (choice == IntegratorChoice::exponential) {
-      render_pass<true, false>(world, camera, seed, done, end, sum, sum2, rays, invalid, task);
+      render_pass<true, false>(world, camera, seed, done, end, sum, sum2, rays, invalid, cells, lookups, task);
     } else {
-      render_pass<true, true>(world, camera, seed, done, end, sum, sum2, rays, invalid, task);
+      render_pass<true, true>(world, camera, seed, done, end, sum, sum2, rays, invalid, cells, lookups, task);
     }
     done = end;
     if (options.on_pass) options.on_pass(done, seconds(), make_image(camera.width, camera.height, done, sum, sum2));
@@ -678,6 +686,8 @@ RenderResult render(const SceneDesc& scene, const RenderOptions& options, Progre
   result.stats.paths = static_cast<std::uint64_t>(done) * camera.width * camera.height;
   result.stats.rays = rays.load();
   result.stats.invalid_samples = invalid.load();
+  result.stats.medium_cells = cells.load();
+  result.stats.medium_lookups = lookups.load();
   return result;
 }
 

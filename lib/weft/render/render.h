@@ -57,6 +57,8 @@ struct RenderStats {
   std::uint64_t paths = 0;
   std::uint64_t rays = 0;             ///< closest-hit and shadow rays traced
   std::uint64_t invalid_samples = 0;  ///< NaN/inf samples replaced by 0 (should be 0)
+  std::uint64_t medium_cells = 0;     ///< voxels/majorant cells crossed by grid media (MediumWork)
+  std::uint64_t medium_lookups = 0;   ///< density lookups of grid media (tentative collisions)
 };
 
 struct RenderResult {

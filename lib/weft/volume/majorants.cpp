@@ -176,6 +176,11 @@ TrackedCollision MajorantTracker::delta_track(const Ray& ray, double t0, double 
   return out;
 }
 
+namespace {
+constexpr double kRouletteBelow = 0.05;
+constexpr double kRouletteStop = 0.75;
+}  // namespace
+
 double MajorantTracker::ratio_track(const Ray& ray, double t0, double t1, double scale, Pcg32& rng) {
   if (!(scale > 0.0)) return 1.0;
   const detail::CellRay r = detail::to_cell_ray(*impl_->coarse, ray);
@@ -196,6 +201,16 @@ double MajorantTracker::ratio_track(const Ray& ray, double t0, double t1, double
                           const double mu = scale * lookup(o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]);
                           tr *= std::max(0.0, 1.0 - mu / majorant);
                           if (tr <= 0.0) return false;
+                          // Russian roulette once the estimate is small (pbrt-v4's ratio tracking):
+                          // end with probability q, else divide by 1 − q; unbiased, and a shadow
+                          // ray through a dense yarn stops after a few lookups, not after all.
+                          if (tr < kRouletteBelow) {
+                            if (rng.uniform() < kRouletteStop) {
+                              tr = 0.0;
+                              return false;
+                            }
+                            tr /= 1.0 - kRouletteStop;
+                          }
                         }
                       });
   return tr;

@@ -106,7 +106,8 @@ class MajorantTracker {
   [[nodiscard]] TrackedCollision delta_track(const Ray& ray, double t0, double t1, double scale, Pcg32& rng);
 
   /// Ratio tracking (Novák et al. 2014): the product over tentative collisions of
-  /// (1 − μ(x)/majorant), an unbiased estimate of e^{−∫_{t0}^{t1} μ}.
+  /// (1 − μ(x)/majorant), an unbiased estimate of e^{−∫_{t0}^{t1} μ}; below 0.05 it is
+  /// continued by Russian roulette (stop with probability 0.75, else divide by 0.25).
   [[nodiscard]] double ratio_track(const Ray& ray, double t0, double t1, double scale, Pcg32& rng);
 
   [[nodiscard]] const TrackerCounters& counters() const { return counters_; }
