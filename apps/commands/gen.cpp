@@ -12,6 +12,7 @@
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 #include "weft/curves/curve_io.h"
+#include "weft/render/cloth_scene.h"
 #include "weft/viz/vtk_files.h"
 
 namespace weft::app {
@@ -108,7 +109,8 @@ std::string yarn_parameter_help() {
   text +=
       "Outputs in --out: cloth.vdb (grid 'density' of fibre volume fraction C, provenance as metadata),\n"
       "fibers.vtp (fibres with yarn/ply/fiber/kind ids), yarns.bcc (centrelines), cloth.json (every\n"
-      "parameter; weft gen --config cloth.json rebuilds the same grid).";
+      "parameter; weft gen --config cloth.json rebuilds the same grid), scene.json (weft render\n"
+      "scene.json renders the grid).";
   return text;
 }
 
@@ -236,6 +238,8 @@ const Registrar kGen{Command{
         curves::write_bcc(bcc, build.centerlines.curves, "weft yarn centrelines (mm)");
         if (o->fibers_bcc) curves::write_bcc(out / "fibers.bcc", cloth::fiber_curves(build.fibers), "weft fibres (mm)");
         write_text_atomically(json, cloth::cloth_spec_json(build.spec));
+        // A scene that renders the grid as is: `weft render <out>/scene.json` (docs/render.md).
+        write_text_atomically(out / "scene.json", render::cloth_scene_json(vdb, "cloth.vdb"));
         const auto& r = build.report;
         ctx.say(fmt::format("{} cloth, {} yarns, {} fibres ({:.1f} mm of fibre), seed {}", build.spec.pattern,
                             build.centerlines.curves.size(), r.fiber_count, build.fibers.length(), build.spec.seed));
@@ -247,8 +251,8 @@ const Registrar kGen{Command{
         ctx.say(fmt::format("generated in {:.2f} s, voxelized in {:.2f} s ({:.0f} fibres/s, {:.3g} voxels/s)",
                             r.generate_seconds, r.voxelize_seconds, r.fiber_count / std::max(r.voxelize_seconds, 1e-9),
                             r.active_voxels / std::max(r.voxelize_seconds, 1e-9)));
-        ctx.say(fmt::format("wrote {} (grid), {} (fibres), {} (yarn centrelines), {} (parameters){}", vdb.string(),
-                            vtp.string(), bcc.string(), json.string(),
+        ctx.say(fmt::format("wrote {} (grid), {} (fibres), {} (yarn centrelines), {} (parameters), {} (render scene){}",
+                            vdb.string(), vtp.string(), bcc.string(), json.string(), (out / "scene.json").string(),
                             o->fibers_bcc ? ", " + (out / "fibers.bcc").string() + " (fibres)" : ""));
         return 0;
       };

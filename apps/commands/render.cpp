@@ -12,10 +12,12 @@
 #include <nlohmann/json.hpp>
 
 #include "command.h"
+#include "data_gen/cloth/cloth.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 #include "weft/dist/distributed.h"
 #include "weft/render/builtin_scenes.h"
+#include "weft/render/cloth_scene.h"
 #include "weft/render/convergence.h"
 #include "weft/render/render.h"
 #include "weft/viz/chart.h"
@@ -55,6 +57,20 @@ render::SceneDesc resolve_scene(const std::string& name, std::string& label) {
   return render::parse_scene(render::builtin_scene(name), "built-in scene '" + name + "'", fs::current_path());
 }
 
+/// The default cloth (`weft gen` with no options) as a grid, generated once and kept in the
+/// temporary folder under a name that hashes its spec, so a changed generator makes a new one.
+fs::path default_cloth_grid(const Context& ctx) {
+  const cloth::ClothSpec spec = cloth::resolve(cloth::default_cloth_spec());
+  const std::string text = cloth::cloth_spec_json(spec);
+  const fs::path dir = fs::temp_directory_path() / "weft-cache";
+  const fs::path vdb = dir / fmt::format("default_cloth_{:016x}.vdb", std::hash<std::string>{}(text));
+  if (fs::exists(vdb)) return vdb;
+  ctx.say(fmt::format("generating the default cloth once ({})", vdb.string()));
+  ensure_directory(dir);
+  cloth::build_cloth(spec, ctx.progress).grid.save(vdb);
+  return vdb;
+}
+
 /// `-o` names the EXR or the PNG; the other is written beside it with the other extension.
 /// Anything else is refused rather than silently renamed.
 void output_paths(const std::string& output, const std::string& label, fs::path& exr, fs::path& png) {
@@ -90,7 +106,13 @@ int run(const RenderCliOptions& o, const Context& ctx) {
   }
   std::string label;
   const bool default_scene = o.scene.empty();
-  render::SceneDesc scene = resolve_scene(default_scene ? render::kDefaultScene : o.scene, label);
+  render::SceneDesc scene;
+  if (default_scene) {
+    label = render::kDefaultScene;
+    scene = render::cloth_scene(default_cloth_grid(ctx));
+  } else {
+    scene = resolve_scene(o.scene, label);
+  }
   if (o.quick) {
     // Same view, a small film: the longest side kQuickSide pixels.
     const double f = static_cast<double>(kQuickSide) / std::max(scene.camera.width, scene.camera.height);
@@ -161,6 +183,12 @@ int run(const RenderCliOptions& o, const Context& ctx) {
                       result.image.width, result.image.height, s.spp, s.seconds,
                       static_cast<double>(s.paths) / s.seconds, static_cast<double>(s.rays) / s.seconds, ctx.ranks(),
                       ctx.threads()));
+  if (s.medium_cells > 0)
+    ctx.say(fmt::format("grid media: {:.3g} cells crossed/s, {:.3g} density lookups/s ({:.3g} and {:.3g} per sample)",
+                        static_cast<double>(s.medium_cells) / s.seconds,
+                        static_cast<double>(s.medium_lookups) / s.seconds,
+                        static_cast<double>(s.medium_cells) / static_cast<double>(s.paths),
+                        static_cast<double>(s.medium_lookups) / static_cast<double>(s.paths)));
   if (s.invalid_samples > 0) ctx.say(fmt::format("warning: {} NaN/inf samples were dropped", s.invalid_samples));
   ctx.say(fmt::format("wrote {} (linear) and {} (sRGB)", exr.string(), png.string()));
 
@@ -242,8 +270,10 @@ const Registrar kRender{Command{
     "render", "Render a scene with non-exponential media by volumetric path tracing", 50,
     [](CLI::App& sub) -> Action {
       auto o = std::make_shared<RenderCliOptions>();
-      sub.add_option("scene", o->scene,
-                     "Scene file (.json, docs/scene-format.md) or built-in scene name; default: the cloth patch");
+      sub.add_option(
+          "scene", o->scene,
+          "Scene file (.json, docs/scene-format.md, e.g. the scene.json `weft gen` writes) or built-in scene name; "
+          "default: the default cloth of `weft gen` as a grid medium");
       sub.add_option("-o,--output", o->output,
                      "Output path ending in .exr or .png; both are written, the other beside it "
                      "(default: <scene>.exr)");

@@ -85,29 +85,26 @@ void BM_Furnace(benchmark::State& state) { run(state, builtin("furnace")); }
 /// from a scatterer (the fast path −log ξ/μ for exponential media, else the pair's sampler and,
 /// outside reciprocal mode, its weights) and the transmittance of a shadow segment leaving it.
 void free_flight(benchmark::State& state, const MediumDesc& desc) {
-  std::optional<Medium> built;
+  std::shared_ptr<const Medium> built;
   try {
-    built.emplace(make_medium(desc, "benchmark medium"));
+    built = make_medium(desc, "benchmark medium");
   } catch (const weft::Error& e) {
     state.SkipWithError(e.what());
     return;
   }
   const Medium& m = *built;
+  const std::unique_ptr<MediumScratch> scratch = m.make_scratch();
   weft::Pcg32 rng = weft::stream_for(11, 0);
   constexpr auto origin = weft::transmittance::Origin::scatterer;
+  const Vec3 o(0, 0, 0);
+  const Vec3 d(0, 0, 1);
   for (auto _ : state) {
     const double t_hit = 2.0 * rng.uniform();  // distance to the next surface, in mean free paths / 2
-    double t = 0.0;
-    double beta = 1.0;
-    if (m.exponential) {
-      t = -std::log(rng.uniform_open()) / m.mu;
-    } else {
-      t = m.pair.sample(origin, rng);
-      if (!m.unit_weights && !(t < t_hit)) beta *= m.exit_weight(t_hit);
-    }
+    const Flight f = m.sample_flight(o, d, t_hit, origin, rng, scratch.get());
+    double beta = f.weight;
     const double segment = 2.0 * rng.uniform();
-    beta *= m.shadow_factor(origin, segment);
-    benchmark::DoNotOptimize(t);
+    beta *= m.transmittance(o, d, segment, origin, rng, scratch.get());
+    benchmark::DoNotOptimize(f.t);
     benchmark::DoNotOptimize(beta);
   }
   state.SetItemsProcessed(state.iterations());

@@ -102,8 +102,34 @@ if(CMAKE_SCRIPT_MODE_FILE)
     if(NOT rc EQUAL 0 OR NOT EXISTS ${WORK}/lg.exr)
       message(FATAL_ERROR "local-gamma render failed (rc=${rc}): ${out}${err}")
     endif()
-    if(NOT out MATCHES "features: [^\n]*grid media")
-      message(FATAL_ERROR "run summary does not list grid media: ${out}")
+    if(NOT out MATCHES "features: [^\n]*local-gamma medium, per-voxel gamma law, hazard inversion")
+      message(FATAL_ERROR "run summary does not name the local-gamma medium and its estimator: ${out}")
+    endif()
+  elseif(CASE STREQUAL "default_cloth")
+    # `weft render` with no scene renders the default cloth of `weft gen` as a grid medium.
+    execute_process(COMMAND ${WEFT} render --quick --spp 8 -o ${WORK}/d.exr
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0 OR NOT out MATCHES "default scene 'default_cloth'.*grid medium, exponential law")
+      message(FATAL_ERROR "default render failed (rc=${rc}): ${out}${err}")
+    endif()
+    execute_process(COMMAND ${CHECK} ${WORK}/d.exr RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0)
+      message(FATAL_ERROR "default cloth image: ${out}${err}")
+    endif()
+  elseif(CASE STREQUAL "gen_scene")
+    # `weft gen` writes scene.json beside cloth.vdb; `weft render <out>/scene.json` renders it as is.
+    execute_process(COMMAND ${WEFT} --quiet gen --yarns 2x2 --out ${WORK}/cloth RESULT_VARIABLE rc ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0 OR NOT EXISTS ${WORK}/cloth/scene.json)
+      message(FATAL_ERROR "gen did not write scene.json (rc=${rc}): ${err}")
+    endif()
+    execute_process(COMMAND ${WEFT} render ${WORK}/cloth/scene.json --quick --spp 8 -o ${WORK}/g.exr
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0)
+      message(FATAL_ERROR "render of gen's scene.json failed (rc=${rc}): ${out}${err}")
+    endif()
+    execute_process(COMMAND ${CHECK} ${WORK}/g.exr RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0)
+      message(FATAL_ERROR "gen scene image: ${out}${err}")
     endif()
   else()
     message(FATAL_ERROR "unknown CASE ${CASE}")
@@ -115,25 +141,30 @@ endif()
 set(_render_work ${CMAKE_CURRENT_BINARY_DIR}/render)
 file(MAKE_DIRECTORY ${_render_work})
 
-add_test(NAME cli.render.default_scene COMMAND weft render --spp 2 WORKING_DIRECTORY ${_render_work})
+add_test(NAME cli.render.default_scene COMMAND weft render --quick --spp 2 WORKING_DIRECTORY ${_render_work})
 set_tests_properties(cli.render.default_scene PROPERTIES LABELS "cli;render"
-                     PASS_REGULAR_EXPRESSION "default scene 'cloth_patch'.*wrote cloth_patch.exr")
+                     PASS_REGULAR_EXPRESSION "default scene 'default_cloth'.*wrote default_cloth.exr")
+
+# Pixel statistics of a cloth image (the cloth is visible), for the default_cloth and gen_scene cases.
+add_executable(weft_cloth_image_check ${CMAKE_CURRENT_LIST_DIR}/cloth_image_check.cpp)
+target_link_libraries(weft_cloth_image_check PRIVATE weft_render weft_warnings)
 
 add_test(NAME cli.render.list_scenes COMMAND weft render --list-scenes)
 set_tests_properties(cli.render.list_scenes PROPERTIES LABELS "cli;render" PASS_REGULAR_EXPRESSION "cornell_media")
 
 add_test(NAME cli.render.features_summary COMMAND weft render cornell_media --spp 1 -o ${_render_work}/cornell.exr)
 set_tests_properties(cli.render.features_summary PROPERTIES LABELS "cli;render"
-                     PASS_REGULAR_EXPRESSION "features: .*non-exponential media.*samples/s")
+                     PASS_REGULAR_EXPRESSION "features: .*medium '[a-z_]+': homogeneous medium, gamma law, T_Q/T_S flights.*samples/s")
 
 add_test(NAME cli.render.time_budget COMMAND weft render furnace --spp 1000000 --time-budget 0.5
                                              -o ${_render_work}/budget.exr)
 set_tests_properties(cli.render.time_budget PROPERTIES LABELS "cli;render" TIMEOUT 120
                      PASS_REGULAR_EXPRESSION "64x64 at [0-9]+ spp")
 
-foreach(case bad_input threads round_trip convergence fibres local_gamma)
+foreach(case bad_input threads round_trip convergence fibres local_gamma default_cloth gen_scene)
   add_test(NAME cli.render.${case}
            COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DCASE=${case} -DWORK=${_render_work}/${case}
+                   -DCHECK=$<TARGET_FILE:weft_cloth_image_check>
                    -DSCENES=${PROJECT_SOURCE_DIR}/scenes -P ${CMAKE_CURRENT_LIST_FILE})
   set_tests_properties(cli.render.${case} PROPERTIES LABELS "cli;render")
 endforeach()

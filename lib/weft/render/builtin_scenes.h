@@ -19,7 +19,8 @@ const std::vector<std::pair<std::string_view, std::string_view>>& builtin_scene_
 /// when there is none.
 [[nodiscard]] std::string_view builtin_scene(const std::string& name);
 
-/// Name of the scene `weft render` renders when given none.
-inline constexpr const char* kDefaultScene = "cloth_patch";
+/// Label of the scene `weft render` renders when given none: the default cloth of `weft gen`
+/// as a grid medium (cloth_scene.h), not a built-in JSON scene.
+inline constexpr const char* kDefaultScene = "default_cloth";
 
 }  // namespace weft::render

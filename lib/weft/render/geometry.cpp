@@ -1,5 +1,7 @@
 #include "weft/render/geometry.h"
 
+#include <memory>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -61,7 +63,11 @@ void add_sphere(RTCDevice device, RTCScene scene, const Vec3& c, double r, unsig
 /// where a B-spline or Catmull–Rom basis would smooth it away from the points. Returns the
 /// number of segments; the bounds grow by every point ± radius.
 std::size_t add_curves(RTCDevice device, RTCScene scene, const ShapeDesc& d, unsigned id, Vec3& lo, Vec3& hi) {
-  const std::vector<curves::Curve> polylines = curves::read_curves(d.file);
+  // What parse_scene read; a description built in code without it is read here.
+  const std::shared_ptr<const std::vector<curves::Curve>> read =
+      d.loaded_curves ? d.loaded_curves
+                      : std::make_shared<const std::vector<curves::Curve>>(curves::read_curves(d.file));
+  const std::vector<curves::Curve>& polylines = *read;
   const double radius = d.radius * d.scale;
   std::vector<float> vertices;
   std::vector<unsigned> first;       // index of each segment's first vertex
@@ -159,7 +165,7 @@ Geometry::Geometry(const SceneDesc& scene, const std::map<std::string, int>& mat
         } else if (d.kind == ShapeKind::rectangle) {
           s.mesh = rectangle_mesh(d.corner, d.edge_u, d.edge_v);
         } else {
-          s.mesh = load_mesh(d.file);
+          s.mesh = d.loaded_mesh ? *d.loaded_mesh : load_mesh(d.file);
           for (auto& v : s.mesh.vertices) v = v * d.scale + d.translate;
         }
         double total = 0.0;

@@ -2,18 +2,39 @@
 
 #include <algorithm>
 #include <cmath>
-
-#include <openvdb/tools/Count.h>
+#include <limits>
+#include <optional>
 
 #include "weft/core/error.h"
+#include "weft/render/local_gamma.h"
 #include "weft/transmittance/exponential.h"
-#include "weft/volume/grid_openvdb.h"
+#include "weft/volume/grid.h"
+#include "weft/volume/majorants.h"
 
 namespace weft::render {
 
 using transmittance::Origin;
 using transmittance::PairMode;
 using transmittance::TransmittancePair;
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+volume::Ray to_ray(const Vec3& o, const Vec3& d) { return {{o.x(), o.y(), o.z()}, {d.x(), d.y(), d.z()}}; }
+
+/// The rate of an exponential law, or nothing. The one place that asks what a law is: the
+/// factory below turns the answer into a medium class, and everything after asks the medium.
+std::optional<double> exponential_rate(const transmittance::Law& law) {
+  if (const auto* e = dynamic_cast<const transmittance::Exponential*>(&law)) return e->mu();
+  return std::nullopt;
+}
+
+std::string pair_estimator(const PairWeights& w, const std::string& sampling) {
+  return sampling + (w.unit_weights() ? "" : ", T_S/(c·p_Q) path weights");
+}
+}  // namespace
+
+std::string MediumTraits::describe() const { return kind + " medium, " + law + " law, " + estimator; }
 
 TransmittancePair make_medium_pair(const MediumDesc& desc, const std::string& where) {
   try {
@@ -35,136 +56,284 @@ TransmittancePair make_medium_pair(const MediumDesc& desc, const std::string& wh
   fail("{}: unknown pair mode", where);
 }
 
-namespace {
-double max_value(const volume::Grid& grid) {
-  const auto range = openvdb::tools::minMax(grid.impl().grid->tree());
-  return std::max(0.0, static_cast<double>(range.max()));
+// ---- PairWeights ---------------------------------------------------------------------------
+
+PairWeights::PairWeights(TransmittancePair pair, bool unit_weights)
+    : pair_(std::move(pair)), unit_weights_(unit_weights) {
+  const double ell_s = pair_.law(Origin::scatterer).mean_free_path();
+  c_ = std::isfinite(ell_s) && ell_s > 0.0 ? ell_s : 1.0;
 }
 
-/// Per-block maxima of μ = mu_scale·value over the active box, blocks of kBlock³ voxels; each
-/// active value also raises the blocks of its neighbours, so a lookup that rounds across a
-/// block face still finds μ ≤ majorant.
-std::shared_ptr<const MajorantGrid> build_majorants(const volume::Grid& grid, double mu_scale) {
-  constexpr int kBlock = 8;
-  const volume::IndexBox box = grid.active_bbox();
-  auto g = std::make_shared<MajorantGrid>();
-  const double h = grid.voxel_size();
-  const auto origin = grid.origin();
-  g->cell = kBlock * h;
-  for (int a = 0; a < 3; ++a) {
-    g->lo[a] = origin[a] + h * box.min[a];
-    g->n[a] = static_cast<int>((static_cast<std::int64_t>(box.max[a]) - box.min[a] + kBlock) / kBlock);
-  }
-  g->mu.assign(static_cast<std::size_t>(g->n[0]) * g->n[1] * g->n[2], 0.0);
-  for (auto it = grid.impl().grid->cbeginValueOn(); it; ++it) {
-    openvdb::CoordBBox bb;
-    it.getBoundingBox(bb);
-    const double mu = mu_scale * static_cast<double>(*it);
-    std::array<int, 3> lo{};
-    std::array<int, 3> hi{};
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = std::clamp((bb.min()[a] - 1 - box.min[a]) / kBlock, 0, g->n[a] - 1);
-      hi[a] = std::clamp((bb.max()[a] + 1 - box.min[a]) / kBlock, 0, g->n[a] - 1);
-    }
-    for (int k = lo[2]; k <= hi[2]; ++k)
-      for (int j = lo[1]; j <= hi[1]; ++j)
-        for (int i = lo[0]; i <= hi[0]; ++i) {
-          double& m = g->mu[(static_cast<std::size_t>(k) * g->n[1] + j) * g->n[0] + i];
-          m = std::max(m, mu);
-        }
-  }
-  return g;
-}
-
-const transmittance::Exponential* as_exponential(const transmittance::Law& law) {
-  return dynamic_cast<const transmittance::Exponential*>(&law);
-}
-}  // namespace
-
-Medium make_medium(const MediumDesc& desc, const std::string& where) {
-  if (desc.kind == MediumKind::local_gamma) {
-    // The pair is not used (the field carries its own T_Q/T_S); an exponential placeholder keeps
-    // Medium a value type.
-    Medium m(TransmittancePair::same(std::make_shared<transmittance::Exponential>(1.0)));
-    m.albedo = desc.albedo;
-    m.g = desc.g;
-    m.unit_weights = true;
-    try {
-      m.local_gamma = std::make_shared<const LocalGammaField>(desc.file, desc.sigma);
-    } catch (const Error& e) {
-      fail("{}: {}", where, e.what());
-    }
-    return m;
-  }
-  Medium m(make_medium_pair(desc, where));
-  m.albedo = desc.albedo;
-  m.g = desc.g;
-  // An exponential law is its own reciprocal partner (T_S = p_Q/p_Q(0) = e^{−μt}), so the
-  // given law decides in reciprocal and same mode; explicit pairs must agree.
-  // Keep the law alive while `given` points into it (fuzz_scene found a use-after-free here).
-  const transmittance::LawPtr given_law = transmittance::make_law(desc.law);
-  const auto* given = as_exponential(*given_law);
-  if (desc.mode == PairMode::explicit_) {
-    const auto* q = as_exponential(m.pair.law(Origin::source));
-    const auto* s = as_exponential(m.pair.law(Origin::scatterer));
-    m.exponential = q != nullptr && s != nullptr && q->mu() == s->mu();
-    m.mu = m.exponential ? q->mu() : 0.0;
-  } else {
-    m.exponential = given != nullptr;
-    m.mu = m.exponential ? given->mu() : 0.0;
-  }
-  m.unit_weights = m.exponential || desc.mode == PairMode::reciprocal;
-  if (desc.kind == MediumKind::grid) {
-    try {
-      m.grid = std::make_shared<const volume::Grid>(volume::Grid::load(desc.file, desc.grid_name));
-    } catch (const Error& e) {
-      fail("{}: {}", where, e.what());
-    }
-    if (m.grid->active_voxel_count() == 0) fail("{}: grid '{}' in '{}' is empty", where, m.grid->name(), desc.file);
-    m.scale = desc.concentration ? desc.sigma : 1.0;
-    m.grid_exponential_mu = m.exponential ? m.mu : 0.0;
-    m.exponential = false;  // τ varies along the ray: no closed-form flight
-    m.mu = 0.0;
-    m.tracking = desc.tracking;
-    if (m.tracking == Tracking::delta && m.grid_exponential_mu == 0.0)
-      fail("{}: delta tracking needs an exponential law; use \"tracking\": \"optical-depth\"", where);
-    m.majorant = m.grid_exponential_mu * m.scale * max_value(*m.grid);
-    if (m.tracking == Tracking::delta) m.majorants = build_majorants(*m.grid, m.grid_exponential_mu * m.scale);
-  }
-  const double ell_s = m.pair.law(Origin::scatterer).mean_free_path();
-  m.c = std::isfinite(ell_s) && ell_s > 0.0 ? ell_s : 1.0;
-  if (m.exponential && m.mu > 0.0) m.c = 1.0 / m.mu;
-  return m;
-}
-
-double Medium::entry_weight(double t) const {
-  if (unit_weights) return 1.0;
-  const auto& law_q = pair.law(Origin::source);
-  const auto& law_s = pair.law(Origin::scatterer);
+double PairWeights::entry_weight(double t) const {
+  if (unit_weights_) return 1.0;
+  const auto& law_q = pair_.law(Origin::source);
+  const auto& law_s = pair_.law(Origin::scatterer);
   // T_S/(c p_Q) = exp(log T_S − log T_Q − log Σ_Q − log c): stays finite where T's underflow.
   const double log_w =
-      law_s.log_transmittance(t) - law_q.log_transmittance(t) - std::log(law_q.hazard(t)) - std::log(c);
+      law_s.log_transmittance(t) - law_q.log_transmittance(t) - std::log(law_q.hazard(t)) - std::log(c_);
   return std::exp(log_w);
 }
 
-double Medium::exit_weight(double t) const {
-  if (unit_weights) return 1.0;
-  const auto& law_q = pair.law(Origin::source);
-  const auto& law_s = pair.law(Origin::scatterer);
+double PairWeights::exit_weight(double t) const {
+  if (unit_weights_) return 1.0;
+  const auto& law_q = pair_.law(Origin::source);
+  const auto& law_s = pair_.law(Origin::scatterer);
   const double log_t_s = law_s.log_transmittance(t);
-  if (log_t_s == -std::numeric_limits<double>::infinity()) return 0.0;  // the flight cannot pass here
-  const double log_w = std::log(c) + std::log(law_q.hazard(t)) + law_q.log_transmittance(t) - log_t_s;
+  if (log_t_s == -kInf) return 0.0;  // the flight cannot pass here
+  const double log_w = std::log(c_) + std::log(law_q.hazard(t)) + law_q.log_transmittance(t) - log_t_s;
   return std::exp(log_w);
 }
 
-double Medium::shadow_factor(Origin origin, double t) const {
-  if (exponential) return mu == 0.0 ? 1.0 : std::exp(-mu * t);
-  if (origin == Origin::source) return pair.transmittance(Origin::source, t);
-  if (unit_weights) return pair.transmittance(Origin::scatterer, t);
-  const auto& law_q = pair.law(Origin::source);
+double PairWeights::flight_weight(bool collided, Origin origin, double t) const {
+  if (unit_weights_) return 1.0;
+  if (collided && origin == Origin::source) return entry_weight(t);
+  if (!collided && origin == Origin::scatterer) return exit_weight(t);
+  return 1.0;
+}
+
+double PairWeights::shadow_factor(Origin origin, double t) const {
+  if (origin == Origin::source) return pair_.transmittance(Origin::source, t);
+  if (unit_weights_) return pair_.transmittance(Origin::scatterer, t);
+  const auto& law_q = pair_.law(Origin::source);
   const double log_t_q = law_q.log_transmittance(t);
-  if (log_t_q == -std::numeric_limits<double>::infinity()) return 0.0;
-  return std::exp(std::log(c) + std::log(law_q.hazard(t)) + log_t_q);
+  if (log_t_q == -kInf) return 0.0;
+  return std::exp(std::log(c_) + std::log(law_q.hazard(t)) + log_t_q);
+}
+
+// ---- homogeneous media -----------------------------------------------------------------------
+
+Flight ExponentialMedium::sample_flight(const Vec3&, const Vec3&, double t_max, Origin, Pcg32& rng,
+                                        MediumScratch*) const {
+  Flight f;
+  f.t = mu_ > 0.0 ? -std::log(rng.uniform_open()) / mu_ : kInf;
+  f.collided = f.t < t_max;
+  if (!f.collided) f.t = t_max;
+  return f;
+}
+
+double ExponentialMedium::transmittance(const Vec3&, const Vec3&, double t, Origin, Pcg32&, MediumScratch*) const {
+  return mu_ == 0.0 ? 1.0 : std::exp(-mu_ * t);
+}
+
+MediumTraits ExponentialMedium::traits() const {
+  MediumTraits t;
+  t.kind = "homogeneous";
+  t.law = "exponential";
+  t.estimator = "closed-form flights";
+  t.exponential = true;
+  return t;
+}
+
+Flight PairMedium::sample_flight(const Vec3&, const Vec3&, double t_max, Origin origin, Pcg32& rng,
+                                 MediumScratch*) const {
+  // Free flight from the law of the vertex we leave; the pair's ratio weights turn the
+  // camera-side sampling into the physical, light-side law (docs/render.md §2).
+  Flight f;
+  f.t = law_.pair().sample(origin, rng);
+  f.collided = f.t < t_max;
+  if (!f.collided) f.t = t_max;
+  f.weight = law_.flight_weight(f.collided, origin, f.t);
+  return f;
+}
+
+double PairMedium::transmittance(const Vec3&, const Vec3&, double t, Origin origin, Pcg32&, MediumScratch*) const {
+  return law_.shadow_factor(origin, t);
+}
+
+MediumTraits PairMedium::traits() const {
+  MediumTraits t;
+  t.kind = "homogeneous";
+  t.law = law_.pair().law(Origin::source).name();
+  t.estimator = pair_estimator(law_, "T_Q/T_S flights (" + law_.pair().law(Origin::source).sampling_method() + ")");
+  t.non_reciprocal = !law_.unit_weights();
+  return t;
+}
+
+// ---- grid media ------------------------------------------------------------------------------
+
+namespace {
+struct MajorantScratch final : MediumScratch {
+  volume::MajorantTracker tracker;
+  MajorantScratch(const volume::Grid& g, const volume::MajorantGrid& m) : tracker(g, m) {}
+};
+struct DepthScratch final : MediumScratch {
+  volume::DepthTracker tracker;
+  explicit DepthScratch(const volume::Grid& g) : tracker(g) {}
+};
+}  // namespace
+
+DeltaTrackingGridMedium::DeltaTrackingGridMedium(std::shared_ptr<const volume::Grid> grid, double scale, Rgb albedo,
+                                                 double g)
+    : Medium(std::move(albedo), g),
+      grid_(std::move(grid)),
+      majorants_(std::make_shared<const volume::MajorantGrid>(*grid_)),
+      scale_(scale) {}
+DeltaTrackingGridMedium::~DeltaTrackingGridMedium() = default;
+
+Flight DeltaTrackingGridMedium::sample_flight(const Vec3& o, const Vec3& d, double t_max, Origin, Pcg32& rng,
+                                              MediumScratch* scratch) const {
+  auto& tracker = static_cast<MajorantScratch*>(scratch)->tracker;
+  const volume::TrackedCollision c = tracker.delta_track(to_ray(o, d), 0.0, t_max, scale_, rng);
+  Flight f;
+  f.collided = c.collided;
+  f.t = c.collided ? c.t : t_max;
+  return f;
+}
+
+double DeltaTrackingGridMedium::transmittance(const Vec3& o, const Vec3& d, double t, Origin, Pcg32& rng,
+                                              MediumScratch* scratch) const {
+  auto& tracker = static_cast<MajorantScratch*>(scratch)->tracker;
+  return tracker.ratio_track(to_ray(o, d), 0.0, t, scale_, rng);
+}
+
+std::unique_ptr<MediumScratch> DeltaTrackingGridMedium::make_scratch() const {
+  return std::make_unique<MajorantScratch>(*grid_, *majorants_);
+}
+
+MediumWork DeltaTrackingGridMedium::work(const MediumScratch* scratch) const {
+  if (scratch == nullptr) return {};
+  const auto& c = static_cast<const MajorantScratch*>(scratch)->tracker.counters();
+  return {c.cells, c.lookups};
+}
+
+MediumTraits DeltaTrackingGridMedium::traits() const {
+  MediumTraits t;
+  t.kind = "grid";
+  t.law = "exponential";
+  t.estimator = "delta + ratio tracking";
+  t.heterogeneous = true;
+  return t;
+}
+
+OpticalDepthGridMedium::OpticalDepthGridMedium(std::shared_ptr<const volume::Grid> grid, double scale, PairWeights law,
+                                               Rgb albedo, double g)
+    : Medium(std::move(albedo), g), grid_(std::move(grid)), scale_(scale), law_(std::move(law)) {}
+
+Flight OpticalDepthGridMedium::sample_flight(const Vec3& o, const Vec3& d, double t_max, Origin origin, Pcg32& rng,
+                                             MediumScratch* scratch) const {
+  auto& tracker = static_cast<DepthScratch*>(scratch)->tracker;
+  const double tau_star = law_.pair().sample(origin, rng);
+  const volume::DepthHit hit = tracker.march_to(to_ray(o, d), 0.0, t_max, scale_, tau_star);
+  Flight f;
+  f.collided = hit.reached && hit.t < t_max;
+  f.t = f.collided ? hit.t : t_max;
+  f.weight = law_.flight_weight(f.collided, origin, f.collided ? tau_star : hit.tau);
+  return f;
+}
+
+double OpticalDepthGridMedium::transmittance(const Vec3& o, const Vec3& d, double t, Origin origin, Pcg32&,
+                                             MediumScratch* scratch) const {
+  auto& tracker = static_cast<DepthScratch*>(scratch)->tracker;
+  return law_.shadow_factor(origin, tracker.optical_depth(to_ray(o, d), 0.0, t, scale_));
+}
+
+std::unique_ptr<MediumScratch> OpticalDepthGridMedium::make_scratch() const {
+  return std::make_unique<DepthScratch>(*grid_);
+}
+
+MediumWork OpticalDepthGridMedium::work(const MediumScratch* scratch) const {
+  if (scratch == nullptr) return {};
+  const auto& c = static_cast<const DepthScratch*>(scratch)->tracker.counters();
+  return {c.cells, c.lookups};
+}
+
+MediumTraits OpticalDepthGridMedium::traits() const {
+  MediumTraits t;
+  t.kind = "grid";
+  t.law = law_.pair().law(Origin::source).name();
+  t.estimator = pair_estimator(law_, "optical-depth flights (exact DDA)");
+  t.non_reciprocal = !law_.unit_weights();
+  t.heterogeneous = true;
+  return t;
+}
+
+// ---- local-gamma media -----------------------------------------------------------------------
+
+namespace {
+struct FieldScratch final : MediumScratch {
+  std::unique_ptr<LocalGammaField> field;
+};
+}  // namespace
+
+LocalGammaMedium::LocalGammaMedium(std::shared_ptr<const LocalGammaField> field, Rgb albedo, double g)
+    : Medium(std::move(albedo), g), field_(std::move(field)) {}
+LocalGammaMedium::~LocalGammaMedium() = default;
+
+Flight LocalGammaMedium::sample_flight(const Vec3& o, const Vec3& d, double t_max, Origin origin, Pcg32& rng,
+                                       MediumScratch* scratch) const {
+  // Invert the accumulated hazard of the segment's own law (T_Q or the per-voxel T_S): the
+  // flight is drawn from the law that weights it, so its weight is 1.
+  LocalGammaField& field = *static_cast<FieldScratch*>(scratch)->field;
+  Flight f;
+  f.t = field.sample_distance(to_ray(o, d), 0.0, t_max, -std::log(rng.uniform_open()), origin);
+  f.collided = f.t < t_max;
+  if (!f.collided) f.t = t_max;
+  return f;
+}
+
+double LocalGammaMedium::transmittance(const Vec3& o, const Vec3& d, double t, Origin origin, Pcg32&,
+                                       MediumScratch* scratch) const {
+  LocalGammaField& field = *static_cast<FieldScratch*>(scratch)->field;
+  return std::exp(field.log_transmittance(to_ray(o, d), 0.0, t, origin));
+}
+
+std::unique_ptr<MediumScratch> LocalGammaMedium::make_scratch() const {
+  auto s = std::make_unique<FieldScratch>();
+  s->field = field_->clone();
+  return s;
+}
+
+MediumTraits LocalGammaMedium::traits() const {
+  MediumTraits t;
+  t.kind = "local-gamma";
+  t.law = "per-voxel gamma";
+  t.estimator = "hazard inversion";
+  t.heterogeneous = true;
+  return t;
+}
+
+// ---- factory ---------------------------------------------------------------------------------
+
+std::shared_ptr<const Medium> make_medium(const MediumDesc& desc, const std::string& where) {
+  if (desc.kind == MediumKind::local_gamma) {
+    std::shared_ptr<const LocalGammaField> field;
+    try {
+      field = std::make_shared<const LocalGammaField>(desc.file, desc.sigma);
+    } catch (const Error& e) {
+      fail("{}: {}", where, e.what());
+    }
+    return std::make_shared<const LocalGammaMedium>(std::move(field), desc.albedo, desc.g);
+  }
+  TransmittancePair pair = make_medium_pair(desc, where);
+  // An exponential law is its own reciprocal partner (T_S = p_Q/p_Q(0) = e^{−μt}), so the
+  // given law decides in reciprocal and same mode; explicit pairs must agree.
+  std::optional<double> mu;
+  if (desc.mode == PairMode::explicit_) {
+    const auto q = exponential_rate(pair.law(Origin::source));
+    const auto s = exponential_rate(pair.law(Origin::scatterer));
+    if (q && s && *q == *s) mu = q;
+  } else {
+    mu = exponential_rate(pair.law(desc.given));
+  }
+  const bool unit_weights = mu.has_value() || desc.mode == PairMode::reciprocal;
+  if (desc.kind == MediumKind::homogeneous) {
+    if (mu) return std::make_shared<const ExponentialMedium>(*mu, desc.albedo, desc.g);
+    return std::make_shared<const PairMedium>(PairWeights(std::move(pair), unit_weights), desc.albedo, desc.g);
+  }
+  std::shared_ptr<const volume::Grid> grid;
+  try {
+    grid = std::make_shared<const volume::Grid>(volume::Grid::load(desc.file, desc.grid_name));
+  } catch (const Error& e) {
+    fail("{}: {}", where, e.what());
+  }
+  if (grid->active_voxel_count() == 0) fail("{}: grid '{}' in '{}' is empty", where, grid->name(), desc.file);
+  const double scale = desc.concentration ? desc.sigma : 1.0;
+  if (desc.tracking == Tracking::delta) {
+    if (!mu) fail("{}: delta tracking needs an exponential law; use \"tracking\": \"optical-depth\"", where);
+    return std::make_shared<const DeltaTrackingGridMedium>(std::move(grid), *mu * scale, desc.albedo, desc.g);
+  }
+  return std::make_shared<const OpticalDepthGridMedium>(
+      std::move(grid), scale, PairWeights(std::move(pair), unit_weights), desc.albedo, desc.g);
 }
 
 }  // namespace weft::render

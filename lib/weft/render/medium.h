@@ -1,90 +1,99 @@
 #pragma once
 /// @file
-/// @brief A homogeneous medium ready to render: its T_Q/T_S pair and how free flights are weighted.
+/// @brief Participating media that sample themselves: each kind draws its free flights and
+/// evaluates its shadow transmittance for a segment that starts at a source or a scatterer
+/// (the shapes of pbrt-v4's `SampleT_maj` and Tungsten's `sampleDistance`/`transmittance`).
+/// The integrator calls `sample_flight` once per flight and `transmittance` once per shadow
+/// segment and never asks which kind it holds (docs/render.md §2).
 
-#include <algorithm>
-#include <array>
-#include <cmath>
-#include <limits>
+#include <cstdint>
 #include <memory>
 #include <string>
-#include <utility>
-#include <vector>
 
-#include "weft/render/local_gamma.h"
+#include "weft/core/rng.h"
 #include "weft/render/scene.h"
 #include "weft/transmittance/pair.h"
-#include "weft/volume/grid.h"
+
+namespace weft::volume {
+class Grid;
+class MajorantGrid;
+}  // namespace weft::volume
 
 namespace weft::render {
+
+class LocalGammaField;
 
 /// Builds the source/scatterer pair a medium description asks for. Throws weft::Error naming
 /// `where` for an unknown law, bad parameters, or a reciprocal partner that does not exist.
 [[nodiscard]] transmittance::TransmittancePair make_medium_pair(const MediumDesc& desc, const std::string& where);
 
-/// @brief Upper bounds of extinction per block of voxels, for delta and ratio tracking (the role
-/// of pbrt-v4's majorant grid): a dense array of cells of `cell` world units over the grid's
-/// active box, each the maximum μ over its voxels and their neighbours.
-struct MajorantGrid {
-  Vec3 lo{0, 0, 0};
-  double cell = 1.0;
-  std::array<int, 3> n{0, 0, 0};
-  std::vector<double> mu;
-  [[nodiscard]] double at(int i, int j, int k) const { return mu[(static_cast<std::size_t>(k) * n[1] + j) * n[0] + i]; }
+/// What a medium is and how it is estimated: the integrator specialises on it and the run
+/// summary prints it.
+struct MediumTraits {
+  std::string kind;       ///< "homogeneous", "grid", "local-gamma"
+  std::string law;        ///< the law's name ("exponential", "gamma", …; "per-voxel gamma")
+  std::string estimator;  ///< how flights and shadows are estimated
+  /// Closed-form exponential flights in distance (ExponentialMedium): the exponential
+  /// specialisation of the integrator may run.
+  bool exponential = false;
+  bool non_reciprocal = false;  ///< flights carry the T_S/(c·p_Q) ratio weights (same/explicit pairs)
+  bool heterogeneous = false;   ///< density varies in space
+  /// "grid medium, exponential law, delta + ratio tracking".
+  [[nodiscard]] std::string describe() const;
 };
 
-/// Calls visit(t_a, t_b, majorant) for the cells the ray o + t·d crosses over [t0, t1], in
-/// order (Amanatides–Woo over the majorant cells); stops when visit returns false.
-template <typename Visit>
-void walk_majorants(const MajorantGrid& g, const Vec3& o, const Vec3& d, double t0, double t1, Visit&& visit) {
-  double tn = t0;
-  double tf = t1;
-  for (int a = 0; a < 3; ++a) {
-    const double lo = g.lo[a];
-    const double hi = g.lo[a] + g.cell * g.n[a];
-    if (d[a] == 0.0) {
-      if (o[a] < lo || o[a] >= hi) return;
-      continue;
-    }
-    double ta = (lo - o[a]) / d[a];
-    double tb = (hi - o[a]) / d[a];
-    if (ta > tb) std::swap(ta, tb);
-    tn = std::max(tn, ta);
-    tf = std::min(tf, tb);
-  }
-  if (!(tn < tf)) return;
-  std::array<int, 3> idx{};
-  std::array<int, 3> step{};
-  std::array<double, 3> t_max{};
-  std::array<double, 3> t_delta{};
-  const Vec3 p = o + tn * d;
-  for (int a = 0; a < 3; ++a) {
-    idx[a] = std::clamp(static_cast<int>(std::floor((p[a] - g.lo[a]) / g.cell)), 0, g.n[a] - 1);
-    if (d[a] == 0.0) {
-      step[a] = 0;
-      t_max[a] = std::numeric_limits<double>::infinity();
-      t_delta[a] = std::numeric_limits<double>::infinity();
-    } else {
-      step[a] = d[a] > 0.0 ? 1 : -1;
-      const double boundary = g.lo[a] + g.cell * (idx[a] + (d[a] > 0.0 ? 1 : 0));
-      t_max[a] = (boundary - o[a]) / d[a];
-      t_delta[a] = g.cell / std::abs(d[a]);
-    }
-  }
-  double t = tn;
-  for (;;) {
-    const int axis = t_max[0] < t_max[1] ? (t_max[0] < t_max[2] ? 0 : 2) : (t_max[1] < t_max[2] ? 1 : 2);
-    const double end = std::min(std::max(t_max[axis], t), tf);
-    if (!visit(t, end, g.at(idx[0], idx[1], idx[2]))) return;
-    if (end >= tf) return;
-    t = end;
-    idx[axis] += step[axis];
-    if (idx[axis] < 0 || idx[axis] >= g.n[axis]) return;
-    t_max[axis] += t_delta[axis];
-  }
-}
+/// Per-thread working state of one medium (DDA accessors, trackers); made by the medium.
+class MediumScratch {
+ public:
+  virtual ~MediumScratch() = default;
+};
 
-/// @brief The free-flight bookkeeping of one medium (derivation in docs/render.md §2).
+/// Work a medium did on one thread's scratch (benchmarks: voxels crossed per second).
+struct MediumWork {
+  std::uint64_t cells = 0;    ///< voxels, tree nodes or majorant cells the DDA crossed
+  std::uint64_t lookups = 0;  ///< density point lookups (tentative collisions)
+};
+
+/// One free flight: where it ended and the factor it puts on the path throughput.
+struct Flight {
+  bool collided = false;  ///< a real scattering/absorption event at t < t_max
+  double t = 0.0;         ///< collision distance, or t_max
+  double weight = 1.0;    ///< T_Q/T_S ratio weight (1 for reciprocal pairs and exponential media)
+};
+
+/// @brief A medium: albedo and phase function plus its own flights and shadows.
+///
+/// Segments run from `o` along the unit direction `d`; `origin` says whether the segment
+/// starts at a source or surface (law T_Q) or at a scattering event (T_S). `scratch` is what
+/// make_scratch() returned, owned by the calling thread (may be null when it returns null).
+class Medium {
+ public:
+  Medium(Rgb albedo, double g) : albedo_(std::move(albedo)), g_(g) {}
+  virtual ~Medium() = default;
+  Medium(const Medium&) = delete;
+  Medium& operator=(const Medium&) = delete;
+
+  /// Samples the free flight of a segment that ends at a surface t_max away (∞ for none).
+  [[nodiscard]] virtual Flight sample_flight(const Vec3& o, const Vec3& d, double t_max, transmittance::Origin origin,
+                                             Pcg32& rng, MediumScratch* scratch) const = 0;
+  /// Transmittance factor of a shadow segment of length t (an unbiased estimate for tracked
+  /// media), the path weights of docs/render.md §2 included.
+  [[nodiscard]] virtual double transmittance(const Vec3& o, const Vec3& d, double t, transmittance::Origin origin,
+                                             Pcg32& rng, MediumScratch* scratch) const = 0;
+  [[nodiscard]] virtual std::unique_ptr<MediumScratch> make_scratch() const { return nullptr; }
+  [[nodiscard]] virtual MediumTraits traits() const = 0;
+  /// What the flights and shadows on `scratch` cost so far (zero for closed-form media).
+  [[nodiscard]] virtual MediumWork work(const MediumScratch* /*scratch*/) const { return {}; }
+
+  [[nodiscard]] const Rgb& albedo() const { return albedo_; }
+  [[nodiscard]] double g() const { return g_; }
+
+ private:
+  Rgb albedo_;
+  double g_;
+};
+
+/// @brief The free-flight bookkeeping of a T_Q/T_S pair (derivation in docs/render.md §2).
 ///
 /// The path tracer samples each flight from the law of the vertex it leaves (camera side);
 /// the physical law of a segment is set by the vertex light comes from. The two differ by
@@ -92,43 +101,125 @@ void walk_majorants(const MajorantGrid& g, const Vec3& o, const Vec3& d, double 
 ///   surface → collision at t:  w_in(t)  = T_S(t) / (c·p_Q(t))
 ///   collision → surface at t:  w_out(t) = c·p_Q(t) / T_S(t) = 1 / w_in(t)
 ///   shadow ray leaving a collision, first segment of length t: c·p_Q(t)  (= T_S(t) if reciprocal)
-/// with c = ℓ_S when finite (else 1), a constant that cancels along every path.
-struct Medium {
-  explicit Medium(transmittance::TransmittancePair p) : pair(std::move(p)) {}
-
-  transmittance::TransmittancePair pair;
-  bool exponential = false;   ///< T_Q = T_S = e^{−μt}: the fast path
-  double mu = 0.0;            ///< extinction of the exponential fast path
-  bool unit_weights = false;  ///< w_in = w_out = 1 (reciprocal mode or exponential)
-  double c = 1.0;
-  Rgb albedo{1, 1, 1};
-  double g = 0.0;
-
-  /// Grid media: the law is in optical depth τ = ∫ scale·value dt, and every `t` argument
-  /// below is a τ. A grid medium never takes the homogeneous fast path (`exponential` false);
-  /// `grid_exponential_mu` > 0 marks an exponential law e^{−μτ} for delta/ratio tracking.
-  std::shared_ptr<const volume::Grid> grid;
-  double scale = 1.0;                             ///< σ (concentration grids) or 1
-  double majorant = 0.0;                          ///< max of scale·value·grid_exponential_mu over the grid
-  std::shared_ptr<const MajorantGrid> majorants;  ///< per-block majorants (delta tracking)
-  double grid_exponential_mu = 0.0;
-  Tracking tracking = Tracking::optical_depth;
-
-  /// Local-gamma media: the fields of `weft fit --block`, flights by inverting the accumulated
-  /// hazard (T_Q from a source, the per-voxel partner T_S from a scatterer; local_gamma.h).
-  /// Always sampled from the physical law of the segment, so its weights are 1. The integrator
-  /// clones it per thread (it holds a DDA tracer); this instance is never traced.
-  std::shared_ptr<const LocalGammaField> local_gamma;
-
+/// with c = ℓ_S when finite (else 1), a constant that cancels along every path. For grid media
+/// every t is an optical depth τ.
+class PairWeights {
+ public:
+  PairWeights(transmittance::TransmittancePair pair, bool unit_weights);
+  [[nodiscard]] const transmittance::TransmittancePair& pair() const { return pair_; }
+  [[nodiscard]] bool unit_weights() const { return unit_weights_; }
   /// w_in(t), evaluated in log space (T_S and p_Q may both underflow).
   [[nodiscard]] double entry_weight(double t) const;
   /// w_out(t).
   [[nodiscard]] double exit_weight(double t) const;
+  /// The weight of a flight that ended at t (collided or at the segment's end).
+  [[nodiscard]] double flight_weight(bool collided, transmittance::Origin origin, double t) const;
   /// Transmittance factor of a shadow segment of length t that starts at a vertex of kind `origin`.
   [[nodiscard]] double shadow_factor(transmittance::Origin origin, double t) const;
+
+ private:
+  transmittance::TransmittancePair pair_;
+  bool unit_weights_;
+  double c_ = 1.0;
 };
 
-/// Builds the runtime medium (and its fast-path flags) from its description.
-[[nodiscard]] Medium make_medium(const MediumDesc& desc, const std::string& where);
+/// e^{−μt} in a homogeneous medium: closed-form flights −log ξ/μ. Final, so the exponential
+/// specialisation of the integrator calls it without a virtual call.
+class ExponentialMedium final : public Medium {
+ public:
+  ExponentialMedium(double mu, Rgb albedo, double g) : Medium(std::move(albedo), g), mu_(mu) {}
+  [[nodiscard]] Flight sample_flight(const Vec3& o, const Vec3& d, double t_max, transmittance::Origin origin,
+                                     Pcg32& rng, MediumScratch* scratch) const override;
+  [[nodiscard]] double transmittance(const Vec3& o, const Vec3& d, double t, transmittance::Origin origin, Pcg32& rng,
+                                     MediumScratch* scratch) const override;
+  [[nodiscard]] MediumTraits traits() const override;
+  [[nodiscard]] double mu() const { return mu_; }
+
+ private:
+  double mu_;
+};
+
+/// Any T_Q/T_S pair in a homogeneous medium: flights from the law of the vertex left
+/// (inverse CDF or the law's own sampler), with the pair's ratio weights.
+class PairMedium final : public Medium {
+ public:
+  PairMedium(PairWeights law, Rgb albedo, double g) : Medium(std::move(albedo), g), law_(std::move(law)) {}
+  [[nodiscard]] Flight sample_flight(const Vec3& o, const Vec3& d, double t_max, transmittance::Origin origin,
+                                     Pcg32& rng, MediumScratch* scratch) const override;
+  [[nodiscard]] double transmittance(const Vec3& o, const Vec3& d, double t, transmittance::Origin origin, Pcg32& rng,
+                                     MediumScratch* scratch) const override;
+  [[nodiscard]] MediumTraits traits() const override;
+  [[nodiscard]] const PairWeights& law() const { return law_; }
+
+ private:
+  PairWeights law_;
+};
+
+/// A voxel grid with an exponential law in optical depth, e^{−∫μ}, μ = scale·value: delta
+/// tracking for flights and ratio tracking for shadows against the per-leaf majorant grid.
+class DeltaTrackingGridMedium final : public Medium {
+ public:
+  DeltaTrackingGridMedium(std::shared_ptr<const volume::Grid> grid, double scale, Rgb albedo, double g);
+  ~DeltaTrackingGridMedium() override;
+  [[nodiscard]] Flight sample_flight(const Vec3& o, const Vec3& d, double t_max, transmittance::Origin origin,
+                                     Pcg32& rng, MediumScratch* scratch) const override;
+  [[nodiscard]] double transmittance(const Vec3& o, const Vec3& d, double t, transmittance::Origin origin, Pcg32& rng,
+                                     MediumScratch* scratch) const override;
+  [[nodiscard]] std::unique_ptr<MediumScratch> make_scratch() const override;
+  [[nodiscard]] MediumTraits traits() const override;
+  [[nodiscard]] MediumWork work(const MediumScratch* scratch) const override;
+  [[nodiscard]] const volume::Grid& grid() const { return *grid_; }
+  [[nodiscard]] const volume::MajorantGrid& majorants() const { return *majorants_; }
+  [[nodiscard]] double scale() const { return scale_; }
+
+ private:
+  std::shared_ptr<const volume::Grid> grid_;
+  std::shared_ptr<const volume::MajorantGrid> majorants_;
+  double scale_;
+};
+
+/// A voxel grid with any law in optical depth τ: the flight samples τ* from the law of its
+/// origin and marches the DDA until τ reaches it (exact for piecewise-constant voxels); shadows
+/// apply the law to the exact τ of the segment.
+class OpticalDepthGridMedium final : public Medium {
+ public:
+  OpticalDepthGridMedium(std::shared_ptr<const volume::Grid> grid, double scale, PairWeights law, Rgb albedo, double g);
+  [[nodiscard]] Flight sample_flight(const Vec3& o, const Vec3& d, double t_max, transmittance::Origin origin,
+                                     Pcg32& rng, MediumScratch* scratch) const override;
+  [[nodiscard]] double transmittance(const Vec3& o, const Vec3& d, double t, transmittance::Origin origin, Pcg32& rng,
+                                     MediumScratch* scratch) const override;
+  [[nodiscard]] std::unique_ptr<MediumScratch> make_scratch() const override;
+  [[nodiscard]] MediumTraits traits() const override;
+  [[nodiscard]] MediumWork work(const MediumScratch* scratch) const override;
+  [[nodiscard]] const PairWeights& law() const { return law_; }
+
+ private:
+  std::shared_ptr<const volume::Grid> grid_;
+  double scale_;
+  PairWeights law_;
+};
+
+/// The local statistic fields of `weft fit --block` as per-voxel gamma laws (local_gamma.h):
+/// flights by inverting the accumulated hazard of the segment's own law (T_Q from a source,
+/// the per-voxel partner T_S from a scatterer), so their weights are 1.
+class LocalGammaMedium final : public Medium {
+ public:
+  LocalGammaMedium(std::shared_ptr<const LocalGammaField> field, Rgb albedo, double g);
+  ~LocalGammaMedium() override;
+  [[nodiscard]] Flight sample_flight(const Vec3& o, const Vec3& d, double t_max, transmittance::Origin origin,
+                                     Pcg32& rng, MediumScratch* scratch) const override;
+  [[nodiscard]] double transmittance(const Vec3& o, const Vec3& d, double t, transmittance::Origin origin, Pcg32& rng,
+                                     MediumScratch* scratch) const override;
+  [[nodiscard]] std::unique_ptr<MediumScratch> make_scratch() const override;
+  [[nodiscard]] MediumTraits traits() const override;
+
+ private:
+  std::shared_ptr<const LocalGammaField> field_;
+};
+
+/// Builds the medium a description asks for (reads its grid or fields). Throws weft::Error
+/// naming `where` for bad laws, unreadable or empty grids, and delta tracking of a law that is
+/// not exponential.
+[[nodiscard]] std::shared_ptr<const Medium> make_medium(const MediumDesc& desc, const std::string& where);
 
 }  // namespace weft::render

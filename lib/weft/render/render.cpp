@@ -14,8 +14,6 @@
 #include "weft/render/environment.h"
 #include "weft/render/geometry.h"
 #include "weft/render/medium.h"
-#include "weft/volume/dda.h"
-#include "weft/volume/grid_openvdb.h"
 
 namespace weft::render {
 
@@ -26,9 +24,8 @@ std::vector<std::string> Features::names() const {
   if (area_lights) out.emplace_back("area lights");
   if (environment) out.emplace_back(environment_image ? "image environment" : "environment");
   if (curves) out.emplace_back("curves");
-  if (media) out.emplace_back(non_exponential ? "non-exponential media" : "exponential media");
-  if (heterogeneous) out.emplace_back("grid media");
-  if (non_reciprocal) out.emplace_back("non-reciprocal T_Q/T_S weights");
+  // Each medium as it is rendered: kind, law and estimator (asked from the medium).
+  for (const auto& m : media_described) out.push_back(m);
   return out;
 }
 
@@ -141,139 +138,55 @@ struct Camera {
 /// Everything the integrator reads; built once per render.
 struct World {
   std::vector<MaterialDesc> materials;
-  std::vector<Medium> media;
+  std::vector<std::shared_ptr<const Medium>> media;
   std::unique_ptr<Geometry> geometry;
   std::vector<Light> lights;
   std::vector<int> light_of_shape;  ///< light index of an emitting shape, else -1
   Rgb environment{0, 0, 0};
   int environment_light = -1;
-  std::unique_ptr<EnvironmentMap> environment_map;  ///< image environment (replaces the constant)
+  std::shared_ptr<const EnvironmentMap> environment_map;  ///< image environment (replaces the constant)
   bool any_null = false;
   double eps = 1e-5;  ///< ray offsets, relative to coordinates and scene size (float hit points)
   double extent = 1.0;
   IntegratorDesc settings;
 };
 
-/// Per-thread state: ray counts and, for grid media, a DDA tracer and a voxel accessor each.
+/// Per-thread state: ray counts and each medium's scratch (trackers, accessors).
 struct PathCounters {
   std::uint64_t rays = 0;
-  std::vector<std::unique_ptr<volume::Tracer>> tracers;
-  std::vector<std::unique_ptr<openvdb::FloatGrid::ConstAccessor>> accessors;
-  std::vector<std::unique_ptr<LocalGammaField>> fields;  ///< local-gamma media (own tracers)
+  std::vector<std::unique_ptr<MediumScratch>> scratch;
 
-  explicit PathCounters(const std::vector<Medium>& media) {
-    for (const auto& m : media) {
-      fields.push_back(m.local_gamma ? m.local_gamma->clone() : nullptr);
-      tracers.push_back(m.grid ? std::make_unique<volume::Tracer>(*m.grid) : nullptr);
-      accessors.push_back(
-          m.grid ? std::make_unique<openvdb::FloatGrid::ConstAccessor>(m.grid->impl().grid->getConstAccessor())
-                 : nullptr);
-    }
+  explicit PathCounters(const std::vector<std::shared_ptr<const Medium>>& media) {
+    for (const auto& m : media) scratch.push_back(m->make_scratch());
   }
 };
 
-/// A free flight through a grid medium: where it ended and the optical depth it crossed.
-struct GridFlight {
-  bool collided = false;
-  double t = 0.0;
-  double tau = 0.0;
-};
-
-/// Value of the voxel containing world point x (voxel (i,j,k) covers origin + h·[i, i+1)).
-double voxel_value(const Medium& m, openvdb::FloatGrid::ConstAccessor& acc, const Vec3& x) {
-  const auto origin = m.grid->origin();
-  const double h = m.grid->voxel_size();
-  const openvdb::Coord ijk(static_cast<int>(std::floor((x.x() - origin[0]) / h)),
-                           static_cast<int>(std::floor((x.y() - origin[1]) / h)),
-                           static_cast<int>(std::floor((x.z() - origin[2]) / h)));
-  return static_cast<double>(acc.getValue(ijk));
+/// The flight and the shadow of a medium. In the exponential specialisation render() checked
+/// that every medium is an ExponentialMedium (its traits say so): the final class's own
+/// functions are called, inlined, with no virtual dispatch.
+template <bool kGeneral>
+Flight sample_flight(const Medium& m, const Vec3& o, const Vec3& d, double t_max, Origin origin, Pcg32& rng,
+                     MediumScratch* scratch) {
+  if constexpr (kGeneral) {
+    return m.sample_flight(o, d, t_max, origin, rng, scratch);
+  } else {
+    return static_cast<const ExponentialMedium&>(m).sample_flight(o, d, t_max, origin, rng, scratch);
+  }
 }
 
-/// Flight through a grid medium from o along d, up to t_hit (docs/render.md §2, in τ).
-/// Delta tracking (exponential laws): tentative collisions at rate `majorant`, accepted with
-/// probability μ(x)/majorant. Optical depth: sample τ* from the law of `origin`, march the DDA
-/// until the accumulated τ reaches it (exact for piecewise-constant voxels).
-GridFlight grid_flight(const Medium& m, int index, const Vec3& o, const Vec3& d, double t_hit, Origin origin,
-                       Pcg32& rng, PathCounters& ctx) {
-  volume::Tracer& tracer = *ctx.tracers[static_cast<std::size_t>(index)];
-  const volume::Ray ray{{o.x(), o.y(), o.z()}, {d.x(), d.y(), d.z()}};
-  const volume::BoxHit box = tracer.intersect_active_box(ray, 0.0);
-  // Past the active box the medium is empty: no collision can happen there.
-  const double t_end = box.hit ? std::min(t_hit, box.t_exit) : 0.0;
-  GridFlight f;
-  if (m.tracking == Tracking::delta) {
-    // Delta tracking cell by cell of the majorant grid: tentative collisions at the cell's
-    // majorant, accepted with probability μ(x)/majorant; a flight that leaves a cell restarts
-    // at its face (the exponential is memoryless).
-    f.t = t_hit;
-    if (t_end <= 0.0) return f;
-    auto& acc = *ctx.accessors[static_cast<std::size_t>(index)];
-    walk_majorants(*m.majorants, o, d, 0.0, t_end, [&](double ta, double tb, double majorant) {
-      if (majorant <= 0.0) return true;
-      double t = ta;
-      for (;;) {
-        t += -std::log(rng.uniform_open()) / majorant;
-        if (t >= tb) return true;
-        const double mu = m.grid_exponential_mu * m.scale * voxel_value(m, acc, o + t * d);
-        if (rng.uniform() * majorant < mu) {
-          f.collided = true;
-          f.t = t;
-          return false;
-        }
-      }
-    });
-    return f;
+template <bool kGeneral>
+double medium_transmittance(const Medium& m, const Vec3& o, const Vec3& d, double t, Origin origin, Pcg32& rng,
+                            MediumScratch* scratch) {
+  if constexpr (kGeneral) {
+    return m.transmittance(o, d, t, origin, rng, scratch);
+  } else {
+    return static_cast<const ExponentialMedium&>(m).transmittance(o, d, t, origin, rng, scratch);
   }
-  const double tau_star = m.pair.sample(origin, rng);
-  double tau = 0.0;
-  double t_collision = std::numeric_limits<double>::infinity();
-  if (t_end > 0.0) {
-    tracer.march(ray, 0.0, t_end, [&](const volume::Segment& s) {
-      const double mu = m.scale * s.value;
-      const double dtau = mu * (s.t1 - s.t0);
-      if (mu > 0.0 && tau + dtau >= tau_star) {
-        t_collision = s.t0 + (tau_star - tau) / mu;
-        tau = tau_star;
-        return false;
-      }
-      tau += dtau;
-      return true;
-    });
-  }
-  f.collided = t_collision < t_hit;
-  f.t = f.collided ? t_collision : t_hit;
-  f.tau = tau;
-  return f;
 }
 
-/// Shadow factor through a grid medium over [0, t): ratio tracking for delta-tracked media
-/// (an unbiased estimate of e^{−τ}), otherwise the law of `origin` applied to the exact τ.
-double grid_shadow(const Medium& m, int index, const Vec3& o, const Vec3& d, double t, Origin origin, Pcg32& rng,
-                   PathCounters& ctx) {
-  volume::Tracer& tracer = *ctx.tracers[static_cast<std::size_t>(index)];
-  const volume::Ray ray{{o.x(), o.y(), o.z()}, {d.x(), d.y(), d.z()}};
-  const volume::BoxHit box = tracer.intersect_active_box(ray, 0.0);
-  const double t_end = box.hit ? std::min(t, box.t_exit) : 0.0;
-  if (m.tracking == Tracking::delta) {
-    // Ratio tracking over the same majorant cells: an unbiased estimate of e^{−τ}.
-    if (t_end <= 0.0) return 1.0;
-    auto& acc = *ctx.accessors[static_cast<std::size_t>(index)];
-    double tr = 1.0;
-    walk_majorants(*m.majorants, o, d, 0.0, t_end, [&](double ta, double tb, double majorant) {
-      if (majorant <= 0.0) return true;
-      double s = ta;
-      for (;;) {
-        s += -std::log(rng.uniform_open()) / majorant;
-        if (s >= tb) return true;
-        tr *= std::max(0.0, 1.0 - m.grid_exponential_mu * m.scale * voxel_value(m, acc, o + s * d) / majorant);
-        if (tr <= 0.0) return false;
-      }
-    });
-    return tr;
-  }
-  const double tau = t_end > 0.0 ? tracer.optical_depth(ray, 0.0, t_end, m.scale) : 0.0;
-  return m.shadow_factor(origin, tau);
-}
+/// A path whose throughput is zero in every channel carries nothing: it ends at once (an
+/// albedo-0 medium would otherwise be traced to the roulette depth for no contribution).
+bool dead(const Rgb& beta) { return !(beta != 0.0).any(); }
 
 template <bool kMedia, bool kNonExp>
 class Integrator {
@@ -301,48 +214,23 @@ class Integrator {
 
       if constexpr (kMedia) {
         if (medium >= 0) {
-          const Medium& m = w_.media[static_cast<std::size_t>(medium)];
-          double t = 0.0;
-          bool collided = false;
-          if (!kNonExp || m.exponential) {
-            t = m.mu > 0.0 ? -std::log(rng.uniform_open()) / m.mu : std::numeric_limits<double>::infinity();
-            collided = t < t_hit;
-          } else if (m.local_gamma) {
-            // Invert the accumulated hazard of the segment's own law (T_Q or the per-voxel T_S):
-            // the flight is drawn from the law that weights it, so its weight is 1.
-            LocalGammaField& field = *counters.fields[static_cast<std::size_t>(medium)];
-            const volume::Ray ray{{o.x(), o.y(), o.z()}, {d.x(), d.y(), d.z()}};
-            t = field.sample_distance(ray, 0.0, t_hit, -std::log(rng.uniform_open()), origin);
-            collided = t < t_hit;
-            if (!collided) t = t_hit;
-          } else if (m.grid) {
-            const GridFlight f = grid_flight(m, medium, o, d, t_hit, origin, rng, counters);
-            t = f.t;
-            collided = f.collided;
-            if (!m.unit_weights) {
-              if (collided && origin == Origin::source) beta *= m.entry_weight(f.tau);
-              if (!collided && origin == Origin::scatterer) beta *= m.exit_weight(f.tau);
-            }
-          } else {
-            // Free flight from the law of the vertex we leave; the pair's ratio weights turn the
-            // camera-side sampling into the physical, light-side law (medium.h, docs/render.md §2).
-            t = m.pair.sample(origin, rng);
-            collided = t < t_hit;
-            if (!m.unit_weights) {
-              if (collided && origin == Origin::source) beta *= m.entry_weight(t);
-              if (!collided && origin == Origin::scatterer) beta *= m.exit_weight(t_hit);
-            }
-          }
-          if (collided) {
+          const Medium& m = *w_.media[static_cast<std::size_t>(medium)];
+          MediumScratch* scratch = counters.scratch[static_cast<std::size_t>(medium)].get();
+          const Flight flight = sample_flight<kNonExp>(m, o, d, t_hit, origin, rng, scratch);
+          beta *= flight.weight;
+          if (dead(beta)) break;
+          if (flight.collided) {
+            const double t = flight.t;
             const Vec3 x = o + t * d;
-            beta *= m.albedo;
+            beta *= m.albedo();
+            if (dead(beta)) break;
             origin = Origin::scatterer;
             if (++depth > w_.settings.max_depth) break;
             // Next-event estimation with MIS against phase sampling.
             if (!w_.lights.empty()) {
               const LightSample ls = sample_light(x, rng);
               if (ls.pdf > 0.0 && (ls.le > 0.0).any()) {
-                const double f = hg(m.g, d.dot(ls.wi));
+                const double f = hg(m.g(), d.dot(ls.wi));
                 const double tr = shadow(x, ls, medium, Origin::scatterer, rng, counters);
                 if (tr > 0.0) {
                   const double mis = ls.delta ? 1.0 : power_heuristic(ls.pdf, f);
@@ -350,8 +238,8 @@ class Integrator {
                 }
               }
             }
-            const Vec3 wi = sample_hg(m.g, d, rng);  // weight f/pdf = 1
-            prev_pdf = hg(m.g, d.dot(wi));
+            const Vec3 wi = sample_hg(m.g(), d, rng);  // weight f/pdf = 1
+            prev_pdf = hg(m.g(), d.dot(wi));
             specular = false;
             prev_point = x;
             o = x;
@@ -446,6 +334,7 @@ class Integrator {
         specular = true;
         beta *= mat.albedo;
       }
+      if (dead(beta)) break;
       prev_point = hit->p;
       o = offset(hit->p, hit->n, d);
       tmin = 0.0;
@@ -556,15 +445,8 @@ class Integrator {
       const double segment = hit ? hit->t : remaining;
       if constexpr (kMedia) {
         if (medium >= 0) {
-          const Medium& m = w_.media[static_cast<std::size_t>(medium)];
-          if (kNonExp && m.local_gamma) {  // compiled out of the exponential specialisation
-            const volume::Ray ray{{x.x(), x.y(), x.z()}, {wi.x(), wi.y(), wi.z()}};
-            tr *= std::exp(
-                counters.fields[static_cast<std::size_t>(medium)]->log_transmittance(ray, 0.0, segment, origin));
-          } else {
-            tr *= m.grid ? grid_shadow(m, medium, x, wi, segment, origin, rng, counters)
-                         : m.shadow_factor(origin, segment);
-          }
+          tr *= medium_transmittance<kNonExp>(*w_.media[static_cast<std::size_t>(medium)], x, wi, segment, origin, rng,
+                                              counters.scratch[static_cast<std::size_t>(medium)].get());
           if (!(tr > 0.0)) return 0.0;
         }
       }
@@ -598,7 +480,8 @@ World build_world(const SceneDesc& scene) {
   std::map<std::string, int> medium_index;
   for (const auto& [name, m] : scene.media) {
     medium_index[name] = static_cast<int>(w.media.size());
-    w.media.push_back(make_medium(m, "medium '" + name + "'"));
+    // Built by parse_scene (read once); a description made in code is built here.
+    w.media.push_back(m.loaded ? m.loaded : make_medium(m, "medium '" + name + "'"));
   }
   w.geometry = std::make_unique<Geometry>(scene, material_index, medium_index);
   w.extent = w.geometry->extent();
@@ -634,7 +517,8 @@ World build_world(const SceneDesc& scene) {
       }
       case LightKind::environment:
         if (!l.image.empty()) {
-          w.environment_map = std::make_unique<EnvironmentMap>(load_environment(l.image, l.scale));
+          w.environment_map =
+              l.loaded ? l.loaded : std::make_shared<const EnvironmentMap>(load_environment(l.image, l.scale));
           w.environment = Rgb(1, 1, 1);  // marks the light as present; radiance comes from the map
         } else {
           w.environment += l.intensity;
@@ -655,7 +539,8 @@ World build_world(const SceneDesc& scene) {
 template <bool kMedia, bool kNonExp>
 void render_pass(const World& world, const Camera& camera, std::uint64_t seed, int s_begin, int s_end,
                  std::vector<double>& sum, std::vector<double>& sum2, std::atomic<std::uint64_t>& rays,
-                 std::atomic<std::uint64_t>& invalid, ProgressTask& task) {
+                 std::atomic<std::uint64_t>& invalid, std::atomic<std::uint64_t>& cells,
+                 std::atomic<std::uint64_t>& lookups, ProgressTask& task) {
   const Integrator<kMedia, kNonExp> integrator(world);
   constexpr int kTile = 16;
   const int tiles_x = (camera.width + kTile - 1) / kTile;
@@ -686,6 +571,16 @@ void render_pass(const World& world, const Camera& camera, std::uint64_t seed, i
       [&](std::size_t t) {
         PathCounters& counters = thread_counters.local();
         const std::uint64_t rays_before = counters.rays;
+        const auto work_of = [&] {
+          MediumWork total;
+          for (std::size_t m = 0; m < world.media.size(); ++m) {
+            const MediumWork w = world.media[m]->work(counters.scratch[m].get());
+            total.cells += w.cells;
+            total.lookups += w.lookups;
+          }
+          return total;
+        };
+        const MediumWork work_before = work_of();
         std::uint64_t bad = 0;
         tile_pixels(t, [&](int x, int y, std::size_t pixel) {
           for (int s = s_begin; s < s_end; ++s) {
@@ -705,7 +600,10 @@ void render_pass(const World& world, const Camera& camera, std::uint64_t seed, i
             }
           }
         });
-        std::vector<double> out{static_cast<double>(counters.rays - rays_before), static_cast<double>(bad)};
+        const MediumWork work_after = work_of();
+        std::vector<double> out{static_cast<double>(counters.rays - rays_before), static_cast<double>(bad),
+                                static_cast<double>(work_after.cells - work_before.cells),
+                                static_cast<double>(work_after.lookups - work_before.lookups)};
         if (!dist::is_root()) {
           tile_pixels(t, [&](int, int, std::size_t pixel) {
             out.insert(out.end(), sum.begin() + static_cast<std::ptrdiff_t>(pixel * 3),
@@ -724,8 +622,10 @@ void render_pass(const World& world, const Camera& camera, std::uint64_t seed, i
     std::memcpy(in.data(), tiles[t].data(), in.size() * sizeof(double));
     rays += static_cast<std::uint64_t>(in[0]);
     invalid += static_cast<std::uint64_t>(in[1]);
-    if (in.size() == 2) continue;  // rank 0's own tile
-    std::size_t k = 2;
+    cells += static_cast<std::uint64_t>(in[2]);
+    lookups += static_cast<std::uint64_t>(in[3]);
+    if (in.size() == 4) continue;  // rank 0's own tile
+    std::size_t k = 4;
     tile_pixels(t, [&](int, int, std::size_t pixel) {
       std::copy(in.begin() + static_cast<std::ptrdiff_t>(k), in.begin() + static_cast<std::ptrdiff_t>(k + 3),
                 sum.begin() + static_cast<std::ptrdiff_t>(pixel * 3));
@@ -767,17 +667,15 @@ Features scene_features(const SceneDesc& scene) {
       if (!l.image.empty()) f.environment_image = true;
     }
   if (f.media) {
-    // From the description alone (no laws built, no grids read): exponential laws are their
-    // own reciprocal partner; grid media always need the general integrator.
-    for (const auto& [name, m] : scene.media) {
-      const bool exponential_law = m.law.name == "exponential" &&
-                                   (m.mode != transmittance::PairMode::explicit_ ||
-                                    (m.scatterer_law.name == "exponential" && m.scatterer_law.params == m.law.params));
-      // Local-gamma media carry their own per-voxel laws, always weighted as reciprocal pairs.
-      const bool local_gamma = m.kind == MediumKind::local_gamma;
-      if (m.kind != MediumKind::homogeneous) f.heterogeneous = true;
-      if (!exponential_law || m.kind != MediumKind::homogeneous) f.non_exponential = true;
-      if (!exponential_law && !local_gamma && m.mode != transmittance::PairMode::reciprocal) f.non_reciprocal = true;
+    // Asked from the media themselves (built once by parse_scene; built here for a description
+    // made in code).
+    for (const auto& [name, desc] : scene.media) {
+      const std::shared_ptr<const Medium> m = desc.loaded ? desc.loaded : make_medium(desc, "medium '" + name + "'");
+      const MediumTraits t = m->traits();
+      if (!t.exponential) f.non_exponential = true;
+      if (t.heterogeneous) f.heterogeneous = true;
+      if (t.non_reciprocal) f.non_reciprocal = true;
+      f.media_described.push_back("medium '" + name + "': " + t.describe());
     }
   }
   return f;
@@ -801,6 +699,8 @@ RenderResult render(const SceneDesc& scene, const RenderOptions& options, Progre
   std::vector<double> sum2(n, 0.0);
   std::atomic<std::uint64_t> rays{0};
   std::atomic<std::uint64_t> invalid{0};
+  std::atomic<std::uint64_t> cells{0};
+  std::atomic<std::uint64_t> lookups{0};
 
   const bool passes = options.time_budget_seconds > 0.0 || static_cast<bool>(options.on_pass);
   const int per_pass = passes ? std::max(1, options.spp_per_pass) : spp;
@@ -823,11 +723,11 @@ RenderResult render(const SceneDesc& scene, const RenderOptions& options, Progre
   while (done < spp) {
     const int end = std::min(spp, done + per_pass);
     if (choice == IntegratorChoice::surfaces) {
-      render_pass<false, false>(world, camera, seed, done, end, sum, sum2, rays, invalid, task);
+      render_pass<false, false>(world, camera, seed, done, end, sum, sum2, rays, invalid, cells, lookups, task);
     } else if (choice == IntegratorChoice::exponential) {
-      render_pass<true, false>(world, camera, seed, done, end, sum, sum2, rays, invalid, task);
+      render_pass<true, false>(world, camera, seed, done, end, sum, sum2, rays, invalid, cells, lookups, task);
     } else {
-      render_pass<true, true>(world, camera, seed, done, end, sum, sum2, rays, invalid, task);
+      render_pass<true, true>(world, camera, seed, done, end, sum, sum2, rays, invalid, cells, lookups, task);
     }
     done = end;
     // Rank 0 holds the whole image after each pass (render_pass) and decides for every rank
@@ -842,6 +742,8 @@ RenderResult render(const SceneDesc& scene, const RenderOptions& options, Progre
   result.stats.paths = static_cast<std::uint64_t>(done) * camera.width * camera.height;
   result.stats.rays = rays.load();
   result.stats.invalid_samples = invalid.load();
+  result.stats.medium_cells = cells.load();
+  result.stats.medium_lookups = lookups.load();
   return result;
 }
 

@@ -34,10 +34,14 @@ struct RenderOptions {
 
 /// What the scene called for: selects the specialised integrator.
 struct Features {
-  bool media = false;            ///< any participating medium
-  bool non_exponential = false;  ///< some medium is not exponential (or is a grid)
-  bool heterogeneous = false;    ///< some medium is a voxel grid
-  bool non_reciprocal = false;   ///< some medium needs the T_S/(c·p_Q) weights (same/explicit mode)
+  bool media = false;  ///< any participating medium
+  /// Some medium is not a homogeneous exponential one (MediumTraits::exponential): the general
+  /// integrator runs.
+  bool non_exponential = false;
+  bool heterogeneous = false;   ///< some medium's density varies in space (grid, local fields)
+  bool non_reciprocal = false;  ///< some medium needs the T_S/(c·p_Q) weights (same/explicit mode)
+  /// "medium 'cloth': grid medium, exponential law, delta + ratio tracking", one per medium.
+  std::vector<std::string> media_described;
   bool area_lights = false;
   bool environment = false;
   bool environment_image = false;  ///< an environment light reads a lat-long image (importance-sampled)
@@ -53,6 +57,8 @@ struct RenderStats {
   std::uint64_t paths = 0;
   std::uint64_t rays = 0;             ///< closest-hit and shadow rays traced
   std::uint64_t invalid_samples = 0;  ///< NaN/inf samples replaced by 0 (should be 0)
+  std::uint64_t medium_cells = 0;     ///< voxels/majorant cells crossed by grid media (MediumWork)
+  std::uint64_t medium_lookups = 0;   ///< density lookups of grid media (tentative collisions)
 };
 
 struct RenderResult {

@@ -274,7 +274,6 @@ MediumDesc parse_medium(const json& j, const std::string& where, const std::file
     m.g = r.number("g", m.g);
     if (!(m.g > -1.0 && m.g < 1.0)) fail("{}: 'g' must be in (-1, 1), got {}", where, m.g);
     r.finish();
-    (void)make_medium(m, where);  // reads and checks the fields now, not halfway through a render
     return m;
   }
   if (m.kind == MediumKind::grid) {
@@ -311,8 +310,6 @@ MediumDesc parse_medium(const json& j, const std::string& where, const std::file
   m.g = r.number("g", m.g);
   if (!(m.g > -1.0 && m.g < 1.0)) fail("{}: 'g' must be in (-1, 1), got {}", where, m.g);
   r.finish();
-  // Builds the laws (and reads the grid) now so bad input is reported at load.
-  (void)make_medium(m, where);
   return m;
 }
 
@@ -485,17 +482,38 @@ SceneDesc parse_scene(std::string_view json_text, const std::string& source, con
   }
   if (env_images > 1 || (env_images == 1 && env_constants > 0))
     fail("{}: an image environment must be the only environment light", source);
-  for (const auto& l : scene.lights)
-    if (!l.image.empty()) (void)load_environment(l.image, l.scale);
-  // Meshes and curves must be readable now, not halfway through a render.
-  for (std::size_t i = 0; i < scene.shapes.size(); ++i) {
-    if (scene.shapes[i].kind == ShapeKind::mesh) (void)load_mesh(scene.shapes[i].file);
-    if (scene.shapes[i].kind == ShapeKind::curves) {
-      const auto curves = curves::read_curves(scene.shapes[i].file);
-      if (curves.empty()) fail("{}: shapes[{}]: curve file '{}' holds no curves", source, i, scene.shapes[i].file);
+  load_resources(scene, source);
+  return scene;
+}
+
+void load_resources(SceneDesc& scene, const std::string& source) {
+  // Everything is read and built now, once, so bad input is reported at load and not halfway
+  // through a render; render() uses these handles. Errors name the key.
+  for (auto& [name, m] : scene.media) m.loaded = make_medium(m, source + ": media." + name);
+  for (std::size_t i = 0; i < scene.lights.size(); ++i) {
+    LightDesc& l = scene.lights[i];
+    l.loaded.reset();
+    if (l.image.empty()) continue;
+    try {
+      l.loaded = std::make_shared<const EnvironmentMap>(load_environment(l.image, l.scale));
+    } catch (const Error& e) {
+      fail("{}: lights[{}]: {}", source, i, e.what());
     }
   }
-  return scene;
+  for (std::size_t i = 0; i < scene.shapes.size(); ++i) {
+    ShapeDesc& s = scene.shapes[i];
+    s.loaded_mesh.reset();
+    s.loaded_curves.reset();
+    try {
+      if (s.kind == ShapeKind::mesh) s.loaded_mesh = std::make_shared<const TriangleMesh>(load_mesh(s.file));
+      if (s.kind == ShapeKind::curves)
+        s.loaded_curves = std::make_shared<const std::vector<curves::Curve>>(curves::read_curves(s.file));
+    } catch (const Error& e) {
+      fail("{}: shapes[{}]: {}", source, i, e.what());
+    }
+    if (s.loaded_curves && s.loaded_curves->empty())
+      fail("{}: shapes[{}]: curve file '{}' holds no curves", source, i, s.file);
+  }
 }
 
 SceneDesc load_scene(const std::filesystem::path& path) {

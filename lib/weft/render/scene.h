@@ -3,12 +3,16 @@
 /// @brief Scene description: value types read from and written to JSON (docs/scene-format.md).
 ///
 /// A SceneDesc is what the file says, checked (names resolved, parameters in range, files
-/// present) but not yet built: building the Embree scene and the media happens in render().
+/// present). The files it names are read once, by parse_scene: the media it built and the
+/// meshes, curves and environment images it read ride along as `loaded` handles, and render()
+/// uses them instead of reading again (the Embree scene is built in render()). Code that edits
+/// a parsed description's file-backed fields calls load_resources() again.
 /// Every object round-trips: parse_scene(scene_to_json(s)) == s up to float formatting.
 
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -20,7 +24,15 @@
 #include "weft/transmittance/pair.h"
 #include "weft/transmittance/registry.h"
 
+namespace weft::curves {
+struct Curve;
+}
+
 namespace weft::render {
+
+class Medium;
+class EnvironmentMap;
+struct TriangleMesh;
 
 using Vec3 = Eigen::Vector3d;
 using Rgb = Eigen::Array3d;
@@ -82,6 +94,8 @@ struct MediumDesc {
   bool concentration = true;  ///< values are concentrations C (μ = σ·C) rather than μ
   double sigma = 1.0;         ///< σ for concentration grids and local-gamma fields
   Tracking tracking = Tracking::delta;
+  /// The medium parse_scene built from this description (null: render() builds it).
+  std::shared_ptr<const Medium> loaded;
 };
 
 enum class ShapeKind { sphere, box, rectangle, mesh, curves };
@@ -108,6 +122,9 @@ struct ShapeDesc {
   std::string interior;   ///< medium inside (empty: none)
   std::string exterior;   ///< medium outside (empty: none)
   Rgb emission{0, 0, 0};  ///< radiance emitted from the front side (area light when > 0)
+  /// What parse_scene read from `file` (mesh: untransformed triangles; curves: polylines).
+  std::shared_ptr<const TriangleMesh> loaded_mesh;
+  std::shared_ptr<const std::vector<curves::Curve>> loaded_curves;
 };
 
 enum class LightKind { point, directional, environment };
@@ -120,6 +137,7 @@ struct LightDesc {
   /// environment: lat-long radiance image (EXR; empty = constant `intensity`), times `scale`.
   std::string image;
   double scale = 1.0;
+  std::shared_ptr<const EnvironmentMap> loaded;  ///< the image parse_scene read (image environments)
 };
 
 struct SceneDesc {
@@ -138,6 +156,10 @@ struct SceneDesc {
 /// with the closest known name, out-of-range numbers, dangling names, missing mesh files.
 [[nodiscard]] SceneDesc parse_scene(std::string_view json_text, const std::string& source,
                                     const std::filesystem::path& base_dir);
+
+/// Reads (again) every file the description names and builds its media: what parse_scene
+/// does after checking the keys, for descriptions made or edited in code. Errors name the key.
+void load_resources(SceneDesc& scene, const std::string& source);
 
 /// Reads and parses a scene file.
 [[nodiscard]] SceneDesc load_scene(const std::filesystem::path& path);

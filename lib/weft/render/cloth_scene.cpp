@@ -1,0 +1,141 @@
+#include "weft/render/cloth_scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <nlohmann/json.hpp>
+
+#include "weft/core/error.h"
+#include "weft/volume/grid.h"
+
+namespace weft::render {
+
+double fiber_sigma(double fiber_radius) {
+  if (!(fiber_radius > 0.0) || !std::isfinite(fiber_radius))
+    fail("fibre radius must be finite and > 0, got {}", fiber_radius);
+  return 2.0 / (std::numbers::pi * fiber_radius);
+}
+
+Rgb preset_albedo(const std::string& preset) {
+  // Undyed fibres scatter almost all light; the small absorption differs by material and tints
+  // the multiply scattered light (raw cotton and linen yellowish, wool cream, polyester and
+  // silk nearly white). Chosen for the look; the study compares models, not materials.
+  if (preset == "cotton") return {0.95, 0.90, 0.80};
+  if (preset == "polyester") return {0.97, 0.97, 0.96};
+  if (preset == "silk") return {0.96, 0.94, 0.88};
+  if (preset == "wool") return {0.93, 0.88, 0.78};
+  if (preset == "linen") return {0.92, 0.88, 0.76};
+  fail("unknown yarn preset '{}' (known: cotton, polyester, silk, wool, linen)", preset);
+}
+
+ClothLook cloth_look(const std::filesystem::path& vdb) {
+  const volume::Grid grid = volume::Grid::load(vdb);
+  ClothLook look;
+  const auto meta = grid.metadata();
+  const auto it = meta.find("generator");
+  if (it != meta.end()) {
+    // The ClothSpec JSON of `weft gen` (cloth.json): the warp yarn's preset and fibre radius.
+    const nlohmann::json spec = nlohmann::json::parse(it->second, nullptr, false);
+    if (!spec.is_discarded() && spec.contains("warp_yarn") && spec["warp_yarn"].is_object()) {
+      const auto& yarn = spec["warp_yarn"];
+      if (yarn.contains("fiber_radius") && yarn["fiber_radius"].is_number())
+        look.fiber_radius_mm = yarn["fiber_radius"].get<double>();
+      if (yarn.contains("preset") && yarn["preset"].is_string()) look.preset = yarn["preset"].get<std::string>();
+    }
+  }
+  (void)fiber_sigma(look.fiber_radius_mm);  // a broken radius is an error here, not a NaN later
+  try {
+    look.albedo = preset_albedo(look.preset);
+  } catch (const Error&) {
+    look.albedo = preset_albedo("cotton");  // a preset this table does not know: the default look
+  }
+  return look;
+}
+
+std::string cloth_scene_json(const std::filesystem::path& vdb, const std::string& file_in_scene) {
+  const volume::Grid grid = volume::Grid::load(vdb);
+  const volume::IndexBox box = grid.active_bbox();
+  if (box.empty()) fail("cloth grid '{}' is empty", vdb.string());
+  const ClothLook look = cloth_look(vdb);
+  const double h = grid.voxel_size();
+  const auto org = grid.origin();
+  Vec3 lo;
+  Vec3 hi;
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = org[a] + h * box.min[a];
+    hi[a] = org[a] + h * (static_cast<double>(box.max[a]) + 1.0);
+  }
+  const Vec3 size = hi - lo;
+  const Vec3 centre = 0.5 * (lo + hi);
+  // The cloth's normal is its thinnest axis; u, v span its plane (v the longer side).
+  int n = 0;
+  for (int a = 1; a < 3; ++a)
+    if (size[a] < size[n]) n = a;
+  const int u = (n + 1) % 3;
+  const int v = (n + 2) % 3;
+  const Vec3 normal = Vec3::Unit(n);
+  const Vec3 eu = Vec3::Unit(u);
+  const Vec3 ev = Vec3::Unit(v);
+  const double extent = std::max(size[u], size[v]);
+  // Camera 35° off the normal, framing the patch with a margin (vertical fov 35°).
+  constexpr double kFov = 35.0;
+  const double tilt = 35.0 * std::numbers::pi / 180.0;
+  const double distance = 0.75 * extent / std::tan(0.5 * kFov * std::numbers::pi / 180.0);
+  const Vec3 view = (std::cos(tilt) * normal - std::sin(tilt) * ev).normalized();
+  const Vec3 camera = centre + distance * view;
+  // Backlight: an emitting rectangle 1.2× the patch, below it, facing it (its normal
+  // edge_u × edge_v points at the cloth).
+  const double below = 0.5 * extent;
+  const Vec3 lu = 1.2 * size[u] * eu;
+  const Vec3 lv = 1.2 * size[v] * ev;
+  Vec3 corner = centre - below * normal - 0.5 * lu - 0.5 * lv;
+  Vec3 edge_u = lu;
+  Vec3 edge_v = lv;
+  if (edge_u.cross(edge_v).dot(normal) < 0.0) std::swap(edge_u, edge_v);
+  // Grazing light from the front: 15° above the plane, from the camera's side.
+  const double graze = 15.0 * std::numbers::pi / 180.0;
+  const Vec3 towards = (-std::sin(graze) * normal + std::cos(graze) * (0.6 * ev + 0.8 * eu)).normalized();
+  // The medium's bound: the active box plus one voxel (index-matched, so it is invisible).
+  const Vec3 pad = Vec3::Constant(h);
+  nlohmann::json j;
+  j["camera"] = {{"position", {camera.x(), camera.y(), camera.z()}},
+                 {"look_at", {centre.x(), centre.y(), centre.z()}},
+                 {"up", {normal.x(), normal.y(), normal.z()}},
+                 {"fov", kFov},
+                 {"width", 320},
+                 {"height", 240}};
+  j["integrator"] = {{"spp", 16}, {"max_depth", 64}, {"rr_depth", 6}, {"seed", 1}};
+  j["materials"] = {{"boundary", {{"type", "null"}}}};
+  j["media"] = {{"cloth",
+                 {{"type", "grid"},
+                  {"file", file_in_scene},
+                  {"values", "concentration"},
+                  {"sigma", fiber_sigma(look.fiber_radius_mm)},
+                  {"albedo", {look.albedo.x(), look.albedo.y(), look.albedo.z()}},
+                  {"g", 0.3},
+                  {"tracking", "delta"}}}};
+  const Vec3 bmin = lo - pad;
+  const Vec3 bmax = hi + pad;
+  j["shapes"] = nlohmann::json::array({{{"type", "box"},
+                                        {"min", {bmin.x(), bmin.y(), bmin.z()}},
+                                        {"max", {bmax.x(), bmax.y(), bmax.z()}},
+                                        {"material", "boundary"},
+                                        {"interior", "cloth"}},
+                                       {{"type", "rectangle"},
+                                        {"corner", {corner.x(), corner.y(), corner.z()}},
+                                        {"edge_u", {edge_u.x(), edge_u.y(), edge_u.z()}},
+                                        {"edge_v", {edge_v.x(), edge_v.y(), edge_v.z()}},
+                                        {"emission", 2.0}}});
+  j["lights"] = nlohmann::json::array(
+      {{{"type", "directional"}, {"direction", {towards.x(), towards.y(), towards.z()}}, {"irradiance", 3.0}},
+       {{"type", "environment"}, {"radiance", 0.05}}});
+  return j.dump(2) + "\n";
+}
+
+SceneDesc cloth_scene(const std::filesystem::path& vdb) {
+  const std::filesystem::path folder = vdb.has_parent_path() ? vdb.parent_path() : std::filesystem::path(".");
+  return parse_scene(cloth_scene_json(vdb, vdb.filename().string()), "cloth scene for '" + vdb.string() + "'", folder);
+}
+
+}  // namespace weft::render

@@ -1,0 +1,265 @@
+#include "weft/volume/majorants.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <openvdb/openvdb.h>
+
+#include "weft/core/error.h"
+#include "weft/volume/dda_impl.h"
+#include "weft/volume/grid_openvdb.h"
+
+namespace weft::volume {
+
+namespace {
+
+/// Floor division by the block size (8 = 2³): arithmetic shift, exact for negative indices.
+int cell_of(int voxel) { return voxel >> 3; }
+static_assert(MajorantGrid::kBlock == 8 && openvdb::FloatTree::LeafNodeType::DIM == 8,
+              "majorant cells are the tree's leaves");
+
+/// Raises cell c of the coarse grid to at least v (activating it).
+void raise(openvdb::FloatGrid::Accessor& acc, const openvdb::Coord& c, float v) {
+  float current = 0.0F;
+  const bool on = acc.probeValue(c, current);
+  if (!on || v > current) acc.setValue(c, on ? std::max(current, v) : v);
+}
+
+/// Raises every cell that voxels [lo, hi] (inclusive) dilated by one voxel touch.
+void raise_box(openvdb::FloatGrid::Accessor& acc, const openvdb::Coord& lo, const openvdb::Coord& hi, float v) {
+  const openvdb::Coord a(cell_of(lo.x() - 1), cell_of(lo.y() - 1), cell_of(lo.z() - 1));
+  const openvdb::Coord b(cell_of(hi.x() + 1), cell_of(hi.y() + 1), cell_of(hi.z() + 1));
+  for (int k = a.z(); k <= b.z(); ++k)
+    for (int j = a.y(); j <= b.y(); ++j)
+      for (int i = a.x(); i <= b.x(); ++i) raise(acc, openvdb::Coord(i, j, k), v);
+}
+
+}  // namespace
+
+MajorantGrid::MajorantGrid(const Grid& grid) {
+  ensure_openvdb_initialized();
+  const openvdb::FloatGrid& fine = *grid.impl().grid;
+  auto coarse = openvdb::FloatGrid::create(0.0F);
+  // Coarse cell K covers world origin + 8h·[K, K+1) per axis; OpenVDB places voxel centres,
+  // so the coarse transform is scale 8h with cell K centred at origin + 8h·(K + ½).
+  const double h = grid.voxel_size();
+  const auto origin = grid.origin();
+  auto xf = openvdb::math::Transform::createLinearTransform(kBlock * h);
+  xf->postTranslate(
+      openvdb::Vec3d(origin[0] + 0.5 * kBlock * h, origin[1] + 0.5 * kBlock * h, origin[2] + 0.5 * kBlock * h));
+  coarse->setTransform(xf);
+  coarse->setName(grid.name() + "_majorant");
+  auto acc = coarse->getAccessor();
+  float global = 0.0F;
+  // Voxels: the leaf's own maximum goes to its cell in one write; voxels on the leaf's faces
+  // also raise the neighbouring cells (the one-voxel dilation).
+  for (auto leaf = fine.tree().cbeginLeaf(); leaf; ++leaf) {
+    const openvdb::Coord org = leaf->origin();
+    float leaf_max = -std::numeric_limits<float>::infinity();
+    for (auto it = leaf->cbeginValueOn(); it; ++it) {
+      const float v = *it;
+      leaf_max = std::max(leaf_max, v);
+      const openvdb::Coord c = it.getCoord();
+      const openvdb::Coord rel = c - org;
+      const bool face = rel.x() == 0 || rel.y() == 0 || rel.z() == 0 || rel.x() == 7 || rel.y() == 7 || rel.z() == 7;
+      if (face) raise_box(acc, c, c, v);
+    }
+    if (leaf_max > -std::numeric_limits<float>::infinity()) {
+      raise(acc, openvdb::Coord(cell_of(org.x()), cell_of(org.y()), cell_of(org.z())), leaf_max);
+      global = std::max(global, leaf_max);
+    }
+  }
+  // Active tiles (constant over 128³ or 4096³ voxels): every cell they touch, dilated.
+  auto tiles = fine.tree().cbeginValueOn();
+  tiles.setMaxDepth(openvdb::FloatTree::ValueOnCIter::LEAF_DEPTH - 1);
+  for (; tiles; ++tiles) {
+    openvdb::CoordBBox bb;
+    tiles.getBoundingBox(bb);
+    raise_box(acc, bb.min(), bb.max(), *tiles);
+    global = std::max(global, *tiles);
+  }
+  max_value_ = std::max(0.0, static_cast<double>(global));
+  cells_ = std::make_unique<Grid>(wrap_openvdb(coarse));
+}
+
+MajorantGrid::~MajorantGrid() = default;
+MajorantGrid::MajorantGrid(MajorantGrid&&) noexcept = default;
+MajorantGrid& MajorantGrid::operator=(MajorantGrid&&) noexcept = default;
+
+std::uint64_t MajorantGrid::active_cells() const { return cells_->active_voxel_count(); }
+
+namespace {
+/// World-space lookups of the voxel containing a point, with a cached accessor.
+struct PointLookup {
+  detail::Accessor acc;
+  double origin[3];
+  double inv_h;
+  explicit PointLookup(const Grid& grid) : acc(grid.impl().grid->getConstAccessor()) {
+    const auto o = grid.origin();
+    for (int a = 0; a < 3; ++a) origin[a] = o[a];
+    inv_h = 1.0 / grid.voxel_size();
+  }
+  double operator()(double x, double y, double z) {
+    const openvdb::Coord c(static_cast<openvdb::Int32>(std::floor((x - origin[0]) * inv_h)),
+                           static_cast<openvdb::Int32>(std::floor((y - origin[1]) * inv_h)),
+                           static_cast<openvdb::Int32>(std::floor((z - origin[2]) * inv_h)));
+    float v = 0.0F;
+    return acc.probeValue(c, v) ? static_cast<double>(v) : 0.0;
+  }
+};
+
+/// The unit direction of a ray (the DDA measures t along it).
+std::array<double, 3> unit(const Ray& ray) {
+  const auto& d = ray.direction;
+  const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  return {d[0] / len, d[1] / len, d[2] / len};
+}
+}  // namespace
+
+struct MajorantTracker::Impl {
+  openvdb::FloatGrid::ConstPtr coarse;
+  detail::Accessor coarse_acc;
+  detail::CellBox box;
+  PointLookup lookup;
+  Impl(const Grid& grid, const MajorantGrid& m)
+      : coarse(m.cells().impl().grid),
+        coarse_acc(coarse->getConstAccessor()),
+        box(detail::active_cell_box(*coarse)),
+        lookup(grid) {}
+};
+
+MajorantTracker::MajorantTracker(const Grid& grid, const MajorantGrid& majorants)
+    : impl_(std::make_unique<Impl>(grid, majorants)) {}
+MajorantTracker::~MajorantTracker() = default;
+MajorantTracker::MajorantTracker(MajorantTracker&&) noexcept = default;
+MajorantTracker& MajorantTracker::operator=(MajorantTracker&&) noexcept = default;
+
+void MajorantTracker::walk(const Ray& ray, double t0, double t1, FunctionRef<bool(double, double, double)> visit) {
+  const detail::CellRay r = detail::to_cell_ray(*impl_->coarse, ray);
+  detail::march_cells(impl_->coarse_acc, r, impl_->box, t0, t1,
+                      [&](double a, double b, float v, const std::int64_t*, int) {
+                        ++counters_.cells;
+                        return visit(a, b, static_cast<double>(v));
+                      });
+}
+
+double MajorantTracker::value_at(const std::array<double, 3>& x) { return impl_->lookup(x[0], x[1], x[2]); }
+
+TrackedCollision MajorantTracker::delta_track(const Ray& ray, double t0, double t1, double scale, Pcg32& rng) {
+  TrackedCollision out;
+  if (!(scale > 0.0)) return out;
+  const detail::CellRay r = detail::to_cell_ray(*impl_->coarse, ray);
+  const auto d = unit(ray);
+  const auto& o = ray.origin;
+  PointLookup& lookup = impl_->lookup;
+  detail::march_cells(impl_->coarse_acc, r, impl_->box, t0, t1,
+                      [&](double a, double b, float v, const std::int64_t*, int) {
+                        ++counters_.cells;
+                        if (!(v > 0.0F)) return true;
+                        const double majorant = scale * static_cast<double>(v);
+                        double t = a;
+                        for (;;) {
+                          // The exponential is memoryless: a flight that leaves the cell
+                          // restarts at its face with the next cell's rate.
+                          t += -std::log(rng.uniform_open()) / majorant;
+                          if (t >= b) return true;
+                          ++counters_.lookups;
+                          const double mu = scale * lookup(o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]);
+                          if (rng.uniform() * majorant < mu) {
+                            out.collided = true;
+                            out.t = t;
+                            return false;
+                          }
+                        }
+                      });
+  return out;
+}
+
+namespace {
+constexpr double kRouletteBelow = 0.05;
+constexpr double kRouletteStop = 0.75;
+}  // namespace
+
+double MajorantTracker::ratio_track(const Ray& ray, double t0, double t1, double scale, Pcg32& rng) {
+  if (!(scale > 0.0)) return 1.0;
+  const detail::CellRay r = detail::to_cell_ray(*impl_->coarse, ray);
+  const auto d = unit(ray);
+  const auto& o = ray.origin;
+  PointLookup& lookup = impl_->lookup;
+  double tr = 1.0;
+  detail::march_cells(impl_->coarse_acc, r, impl_->box, t0, t1,
+                      [&](double a, double b, float v, const std::int64_t*, int) {
+                        ++counters_.cells;
+                        if (!(v > 0.0F)) return true;
+                        const double majorant = scale * static_cast<double>(v);
+                        double t = a;
+                        for (;;) {
+                          t += -std::log(rng.uniform_open()) / majorant;
+                          if (t >= b) return true;
+                          ++counters_.lookups;
+                          const double mu = scale * lookup(o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]);
+                          tr *= std::max(0.0, 1.0 - mu / majorant);
+                          if (tr <= 0.0) return false;
+                          // Russian roulette once the estimate is small (pbrt-v4's ratio tracking):
+                          // end with probability q, else divide by 1 − q; unbiased, and a shadow
+                          // ray through a dense yarn stops after a few lookups, not after all.
+                          if (tr < kRouletteBelow) {
+                            if (rng.uniform() < kRouletteStop) {
+                              tr = 0.0;
+                              return false;
+                            }
+                            tr /= 1.0 - kRouletteStop;
+                          }
+                        }
+                      });
+  return tr;
+}
+
+struct DepthTracker::Impl {
+  openvdb::FloatGrid::ConstPtr grid;
+  detail::Accessor acc;
+  detail::CellBox box;
+  explicit Impl(const Grid& g)
+      : grid(g.impl().grid), acc(grid->getConstAccessor()), box(detail::active_cell_box(*grid)) {}
+};
+
+DepthTracker::DepthTracker(const Grid& grid) : impl_(std::make_unique<Impl>(grid)) {}
+DepthTracker::~DepthTracker() = default;
+DepthTracker::DepthTracker(DepthTracker&&) noexcept = default;
+DepthTracker& DepthTracker::operator=(DepthTracker&&) noexcept = default;
+
+DepthHit DepthTracker::march_to(const Ray& ray, double t0, double t1, double scale, double tau_star) {
+  DepthHit hit;
+  hit.t = t1;
+  const detail::CellRay r = detail::to_cell_ray(*impl_->grid, ray);
+  double tau = 0.0;
+  detail::march_cells(impl_->acc, r, impl_->box, t0, t1, [&](double a, double b, float v, const std::int64_t*, int) {
+    ++counters_.cells;
+    const double mu = scale * static_cast<double>(v);
+    const double dtau = mu * (b - a);
+    if (mu > 0.0 && tau + dtau >= tau_star) {
+      hit.reached = true;
+      hit.t = a + (tau_star - tau) / mu;  // τ is linear inside the voxel
+      tau = tau_star;
+      return false;
+    }
+    tau += dtau;
+    return true;
+  });
+  hit.tau = tau;
+  return hit;
+}
+
+double DepthTracker::optical_depth(const Ray& ray, double t0, double t1, double scale) {
+  const detail::CellRay r = detail::to_cell_ray(*impl_->grid, ray);
+  double tau = 0.0;
+  detail::march_cells(impl_->acc, r, impl_->box, t0, t1, [&](double a, double b, float v, const std::int64_t*, int) {
+    ++counters_.cells;
+    tau += (b - a) * static_cast<double>(v);
+    return true;
+  });
+  return tau * scale;
+}
+
+}  // namespace weft::volume

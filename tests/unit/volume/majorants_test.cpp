@@ -1,0 +1,193 @@
+// Majorant grids, their traversal and the trackers built on them (weft/volume/majorants.h):
+// cells align with the tree's leaves and bound every value a point lookup can return (faces,
+// negative indices, tiles, axis-aligned rays), and delta/ratio tracking and the optical-depth
+// march estimate what the exact DDA computes. Statistical checks use fixed seeds and 5σ.
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <openvdb/openvdb.h>
+
+#include "weft/core/rng.h"
+#include "weft/volume/dda.h"
+#include "weft/volume/grid.h"
+#include "weft/volume/grid_openvdb.h"
+#include "weft/volume/majorants.h"
+
+namespace weft::volume {
+namespace {
+
+/// 24³ voxels of size 1/24 over [-0.5, 0.5]³ starting at index -12 (negative indices, three
+/// leaves per axis): dense in one corner, thin elsewhere, with holes.
+Grid varying_grid() {
+  Grid grid(1.0 / 24.0, "density");
+  for (int i = -12; i < 12; ++i)
+    for (int j = -12; j < 12; ++j)
+      for (int k = -12; k < 12; ++k) {
+        if (((i + 2 * j + 3 * k) % 7 + 7) % 7 == 0) continue;  // holes
+        grid.set_value(i, j, k, i < 0 && j < 0 ? 0.9f : 0.05f * static_cast<float>(1 + (k + 12) % 3));
+      }
+  grid.set_origin({0.0, 0.0, 0.0});
+  return grid;
+}
+
+double value_at_point(const Grid& g, double x, double y, double z) {
+  const auto o = g.origin();
+  const double h = g.voxel_size();
+  return g.value(static_cast<int>(std::floor((x - o[0]) / h)), static_cast<int>(std::floor((y - o[1]) / h)),
+                 static_cast<int>(std::floor((z - o[2]) / h)));
+}
+
+TEST(MajorantGrid, CellsAreLeavesDilatedByOneVoxel) {
+  Grid g(0.5, "density");
+  g.set_value(3, 3, 3, 2.0f);   // interior of leaf (0,0,0)
+  g.set_value(7, 2, 2, 5.0f);   // on the leaf's +x face: raises cell (1,0,0) too
+  g.set_value(-1, 4, 4, 3.0f);  // leaf (-1,0,0): its +x face touches cell (0,0,0)
+  const MajorantGrid m(g);
+  const Grid& c = m.cells();
+  EXPECT_DOUBLE_EQ(c.voxel_size(), 4.0);
+  EXPECT_EQ(c.value(0, 0, 0), 5.0f);
+  EXPECT_EQ(c.value(1, 0, 0), 5.0f);
+  EXPECT_EQ(c.value(-1, 0, 0), 3.0f);
+  EXPECT_EQ(c.value(0, 1, 0), 0.0f);  // nothing within a voxel of that cell
+  EXPECT_EQ(c.value(2, 0, 0), 0.0f);
+  EXPECT_DOUBLE_EQ(m.max_value(), 5.0);
+  // Cell K covers world origin + 8h·[K, K+1): its world origin is the fine grid's.
+  EXPECT_EQ(c.origin(), g.origin());
+}
+
+TEST(MajorantGrid, ActiveTilesRaiseEveryCellTheyTouch) {
+  Grid g(1.0, "density");
+  auto& tree = g.impl().grid->tree();
+  tree.addTile(2, openvdb::Coord(0, 0, 0), 0.75f, true);  // a 128³ tile (a child of the upper internal node)
+  const MajorantGrid m(g);
+  EXPECT_EQ(m.cells().value(0, 0, 0), 0.75f);
+  EXPECT_EQ(m.cells().value(15, 15, 15), 0.75f);
+  EXPECT_EQ(m.cells().value(16, 3, 3), 0.75f);  // dilation across the tile's face
+  EXPECT_EQ(m.cells().value(17, 3, 3), 0.0f);
+}
+
+// The walk tiles the clipped ray in order, and at points inside each segment the value is
+// bounded by the segment's majorant; axis-aligned rays (zero direction components) and rays
+// along cell faces included.
+TEST(MajorantTracker, WalkTilesTheRayAndBoundsEveryPointValue) {
+  const Grid g = varying_grid();
+  const MajorantGrid m(g);
+  MajorantTracker tracker(g, m);
+  Pcg32 rng(5);
+  int segments = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    std::array<double, 3> o{rng.uniform() * 3 - 1.5, rng.uniform() * 3 - 1.5, rng.uniform() * 3 - 1.5};
+    std::array<double, 3> d{rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5};
+    if (trial % 4 == 0) d = {0.0, 0.0, trial % 8 == 0 ? 1.0 : -1.0};
+    if (trial % 12 == 1) {  // exactly on a cell face x = 0 (a leaf boundary), along +y
+      o = {0.0, -1.0, rng.uniform() - 0.5};
+      d = {0.0, 1.0, 0.0};
+    }
+    const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (double& x : d) x /= len;
+    double last = -1.0;
+    bool first = true;
+    tracker.walk(Ray{o, d}, 0.0, 10.0, [&](double ta, double tb, double majorant) {
+      ++segments;
+      EXPECT_LT(ta, tb);
+      if (!first) {
+        EXPECT_NEAR(ta, last, 1e-12);
+      }
+      first = false;
+      last = tb;
+      // Points on the cell's faces (f = 0 and f → 1) round either way: the dilation covers both.
+      for (double f : {0.0, 0.1, 0.5, 0.9, 0.999999, 1.0}) {
+        const double t = ta + f * (tb - ta);
+        const std::array<double, 3> x{o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]};
+        EXPECT_LE(tracker.value_at(x), majorant);
+        EXPECT_LE(value_at_point(g, x[0], x[1], x[2]), majorant);
+      }
+      return true;
+    });
+  }
+  EXPECT_GT(segments, 100);  // most rays cross the grid
+}
+
+TEST(MajorantTracker, RaysThatMissCollideNeverAndTransmitFully) {
+  const Grid g = varying_grid();
+  const MajorantGrid m(g);
+  MajorantTracker tracker(g, m);
+  Pcg32 rng(1);
+  const Ray away{{2.0, 2.0, 2.0}, {1.0, 0.0, 0.0}};
+  EXPECT_FALSE(tracker.delta_track(away, 0.0, 100.0, 10.0, rng).collided);
+  EXPECT_EQ(tracker.ratio_track(away, 0.0, 100.0, 10.0, rng), 1.0);
+  const Ray along_top{{-1.0, 0.5, 0.0}, {1.0, 0.0, 0.0}};  // on the upper face y = 0.5: outside
+  EXPECT_FALSE(tracker.delta_track(along_top, 0.0, 100.0, 10.0, rng).collided);
+}
+
+// Delta tracking samples the exponential flight of the exact optical depth: the fraction of
+// flights that collide before t1 is 1 − e^{−τ(t1)} (binomial standard error), and ratio
+// tracking's mean is e^{−τ} (standard error from its sample variance).
+TEST(MajorantTracker, DeltaAndRatioTrackingMatchTheExactOpticalDepth) {
+  const Grid g = varying_grid();
+  const MajorantGrid m(g);
+  MajorantTracker tracker(g, m);
+  DepthTracker exact(g);
+  constexpr double kScale = 6.0;
+  const std::vector<Ray> rays{{{-1.0, -0.2, 0.1}, {1.0, 0.0, 0.0}},
+                              {{-0.7, -0.6, -0.8}, {0.5, 0.45, 0.74}},
+                              {{0.1, 0.2, -1.0}, {0.0, 0.0, 1.0}}};
+  for (std::size_t r = 0; r < rays.size(); ++r) {
+    Ray ray = rays[r];
+    const double len = std::hypot(ray.direction[0], ray.direction[1], ray.direction[2]);
+    for (double& x : ray.direction) x /= len;
+    const double t1 = 1.6;
+    const double tau = exact.optical_depth(ray, 0.0, t1, kScale);
+    ASSERT_GT(tau, 0.05);
+    Pcg32 rng = stream_for(7, r);
+    constexpr int kN = 20000;
+    int collided = 0;
+    double sum = 0.0;
+    double sum2 = 0.0;
+    for (int i = 0; i < kN; ++i) {
+      const TrackedCollision c = tracker.delta_track(ray, 0.0, t1, kScale, rng);
+      if (c.collided) {
+        ++collided;
+        EXPECT_GE(c.t, 0.0);
+        EXPECT_LT(c.t, t1);
+        EXPECT_GT(tracker.value_at({ray.origin[0] + c.t * ray.direction[0], ray.origin[1] + c.t * ray.direction[1],
+                                    ray.origin[2] + c.t * ray.direction[2]}),
+                  0.0);
+      }
+      const double tr = tracker.ratio_track(ray, 0.0, t1, kScale, rng);
+      sum += tr;
+      sum2 += tr * tr;
+    }
+    const double p = 1.0 - std::exp(-tau);
+    EXPECT_NEAR(static_cast<double>(collided) / kN, p, 5.0 * std::sqrt(p * (1 - p) / kN)) << "ray " << r;
+    const double mean = sum / kN;
+    const double se = std::sqrt(std::max(0.0, sum2 / kN - mean * mean) / kN);
+    EXPECT_NEAR(mean, std::exp(-tau), 5.0 * se + 1e-12) << "ray " << r;
+  }
+}
+
+// The optical-depth march stops where the accumulated τ reaches τ*, exactly.
+TEST(DepthTracker, MarchStopsWhereTheOpticalDepthIsReached) {
+  const Grid g = varying_grid();
+  DepthTracker tracker(g);
+  const Ray ray{{-0.9, -0.3, -0.2}, {0.8, 0.5, 0.3}};
+  Ray unit = ray;
+  const double len = std::hypot(ray.direction[0], ray.direction[1], ray.direction[2]);
+  for (double& x : unit.direction) x /= len;
+  const double total = tracker.optical_depth(unit, 0.0, 5.0, 4.0);
+  for (double f : {0.01, 0.3, 0.77, 0.999}) {
+    const DepthHit h = tracker.march_to(unit, 0.0, 5.0, 4.0, f * total);
+    ASSERT_TRUE(h.reached);
+    EXPECT_NEAR(h.tau, f * total, 1e-12);
+    EXPECT_NEAR(tracker.optical_depth(unit, 0.0, h.t, 4.0), f * total, 1e-9 * total);
+  }
+  const DepthHit past = tracker.march_to(unit, 0.0, 5.0, 4.0, 2.0 * total);
+  EXPECT_FALSE(past.reached);
+  EXPECT_EQ(past.t, 5.0);
+  EXPECT_NEAR(past.tau, total, 1e-12);
+  EXPECT_NEAR(total, optical_depth(g, unit, 0.0, 5.0, 4.0), 1e-12);
+}
+
+}  // namespace
+}  // namespace weft::volume
