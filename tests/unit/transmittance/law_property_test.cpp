@@ -390,7 +390,7 @@ const std::map<std::string, std::vector<Draw>>& corner_draws() {
       c["gamma-mixture"].push_back({mixture_spec({{0.25, inf, mu}, {0.75, inf, 1.0}}), {reciprocal(mu), 1.0}});
     }
     c["gamma-mixture"].push_back(
-        {mixture_spec({{0.5, 1e-6, kMax}, {0.5, 1e6, kMinNormal}}), {reciprocal(kMax), 1e6 / kMinNormal}});
+        {mixture_spec({{0.5, 1e-6, kMax}, {0.5, 1e6, kMinNormal}}), {reciprocal(kMax), ratio(1e6, kMinNormal)}});
     c["gamma-mixture"].push_back({mixture_spec({{0.0, 2.0, 5.0}, {1.0, 1.0 + 1e-15, 3.0}}), {1.0}});
     c["gamma-mixture"].push_back(
         {mixture_spec(std::vector<std::array<double, 3>>(1000, {1e-3, 3.0, 2.0})), {0.5, 1.5}});
