@@ -13,6 +13,7 @@
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 #include "weft/fit/fit.h"
+#include "weft/fit/local_fields.h"
 #include "weft/fit/validation.h"
 #include "weft/volume/grid.h"
 
@@ -103,7 +104,8 @@ const Registrar kFit{Command{
         if (o->sigma != 0.0) require_positive("--sigma", o->sigma);
         const double sigma = extinction || o->sigma == 0.0 ? 1.0 : o->sigma;
         require_non_negative("--window", o->window);
-        if (o->block < 0) fail("--block must be >= 0, got {}", o->block);
+        if (o->block < 0 || o->block > fit::kMaxLocalBlock)
+          fail("--block must be in 0..{} voxels (0 = off), got {}", fit::kMaxLocalBlock, o->block);
         const auto dirs = fit::parse_axes(o->axes);
         std::map<std::string, volume::TransmittanceCurve> measured;
         if (!o->beams.empty()) measured = read_beams(o->beams);
