@@ -12,6 +12,9 @@
 
 namespace weft::cloth {
 
+/// Half the physical RAM, what `--max-memory` defaults to (weft/core/memory.h; named here too).
+using weft::default_memory_budget;
+
 struct VoxelizeOptions {
   double voxel_size = 0.01;            ///< mm, edge of a cubic voxel (index i covers [i·h, (i+1)·h))
   int samples_per_voxel = 4;           ///< quadrature points per voxel edge, along and across each fibre
