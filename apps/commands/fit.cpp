@@ -15,6 +15,7 @@
 #include "weft/core/error.h"
 #include "weft/fit/fit.h"
 #include "weft/fit/scale.h"
+#include "weft/fit/local_fields.h"
 #include "weft/fit/validation.h"
 #include "weft/volume/grid.h"
 
@@ -98,7 +99,8 @@ const Registrar kFit{Command{
       return [o](const Context& ctx) -> int {
         check_grid_input(o->input);
         fit::check_scale_text(o->window);
-        if (o->block < 0) fail("--block must be >= 0, got {}", o->block);
+        if (o->block < 0 || o->block > fit::kMaxLocalBlock)
+          fail("--block must be in 0..{} voxels (0 = off), got {}", fit::kMaxLocalBlock, o->block);
         const auto dirs = fit::parse_axes(o->axes);
         const LoadedGrid loaded = load_grid_input(o->input);
         const volume::Grid& grid = loaded.grid;

@@ -1,8 +1,11 @@
 // `weft gen`: procedural cloth (Zhao et al. 2016 yarns in a weave or knit, or around imported
 // curves) voxelized to a grid of fibre volume fraction.
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <set>
 
 #include <fmt/format.h>
 
@@ -11,6 +14,7 @@
 #include "data_gen/cloth/voxelize.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
+#include "weft/core/memory.h"
 #include "weft/curves/curve_io.h"
 #include "weft/render/cloth_scene.h"
 #include "weft/viz/vtk_files.h"
@@ -40,7 +44,42 @@ struct GenOptions {
   std::string max_memory;
   std::string out = "cloth";
   bool fibers_bcc = false;
+  std::string write = "grid,fibers,yarns,config";
 };
+
+// What `--write` may name, with the file each one is.
+struct Output {
+  const char* name;
+  const char* file;
+  const char* what;
+};
+constexpr std::array<Output, 5> kOutputs{{{"grid", "cloth.vdb", "grid"},
+                                          {"fibers", "fibers.vtp", "fibres"},
+                                          {"yarns", "yarns.bcc", "yarn centrelines"},
+                                          {"config", "cloth.json", "parameters"},
+                                          {"fibers-bcc", "fibers.bcc", "fibres as BCC"}}};
+
+// "grid,fibers" → the set of outputs; every name checked before anything runs.
+std::set<std::string> parse_outputs(const std::string& list, bool fibers_bcc) {
+  std::set<std::string> out;
+  std::string known;
+  for (const auto& o : kOutputs) known += (known.empty() ? "" : ", ") + std::string(o.name);
+  std::size_t start = 0;
+  while (start <= list.size()) {
+    const std::size_t comma = std::min(list.find(',', start), list.size());
+    const std::string name = list.substr(start, comma - start);
+    if (name == "all") {
+      for (const auto& o : kOutputs) out.insert(o.name);
+    } else if (std::none_of(kOutputs.begin(), kOutputs.end(), [&](const Output& o) { return name == o.name; })) {
+      fail("--write: unknown output '{}' (known: {}, all)", name, known);
+    } else {
+      out.insert(name);
+    }
+    start = comma + 1;
+  }
+  if (fibers_bcc) out.insert("fibers-bcc");
+  return out;
+}
 
 // "512M", "2G", "1.5GiB", "1000000" (bytes) → MiB.
 double parse_memory_mb(const std::string& text) {
@@ -107,10 +146,14 @@ std::string yarn_parameter_help() {
   for (const auto& n : cloth::yarn_preset_names()) presets += (presets.empty() ? "" : ", ") + n;
   text += "Yarn presets: " + presets + ".\n";
   text +=
-      "Outputs in --out: cloth.vdb (grid 'density' of fibre volume fraction C, provenance as metadata),\n"
-      "fibers.vtp (fibres with yarn/ply/fiber/kind ids), yarns.bcc (centrelines), cloth.json (every\n"
-      "parameter; weft gen --config cloth.json rebuilds the same grid), scene.json (weft render\n"
-      "scene.json renders the grid).";
+      "Outputs in --out, chosen with --write (default grid,fibers,yarns,config): grid = cloth.vdb (grid\n"
+      "'density' of fibre volume fraction C, provenance as metadata), fibers = fibers.vtp (fibres with\n"
+      "yarn/ply/fiber/kind ids, zlib-compressed, float32 points), yarns = yarns.bcc (centrelines),\n"
+      "config = cloth.json (every parameter; weft gen --config cloth.json rebuilds the same grid),\n"
+      "fibers-bcc = fibers.bcc (every fibre as a BCC polyline, for weft render). The summary lists\n"
+      "each file written with its size. The memory a run needs is estimated from the centrelines\n"
+      "before any fibre is made and a run over --max-memory is refused with the estimate. With the grid,\n"
+      "scene.json (weft render <out>/scene.json renders the grid as a medium) is written too.";
   return text;
 }
 
@@ -183,6 +226,7 @@ viz::PolylineSet fibers_as_polylines(const cloth::FiberSet& fibers) {
   auto& kind = lines.cell_ints["kind"];
   for (auto k : fibers.kind) kind.push_back(static_cast<std::int32_t>(k));
   lines.cell_scalars["radius"] = fibers.radius;
+  lines.float_points = true;  // ~0.1 nm at the scale of a swatch: plenty for viewing, half the file
   return lines;
 }
 
@@ -219,27 +263,51 @@ const Registrar kGen{Command{
           ->capture_default_str();
       sub.add_option("--seed", o->seed, "Run seed: same seed, same cloth, whatever --threads")->capture_default_str();
       sub.add_option("--max-memory", o->max_memory,
-                     "Refuse voxelizations estimated above this size (e.g. 512M, 4G); default half the RAM");
+                     "Refuse runs whose memory, estimated before generating, exceeds this (e.g. 512M, 4G); "
+                     "default half the RAM");
       sub.add_option("--out", o->out, "Output folder (created if missing)")->capture_default_str();
-      sub.add_flag("--fibers-bcc", o->fibers_bcc, "Also write the fibres as fibers.bcc");
+      sub.add_option("--write", o->write,
+                     "Outputs, comma separated: grid, fibers, yarns, config, fibers-bcc, or all (list below)")
+          ->capture_default_str();
+      sub.add_flag("--fibers-bcc", o->fibers_bcc, "Also write the fibres as fibers.bcc (same as adding fibers-bcc)");
       sub.footer(yarn_parameter_help());
       CLI::App* app = &sub;
       return [o, app](const Context& ctx) -> int {
+        const std::set<std::string> outputs = parse_outputs(o->write, o->fibers_bcc);
         const ClothSpec spec = make_spec(*app, *o);
         const cloth::ClothBuild build = cloth::build_cloth(spec, ctx.progress);
         const fs::path out(o->out);
         ensure_directory(out);
-        const auto vdb = out / "cloth.vdb";
-        const auto vtp = out / "fibers.vtp";
-        const auto bcc = out / "yarns.bcc";
-        const auto json = out / "cloth.json";
-        build.grid.save(vdb);
-        viz::write_vtp(fibers_as_polylines(build.fibers), vtp);
-        curves::write_bcc(bcc, build.centerlines.curves, "weft yarn centrelines (mm)");
-        if (o->fibers_bcc) curves::write_bcc(out / "fibers.bcc", cloth::fiber_curves(build.fibers), "weft fibres (mm)");
-        write_text_atomically(json, cloth::cloth_spec_json(build.spec));
-        // A scene that renders the grid as is: `weft render <out>/scene.json` (docs/render.md).
-        write_text_atomically(out / "scene.json", render::cloth_scene_json(vdb, "cloth.vdb"));
+        std::string written;
+        for (const auto& output : kOutputs) {
+          if (outputs.count(output.name) == 0) continue;
+          const fs::path path = out / output.file;
+          const std::string name = output.name;
+          if (name == "grid") {
+            build.grid.save(path);
+          } else if (name == "fibers") {
+            viz::write_vtp(fibers_as_polylines(build.fibers), path);
+          } else if (name == "yarns") {
+            curves::write_bcc(path, build.centerlines.curves, "weft yarn centrelines (mm)");
+          } else if (name == "config") {
+            write_text_atomically(path, cloth::cloth_spec_json(build.spec));
+          } else {
+            curves::write_bcc(path, cloth::fiber_curves(build.fibers), "weft fibres (mm)");
+          }
+          std::error_code ec;
+          const auto bytes = fs::file_size(path, ec);
+          written += fmt::format("{}{} ({}, {})", written.empty() ? "" : ", ", path.string(), output.what,
+                                 ec ? std::string("size unknown") : format_bytes(bytes));
+        }
+        if (outputs.count("grid") != 0) {
+          // A scene that renders the grid as is: `weft render <out>/scene.json` (docs/render.md).
+          const fs::path scene = out / "scene.json";
+          write_text_atomically(scene, render::cloth_scene_json(out / "cloth.vdb", "cloth.vdb"));
+          std::error_code ec;
+          const auto bytes = fs::file_size(scene, ec);
+          written += fmt::format("{}{} (render scene, {})", written.empty() ? "" : ", ", scene.string(),
+                                 ec ? std::string("size unknown") : format_bytes(bytes));
+        }
         const auto& r = build.report;
         ctx.say(fmt::format("{} cloth, {} yarns, {} fibres ({:.1f} mm of fibre), seed {}", build.spec.pattern,
                             build.centerlines.curves.size(), r.fiber_count, build.fibers.length(), build.spec.seed));
@@ -251,9 +319,11 @@ const Registrar kGen{Command{
         ctx.say(fmt::format("generated in {:.2f} s, voxelized in {:.2f} s ({:.0f} fibres/s, {:.3g} voxels/s)",
                             r.generate_seconds, r.voxelize_seconds, r.fiber_count / std::max(r.voxelize_seconds, 1e-9),
                             r.active_voxels / std::max(r.voxelize_seconds, 1e-9)));
-        ctx.say(fmt::format("wrote {} (grid), {} (fibres), {} (yarn centrelines), {} (parameters), {} (render scene){}",
-                            vdb.string(), vtp.string(), bcc.string(), json.string(), (out / "scene.json").string(),
-                            o->fibers_bcc ? ", " + (out / "fibers.bcc").string() + " (fibres)" : ""));
+        ctx.say(fmt::format("memory: grid {} (OpenVDB), fibres {}; estimated before generating: {}",
+                            format_bytes(build.grid.memory_bytes()),
+                            format_bytes(build.fibers.points.size() * sizeof(cloth::Point3)),
+                            cloth::describe(build.estimate)));
+        ctx.say(written.empty() ? std::string("wrote nothing (--write is empty)") : "wrote " + written);
         return 0;
       };
     }}};

@@ -41,19 +41,13 @@ ClothSpec load_cloth_spec(const std::filesystem::path& path) {
 }
 
 FiberSet generate_fibers(const ClothSpec& spec, const CurveSet& centerlines, ProgressSink& progress) {
-  const std::size_t n = centerlines.curves.size();
-  std::vector<FiberSet> per_yarn(n);
-  {
-    ProgressTask task(progress, "generating fibres", n);
-    parallel_units(n, [&](std::size_t i) {
-      const YarnParams& yarn = centerlines.direction[i] == 1 ? spec.weft_yarn : spec.warp_yarn;
-      per_yarn[i] = yarn_fibers(centerlines.curves[i], yarn, spec.seed, static_cast<std::int32_t>(i));
-      task.step();
-    });
+  std::vector<YarnJob> jobs(centerlines.curves.size());
+  for (std::size_t i = 0; i < jobs.size(); ++i) {
+    jobs[i].centerline = &centerlines.curves[i];
+    jobs[i].params = centerlines.direction[i] == 1 ? &spec.weft_yarn : &spec.warp_yarn;
+    jobs[i].yarn_id = static_cast<std::int32_t>(i);
   }
-  FiberSet all;
-  for (const auto& f : per_yarn) all.append(f);
-  return all;
+  return build_yarns(jobs, spec.seed, progress);
 }
 
 volume::Provenance cloth_provenance(const ClothBuild& build) {
@@ -96,14 +90,20 @@ ClothBuild build_cloth(const ClothSpec& input, ProgressSink& progress) {
   build.spec = resolve(input);
   validate(build.spec);
   const auto t0 = std::chrono::steady_clock::now();
+  const auto budget = static_cast<std::uint64_t>(build.spec.max_memory_mb * 1024.0 * 1024.0);
+  // Woven and knit specs are checked before their centrelines are made (a huge --yarns would
+  // spend minutes and gigabytes on those alone); imports on the curves they read.
+  if (build.spec.pattern != "import") check_budget(estimate_cloth(build.spec), budget);
   build.centerlines = cloth_centerlines(build.spec);
   if (build.centerlines.curves.empty()) fail("cloth: the pattern produced no yarns");
+  build.estimate = estimate_cloth(build.spec, build.centerlines);
+  check_budget(build.estimate, budget);
   build.fibers = generate_fibers(build.spec, build.centerlines, progress);
   const double generate_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   VoxelizeOptions options;
   options.voxel_size = build.spec.voxel_size;
   options.samples_per_voxel = build.spec.samples_per_voxel;
-  options.max_memory_bytes = static_cast<std::uint64_t>(build.spec.max_memory_mb * 1024.0 * 1024.0);
+  options.max_memory_bytes = budget;
   build.grid = voxelize(build.fibers, options, build.report, progress);
   build.report.generate_seconds = generate_seconds;
   // Provenance (no timings: the same spec must give the same file).

@@ -40,11 +40,14 @@ std::string cloth_spec_json(const ClothSpec& spec);
 /// Result of the whole pipeline; FiberSet kept for writers (vtp, bcc).
 struct ClothBuild;
 /// Generates fibres and voxelizes them to a grid of volume fraction C with provenance metadata.
+/// The cost is estimated from the centrelines first (estimate.h) and a build over
+/// spec.max_memory_mb is refused before any fibre is made.
 ClothBuild build_cloth(const ClothSpec& spec, ProgressSink& progress);
 
 }  // namespace weft::cloth
 
 // The value types the declarations above name, complete for every includer.
+#include "data_gen/cloth/estimate.h"
 #include "data_gen/cloth/fibers.h"
 #include "data_gen/cloth/spec.h"
 
@@ -55,8 +58,9 @@ struct ClothBuild {
   volume::Grid grid;
   FiberSet fibers;
   VoxelizeReport report;
-  CurveSet centerlines;  ///< yarn centrelines the fibres were generated around
-  ClothSpec spec;        ///< the spec with automatic values resolved (what cloth.json records)
+  CurveSet centerlines;    ///< yarn centrelines the fibres were generated around
+  ClothSpec spec;          ///< the spec with automatic values resolved (what cloth.json records)
+  ClothEstimate estimate;  ///< what the build was expected to cost (checked against the budget first)
 };
 
 /// @brief The grid's provenance (units, σ per unit concentration from the fibres, yarn

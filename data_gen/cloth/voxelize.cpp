@@ -7,12 +7,11 @@
 #include <numbers>
 #include <vector>
 
-#include <unistd.h>
-
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
 #include "weft/core/error.h"
+#include "weft/core/memory.h"
 #include "weft/volume/grid_openvdb.h"
 
 namespace weft::cloth {
@@ -161,24 +160,7 @@ void check_options(const VoxelizeOptions& o) {
   }
 }
 
-// Picks the unit so that a small budget never reads as "0.0 MiB" (i.e. as no budget at all).
-std::string format_bytes(std::uint64_t bytes) {
-  if (bytes < 1024U) return fmt::format("{} bytes", bytes);
-  const double kib = static_cast<double>(bytes) / 1024.0;
-  if (kib < 1024.0) return fmt::format("{:.1f} KiB", kib);
-  const double mebi = kib / 1024.0;
-  if (mebi < 1024.0) return fmt::format("{:.1f} MiB", mebi);
-  return fmt::format("{:.2f} GiB", mebi / 1024.0);
-}
-
 }  // namespace
-
-std::uint64_t default_memory_budget() {
-  const long pages = ::sysconf(_SC_PHYS_PAGES);
-  const long page = ::sysconf(_SC_PAGE_SIZE);
-  if (pages <= 0 || page <= 0) return 4ULL << 30U;
-  return static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page) / 2U;
-}
 
 VoxelizeEstimate estimate_voxelize_memory(const FiberSet& fibers, const VoxelizeOptions& options) {
   check_options(options);
@@ -243,11 +225,15 @@ volume::Grid voxelize(const FiberSet& fibers, const VoxelizeOptions& options, Vo
   const double h = options.voxel_size;
   const VoxelizeEstimate estimate = estimate_voxelize_memory(fibers, options);
   const std::uint64_t budget = options.max_memory_bytes > 0 ? options.max_memory_bytes : default_memory_budget();
-  if (estimate.bytes > budget) {
+  // Two checks: the pieces and bins (exact counts) before they are made, then the leaves once
+  // the sorted bins say how many there are (the bound from the bounding box alone refused
+  // long yarns meandering through a large, mostly empty box).
+  const std::uint64_t binning = estimate.pieces * kPieceBytes + estimate.bin_entries * 2 * sizeof(std::uint64_t) * 2;
+  if (binning > budget) {
     fail(
-        "voxel_size {} mm: voxelizing would take up to {} ({} leaves of 8^3 voxels), over the memory budget of {} "
+        "voxel_size {} mm: voxelizing would take {} for {} fibre pieces alone, over the memory budget of {} "
         "(--max-memory)",
-        h, format_bytes(estimate.bytes), estimate.leaves, format_bytes(budget));
+        h, format_bytes(binning), estimate.pieces, format_bytes(budget));
   }
 
   std::vector<Piece> pieces;
@@ -273,6 +259,12 @@ volume::Grid voxelize(const FiberSet& fibers, const VoxelizeOptions& options, Vo
   }
   starts.push_back(bins.size());
   const std::size_t leaf_count = starts.size() - 1;
+  if (binning + leaf_count * kLeafBytes > budget) {
+    fail(
+        "voxel_size {} mm: voxelizing would take up to {} ({} leaves of 8^3 voxels), over the memory budget of {} "
+        "(--max-memory)",
+        h, format_bytes(binning + leaf_count * kLeafBytes), leaf_count, format_bytes(budget));
+  }
 
   using Leaf = openvdb::FloatTree::LeafNodeType;
   std::vector<Leaf*> leaves(leaf_count, nullptr);

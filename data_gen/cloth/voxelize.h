@@ -6,19 +6,20 @@
 
 #include "data_gen/cloth/cloth.h"
 #include "data_gen/cloth/fibers.h"
+#include "weft/core/memory.h"  // default_memory_budget(): what --max-memory defaults to
 #include "weft/core/progress.h"
 #include "weft/volume/grid.h"
 
 namespace weft::cloth {
+
+/// Half the physical RAM, what `--max-memory` defaults to (weft/core/memory.h; named here too).
+using weft::default_memory_budget;
 
 struct VoxelizeOptions {
   double voxel_size = 0.01;            ///< mm, edge of a cubic voxel (index i covers [i·h, (i+1)·h))
   int samples_per_voxel = 4;           ///< quadrature points per voxel edge, along and across each fibre
   std::uint64_t max_memory_bytes = 0;  ///< refuse when the estimate exceeds this; 0 = default_memory_budget()
 };
-
-/// Half the physical RAM (what `--max-memory` defaults to).
-std::uint64_t default_memory_budget();
 
 /// @brief Upper bound of the memory a voxelization will take, computed without allocating it.
 struct VoxelizeEstimate {

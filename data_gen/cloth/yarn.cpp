@@ -12,6 +12,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include "weft/core/error.h"
+#include "weft/core/parallel.h"
 
 namespace weft::cloth {
 namespace {
@@ -192,74 +193,273 @@ Point3 ply_point(const Station& f, const YarnParams& y, int ply, double R, doubl
   return add(f.p, add(scale(u, y.ply_offset + a), scale(v, b)));
 }
 
+// A loop flyaway: one migration period of fibre `fiber` around arc length `center` pulled out to
+// `radius` (× ply radius); `order` is its draw index in the ply, the order loops apply in.
 struct Loop {
   int fiber = 0;
   double center = 0.0;
   double radius = 1.0;
+  std::size_t order = 0;
 };
+
+// A hair flyaway, drawn before any point is made so that the output layout is known up front.
+struct Hair {
+  double s0 = 0.0;
+  double s1 = 0.0;
+  double theta0 = 0.0;
+  double rise = 0.0;
+  double turn = 0.0;
+  std::size_t segments = 0;
+};
+
+struct PlyPlan {
+  std::vector<FiberSeed> seeds;
+  std::vector<std::vector<Loop>> loops;  // per fibre, sorted by centre
+  std::vector<std::uint8_t> has_loop;    // per fibre: some station lies inside one of its loops
+  std::vector<Hair> hairs;               // in draw order (pieces in order)
+};
+
+struct YarnPlan {
+  const YarnParams* y = nullptr;
+  std::int32_t yarn_id = 0;
+  std::vector<Station> st;
+  std::size_t pieces = 0;
+  std::vector<PlyPlan> plies;
+  std::uint64_t first_fiber = 0;  // index of the yarn's first polyline in the output
+  std::uint64_t first_point = 0;
+};
+
+// Stream of piece `piece` of ply `ply`: piece 0 continues the ply's own stream (after its
+// cross-section), so a yarn of one piece draws exactly what it drew before yarns were cut into
+// pieces; later pieces get streams of their own, keyed apart from every ply stream by the top bit.
+Pcg32 piece_stream(std::uint64_t seed, std::int32_t yarn_id, int ply, std::size_t piece) {
+  return stream_for(seed, (1ULL << 63U) | (static_cast<std::uint64_t>(yarn_id) << 32U) |
+                              (static_cast<std::uint64_t>(ply) << 24U) | static_cast<std::uint64_t>(piece));
+}
+
+// Arc length range of piece p.
+std::pair<double, double> piece_span(const YarnPlan& plan, std::size_t p) {
+  const double a = plan.st[p * kPieceStations].s;
+  const double b = p + 1 == plan.pieces ? plan.st.back().s : plan.st[(p + 1) * kPieceStations].s;
+  return {a, b};
+}
+
+// Draws the random part of a yarn (cross-sections, loops, hairs): O(fibres + flyaways), serial
+// per yarn and cheap next to the points.
+YarnPlan plan_yarn(const Curve& centerline, const YarnParams& y, std::uint64_t seed, std::int32_t yarn_id) {
+  validate(y, "yarn");
+  YarnPlan plan;
+  plan.y = &y;
+  plan.yarn_id = yarn_id;
+  plan.st = centerline_stations(centerline, y.sample_step);
+  plan.pieces = (plan.st.size() - 1 + kPieceStations - 1) / kPieceStations;
+  const double P = y.migration_period;
+  const double ds = plan.st[1].s - plan.st[0].s;
+  const std::size_t m = plan.st.size() - 1;
+  plan.plies.resize(static_cast<std::size_t>(y.ply_count));
+  for (int ply = 0; ply < y.ply_count; ++ply) {
+    PlyPlan& pp = plan.plies[static_cast<std::size_t>(ply)];
+    Pcg32 rng = stream_for(seed, (static_cast<std::uint64_t>(yarn_id) << 8U) | static_cast<std::uint64_t>(ply));
+    pp.seeds = sample_ply_cross_section(y, y.fiber_count, rng);
+    pp.loops.resize(static_cast<std::size_t>(y.fiber_count));
+    pp.has_loop.assign(static_cast<std::size_t>(y.fiber_count), 0);
+    std::size_t order = 0;
+    for (std::size_t p = 0; p < plan.pieces; ++p) {
+      Pcg32 piece_rng = p == 0 ? rng : piece_stream(seed, yarn_id, ply, p);
+      const auto [a, b] = piece_span(plan, p);
+      const int loops = event_count(y.loop_density * (b - a), piece_rng);
+      for (int i = 0; i < loops; ++i) {
+        Loop l;
+        l.fiber = static_cast<int>(piece_rng.uniform_below(static_cast<std::uint32_t>(y.fiber_count)));
+        l.center = a + (b - a) * piece_rng.uniform();
+        l.radius = std::max(y.rho_max, normal_deviate(piece_rng, y.loop_radius_mean, y.loop_radius_sd));
+        l.order = order++;
+        pp.loops[static_cast<std::size_t>(l.fiber)].push_back(l);
+      }
+      const int hairs = event_count(y.hair_density * (b - a), piece_rng);
+      for (int h = 0; h < hairs; ++h) {
+        Hair hair;
+        hair.s0 = a + (b - a) * piece_rng.uniform();
+        hair.theta0 = kTwoPi * piece_rng.uniform();
+        hair.rise = std::max(0.0, normal_deviate(piece_rng, y.hair_span_mean, y.hair_span_sd));
+        hair.turn = normal_deviate(piece_rng, y.hair_angle_span_mean, y.hair_angle_span_sd);
+        const double hair_length =
+            std::max(y.sample_step, normal_deviate(piece_rng, y.hair_length_mean, y.hair_length_sd));
+        hair.s1 = std::min(plan.st.back().s, hair.s0 + hair_length);
+        if (!(hair.s1 > hair.s0)) continue;
+        hair.segments = static_cast<std::size_t>(std::max(1.0, std::ceil((hair.s1 - hair.s0) / y.sample_step)));
+        pp.hairs.push_back(hair);
+      }
+    }
+    // A fibre is a loop fibre when a station falls inside one of its loops; only the stations
+    // within half a period of each centre need checking (same test as the point pass).
+    for (auto& loops : pp.loops) {
+      std::sort(loops.begin(), loops.end(), [](const Loop& u, const Loop& v) {
+        return u.center != v.center ? u.center < v.center : u.order < v.order;
+      });
+      for (const Loop& l : loops) {
+        const auto k0 = static_cast<std::size_t>(std::max(0.0, std::floor((l.center - 0.5 * P) / ds) - 1.0));
+        const auto k1 =
+            std::min(m, static_cast<std::size_t>(std::max(0.0, std::ceil((l.center + 0.5 * P) / ds) + 1.0)));
+        for (std::size_t k = k0; k <= k1 && !pp.has_loop[static_cast<std::size_t>(l.fiber)]; ++k) {
+          if (std::abs((plan.st[k].s - l.center) / P) < 0.5) pp.has_loop[static_cast<std::size_t>(l.fiber)] = 1;
+        }
+      }
+    }
+  }
+  return plan;
+}
+
+// Fills stations [k0, k1) of every regular fibre of `ply`, and every hair drawn in piece `piece`,
+// into the output arrays at their planned places.
+void fill_piece(const YarnPlan& plan, int ply, std::size_t piece, const std::vector<std::uint64_t>& hair_first,
+                std::size_t hair_begin, std::size_t hair_end, std::uint64_t ply_point0, Point3* points) {
+  const YarnParams& y = *plan.y;
+  const PlyPlan& pp = plan.plies[static_cast<std::size_t>(ply)];
+  const std::size_t n_st = plan.st.size();
+  const std::size_t k0 = piece * kPieceStations;
+  const std::size_t k1 = piece + 1 == plan.pieces ? n_st : k0 + kPieceStations;
+  const double half = 0.5 * y.migration_period;
+  std::vector<const Loop*> active;
+  for (int j = 0; j < y.fiber_count; ++j) {
+    const FiberSeed& fs = pp.seeds[static_cast<std::size_t>(j)];
+    const std::vector<Loop>& loops = pp.loops[static_cast<std::size_t>(j)];
+    Point3* out = points + ply_point0 + static_cast<std::uint64_t>(j) * n_st;
+    // Loops sorted by centre: those within half a period of s start at `first` (linear in the
+    // stations and loops, where testing every loop at every station was quadratic in length).
+    auto first = std::lower_bound(loops.begin(), loops.end(), plan.st[k0].s - 2.0 * half,
+                                  [](const Loop& l, double c) { return l.center < c; });
+    for (std::size_t k = k0; k < k1; ++k) {
+      const double s = plan.st[k].s;
+      // Migration (Zhao et al. 2016, Eq. 3), phase from the fibre's own angle as in the paper.
+      double R =
+          0.5 * fs.R *
+          (y.rho_max + y.rho_min + (y.rho_max - y.rho_min) * std::cos(fs.theta + kTwoPi * s / y.migration_period));
+      while (first != loops.end() && first->center < s - 2.0 * half) ++first;
+      active.clear();
+      for (auto it = first; it != loops.end() && it->center <= s + 2.0 * half; ++it) active.push_back(&*it);
+      if (active.size() > 1) {
+        std::sort(active.begin(), active.end(), [](const Loop* u, const Loop* v) { return u->order < v->order; });
+      }
+      for (const Loop* l : active) {
+        const double d = (s - l->center) / y.migration_period;
+        if (std::abs(d) < 0.5) {
+          // One migration period pulled out to the loop radius with a smooth cos² bump.
+          const double w = std::cos(std::numbers::pi * d) * std::cos(std::numbers::pi * d);
+          R += w * (l->radius - R);
+        }
+      }
+      const double theta = fs.theta + y.ply_twist * y.fiber_twist * kTwoPi * s / y.fiber_pitch;
+      out[k] = ply_point(plan.st[k], y, ply, R, theta);
+    }
+  }
+  for (std::size_t h = hair_begin; h < hair_end; ++h) {
+    const Hair& hair = pp.hairs[h];
+    Point3* out = points + hair_first[h];
+    for (std::size_t k = 0; k <= hair.segments; ++k) {
+      const double t = static_cast<double>(k) / static_cast<double>(hair.segments);
+      const double s = hair.s0 + t * (hair.s1 - hair.s0);
+      // Hair: leaves the ply surface (R = ρmax) and rises linearly while turning about the ply.
+      out[k] = ply_point(frame_at(plan.st, s), y, ply, y.rho_max + t * hair.rise, hair.theta0 + t * hair.turn);
+    }
+  }
+}
 
 }  // namespace
 
-FiberSet yarn_fibers(const Curve& centerline, const YarnParams& y, std::uint64_t seed, std::int32_t yarn_id) {
-  validate(y, "yarn");
-  const std::vector<Station> st = centerline_stations(centerline, y.sample_step);
-  const double length = st.back().s;
+FiberSet build_yarns(const std::vector<YarnJob>& jobs, std::uint64_t seed, ProgressSink& progress) {
+  std::vector<YarnPlan> plans(jobs.size());
+  parallel_units(jobs.size(), [&](std::size_t i) {
+    plans[i] = plan_yarn(*jobs[i].centerline, *jobs[i].params, seed, jobs[i].yarn_id);
+  });
+  // Layout: per yarn, per ply, the regular fibres (one point per station) then the hairs. Every
+  // polyline's place is known before any point is made, so pieces write straight into the output.
   FiberSet out;
-  std::vector<Point3> poly(st.size());
-  for (int ply = 0; ply < y.ply_count; ++ply) {
-    Pcg32 rng = stream_for(seed, (static_cast<std::uint64_t>(yarn_id) << 8U) | static_cast<std::uint64_t>(ply));
-    const std::vector<FiberSeed> seeds = sample_ply_cross_section(y, y.fiber_count, rng);
-    std::vector<Loop> loops(static_cast<std::size_t>(event_count(y.loop_density * length, rng)));
-    for (auto& l : loops) {
-      l.fiber = static_cast<int>(rng.uniform_below(static_cast<std::uint32_t>(y.fiber_count)));
-      l.center = length * rng.uniform();
-      l.radius = std::max(y.rho_max, normal_deviate(rng, y.loop_radius_mean, y.loop_radius_sd));
-    }
-    for (int j = 0; j < y.fiber_count; ++j) {
-      const FiberSeed& fs = seeds[static_cast<std::size_t>(j)];
-      bool has_loop = false;
-      for (std::size_t k = 0; k < st.size(); ++k) {
-        const double s = st[k].s;
-        // Migration (Zhao et al. 2016, Eq. 3), phase from the fibre's own angle as in the paper.
-        double R =
-            0.5 * fs.R *
-            (y.rho_max + y.rho_min + (y.rho_max - y.rho_min) * std::cos(fs.theta + kTwoPi * s / y.migration_period));
-        for (const auto& l : loops) {
-          if (l.fiber != j) continue;
-          const double d = (s - l.center) / y.migration_period;
-          if (std::abs(d) < 0.5) {
-            // One migration period pulled out to the loop radius with a smooth cos² bump.
-            const double w = std::cos(std::numbers::pi * d) * std::cos(std::numbers::pi * d);
-            R += w * (l.radius - R);
-            has_loop = true;
-          }
-        }
-        const double theta = fs.theta + y.ply_twist * y.fiber_twist * kTwoPi * s / y.fiber_pitch;
-        poly[k] = ply_point(st[k], y, ply, R, theta);
-      }
-      out.add(poly, y.fiber_radius, yarn_id, ply, j, has_loop ? FiberKind::loop : FiberKind::regular);
-    }
-    const int hairs = event_count(y.hair_density * length, rng);
-    for (int h = 0; h < hairs; ++h) {
-      const double s0 = length * rng.uniform();
-      const double theta0 = kTwoPi * rng.uniform();
-      const double rise = std::max(0.0, normal_deviate(rng, y.hair_span_mean, y.hair_span_sd));
-      const double turn = normal_deviate(rng, y.hair_angle_span_mean, y.hair_angle_span_sd);
-      const double hair_length = std::max(y.sample_step, normal_deviate(rng, y.hair_length_mean, y.hair_length_sd));
-      const double s1 = std::min(length, s0 + hair_length);
-      const auto n = static_cast<std::size_t>(std::max(1.0, std::ceil((s1 - s0) / y.sample_step)));
-      if (!(s1 > s0)) continue;
-      std::vector<Point3> hair(n + 1);
-      for (std::size_t k = 0; k <= n; ++k) {
-        const double t = static_cast<double>(k) / static_cast<double>(n);
-        const double s = s0 + t * (s1 - s0);
-        // Hair: leaves the ply surface (R = ρmax) and rises linearly while turning about the ply.
-        hair[k] = ply_point(frame_at(st, s), y, ply, y.rho_max + t * rise, theta0 + t * turn);
-      }
-      out.add(hair, y.fiber_radius, yarn_id, ply, y.fiber_count + h, FiberKind::hair);
+  std::uint64_t fibers = 0;
+  std::uint64_t points = 0;
+  for (auto& plan : plans) {
+    plan.first_fiber = fibers;
+    plan.first_point = points;
+    for (const auto& pp : plan.plies) {
+      fibers += pp.seeds.size() + pp.hairs.size();
+      points += pp.seeds.size() * plan.st.size();
+      for (const auto& h : pp.hairs) points += h.segments + 1;
     }
   }
+  out.points.resize(points);
+  out.offsets.resize(fibers + 1);
+  out.radius.resize(fibers);
+  out.yarn.resize(fibers);
+  out.ply.resize(fibers);
+  out.fiber.resize(fibers);
+  out.kind.resize(fibers);
+  // Work units: (yarn, ply, piece); each knows where its points go.
+  struct Unit {
+    std::size_t yarn;
+    int ply;
+    std::size_t piece;
+    std::uint64_t ply_point0;
+    std::size_t hair_begin;
+    std::size_t hair_end;
+  };
+  std::vector<Unit> units;
+  std::vector<std::vector<std::vector<std::uint64_t>>> hair_first(plans.size());
+  {
+    std::uint64_t f = 0;
+    std::uint64_t p = 0;
+    for (std::size_t i = 0; i < plans.size(); ++i) {
+      const YarnPlan& plan = plans[i];
+      const YarnParams& y = *plan.y;
+      hair_first[i].resize(plan.plies.size());
+      for (int ply = 0; ply < y.ply_count; ++ply) {
+        const PlyPlan& pp = plan.plies[static_cast<std::size_t>(ply)];
+        const std::uint64_t ply_point0 = p;
+        for (int j = 0; j < y.fiber_count; ++j) {
+          out.offsets[f] = p;
+          out.radius[f] = y.fiber_radius;
+          out.yarn[f] = plan.yarn_id;
+          out.ply[f] = ply;
+          out.fiber[f] = j;
+          out.kind[f] = pp.has_loop[static_cast<std::size_t>(j)] ? FiberKind::loop : FiberKind::regular;
+          ++f;
+          p += plan.st.size();
+        }
+        auto& firsts = hair_first[i][static_cast<std::size_t>(ply)];
+        for (std::size_t h = 0; h < pp.hairs.size(); ++h) {
+          firsts.push_back(p);
+          out.offsets[f] = p;
+          out.radius[f] = y.fiber_radius;
+          out.yarn[f] = plan.yarn_id;
+          out.ply[f] = ply;
+          out.fiber[f] = y.fiber_count + static_cast<std::int32_t>(h);
+          out.kind[f] = FiberKind::hair;
+          ++f;
+          p += pp.hairs[h].segments + 1;
+        }
+        // Hairs go with the piece their root lies in (they are drawn in piece order).
+        std::size_t h = 0;
+        for (std::size_t piece = 0; piece < plan.pieces; ++piece) {
+          const double end = piece_span(plan, piece).second;
+          const std::size_t begin = h;
+          while (h < pp.hairs.size() && (piece + 1 == plan.pieces || pp.hairs[h].s0 < end)) ++h;
+          units.push_back({i, ply, piece, ply_point0, begin, h});
+        }
+      }
+    }
+    out.offsets[f] = p;
+  }
+  ProgressTask task(progress, "generating fibres", units.size());
+  parallel_units(units.size(), [&](std::size_t u) {
+    const Unit& unit = units[u];
+    fill_piece(plans[unit.yarn], unit.ply, unit.piece, hair_first[unit.yarn][static_cast<std::size_t>(unit.ply)],
+               unit.hair_begin, unit.hair_end, unit.ply_point0, out.points.data());
+    task.step();
+  });
   return out;
+}
+
+FiberSet yarn_fibers(const Curve& centerline, const YarnParams& y, std::uint64_t seed, std::int32_t yarn_id) {
+  return build_yarns({YarnJob{&centerline, &y, yarn_id}}, seed);
 }
 
 }  // namespace weft::cloth

@@ -7,9 +7,10 @@ set(_reproducible_timeout 120)
 if(WEFT_SANITIZE)
   set(_reproducible_timeout 600)
 endif()
-foreach(case validate render sim2d)
+foreach(case validate render sim2d gen_long_yarn)
   add_test(NAME cli.reproducible.${case}
            COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DCASE=${case}
+                   -DDATA=${PROJECT_SOURCE_DIR}/tests/data/cloth
                    -DWORK=${CMAKE_CURRENT_BINARY_DIR}/reproducible_${case}
                    -P ${CMAKE_CURRENT_SOURCE_DIR}/reproducible_compare.cmake)
   set_tests_properties(cli.reproducible.${case} PROPERTIES LABELS cli TIMEOUT ${_reproducible_timeout})

@@ -6,7 +6,8 @@
 # the 36-character UUID that OpenVDB writes into every file header (io::Archive draws a random
 # one per write, so two writes of the same grid never match there; bytes 21-56).
 #
-# Usage: cmake -DWEFT=<weft> -DCASE=validate|render|sim2d -DWORK=<folder> -P reproducible_compare.cmake
+# Usage: cmake -DWEFT=<weft> -DCASE=validate|render|sim2d|gen_long_yarn -DWORK=<folder> [-DDATA=<tests/data/cloth>]
+#        -P reproducible_compare.cmake
 cmake_minimum_required(VERSION 3.25)
 set(TIMING_KEYS "^(timings|timings_seconds|seconds|.*_seconds|threads|elapsed|rate|samples_per_second|rays_per_second)$")
 
@@ -22,6 +23,12 @@ if(CASE STREQUAL "validate")
 elseif(CASE STREQUAL "render")
   # Media, surfaces and lights: the memory-tracking integrator and the RNG streams per tile.
   set(run_args render cornell_media --spp 2 --seed 7 -o "${WORK}/@RUN@/image.exr")
+elseif(CASE STREQUAL "gen_long_yarn")
+  # One long imported yarn (tests/data/cloth/long_yarn.obj, ≈150 mm: 4 pieces of 1024 stations at
+  # 0.05 mm), thin so it runs in a second: its pieces are built in parallel, and the grid and every
+  # fibre file must still be the same bytes.
+  set(run_args gen --input "${DATA}/long_yarn.obj" --set fiber_count=8 --set sample_step=0.05 --voxel-size 0.04
+               --write all --seed 3 --out "${WORK}/@RUN@")
 elseif(CASE STREQUAL "sim2d")
   set(run_args sim2d --quick --seed 5 --out "${WORK}/@RUN@")
 else()

@@ -12,6 +12,7 @@
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkTypeInt32Array.h>
 #include <vtkTypeInt64Array.h>
 #include <vtkXMLImageDataWriter.h>
 #include <vtkXMLPolyDataWriter.h>
@@ -26,12 +27,33 @@ namespace fs = std::filesystem;
 
 namespace {
 
-vtkNew<vtkPoints> make_points(const std::vector<std::array<double, 3>>& points) {
+vtkNew<vtkPoints> make_points(const std::vector<std::array<double, 3>>& points, bool as_float = false) {
   vtkNew<vtkPoints> out;
-  out->SetDataTypeToDouble();
+  if (as_float) {
+    out->SetDataTypeToFloat();
+  } else {
+    out->SetDataTypeToDouble();
+  }
   out->SetNumberOfPoints(static_cast<vtkIdType>(points.size()));
   for (std::size_t i = 0; i < points.size(); ++i) out->SetPoint(static_cast<vtkIdType>(i), points[i].data());
   return out;
+}
+
+template <typename Array>
+vtkNew<Array> index_array(const std::vector<std::uint64_t>& values) {
+  vtkNew<Array> a;
+  a->SetNumberOfValues(static_cast<vtkIdType>(values.size()));
+  for (std::size_t i = 0; i < values.size(); ++i)
+    a->SetValue(static_cast<vtkIdType>(i), static_cast<typename Array::ValueType>(values[i]));
+  return a;
+}
+
+template <typename Array>
+vtkNew<Array> iota_array(std::size_t n) {
+  vtkNew<Array> a;
+  a->SetNumberOfValues(static_cast<vtkIdType>(n));
+  for (std::size_t i = 0; i < n; ++i) a->SetValue(static_cast<vtkIdType>(i), static_cast<typename Array::ValueType>(i));
+  return a;
 }
 
 // Every array must match its entity count and carry a unique, non-empty name: VTK finds
@@ -108,17 +130,15 @@ void write_vtp(const PolylineSet& lines, const fs::path& path) {
   check_arrays(lines.point_scalars, lines.points.size(), "point", point_names, path);
 
   vtkNew<vtkPolyData> poly;
-  poly->SetPoints(make_points(lines.points));
-  vtkNew<vtkTypeInt64Array> offsets;
-  offsets->SetNumberOfValues(static_cast<vtkIdType>(off.size()));
-  for (std::size_t i = 0; i < off.size(); ++i)
-    offsets->SetValue(static_cast<vtkIdType>(i), static_cast<std::int64_t>(off[i]));
-  vtkNew<vtkTypeInt64Array> connectivity;
-  connectivity->SetNumberOfValues(static_cast<vtkIdType>(lines.points.size()));
-  for (std::size_t i = 0; i < lines.points.size(); ++i)
-    connectivity->SetValue(static_cast<vtkIdType>(i), static_cast<std::int64_t>(i));
+  poly->SetPoints(make_points(lines.points, lines.float_points));
+  // 32-bit cell indices when they fit: half the bytes of the connectivity array, which is as
+  // long as the points (VTK reads either width).
   vtkNew<vtkCellArray> cells;
-  cells->SetData(offsets, connectivity);
+  if (lines.points.size() < (1ULL << 31U)) {
+    cells->SetData(index_array<vtkTypeInt32Array>(off), iota_array<vtkTypeInt32Array>(lines.points.size()));
+  } else {
+    cells->SetData(index_array<vtkTypeInt64Array>(off), iota_array<vtkTypeInt64Array>(lines.points.size()));
+  }
   poly->SetLines(cells);
   add_ints(*poly->GetCellData(), lines.cell_ints);
   add_doubles(*poly->GetCellData(), lines.cell_scalars);

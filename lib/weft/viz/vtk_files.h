@@ -21,6 +21,9 @@ struct PolylineSet {
   std::map<std::string, std::vector<std::int32_t>> cell_ints;
   std::map<std::string, std::vector<double>> cell_scalars;
   std::map<std::string, std::vector<double>> point_scalars;
+  /// Store coordinates as float32 (7 significant digits): half the bytes of the dominant array,
+  /// for files that are looked at rather than computed on (fibres of `weft gen`).
+  bool float_points = false;
 };
 
 /// Points (particles) with per-point data.

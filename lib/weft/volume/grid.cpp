@@ -157,6 +157,8 @@ void Grid::set_origin(const std::array<double, 3>& origin) {
 
 std::uint64_t Grid::active_voxel_count() const { return impl_->grid->activeVoxelCount(); }
 
+std::uint64_t Grid::memory_bytes() const { return impl_->grid->tree().memUsage(); }
+
 IndexBox Grid::active_bbox() const {
   IndexBox box;
   if (impl_->grid->activeVoxelCount() == 0) return box;

@@ -54,6 +54,9 @@ class Grid {
   void set_origin(const std::array<double, 3>& origin);
 
   [[nodiscard]] std::uint64_t active_voxel_count() const;
+  /// Bytes the tree takes in memory, as OpenVDB counts them (Tree::memUsage(): nodes, values,
+  /// masks); what memory figures per active voxel are measured against.
+  [[nodiscard]] std::uint64_t memory_bytes() const;
   /// Bounding box of active voxels and tiles; empty for an empty grid.
   [[nodiscard]] IndexBox active_bbox() const;
   /// Value at a voxel (background 0 where inactive). For tests and small tools; hot loops use

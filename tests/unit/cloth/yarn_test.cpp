@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 
 #include "data_gen/cloth/yarn.h"
 #include "weft/core/error.h"
+#include "weft/core/parallel.h"
 
 namespace weft::cloth {
 namespace {
@@ -265,6 +267,55 @@ TEST(YarnModel, InvalidParametersAreNamed) {
   y.density_epsilon = 0.5;
   EXPECT_NE(message(y).find("density_epsilon"), std::string::npos);
   EXPECT_THROW(yarn_preset("kevlar"), Error);
+}
+
+// A long yarn is cut into pieces (build_yarns): the pieces are built in parallel, yet the fibres
+// are the same bits for any thread count, stay whole polylines without a jump at a piece
+// boundary, and loops and hairs occur all along the yarn at their densities.
+TEST(YarnModel, LongYarnPiecesAreThreadCountInvariantAndSeamless) {
+  YarnParams y = yarn_preset("cotton");
+  y.fiber_count = 12;
+  Curve c;
+  for (int k = 0; k <= 600; ++k) c.points.push_back({0.1 * k, 0.5 * std::sin(0.05 * k), 0.2 * std::cos(0.03 * k)});
+  std::vector<FiberSet> runs;
+  for (const unsigned threads : {1U, 2U}) {
+    const ThreadLimit limit(threads);
+    runs.push_back(yarn_fibers(c, y, 5, 2));
+  }
+  const FiberSet& f = runs[0];
+  const std::size_t stations = f.offsets[1] - f.offsets[0];
+  ASSERT_GT(stations, 2 * kPieceStations) << "the test yarn must span several pieces";
+  ASSERT_EQ(f.points.size(), runs[1].points.size());
+  EXPECT_EQ(0, std::memcmp(f.points.data(), runs[1].points.data(), f.points.size() * sizeof(Point3)));
+  EXPECT_EQ(f.offsets, runs[1].offsets);
+  EXPECT_EQ(f.kind, runs[1].kind);
+  // Seamless: consecutive points of a regular fibre are never much further apart than a step
+  // along its helix.
+  double worst = 0.0;
+  std::size_t loops = 0;
+  std::size_t hairs = 0;
+  std::vector<double> hair_roots;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    if (f.kind[i] == FiberKind::hair) {
+      ++hairs;
+      hair_roots.push_back(f.points[f.offsets[i]][0]);
+      continue;
+    }
+    loops += f.kind[i] == FiberKind::loop ? 1 : 0;
+    for (std::uint64_t k = f.offsets[i] + 1; k < f.offsets[i + 1]; ++k) {
+      const auto& a = f.points[k - 1];
+      const auto& b = f.points[k];
+      worst = std::max(worst, std::hypot(b[0] - a[0], b[1] - a[1], b[2] - a[2]));
+    }
+  }
+  EXPECT_LT(worst, 3.0 * y.sample_step);
+  EXPECT_GT(loops, 0U);
+  // Hairs: a Poisson-like count with mean density × length per ply (±5σ), roots along the whole yarn.
+  const double length = curve_length(c);
+  const double expected = y.hair_density * length * y.ply_count;
+  EXPECT_NEAR(static_cast<double>(hairs), expected, 5.0 * std::sqrt(expected));
+  EXPECT_LT(*std::min_element(hair_roots.begin(), hair_roots.end()), 0.1 * 60.0);
+  EXPECT_GT(*std::max_element(hair_roots.begin(), hair_roots.end()), 0.9 * 60.0);
 }
 
 }  // namespace

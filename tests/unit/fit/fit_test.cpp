@@ -2,11 +2,14 @@
 // least squares recovers a gamma curve, local fields per block.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "weft/core/error.h"
 #include "weft/fit/fit.h"
+#include "weft/fit/local_fields.h"
 #include "weft/volume/beam.h"
 #include "weft/volume/grid.h"
 
@@ -231,6 +234,88 @@ TEST(Fit, LocalFieldsOfAKnownBlock) {
   EXPECT_NEAR(back.value(0, 0, 0), 4.0, 1e-5);
   std::filesystem::remove(path);
   EXPECT_THROW((void)local_fields(g, 0), Error);
+}
+
+// Reference local statistics of the block at `key`, straight from the definition (a dense loop
+// over the block's B³ voxels: for small test grids only).
+struct Reference {
+  double mean = 0.0;
+  std::array<double, 3> variance{};
+};
+Reference reference_block(const Grid& g, int B, std::array<int, 3> key) {
+  Reference r;
+  const double n = static_cast<double>(B) * B * B;
+  std::array<std::vector<double>, 3> cols;
+  for (auto& c : cols) c.assign(static_cast<std::size_t>(B) * B, 0.0);
+  for (int i = 0; i < B; ++i) {
+    for (int j = 0; j < B; ++j) {
+      for (int k = 0; k < B; ++k) {
+        const double v = g.value(key[0] * B + i, key[1] * B + j, key[2] * B + k);
+        r.mean += v / n;
+        cols[0][static_cast<std::size_t>(j * B + k)] += v / B;
+        cols[1][static_cast<std::size_t>(i * B + k)] += v / B;
+        cols[2][static_cast<std::size_t>(i * B + j)] += v / B;
+      }
+    }
+  }
+  for (std::size_t a = 0; a < 3; ++a) {
+    double s2 = 0.0;
+    for (const double c : cols[a]) s2 += (c - r.mean) * (c - r.mean);
+    r.variance[a] = s2 / static_cast<double>(cols[a].size());
+  }
+  return r;
+}
+
+TEST(Fit, LocalFieldsDenseAndSparseBlocksMatchTheDefinition) {
+  // A scatter of voxels over [−20, 40)³: blocks of 7 (dense columns, several blocks, negative
+  // keys) and of 70 (sparse columns; the data spans 2³ blocks) against the dense definition.
+  Grid g(0.1);
+  for (int n = 0; n < 4000; ++n) {
+    const int i = (n * 37) % 60 - 20;
+    const int j = (n * 53) % 60 - 20;
+    const int k = (n * 71 + n / 7) % 60 - 20;
+    g.set_value(i, j, k, 0.05f + 0.9f * static_cast<float>((n * 29) % 100) / 100.0f);
+  }
+  for (const int B : {7, 70}) {
+    const LocalFields f = local_fields(g, B);
+    EXPECT_GT(f.blocks, 0U);
+    // The blocks of a few of the voxels (keys negative and positive).
+    for (const int n : {0, 1, 2, 7, 100, 2001}) {
+      const std::array<int, 3> voxel{(n * 37) % 60 - 20, (n * 53) % 60 - 20, (n * 71 + n / 7) % 60 - 20};
+      std::array<int, 3> key{};
+      for (std::size_t a = 0; a < 3; ++a) key[a] = static_cast<int>(std::floor(static_cast<double>(voxel[a]) / B));
+      const Reference r = reference_block(g, B, key);
+      SCOPED_TRACE(testing::Message() << "B = " << B << ", block " << key[0] << "," << key[1] << "," << key[2]);
+      ASSERT_GT(r.mean, 0.0);
+      EXPECT_NEAR(f.mean.value(key[0], key[1], key[2]), r.mean, 1e-6 * r.mean);
+      for (std::size_t a = 0; a < 3; ++a) {
+        EXPECT_NEAR(f.variance[a].value(key[0], key[1], key[2]), r.variance[a], 1e-5 * r.variance[a] + 1e-12);
+      }
+    }
+  }
+}
+
+TEST(Fit, LocalFieldsOfAHugeBlockStayBounded) {
+  // The largest block over a small grid: one block, memory bounded by the active voxels (the
+  // estimate) instead of a dense 4096³ copy (256 GiB), and the statistics of that one block.
+  Grid g(0.1);
+  for (int i = 0; i < 30; ++i) {
+    for (int j = 0; j < 30; ++j) g.set_value(i, j, (i * j) % 5, 0.5f);
+  }
+  const LocalFieldsEstimate e = estimate_local_fields(g, kMaxLocalBlock);
+  EXPECT_LT(e.bytes, 64ULL << 20U);
+  const LocalFields f = local_fields(g, kMaxLocalBlock);
+  ASSERT_EQ(f.blocks, 1U);
+  const double B = kMaxLocalBlock;
+  const double total = 0.5 * 900;
+  const double m = total / (B * B * B);
+  EXPECT_NEAR(f.mean.value(0, 0, 0), m, 1e-6 * m);
+  // z columns: 900 columns of one voxel each (mean 0.5/B), the rest empty.
+  const double cz = 0.5 / B;
+  const double var_z = (900 * (cz - m) * (cz - m) + (B * B - 900) * m * m) / (B * B);
+  EXPECT_NEAR(f.variance[2].value(0, 0, 0), var_z, 1e-4 * var_z);
+  EXPECT_THROW(check_local_block(kMaxLocalBlock + 1), Error);
+  EXPECT_THROW(check_local_block(0), Error);
 }
 
 }  // namespace

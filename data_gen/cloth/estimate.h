@@ -1,0 +1,56 @@
+#pragma once
+/// @file
+/// @brief What a cloth will cost, from its centrelines alone: fibres, active voxels and memory
+/// estimated before any fibre is made, so a wrong scale or a huge weave is refused in
+/// milliseconds instead of after minutes of generation.
+
+#include <cstdint>
+#include <string>
+
+#include "data_gen/cloth/fibers.h"
+#include "data_gen/cloth/spec.h"
+
+namespace weft::cloth {
+
+/// @brief Estimates of one build (`weft gen`): what generation, voxelization and the fibre
+/// file will hold. Within 2× of the measured figures for the built-in weaves, knits and long
+/// imported yarns (tests/unit/cloth/estimate_test.cpp).
+struct ClothEstimate {
+  double fiber_length = 0.0;          ///< mm of fibre (regular fibres follow their helices; hairs)
+  std::uint64_t fibers = 0;           ///< polylines
+  std::uint64_t fiber_points = 0;     ///< polyline points
+  std::uint64_t fiber_bytes = 0;      ///< the FiberSet in memory
+  std::uint64_t active_voxels = 0;    ///< voxels of the grid
+  std::uint64_t leaves = 0;           ///< 8³ leaf nodes of the grid
+  std::uint64_t grid_bytes = 0;       ///< the OpenVDB tree (what its memUsage() reports)
+  std::uint64_t transient_bytes = 0;  ///< largest short-lived buffer: voxelizer pieces and bins, or the VTK copy
+  std::uint64_t peak_bytes = 0;       ///< fibres + grid + transient
+};
+
+/// @brief The estimate for a resolved spec and its centrelines (in mm).
+///
+/// Fibres: per yarn of centreline length L, ply_count × (fiber_count × (⌈L/step⌉ + 1) points)
+/// plus hair_density·L hairs of ⌈hair_length/step⌉ + 1 points. Active voxels: each ply is a
+/// Boolean model of fibres (Poisson in its cross-section) inside a disc of the ply's area; with
+/// a(r) = πr² + 1.5πhr + 1.5h² the mean area a fibre of radius r covers in voxels of edge h
+/// (Minkowski sum of the fibre section and a randomly oriented cube's projection: mean area
+/// 1.5h², mean perimeter 1.5πh), a ply of n fibres covers A_d·(1 − exp(−n·a(r)/A_d)) per unit
+/// length, A_d = a(ρ + r) its dilated disc. Leaves: the yarn as one tube of its envelope radius
+/// in cells of 8h. O(centreline points), nothing allocated.
+ClothEstimate estimate_cloth(const ClothSpec& spec, const CurveSet& centerlines);
+
+/// @brief The estimate of a woven or knitted spec before its centrelines exist (they alone take
+/// 3 GB for 2000×2000 yarns): specs up to 60×60 yarns are estimated on their centrelines, larger
+/// ones on a 60×60 probe (a multiple of every pattern repeat) scaled by the yarn-count product,
+/// which both the total yarn length and the crossings grow with. Imports: use the overload above
+/// on the file's curves.
+ClothEstimate estimate_cloth(const ClothSpec& spec);
+
+/// The estimate on one line, for messages and the summary.
+std::string describe(const ClothEstimate& e);
+
+/// Throws weft::Error (naming the estimate and the budget) when e.peak_bytes exceeds
+/// `budget_bytes` (0 = default_memory_budget()).
+void check_budget(const ClothEstimate& e, std::uint64_t budget_bytes);
+
+}  // namespace weft::cloth

@@ -1,0 +1,24 @@
+#include "weft/core/memory.h"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+namespace weft {
+
+std::uint64_t default_memory_budget() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES);
+  const long page = ::sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || page <= 0) return 4ULL << 30U;
+  return static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page) / 2U;
+}
+
+std::string format_bytes(std::uint64_t bytes) {
+  if (bytes < 1024U) return fmt::format("{} bytes", bytes);
+  const double kib = static_cast<double>(bytes) / 1024.0;
+  if (kib < 1024.0) return fmt::format("{:.1f} KiB", kib);
+  const double mebi = kib / 1024.0;
+  if (mebi < 1024.0) return fmt::format("{:.1f} MiB", mebi);
+  return fmt::format("{:.2f} GiB", mebi / 1024.0);
+}
+
+}  // namespace weft
