@@ -3,13 +3,55 @@
 #include <cstdio>
 #include <exception>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include <fmt/core.h>
 
 #include "command.h"
 #include "terminal_progress.h"
+#include "usage.h"
 #include "weft/core/error.h"
+#include "weft/core/names.h"
 #include "weft/core/parallel.h"
+
+namespace {
+
+/// Longest edit distance that still earns a suggestion: a third of the word, at least 2.
+std::size_t suggest_distance(const std::string& word) { return std::max<std::size_t>(2, word.size() / 3); }
+
+std::string did_you_mean(const std::string& word, const std::vector<std::string>& candidates) {
+  const std::string best = weft::closest_name(word, candidates, suggest_distance(word));
+  return best.empty() ? std::string() : fmt::format("; did you mean '{}'?", best);
+}
+
+/// `weft valdate`, `weft validate --axis x`: CLI11 says "The following arguments were not
+/// expected: x --axis"; this names the first unknown word and the nearest command or option.
+std::string extras_message(const CLI::App& app, const CLI::App* sub) {
+  const std::vector<std::string> extras = app.remaining(true);
+  std::vector<std::string> options;
+  for (const CLI::App* a : {sub, &app}) {
+    if (a == nullptr) continue;
+    for (const CLI::Option* o : a->get_options()) {
+      for (const auto& n : o->get_lnames()) options.push_back("--" + n);
+    }
+  }
+  for (const auto& word : extras) {
+    if (word.size() < 2 || word[0] != '-') continue;
+    const std::string name = word.substr(0, word.find('='));
+    return fmt::format("{}unknown option '{}'{} (see weft {}--help)", sub != nullptr ? sub->get_name() + ": " : "",
+                       name, did_you_mean(name, options), sub != nullptr ? sub->get_name() + " " : "");
+  }
+  const std::string word = extras.empty() ? std::string() : extras.front();
+  if (sub == nullptr) {
+    std::vector<std::string> names;
+    for (const CLI::App* s : app.get_subcommands([](const CLI::App*) { return true; })) names.push_back(s->get_name());
+    return fmt::format("unknown command '{}'{} (see weft --help)", word, did_you_mean(word, names));
+  }
+  return fmt::format("{}: unexpected argument '{}' (see weft {} --help)", sub->get_name(), word, sub->get_name());
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace weft::app;
@@ -40,11 +82,21 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
+  } catch (const CLI::ExtrasError& e) {
+    const CLI::App* sub = nullptr;
+    for (auto& [s, action] : actions) {
+      if (s->parsed()) sub = s;
+    }
+    fmt::print(stderr, "weft: error: {}\n", extras_message(app, sub));
+    return 2;
   } catch (const CLI::ParseError& e) {
     // --help and --version exit 0; every usage error exits 2 (the POSIX convention), whatever
     // CLI11's internal code, so scripts can tell a usage error from a failed run (exit 1).
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;
+  } catch (const UsageError& e) {
+    fmt::print(stderr, "weft: error: {}\n", e.what());
+    return 2;
   } catch (const weft::Error& e) {
     fmt::print(stderr, "weft: error: {}\n", e.what());
     return 1;
@@ -59,6 +111,9 @@ int main(int argc, char** argv) {
     }
     fmt::print("{}", app.help());
     return 0;
+  } catch (const UsageError& e) {
+    fmt::print(stderr, "weft: error: {}\n", e.what());
+    return 2;
   } catch (const weft::Error& e) {
     fmt::print(stderr, "weft: error: {}\n", e.what());
     return 1;

@@ -15,6 +15,7 @@
 #include "weft/fit/fit.h"
 #include "weft/fit/validation.h"
 #include "weft/volume/grid.h"
+#include "written_files.h"
 
 namespace weft::app {
 namespace {
@@ -96,15 +97,17 @@ const Registrar kFit{Command{
                      "Also write local fields per block of B^3 voxels to local_fields.vdb (0 = off)")
           ->capture_default_str();
       sub.add_option("--beams", o->beams, "beams.csv from `weft measure`: adds least-squares fits and model errors");
-      sub.add_option("--out", o->out, "Output folder")->capture_default_str();
+      sub.add_option("--out", o->out, "Output folder (created if missing): fit.json, local_fields.vdb with --block")
+          ->capture_default_str();
       return [o](const Context& ctx) -> int {
         const bool extinction = o->values == "extinction";
-        if (extinction && o->sigma != 0.0) fail("--sigma applies to concentration values, not --values extinction");
-        if (o->sigma != 0.0) require_positive("--sigma", o->sigma);
+        if (extinction && o->sigma != 0.0)
+          usage_fail("--sigma applies to concentration values, not --values extinction");
+        if (o->sigma != 0.0) usage_positive("--sigma", o->sigma);
         const double sigma = extinction || o->sigma == 0.0 ? 1.0 : o->sigma;
-        require_non_negative("--window", o->window);
-        if (o->block < 0) fail("--block must be >= 0, got {}", o->block);
-        const auto dirs = fit::parse_axes(o->axes);
+        usage_non_negative("--window", o->window);
+        if (o->block < 0) usage_fail("--block must be >= 0, got {}", o->block);
+        const auto dirs = as_usage([&] { return fit::parse_axes(o->axes); });
         std::map<std::string, volume::TransmittanceCurve> measured;
         if (!o->beams.empty()) measured = read_beams(o->beams);
         const volume::Grid grid = volume::Grid::load(o->grid, o->grid_name);
@@ -156,9 +159,15 @@ const Registrar kFit{Command{
           report["local_fields"] = {{"file", "local_fields.vdb"}, {"block", o->block}, {"blocks", fields->blocks}};
         const fs::path out = o->out;
         ensure_directory(out);
-        if (fields) fit::save_local_fields(*fields, out / "local_fields.vdb");
+        WrittenFiles files;
+        if (fields) {
+          fit::save_local_fields(*fields, out / "local_fields.vdb");
+          files.add(out / "local_fields.vdb", fmt::format("alpha, beta per {}^3 block", o->block));
+        }
+        report["outputs"] = files.to_json(out);
         write_text_atomically(out / "fit.json", report.dump(2) + "\n");
-        ctx.say(fmt::format("wrote {}", (out / "fit.json").string()));
+        files.add(out / "fit.json", "report");
+        files.say(ctx);
         return 0;
       };
     }}};

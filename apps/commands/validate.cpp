@@ -205,14 +205,15 @@ const Registrar kValidate{Command{
         const auto t_start = std::chrono::steady_clock::now();
         json timings = json::object();
         // Everything is checked and computed before the output folder is touched.
-        if (o->rays < 1) fail("--rays must be >= 1, got {}", o->rays);
+        if (o->rays < 1) usage_fail("--rays must be >= 1, got {}", o->rays);
         const bool sigma_given = o->sigma_option->count() > 0;
-        if (sigma_given) require_positive("--sigma", o->sigma);
+        if (sigma_given) usage_positive("--sigma", o->sigma);
         const bool extinction = o->values == "extinction";
-        if (extinction && sigma_given) fail("--sigma applies to concentration values, not --values extinction");
-        if (extinction && o->grid.empty()) fail("--values extinction needs --grid (a cloth grid holds concentrations)");
+        if (extinction && sigma_given) usage_fail("--sigma applies to concentration values, not --values extinction");
+        if (extinction && o->grid.empty())
+          usage_fail("--values extinction needs --grid (a cloth grid holds concentrations)");
         fit::ValidationSpec spec;
-        spec.directions = fit::parse_axes(o->axes);
+        spec.directions = as_usage([&] { return fit::parse_axes(o->axes); });
         spec.rays_per_column = o->rays;
         if (o->window == "corr") {
           spec.window = fit::ValidationSpec::kCorrelationWindow;
@@ -224,12 +225,12 @@ const Registrar kValidate{Command{
             spec.window = std::stod(o->window, &used);
             if (used != o->window.size()) throw std::invalid_argument(o->window);
           } catch (const std::exception&) {
-            fail("--window: '{}' is not corr, extent or a length", o->window);
+            usage_fail("--window: '{}' is not corr, extent or a length", o->window);
           }
-          require_positive("--window", spec.window);
+          usage_positive("--window", spec.window);
         }
         spec.seed = o->seed;
-        spec.method = volume::parse_beam_method(o->method);
+        spec.method = as_usage([&] { return volume::parse_beam_method(o->method); });
 
         json input;
         volume::Grid grid;

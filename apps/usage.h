@@ -1,0 +1,62 @@
+#pragma once
+/// @file
+/// @brief Usage errors of the `weft` app: an option that is unknown, out of range or in conflict
+/// with another exits 2 (README "Exit codes"); a run that fails on its input exits 1.
+///
+/// One mechanism for every command: a check on an option's value either
+///   - is declared on the option with a validator below (`->check(positive)`), which CLI11 runs
+///     while parsing, or
+///   - runs in the action and throws UsageError (`usage_fail`, `usage_positive`, or
+///     `as_usage(...)` around a library parser whose weft::Error is about an option value).
+/// main.cpp maps CLI::ParseError and UsageError to exit 2; any other weft::Error to 1.
+
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include <fmt/format.h>
+#include <CLI/CLI.hpp>
+
+#include "weft/core/error.h"
+
+namespace weft::app {
+
+/// @brief A bad option value or a conflict of options (exit 2), not a failed run.
+class UsageError : public Error {
+ public:
+  explicit UsageError(const std::string& message) : Error(message) {}
+};
+
+/// @brief Throws UsageError with a fmt-formatted message naming the option.
+template <typename... Args>
+[[noreturn]] void usage_fail(fmt::format_string<Args...> format, Args&&... args) {
+  throw UsageError(fmt::format(format, std::forward<Args>(args)...));
+}
+
+/// @brief Runs `f` (a library parser or validator fed only option values) and turns its
+/// weft::Error into a UsageError with the same message.
+template <typename F>
+decltype(auto) as_usage(F&& f) {
+  try {
+    return std::forward<F>(f)();
+  } catch (const UsageError&) {
+    throw;
+  } catch (const Error& e) {
+    throw UsageError(e.what());
+  }
+}
+
+/// @brief `value` finite and > 0, else UsageError naming `option`.
+double usage_positive(const char* option, double value);
+/// @brief `value` finite and >= 0, else UsageError naming `option`.
+double usage_non_negative(const char* option, double value);
+
+/// CLI11 validators (parse time, exit 2). Unlike CLI::PositiveNumber they refuse NaN and ±inf.
+/// Finite and > 0.
+extern const CLI::Validator positive;
+/// Finite and >= 0.
+extern const CLI::Validator non_negative;
+/// An integer count >= `min` (the message says "must be >= min").
+CLI::Validator at_least(long long min);
+
+}  // namespace weft::app
