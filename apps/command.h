@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "usage.h"
 #include "weft/core/progress.h"
 
 namespace weft::app {

@@ -6,6 +6,7 @@
 
 #include <fmt/core.h>
 
+#include "usage.h"
 #include "weft/core/error.h"
 
 namespace weft::app {
@@ -26,8 +27,8 @@ void add_grid_input(CLI::App& sub, GridInputOptions& o, bool required) {
 }
 
 void check_grid_input(const GridInputOptions& o) {
-  if (o.sigma_given()) require_positive("--sigma", o.sigma);
-  if (o.extinction() && o.sigma_given()) fail("--sigma applies to concentration values, not --values extinction");
+  if (o.sigma_given()) usage_positive("--sigma", o.sigma);
+  if (o.extinction() && o.sigma_given()) usage_fail("--sigma applies to concentration values, not --values extinction");
 }
 
 SigmaChoice resolve_sigma(const GridInputOptions& o, const volume::Provenance& p, const std::string& what) {

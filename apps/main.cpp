@@ -4,14 +4,55 @@
 #include <exception>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <fmt/core.h>
 
 #include "command.h"
 #include "terminal_progress.h"
+#include "usage.h"
 #include "weft/core/error.h"
+#include "weft/core/names.h"
 #include "weft/core/parallel.h"
 #include "weft/dist/distributed.h"
+
+namespace {
+
+/// Longest edit distance that still earns a suggestion: a third of the word, at least 2.
+std::size_t suggest_distance(const std::string& word) { return std::max<std::size_t>(2, word.size() / 3); }
+
+std::string did_you_mean(const std::string& word, const std::vector<std::string>& candidates) {
+  const std::string best = weft::closest_name(word, candidates, suggest_distance(word));
+  return best.empty() ? std::string() : fmt::format("; did you mean '{}'?", best);
+}
+
+/// `weft valdate`, `weft validate --axis x`: CLI11 says "The following arguments were not
+/// expected: x --axis"; this names the first unknown word and the nearest command or option.
+std::string extras_message(const CLI::App& app, const CLI::App* sub) {
+  const std::vector<std::string> extras = app.remaining(true);
+  std::vector<std::string> options;
+  for (const CLI::App* a : {sub, &app}) {
+    if (a == nullptr) continue;
+    for (const CLI::Option* o : a->get_options()) {
+      for (const auto& n : o->get_lnames()) options.push_back("--" + n);
+    }
+  }
+  for (const auto& word : extras) {
+    if (word.size() < 2 || word[0] != '-') continue;
+    const std::string name = word.substr(0, word.find('='));
+    return fmt::format("{}unknown option '{}'{} (see weft {}--help)", sub != nullptr ? sub->get_name() + ": " : "",
+                       name, did_you_mean(name, options), sub != nullptr ? sub->get_name() + " " : "");
+  }
+  const std::string word = extras.empty() ? std::string() : extras.front();
+  if (sub == nullptr) {
+    std::vector<std::string> names;
+    for (const CLI::App* s : app.get_subcommands([](const CLI::App*) { return true; })) names.push_back(s->get_name());
+    return fmt::format("unknown command '{}'{} (see weft --help)", word, did_you_mean(word, names));
+  }
+  return fmt::format("{}: unexpected argument '{}' (see weft {} --help)", sub->get_name(), word, sub->get_name());
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace weft::app;
@@ -49,11 +90,21 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
+  } catch (const CLI::ExtrasError& e) {
+    const CLI::App* sub = nullptr;
+    for (const auto& entry : actions) {
+      if (entry.sub->parsed()) sub = entry.sub;
+    }
+    if (weft::dist::is_root()) fmt::print(stderr, "weft: error: {}\n", extras_message(app, sub));
+    return 2;
   } catch (const CLI::ParseError& e) {
     // --help and --version exit 0; every usage error exits 2 (the POSIX convention), whatever
     // CLI11's internal code, so scripts can tell a usage error from a failed run (exit 1).
     const int code = weft::dist::is_root() ? app.exit(e) : e.get_exit_code();
     return code == 0 ? 0 : 2;
+  } catch (const UsageError& e) {
+    if (weft::dist::is_root()) fmt::print(stderr, "weft: error: {}\n", e.what());
+    return 2;
   } catch (const weft::Error& e) {
     if (weft::dist::is_root()) fmt::print(stderr, "weft: error: {}\n", e.what());
     return 1;
@@ -81,6 +132,9 @@ int main(int argc, char** argv) {
     code = e.internal() ? 3 : 1;
     if (weft::dist::is_root())
       error = fmt::format("weft: error: {}{}", e.internal() ? "internal error: " : "", e.what());
+  } catch (const UsageError& e) {
+    code = 2;
+    error = fmt::format("weft: error: {}", e.what());
   } catch (const weft::Error& e) {
     code = 1;
     error = fmt::format("weft: error: {}", e.what());

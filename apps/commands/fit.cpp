@@ -14,10 +14,11 @@
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 #include "weft/fit/fit.h"
-#include "weft/fit/scale.h"
 #include "weft/fit/local_fields.h"
+#include "weft/fit/scale.h"
 #include "weft/fit/validation.h"
 #include "weft/volume/grid.h"
+#include "written_files.h"
 
 namespace weft::app {
 namespace {
@@ -95,13 +96,14 @@ const Registrar kFit{Command{
                      "Also write local fields per block of B^3 voxels to local_fields.vdb (0 = off)")
           ->capture_default_str();
       sub.add_option("--beams", o->beams, "beams.csv from `weft measure`: adds least-squares fits and model errors");
-      sub.add_option("--out", o->out, "Output folder")->capture_default_str();
+      sub.add_option("--out", o->out, "Output folder (created if missing): fit.json, local_fields.vdb with --block")
+          ->capture_default_str();
       return [o](const Context& ctx) -> int {
         check_grid_input(o->input);
-        fit::check_scale_text(o->window);
+        as_usage([&] { fit::check_scale_text(o->window); });
         if (o->block < 0 || o->block > fit::kMaxLocalBlock)
-          fail("--block must be in 0..{} voxels (0 = off), got {}", fit::kMaxLocalBlock, o->block);
-        const auto dirs = fit::parse_axes(o->axes);
+          usage_fail("--block must be in 0..{} voxels (0 = off), got {}", fit::kMaxLocalBlock, o->block);
+        const auto dirs = as_usage([&] { return fit::parse_axes(o->axes); });
         const LoadedGrid loaded = load_grid_input(o->input);
         const volume::Grid& grid = loaded.grid;
         const double sigma = loaded.sigma.sigma;
@@ -159,9 +161,15 @@ const Registrar kFit{Command{
           report["local_fields"] = {{"file", "local_fields.vdb"}, {"block", o->block}, {"blocks", fields->blocks}};
         const fs::path out = o->out;
         ensure_directory(out);
-        if (fields) fit::save_local_fields(*fields, out / "local_fields.vdb");
+        WrittenFiles files;
+        if (fields) {
+          fit::save_local_fields(*fields, out / "local_fields.vdb");
+          files.add(out / "local_fields.vdb", fmt::format("alpha, beta per {}^3 block", o->block));
+        }
+        report["outputs"] = files.to_json(out);
         write_text_atomically(out / "fit.json", report.dump(2) + "\n");
-        ctx.say(fmt::format("wrote {}", (out / "fit.json").string()));
+        files.add(out / "fit.json", "report");
+        files.say(ctx);
         return 0;
       };
     }}};

@@ -15,9 +15,11 @@
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 #include "weft/core/memory.h"
+#include "weft/core/names.h"
 #include "weft/curves/curve_io.h"
 #include "weft/render/cloth_scene.h"
 #include "weft/viz/vtk_files.h"
+#include "written_files.h"
 
 namespace weft::app {
 namespace {
@@ -88,7 +90,7 @@ double parse_memory_mb(const std::string& text) {
   try {
     value = std::stod(text, &used);
   } catch (const std::exception&) {
-    fail("--max-memory: '{}' is not a size (e.g. 512M, 4G)", text);
+    usage_fail("--max-memory: '{}' is not a size (e.g. 512M, 4G)", text);
   }
   std::string unit = text.substr(used);
   if (!unit.empty() && (unit.back() == 'B' || unit.back() == 'b')) unit.pop_back();
@@ -104,9 +106,9 @@ double parse_memory_mb(const std::string& text) {
   } else if (unit == "T" || unit == "t") {
     bytes *= 1024.0 * 1024.0 * 1024.0 * 1024.0;
   } else {
-    fail("--max-memory: unknown unit in '{}' (use K, M, G or T)", text);
+    usage_fail("--max-memory: unknown unit in '{}' (use K, M, G or T)", text);
   }
-  if (!(bytes > 0.0) || !std::isfinite(bytes)) fail("--max-memory: must be > 0, got '{}'", text);
+  if (!(bytes > 0.0) || !std::isfinite(bytes)) usage_fail("--max-memory: must be > 0, got '{}'", text);
   return bytes / (1024.0 * 1024.0);
 }
 
@@ -121,16 +123,20 @@ void set_yarn_field(cloth::YarnParams& yarn, const std::string& key, const std::
     } catch (const std::exception&) {
       used = 0;
     }
-    if (used == 0 || used != value.size()) fail("{}: '{}' is not a number", where, value);
+    if (used == 0 || used != value.size()) usage_fail("{}: '{}' is not a number", where, value);
     if (f.integer) {
-      if (v != std::floor(v) || std::abs(v) > 1e9) fail("{}: '{}' is not an integer", where, value);
+      if (v != std::floor(v) || std::abs(v) > 1e9) usage_fail("{}: '{}' is not an integer", where, value);
       yarn.*(f.whole) = static_cast<int>(v);
     } else {
       yarn.*(f.real) = v;
     }
     return;
   }
-  fail("{}: unknown yarn parameter '{}' (see weft gen --help)", where, key);
+  std::vector<std::string> names;
+  for (const auto& f : cloth::yarn_fields()) names.emplace_back(f.name);
+  const std::string near = closest_name(key, names, std::max<std::size_t>(2, key.size() / 3));
+  usage_fail("{}: unknown yarn parameter '{}'{} (see weft gen --help)", where, key,
+             near.empty() ? std::string() : fmt::format("; did you mean '{}'?", near));
 }
 
 std::string yarn_parameter_help() {
@@ -174,17 +180,17 @@ ClothSpec make_spec(CLI::App& sub, const GenOptions& o) {
     char x = 0;
     char extra = 0;
     if (std::sscanf(o.yarns.c_str(), "%d%c%d%c", &a, &x, &b, &extra) != 3 || (x != 'x' && x != 'X') || a < 1 || b < 1) {
-      fail("--yarns: expected WARPxWEFT with positive counts (e.g. 8x8), got '{}'", o.yarns);
+      usage_fail("--yarns: expected WARPxWEFT with positive counts (e.g. 8x8), got '{}'", o.yarns);
     }
     spec.warp_count = a;
     spec.weft_count = b;
   }
-  if (given("--yarn")) spec.warp_yarn = spec.weft_yarn = cloth::yarn_preset(o.yarn);
-  if (given("--warp-yarn")) spec.warp_yarn = cloth::yarn_preset(o.warp_yarn);
-  if (given("--weft-yarn")) spec.weft_yarn = cloth::yarn_preset(o.weft_yarn);
+  if (given("--yarn")) spec.warp_yarn = spec.weft_yarn = as_usage([&] { return cloth::yarn_preset(o.yarn); });
+  if (given("--warp-yarn")) spec.warp_yarn = as_usage([&] { return cloth::yarn_preset(o.warp_yarn); });
+  if (given("--weft-yarn")) spec.weft_yarn = as_usage([&] { return cloth::yarn_preset(o.weft_yarn); });
   for (const auto& kv : o.set) {
     const auto eq = kv.find('=');
-    if (eq == std::string::npos) fail("--set: expected NAME=VALUE, got '{}'", kv);
+    if (eq == std::string::npos) usage_fail("--set: expected NAME=VALUE, got '{}'", kv);
     std::string key = kv.substr(0, eq);
     const std::string value = kv.substr(eq + 1);
     const std::string where = "--set " + kv;
@@ -205,14 +211,34 @@ ClothSpec make_spec(CLI::App& sub, const GenOptions& o) {
     spec.input = fs::absolute(o.input).lexically_normal().string();
     if (!given("--pattern")) spec.pattern = "import";
   }
+  // Conflicts are errors, not silently dropped options: a pattern other than import ignores the
+  // input curves, and an import ignores the pattern's yarn counts, spacings and crimp.
+  const bool import = spec.pattern == "import";
+  if (!import && !spec.input.empty()) {
+    if (given("--input"))
+      usage_fail("--input {} and --pattern {} conflict: a woven or knit pattern ignores input curves (give one)",
+                 o.input, spec.pattern);
+    usage_fail(
+        "--pattern {} conflicts with the input curves {} of --config {} (a woven or knit pattern ignores "
+        "them; edit the config's \"input\" out to switch)",
+        spec.pattern, spec.input, o.config);
+  }
+  if (import) {
+    for (const char* name : {"--yarns", "--spacing", "--warp-spacing", "--weft-spacing", "--crimp"}) {
+      if (given(name))
+        usage_fail("{} conflicts with imported curves ({}): it only shapes woven and knit patterns", name,
+                   spec.input.empty() ? std::string("--pattern import") : spec.input);
+    }
+  }
   if (given("--input-scale")) spec.input_scale = o.input_scale;
   if (given("--voxel-size")) spec.voxel_size = o.voxel_size;
   if (given("--samples-per-voxel")) spec.samples_per_voxel = o.samples_per_voxel;
   if (given("--seed")) spec.seed = o.seed;
   if (given("--max-memory")) spec.max_memory_mb = parse_memory_mb(o.max_memory);
-  // Every parameter is checked before anything runs or is written.
-  spec = cloth::resolve(spec);
-  cloth::validate(spec);
+  // Every parameter is checked before anything runs or is written. A --config file was checked
+  // when loaded (exit 1), so what fails here comes from the command line: a usage error (exit 2).
+  spec = as_usage([&] { return cloth::resolve(spec); });
+  as_usage([&] { cloth::validate(spec); });
   return spec;
 }
 
@@ -256,8 +282,9 @@ const Registrar kGen{Command{
       sub.add_option("--input", o->input,
                      "Yarn centrelines to build fibres around: .bcc (PL or C0) or .obj ('l' polylines)");
       sub.add_option("--input-scale", o->input_scale, "Factor from the input file's units to mm")
+          ->check(positive)
           ->capture_default_str();
-      sub.add_option("--voxel-size", o->voxel_size, "Voxel edge in mm")->capture_default_str();
+      sub.add_option("--voxel-size", o->voxel_size, "Voxel edge in mm")->check(positive)->capture_default_str();
       sub.add_option("--samples-per-voxel", o->samples_per_voxel,
                      "Voxelizer quadrature points per voxel edge (volume is conserved for any value)")
           ->capture_default_str();

@@ -1,5 +1,6 @@
 // `weft measure`: ground-truth transmittance of beams through a grid (DDA), and optionally the
 // particle-origin (T_S) vs source-origin (T_Q) rays of the reciprocity check.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -12,6 +13,7 @@
 #include "weft/core/error.h"
 #include "weft/volume/beam.h"
 #include "weft/volume/grid.h"
+#include "written_files.h"
 
 namespace weft::app {
 namespace {
@@ -43,8 +45,11 @@ const Registrar kMeasure{Command{
       sub.add_option("--direction", o->directions,
                      "Beam direction, repeatable: x, y, z (optionally signed) or dx,dy,dz")
           ->capture_default_str();
-      sub.add_option("--rays", o->rays, "Rays per column (> 1: jittered)")->capture_default_str();
-      sub.add_flag("--jitter", o->jitter, "Jitter ray origins inside their column cell");
+      sub.add_option("--rays", o->rays,
+                     "Rays per column (> 1: jittered); oblique beams only: an axis beam's rays of one column "
+                     "cross the same voxels (refused when every beam is an axis beam)")
+          ->capture_default_str();
+      sub.add_flag("--jitter", o->jitter, "Jitter ray origins inside their column cell (oblique beams only)");
       sub.add_option("--depth-step", o->depth_step, "Depth spacing of T(t) [length] (default: one voxel)");
       sub.add_option("--method", o->method, "auto | streaming | per-ray | openvdb")->capture_default_str();
       sub.add_option("--seed", o->seed, "Seed of jittered and scatterer rays")->capture_default_str();
@@ -53,14 +58,27 @@ const Registrar kMeasure{Command{
       sub.add_option("--scatterer-rays", o->scatterer_rays, "Rays of each kind for --scatterer")->capture_default_str();
       sub.add_option("--scatterer-direction", o->scatterer_direction,
                      "Fixed direction of --scatterer rays (default: isotropic)");
-      sub.add_option("--out", o->out, "Output folder")->capture_default_str();
+      sub.add_option("--out", o->out,
+                     "Output folder (created if missing): beams.csv, measure.json, scatterer.csv with --scatterer")
+          ->capture_default_str();
       return [o](const Context& ctx) -> int {
         const auto t_start = std::chrono::steady_clock::now();
         check_grid_input(o->input);
-        if (o->rays < 1) fail("--rays must be >= 1, got {}", o->rays);
+        if (o->rays < 1) usage_fail("--rays must be >= 1, got {}", o->rays);
         std::vector<std::array<double, 3>> dirs;
-        for (const auto& d : o->directions) dirs.push_back(volume::parse_direction(d));
-        const auto method = volume::parse_beam_method(o->method);
+        for (const auto& d : o->directions) dirs.push_back(as_usage([&] { return volume::parse_direction(d); }));
+        const auto method = as_usage([&] { return volume::parse_beam_method(o->method); });
+        // Axis rays of one column cross the same voxels: more rays per column or jitter cannot
+        // change an axis beam (same T, same standard error). Refused when every beam is an axis
+        // beam (the request cannot mean what it says), noted per axis beam otherwise.
+        const bool more_rays = o->rays > 1 || o->jitter;
+        const bool all_axis =
+            std::all_of(dirs.begin(), dirs.end(), [](const auto& d) { return volume::beam_axis(d) >= 0; });
+        if (more_rays && all_axis)
+          usage_fail(
+              "{}: axis beams' rays in one voxel column cross the same voxels, so more rays per column and "
+              "jitter cannot change T or its error; drop them, or add an oblique --direction (e.g. 1,1,1)",
+              o->rays > 1 ? fmt::format("--rays {}", o->rays) : std::string("--jitter"));
         const LoadedGrid loaded = load_grid_input(o->input);
         const volume::Grid& grid = loaded.grid;
         const double sigma = loaded.sigma.sigma;
@@ -89,7 +107,8 @@ const Registrar kMeasure{Command{
           }
           beams.push_back({{"beam", b},
                            {"direction", volume::direction_label(curve.direction)},
-                           {"rays", curve.rays},
+                           {"rays", curve.distinct_rays},
+                           {"rays_traced", curve.rays},
                            {"method", curve.method},
                            {"depth_max", curve.depth.back()},
                            {"T_at_depth_max", curve.transmittance(curve.size() - 1)},
@@ -137,22 +156,33 @@ const Registrar kMeasure{Command{
                        {"scatterer", scatterer}};
         const fs::path out = o->out;
         ensure_directory(out);
+        WrittenFiles files;
         write_text_atomically(out / "beams.csv", csv);
-        if (o->scatterer) write_text_atomically(out / "scatterer.csv", scatterer_csv);
+        files.add(out / "beams.csv", "T(t) per beam");
+        if (o->scatterer) {
+          write_text_atomically(out / "scatterer.csv", scatterer_csv);
+          files.add(out / "scatterer.csv", "T_S, T_Q, p_Q");
+        }
         report["seconds_total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+        report["outputs"] = files.to_json(out);
         write_text_atomically(out / "measure.json", report.dump(2) + "\n");
+        files.add(out / "measure.json", "report");
         for (const auto& b : beams) {
+          const auto traced = b["rays_traced"].get<std::uint64_t>();
+          const auto distinct = b["rays"].get<std::uint64_t>();
+          if (traced != distinct)
+            ctx.say(fmt::format("note: beam {}: {} rays per column cross the same voxels; {} distinct rays",
+                                b["direction"].get<std::string>(), o->rays, distinct));
           ctx.say(fmt::format("beam {:<24} rays {:>9}  T({:.4g}) = {:.4e} (log T = {:.4g})  {:.2f}s [{}]",
-                              b["direction"].get<std::string>(), b["rays"].get<std::uint64_t>(),
-                              b["depth_max"].get<double>(), b["T_at_depth_max"].get<double>(),
-                              b["logT_at_depth_max"].get<double>(), b["seconds"].get<double>(),
-                              b["method"].get<std::string>()));
+                              b["direction"].get<std::string>(), distinct, b["depth_max"].get<double>(),
+                              b["T_at_depth_max"].get<double>(), b["logT_at_depth_max"].get<double>(),
+                              b["seconds"].get<double>(), b["method"].get<std::string>()));
         }
         if (o->scatterer) {
           ctx.say(fmt::format("scatterer rays: max |p_Q - mu T_S|/mu = {:.3g}",
                               scatterer["max_abs_pQ_minus_mu_TS_over_mu"].get<double>()));
         }
-        ctx.say(fmt::format("wrote {}", (out / "beams.csv").string()));
+        files.say(ctx);
         return 0;
       };
     }}};

@@ -73,7 +73,7 @@ double parse_number(const std::string& what, const std::string& text) {
   char* end = nullptr;
   const double value = std::strtod(text.c_str(), &end);
   if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE) {
-    fail("{}: expected a number, got '{}'", what, text);
+    usage_fail("{}: expected a number, got '{}'", what, text);
   }
   return value;
 }
@@ -83,10 +83,10 @@ std::vector<double> parse_distances(const std::string& list) {
   std::stringstream in(list);
   for (std::string item; std::getline(in, item, ',');) {
     const double t = parse_number("--t", item);
-    if (std::isnan(t) || t < 0.0) fail("--t: distances must be >= 0, got '{}'", item);
+    if (std::isnan(t) || t < 0.0) usage_fail("--t: distances must be >= 0, got '{}'", item);
     out.push_back(t);
   }
-  if (out.empty()) fail("--t: no distances given");
+  if (out.empty()) usage_fail("--t: no distances given");
   return out;
 }
 
@@ -129,7 +129,7 @@ int run(const ModelOptions& o, const std::vector<bool>& given_flags, const Conte
   spec.table = o.table;
   // The gamma law's p ∝ T sampling (S.55–S.57) is a sampler of the app, not a registry law.
   const bool proportional = o.sampler == "proportional";
-  if (proportional && o.law != "gamma") fail("--sampler proportional is only for the gamma law");
+  if (proportional && o.law != "gamma") usage_fail("--sampler proportional is only for the gamma law");
   spec.sampler = proportional ? std::string() : o.sampler;
   bool any_parameter = !o.table.empty();
   // A law with list parameters (gamma-mixture) reads each flag as a comma-separated list,
@@ -143,7 +143,7 @@ int run(const ModelOptions& o, const std::vector<bool>& given_flags, const Conte
       for (std::string item; std::getline(in, item, ',');)
         spec.params[tr::list_parameter_key(kParamFlags[i].key, j++)] = parse_number(kParamFlags[i].flag, item);
       if (j == 0 || o.values[i].back() == ',')
-        fail("{}: expected a comma-separated list of numbers, got '{}'", kParamFlags[i].flag, o.values[i]);
+        usage_fail("{}: expected a comma-separated list of numbers, got '{}'", kParamFlags[i].flag, o.values[i]);
     } else {
       spec.params[kParamFlags[i].key] = parse_number(kParamFlags[i].flag, o.values[i]);
     }
@@ -154,30 +154,33 @@ int run(const ModelOptions& o, const std::vector<bool>& given_flags, const Conte
   const std::string note =
       "no law given: using the default gamma law (mean_extinction = 1 [1/length], alpha = 2); see weft model --help";
 
-  const tr::LawPtr law = tr::make_law(spec);
-  const tr::PairMode mode = tr::parse_pair_mode(o.pair);
-  const tr::Origin given = tr::parse_origin(o.given);
+  // Every law but the tabulated one is made from option values only: its errors are usage errors
+  // (exit 2); a table's errors are about its file (exit 1).
+  const tr::LawPtr law = o.law == "tabulated" ? tr::make_law(spec) : as_usage([&] { return tr::make_law(spec); });
+  const tr::PairMode mode = as_usage([&] { return tr::parse_pair_mode(o.pair); });
+  const tr::Origin given = as_usage([&] { return tr::parse_origin(o.given); });
   const tr::TransmittancePair pair = [&] {
     switch (mode) {
       case tr::PairMode::same:
         return tr::TransmittancePair::same(law);
       case tr::PairMode::explicit_:
-        fail("--pair explicit needs two laws; weft model takes one (use reciprocal or same)");
+        usage_fail("--pair explicit needs two laws; weft model takes one (use reciprocal or same)");
       case tr::PairMode::reciprocal:
         break;
     }
     try {
       return tr::TransmittancePair::reciprocal(law, given);
     } catch (const Error& e) {
-      fail("{} (try --pair same, or --given {})", e.what(), given == tr::Origin::source ? "S" : "Q");
+      usage_fail("{} (try --pair same, or --given {})", e.what(), given == tr::Origin::source ? "S" : "Q");
     }
   }();
 
-  if (o.sample < 0) fail("--sample: expected a count >= 0, got {}", o.sample);
+  if (o.sample < 0) usage_fail("--sample: expected a count >= 0, got {}", o.sample);
   // A sane ceiling: more is a typo, and would run for hours (use several seeds instead).
-  if (o.sample > 1000000000LL) fail("--sample: at most 1e9 samples per run, got {} (run several seeds)", o.sample);
+  if (o.sample > 1000000000LL)
+    usage_fail("--sample: at most 1e9 samples per run, got {} (run several seeds)", o.sample);
   if (o.sample > 0) {
-    const tr::Origin from = tr::parse_origin(o.from);
+    const tr::Origin from = as_usage([&] { return tr::parse_origin(o.from); });
     if (default_law && !ctx.globals.quiet) fmt::print(stderr, "weft: note: {}\n", note);
     Pcg32 rng = stream_for(o.seed, 0);
     // Streamed in chunks: N may be far larger than memory.

@@ -21,6 +21,7 @@
 #include "weft/render/convergence.h"
 #include "weft/render/render.h"
 #include "weft/viz/chart.h"
+#include "written_files.h"
 
 namespace weft::app {
 namespace {
@@ -30,6 +31,7 @@ namespace fs = std::filesystem;
 struct RenderCliOptions {
   std::string scene;
   std::string output;
+  std::string out_dir;  ///< --out DIR: <DIR>/<scene>.exr and .png (the convention of every command)
   int spp = 0;
   double time_budget = 0.0;
   std::optional<std::uint64_t> seed;
@@ -71,13 +73,18 @@ fs::path default_cloth_grid(const Context& ctx) {
   return vdb;
 }
 
-/// `-o` names the EXR or the PNG; the other is written beside it with the other extension.
-/// Anything else is refused rather than silently renamed.
-void output_paths(const std::string& output, const std::string& label, fs::path& exr, fs::path& png) {
-  const fs::path given = output.empty() ? fs::path(label + ".exr") : fs::path(output);
+/// `--out DIR` writes <DIR>/<scene>.exr; `-o` names the EXR or the PNG; the other is written beside
+/// it with the other extension. Anything else is refused rather than silently renamed.
+void output_paths(const RenderCliOptions& o, const std::string& label, fs::path& exr, fs::path& png) {
+  const std::string& output = o.output;
+  const fs::path given = !o.out_dir.empty() ? fs::path(o.out_dir) / (label + ".exr")
+                         : output.empty()   ? fs::path(label + ".exr")
+                                            : fs::path(output);
   const std::string ext = given.extension().string();
   if (ext != ".exr" && ext != ".png")
-    fail("output '{}' must end in .exr or .png (both are written, the other one beside it)", output);
+    usage_fail(
+        "-o: '{}' must end in .exr or .png (both are written, the other one beside it; --out DIR names a folder)",
+        output);
   exr = given;
   exr.replace_extension(".exr");
   png = given;
@@ -125,15 +132,18 @@ int run(const RenderCliOptions& o, const Context& ctx) {
   }
   fs::path exr;
   fs::path png;
-  output_paths(o.output, label, exr, png);
+  output_paths(o, label, exr, png);
   const fs::path folder = exr.has_parent_path() ? exr.parent_path() : fs::path(".");
-  if (!fs::is_directory(folder)) fail("output folder '{}' does not exist", folder.string());
+  // -o FILE writes into an existing folder; --out DIR is created (after the checks, before the
+  // first file) like every command's --out.
+  if (o.out_dir.empty() && !fs::is_directory(folder)) fail("output folder '{}' does not exist", folder.string());
 
+  WrittenFiles files;
   render::RenderOptions options;
   if (o.spp > 0) options.spp = o.spp;
   options.seed = o.seed;
   options.time_budget_seconds = o.time_budget;
-  if (o.reference_spp > 0 && o.convergence != "auto") fail("--reference-spp needs --convergence auto");
+  if (o.reference_spp > 0 && o.convergence != "auto") usage_fail("--reference-spp needs --convergence auto");
 
   Convergence conv;
   if (!o.convergence.empty()) {
@@ -147,7 +157,11 @@ int run(const RenderCliOptions& o, const Context& ctx) {
       ref.seed = options.seed.value_or(scene.integrator.seed) + 0x9E3779B97F4A7C15ULL;
       ctx.say(fmt::format("rendering the reference at {} spp", *ref.spp));
       conv.reference = render::render(scene, ref, ctx.progress).image;
-      if (dist::is_root()) render::write_exr(beside(exr, ".reference.exr"), *conv.reference);
+      if (dist::is_root()) {
+        if (!o.out_dir.empty()) ensure_directory(o.out_dir);
+        render::write_exr(beside(exr, ".reference.exr"), *conv.reference);
+        files.add(beside(exr, ".reference.exr"), "reference, linear");
+      }
     } else {
       conv.reference = render::read_exr(o.convergence);
     }
@@ -173,8 +187,11 @@ int run(const RenderCliOptions& o, const Context& ctx) {
 
   const render::RenderResult result = render::render(scene, options, ctx.progress);
   if (!dist::is_root()) return 0;  // the tiles were gathered on rank 0, which writes
+  if (!o.out_dir.empty()) ensure_directory(o.out_dir);
   render::write_exr(exr, result.image);
+  files.add(exr, "linear");
   render::write_png(png, result.image, o.exposure);
+  files.add(png, "sRGB");
 
   const auto& s = result.stats;
   if (default_scene) ctx.say(fmt::format("rendered the default scene '{}' (no scene given)", label));
@@ -190,7 +207,6 @@ int run(const RenderCliOptions& o, const Context& ctx) {
                         static_cast<double>(s.medium_cells) / static_cast<double>(s.paths),
                         static_cast<double>(s.medium_lookups) / static_cast<double>(s.paths)));
   if (s.invalid_samples > 0) ctx.say(fmt::format("warning: {} NaN/inf samples were dropped", s.invalid_samples));
-  ctx.say(fmt::format("wrote {} (linear) and {} (sRGB)", exr.string(), png.string()));
 
   if (conv.reference) {
     // The rate: fit log RMSE against log spp and log seconds over the points from 2 spp on
@@ -213,6 +229,7 @@ int run(const RenderCliOptions& o, const Context& ctx) {
     }
     const fs::path csv_path = beside(exr, ".convergence.csv");
     write_text_atomically(csv_path, conv.csv);
+    files.add(csv_path, "RMSE vs spp and seconds");
     nlohmann::json summary = {
         {"scene", label},
         {"width", scene.camera.width},
@@ -236,10 +253,11 @@ int run(const RenderCliOptions& o, const Context& ctx) {
     }
     const fs::path json_path = beside(exr, ".convergence.json");
     write_text_atomically(json_path, summary.dump(2) + "\n");
+    files.add(json_path, "convergence summary");
     const fs::path sheet_path = beside(exr, ".contact.png");
     if (!conv.sheet.empty()) {
       render::write_png(sheet_path, render::contact_sheet(conv.sheet, 4, 1.0F), o.exposure);
-      ctx.say(fmt::format("wrote {} (left to right: {} spp)", sheet_path.string(), fmt::join(conv.sheet_spp, ", ")));
+      files.add(sheet_path, fmt::format("contact sheet, left to right: {} spp", fmt::join(conv.sheet_spp, ", ")));
     }
     const fs::path chart_path = beside(exr, ".convergence.png");
     // Two panels: samples per pixel and seconds are different units, so each gets its own axis.
@@ -260,9 +278,13 @@ int run(const RenderCliOptions& o, const Context& ctx) {
         viz::Series{"RMSE", conv.seconds, conv.error, {214, 39, 40}, viz::LineStyle::solid, 2.0f, viz::Marker::circle}};
     const viz::RenderOutcome outcome =
         viz::save_chart_grid_png({by_spp_chart, by_time_chart}, 2, chart_path, "Convergence of " + label);
-    ctx.say(fmt::format("wrote {}, {}{}", csv_path.string(), json_path.string(),
-                        outcome.written ? " and " + chart_path.string() : " (no chart: " + outcome.reason + ")"));
+    if (outcome.written) {
+      files.add(chart_path, "convergence chart");
+    } else {
+      ctx.say(fmt::format("no chart {}: {}", chart_path.string(), outcome.reason));
+    }
   }
+  files.say(ctx);
   return 0;
 }
 
@@ -274,9 +296,13 @@ const Registrar kRender{Command{
           "scene", o->scene,
           "Scene file (.json, docs/scene-format.md, e.g. the scene.json `weft gen` writes) or built-in scene name; "
           "default: the default cloth of `weft gen` as a grid medium");
-      sub.add_option("-o,--output", o->output,
-                     "Output path ending in .exr or .png; both are written, the other beside it "
-                     "(default: <scene>.exr)");
+      auto* output = sub.add_option("-o,--output", o->output,
+                                    "Image path ending in .exr or .png in an existing folder; both are written, the "
+                                    "other beside it (default: ./<scene>.exr)");
+      sub.add_option("--out", o->out_dir,
+                     "Output folder (created if missing), like every weft command: writes <scene>.exr, "
+                     "<scene>.png and the --convergence files inside")
+          ->excludes(output);
       sub.add_option("--spp", o->spp, "Samples per pixel (default: the scene's)")->check(CLI::Range(1, 1 << 24));
       sub.add_option("--time-budget", o->time_budget,
                      "Stop after the sample pass that ends past this many seconds (0 = no limit)")

@@ -15,12 +15,14 @@
 #include <nlohmann/json.hpp>
 
 #include "command.h"
+#include "data_gen/media2d/law_fit.h"
 #include "data_gen/media2d/simulation.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 #include "weft/dist/distributed.h"
 #include "weft/viz/chart.h"
 #include "weft/viz/vtk_files.h"
+#include "written_files.h"
 
 namespace weft::app {
 namespace {
@@ -164,10 +166,25 @@ nlohmann::json report_json(const SimulationResult& r, const nlohmann::json& outp
                       {"params", params},
                       {"chi2", f.chi2},
                       {"dof", f.dof},
+                      {"bic", media2d::bic(f)},
                       {"converged", f.converged},
                       {"note", f.note}});
     }
     je["fits"] = fits;
+    nlohmann::json selection;
+    // Selected on the free-path histograms p_Q, p_S (independent bins), reported for T_Q, T_S.
+    for (const auto& [label, curve] : {std::pair<const char*, const char*>{"T_Q_iso", "p_Q_iso"}, {"T_S", "p_S"}}) {
+      const media2d::LawSelection s = media2d::select_law(e.fits, curve);
+      selection[label] = {{"selected", s.selected},
+                          {"fitted_to", curve},
+                          {"criterion", media2d::LawSelection::kCriterion},
+                          {"lowest_chi2", s.lowest_chi2},
+                          {"delta_chi2_selected_minus_lowest", s.delta_chi2},
+                          {"delta_bic_lowest_chi2_minus_selected", s.delta_bic},
+                          {"runner_up", s.runner_up},
+                          {"delta_bic_runner_up", s.runner_up_delta_bic}};
+    }
+    je["law_selection"] = selection;
     nlohmann::json structure = nlohmann::json::array();
     for (const auto& st : e.structure) {
       structure.push_back({{"realization", st.realization},
@@ -295,7 +312,9 @@ const Registrar kSim2d{Command{
       sub.add_option("--eta", o->etas, "Degrees of correlation, comma-separated, each in [-1, 1)")
           ->delimiter(',')
           ->capture_default_str();
-      sub.add_option("--out", o->out, "Output folder (created)")->capture_default_str();
+      sub.add_option("--out", o->out,
+                     "Output folder (created if missing): curves.csv, report.json, particles_eta*.vtp, charts *.png")
+          ->capture_default_str();
       sub.add_flag("--quick", o->quick,
                    "Small fast run for tests: r = 1e-4, 8 realizations x 400 samples, t-max 20, boundary at 4 (where "
                    "enough of the few rays still fly for the boundary to show)");
@@ -350,7 +369,7 @@ const Registrar kSim2d{Command{
         spec.structure_realizations = o->structure_realizations;
         spec.structure_max_points = o->structure_max_points;
         spec.seed = o->seed;
-        if (o->quick && o->paper) fail("sim2d: --quick and --paper exclude each other");
+        if (o->quick && o->paper) usage_fail("sim2d: --quick and --paper exclude each other");
         // Presets fill only what the user did not set explicitly.
         auto unset = [&sub](const char* name) { return sub.count(name) == 0; };
         if (o->quick) {
@@ -365,7 +384,8 @@ const Registrar kSim2d{Command{
           if (unset("--realizations")) spec.realizations = 2000;
           if (unset("--samples")) spec.samples = 1000;
         }
-        media2d::validate(spec);
+        // The spec holds option values only: what it refuses is a usage error (exit 2).
+        as_usage([&] { media2d::validate(spec); });
         const fs::path out(o->out);
         if (dist::is_root()) ensure_directory(out);
 
@@ -373,7 +393,9 @@ const Registrar kSim2d{Command{
         if (!dist::is_root()) return 0;  // rank 0 reduced the realizations and writes everything
 
         nlohmann::json outputs;
+        WrittenFiles files;
         write_text_atomically(out / "curves.csv", curves_csv(result));
+        files.add(out / "curves.csv", "curves per eta");
         outputs["curves"] = "curves.csv";
 
         // One realization's particles (realization 0 of the first eta) for ParaView.
@@ -391,6 +413,7 @@ const Registrar kSim2d{Command{
           points.point_scalars["cluster"] = std::move(cluster);
           const std::string name = fmt::format("particles_{}.vtp", eta_tag(spec.etas.front()));
           viz::write_vtp(points, out / name);
+          files.add(out / name, "one realization's particles");
           outputs["particles"] = name;
         }
 
@@ -403,23 +426,25 @@ const Registrar kSim2d{Command{
             const viz::RenderOutcome outcome =
                 viz::save_chart_grid_png(panels, static_cast<int>(panels.size()), out / name);
             charts.push_back({{"file", name}, {"written", outcome.written}, {"reason", outcome.reason}});
+            if (outcome.written) files.add(out / name, "chart");
             if (!outcome.written) ctx.say(fmt::format("chart {} not written: {}", name, outcome.reason));
           }
         }
         outputs["charts"] = charts;
+        outputs["files"] = files.to_json(out);
         write_text_atomically(out / "report.json", report_json(result, outputs, ctx).dump(2) + "\n");
+        files.add(out / "report.json", "report");
 
         for (const auto& w : result.warnings) ctx.say("warning: " + w);
         for (const EtaResult& e : result.etas) {
           const auto& rec = e.reciprocity;
-          std::string best;
-          double best_chi2 = std::numeric_limits<double>::infinity();
-          for (const auto& f : e.fits) {
-            if (f.curve == "T_Q_iso" && f.chi2 < best_chi2) {
-              best_chi2 = f.chi2;
-              best = f.law;
-            }
-          }
+          // Parsimony: the lowest BIC, not the lowest chi2 (law_fit.h); the runner-up is named too.
+          const media2d::LawSelection sel = media2d::select_law(e.fits, "p_Q_iso");
+          std::string best = sel.selected;
+          if (!sel.runner_up.empty())
+            best += fmt::format(" (BIC; next {} +{:.1f})", sel.runner_up, sel.runner_up_delta_bic);
+          if (sel.lowest_chi2 != sel.selected)
+            best += fmt::format(", {} has chi2 lower by {:.2f} with more parameters", sel.lowest_chi2, sel.delta_chi2);
           ctx.say(
               fmt::format("eta {:+.2f} {:<11} n = {:>8}  ell_Q = {:.3f} +- {:.3f}  ell_S = {:.3f} +- {:.3f}  "
                           "reciprocity chi2/dof = {:.1f}/{}  best law for T_Q: {}",
@@ -428,7 +453,7 @@ const Registrar kSim2d{Command{
         }
         ctx.say(fmt::format("{} realization(s) per eta on {} rank(s) x {} thread(s)", spec.realizations, ctx.ranks(),
                             ctx.threads()));
-        ctx.say(fmt::format("wrote {}", (out / "report.json").string()));
+        files.say(ctx);
         return 0;
       };
     },

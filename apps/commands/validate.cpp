@@ -52,7 +52,8 @@ const Registrar kValidate{Command{
     "validate",
     "Ground-truth beams vs the gamma law, predictive models and the exponential (Fig. S.13), default: built-in "
     "cloth",
-    5, [](CLI::App& sub) -> Action {
+    5,
+    [](CLI::App& sub) -> Action {
       auto o = std::make_shared<ValidateOptions>();
       add_grid_input(sub, o->input, false);
       sub.add_option("--cloth", o->cloth, "cloth.json to generate (default: the built-in plain weave)")
@@ -88,22 +89,22 @@ const Registrar kValidate{Command{
           ->needs(sweep);
       return [o](const Context& ctx) -> int {
         const auto t_start = std::chrono::steady_clock::now();
-        if (o->quick && !o->sweep && !o->corpus) fail("--quick needs --sweep or --corpus");
+        if (o->quick && !o->sweep && !o->corpus) usage_fail("--quick needs --sweep or --corpus");
         json timings = json::object();
         // Everything is checked and computed before the output folder is touched.
-        if (o->rays < 1) fail("--rays must be >= 1, got {}", o->rays);
+        if (o->rays < 1) usage_fail("--rays must be >= 1, got {}", o->rays);
         check_grid_input(o->input);
-        fit::check_scale_text(o->window);
+        as_usage([&] { fit::check_scale_text(o->window); });
         if (o->input.extinction() && o->input.grid.empty())
-          fail("--values extinction needs --grid (a cloth grid holds concentrations)");
+          usage_fail("--values extinction needs --grid (a cloth grid holds concentrations)");
         // Only --sweep is spread over MPI ranks; the validation and the corpus run on rank 0.
         if (!o->sweep && !dist::is_root()) return 0;
         if (o->corpus) return run_corpus({o->out, o->no_plot, o->quick, o->seed, o->window}, ctx);
         fit::ValidationSpec spec;
-        spec.directions = fit::parse_axes(o->axes);
+        spec.directions = as_usage([&] { return fit::parse_axes(o->axes); });
         spec.rays_per_column = o->rays;
         spec.seed = o->seed;
-        spec.method = volume::parse_beam_method(o->method);
+        spec.method = as_usage([&] { return volume::parse_beam_method(o->method); });
 
         json input;
         volume::Grid grid;

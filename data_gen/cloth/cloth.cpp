@@ -10,6 +10,7 @@
 #include "data_gen/cloth/voxelize.h"
 #include "data_gen/cloth/yarn.h"
 #include "weft/core/error.h"
+#include "weft/core/file_kind.h"
 #include "weft/core/parallel.h"
 #include "weft/volume/provenance.h"
 
@@ -37,6 +38,12 @@ ClothSpec load_cloth_spec(const std::filesystem::path& path) {
   if (!in) fail("{}: cannot open", path.string());
   std::ostringstream text;
   text << in.rdbuf();
+  // A wrong kind of file (the .vdb beside cloth.json, a .bcc) is named, not fed to the JSON
+  // parser, whose message ("parse error ... last read: ' B'") says nothing useful.
+  const std::string_view head = std::string_view(text.view()).substr(0, 512);
+  if (!looks_like_json(head))
+    fail("{}: not a cloth JSON (looks like {}); a cloth JSON is the cloth.json weft gen writes", path.string(),
+         file_kind(head));
   return cloth_spec_from_json(text.str(), path.string());
 }
 

@@ -534,6 +534,17 @@ SimulationResult simulate(const SimulationSpec& spec, ProgressSink& progress) {
         er.fits.push_back(std::move(fit));
       }
     }
+    // The same laws on the free-path histograms (nearly independent bins): what law selection
+    // compares (law_fit.h, select_law).
+    const double bin_width = result.edges[1] - result.edges[0];
+    for (const auto& [name, curve] : {std::pair<std::string, const Curve*>{"p_Q_iso", &er.p_q_iso},
+                                      std::pair<std::string, const Curve*>{"p_S", &er.p_s}}) {
+      for (const char* law : {"exponential", "gamma", "linear", "gamma-path"}) {
+        LawFit fit = fit_law_binned(law, result.edges, curve->value, curve->stderr_, floor / bin_width);
+        fit.curve = name;
+        er.fits.push_back(std::move(fit));
+      }
+    }
     result.etas.push_back(std::move(er));
   }
   return result;

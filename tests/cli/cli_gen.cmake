@@ -139,8 +139,8 @@ endforeach()
 
 # name | arguments | what the error must name
 set(WEFT_GEN_BAD_CASES
-    "voxel_size_zero|--voxel-size 0|voxel_size"
-    "voxel_size_nan|--voxel-size nan|voxel_size"
+    "voxel_size_zero|--voxel-size 0|--voxel-size: must be finite and > 0"
+    "voxel_size_nan|--voxel-size nan|--voxel-size"
     "negative_spacing|--spacing -0.5|spacing"
     "negative_radius|--set fiber_radius=-0.01|fiber_radius"
     "nan_pitch|--set warp.ply_pitch=nan|ply_pitch"

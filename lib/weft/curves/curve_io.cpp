@@ -14,6 +14,7 @@
 
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
+#include "weft/core/file_kind.h"
 
 namespace weft::curves {
 namespace fs = std::filesystem;
@@ -106,7 +107,8 @@ std::vector<Curve> parse_bcc(std::string_view data, const std::string& where, in
   const std::uintmax_t size = data.size();
   if (size < kBccHeaderBytes) fail("{}: truncated BCC file ({} bytes, the header alone is 64)", where, size);
   const auto* h = reinterpret_cast<const unsigned char*>(data.data());
-  if (std::memcmp(h, "BCC", 3) != 0) fail("{}: not a BCC file (signature is not 'BCC')", where);
+  if (std::memcmp(h, "BCC", 3) != 0)
+    fail("{}: not a BCC file (signature is not 'BCC'; looks like {})", where, file_kind(data.substr(0, 512)));
   if (h[3] != 0x44)
     fail("{}: unsupported BCC element sizes 0x{:02x} (only 0x44: 4-byte integers and floats)", where, h[3]);
   const std::string type(reinterpret_cast<const char*>(h + 4), 2);
@@ -200,6 +202,8 @@ std::vector<Curve> read_obj_curves(const fs::path& path) {
   const std::string where = path.string();
   const std::uintmax_t size = existing_file_size(path);
   const std::string text = read_whole(path, size);
+  const std::string_view head = std::string_view(text).substr(0, 512);
+  if (!head.empty() && !looks_like_text(head)) fail("{}: not an OBJ text (looks like {})", where, file_kind(head));
   std::vector<Point3> vertices;
   std::vector<Curve> curves;
   long last_end = -1;  // vertex index where the previous polyline ended, for chaining

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "weft/core/error.h"
+#include "weft/core/file_kind.h"
 #include "weft/transmittance/overflow.h"
 
 namespace weft::transmittance {
@@ -58,6 +59,16 @@ Tabulated::Tabulated(std::vector<double> t, std::vector<double> transmittance, s
 Tabulated Tabulated::from_csv(const std::string& path) {
   std::ifstream in(path);
   if (!in) fail("tabulated law: cannot open table file '{}'", path);
+  {
+    // A binary file (a .vdb, an image) is named, not quoted back line by line as garbage.
+    char head[512];
+    in.read(head, sizeof head);
+    const std::string_view h(head, static_cast<std::size_t>(in.gcount()));
+    if (!h.empty() && !looks_like_text(h))
+      fail("tabulated law: {}: not a CSV table of t,T (looks like {})", path, file_kind(h));
+    in.clear();
+    in.seekg(0);
+  }
   std::vector<double> t;
   std::vector<double> value;
   std::string line;

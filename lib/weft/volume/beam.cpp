@@ -710,6 +710,7 @@ TransmittanceCurve measure_beam(const Grid& grid, const BeamSpec& spec, Progress
   const bool streamed = curve.method == "streaming";
   curve.rays = streamed ? total.n * per_cell : total.n;
   const std::uint64_t independent = (L.axis >= 0 && !streamed) ? total.n / per_cell : total.n;
+  curve.distinct_rays = independent;
   total.finish(curve, independent);
   if (total.n == 0) fail("beam {}: no ray entered the grid", direction_label(L.d));
   return curve;
@@ -827,6 +828,7 @@ ScattererCurves measure_scatterer(const Grid& grid, const ScattererSpec& spec, P
   for (auto* c : {&out.t_s, &out.t_q}) {
     c->depth = depths;
     c->rays = spec.rays;
+    c->distinct_rays = spec.rays;
     c->direction = fixed;
     c->method = spec.fixed_direction ? "fixed direction" : "isotropic directions";
   }

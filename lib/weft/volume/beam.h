@@ -53,10 +53,13 @@ struct BeamSpec {
 
 /// T(t) on a depth grid, as log T with the relative standard error of T.
 struct TransmittanceCurve {
-  std::vector<double> depth;                       ///< world distance from the entry face
-  std::vector<double> log_t;                       ///< log of the mean over rays of exp(−τ_i(t))
-  std::vector<double> rel_stderr;                  ///< standard error of that mean divided by the mean
-  std::uint64_t rays = 0;                          ///< rays that entered the box (the samples)
+  std::vector<double> depth;       ///< world distance from the entry face
+  std::vector<double> log_t;       ///< log of the mean over rays of exp(−τ_i(t))
+  std::vector<double> rel_stderr;  ///< standard error of that mean divided by the mean
+  std::uint64_t rays = 0;          ///< rays traced that entered the box
+  /// Rays with distinct optical depths: an axis beam's rays_per_column rays of one column cross
+  /// the same voxels, so they count once (the samples behind the standard error); = rays otherwise.
+  std::uint64_t distinct_rays = 0;
   std::array<double, 3> direction{0.0, 0.0, 1.0};  ///< unit direction
   std::string method;
 

@@ -19,6 +19,7 @@
 
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
+#include "weft/core/file_kind.h"
 #include "weft/volume/grid_openvdb.h"
 
 namespace weft::volume {
@@ -95,7 +96,8 @@ class VdbScanner {
   void check() {
     const auto magic = read<std::int64_t>("magic number");
     if (magic != openvdb::OPENVDB_MAGIC)
-      fail("{}: cannot read OpenVDB file: not a .vdb file (bad magic number)", where_);
+      fail("{}: cannot read OpenVDB file: not a .vdb file (bad magic number; looks like {})", where_,
+           file_kind(std::string_view(reinterpret_cast<const char*>(data_), std::min<std::uint64_t>(size_, 512))));
     version_ = read<std::uint32_t>("file version");
     if (version_ < openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION || version_ > openvdb::OPENVDB_FILE_VERSION) {
       fail("{}: cannot read OpenVDB file: unsupported file format version {} (weft reads {} to {})", where_, version_,

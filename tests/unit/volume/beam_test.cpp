@@ -63,6 +63,35 @@ TEST(Beam, HandBuiltColumnsGiveExactlyTheKnownTransmittance) {
   }
 }
 
+// An axis beam's rays of one column cross the same voxels: 5 rays per column are 12 distinct
+// rays over the 4x3 face, for every method; an oblique beam's jittered rays are all distinct.
+TEST(Beam, CountsDistinctRaysOfAnAxisBeamOncePerColumn) {
+  const Grid g = known_columns(0.5, column_value);
+  for (BeamMethod method : {BeamMethod::streaming, BeamMethod::per_ray, BeamMethod::openvdb_dda}) {
+    BeamSpec spec;
+    spec.direction = {0.0, 0.0, 1.0};
+    spec.rays_per_column = 5;
+    spec.method = method;
+    const TransmittanceCurve c = measure_beam(g, spec);
+    EXPECT_EQ(c.rays, 60U) << to_string(method);
+    EXPECT_EQ(c.distinct_rays, 12U) << to_string(method);
+    spec.rays_per_column = 1;
+    const TransmittanceCurve one = measure_beam(g, spec);
+    EXPECT_EQ(one.distinct_rays, 12U);
+    for (std::size_t k = 0; k < c.size(); ++k) {
+      // Same T and standard error (to rounding: 5 copies of each ray are summed).
+      EXPECT_NEAR(c.log_t[k], one.log_t[k], 1e-12);
+      EXPECT_NEAR(c.rel_stderr[k], one.rel_stderr[k], 1e-12 * one.rel_stderr[k] + 1e-15);
+    }
+  }
+  BeamSpec oblique;
+  oblique.direction = {1.0, 1.0, 2.0};
+  oblique.rays_per_column = 3;
+  const TransmittanceCurve c = measure_beam(g, oblique);
+  EXPECT_EQ(c.distinct_rays, c.rays);
+  EXPECT_GT(c.rays, 0U);
+}
+
 TEST(Beam, FinerDepthStepInterpolatesExactly) {
   const Grid g = known_columns(1.0, column_value);
   BeamSpec spec;
