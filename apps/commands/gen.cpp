@@ -305,7 +305,7 @@ const Registrar kGen{Command{
         const cloth::ClothBuild build = cloth::build_cloth(spec, ctx.progress);
         const fs::path out(o->out);
         ensure_directory(out);
-        std::string written;
+        WrittenFiles files;
         for (const auto& output : kOutputs) {
           if (outputs.count(output.name) == 0) continue;
           const fs::path path = out / output.file;
@@ -321,19 +321,13 @@ const Registrar kGen{Command{
           } else {
             curves::write_bcc(path, cloth::fiber_curves(build.fibers), "weft fibres (mm)");
           }
-          std::error_code ec;
-          const auto bytes = fs::file_size(path, ec);
-          written += fmt::format("{}{} ({}, {})", written.empty() ? "" : ", ", path.string(), output.what,
-                                 ec ? std::string("size unknown") : format_bytes(bytes));
+          files.add(path, output.what);
         }
         if (outputs.count("grid") != 0) {
           // A scene that renders the grid as is: `weft render <out>/scene.json` (docs/render.md).
           const fs::path scene = out / "scene.json";
           write_text_atomically(scene, render::cloth_scene_json(out / "cloth.vdb", "cloth.vdb"));
-          std::error_code ec;
-          const auto bytes = fs::file_size(scene, ec);
-          written += fmt::format("{}{} (render scene, {})", written.empty() ? "" : ", ", scene.string(),
-                                 ec ? std::string("size unknown") : format_bytes(bytes));
+          files.add(scene, "render scene");
         }
         const auto& r = build.report;
         ctx.say(fmt::format("{} cloth, {} yarns, {} fibres ({:.1f} mm of fibre), seed {}", build.spec.pattern,
@@ -350,7 +344,8 @@ const Registrar kGen{Command{
                             format_bytes(build.grid.memory_bytes()),
                             format_bytes(build.fibers.points.size() * sizeof(cloth::Point3)),
                             cloth::describe(build.estimate)));
-        ctx.say(written.empty() ? std::string("wrote nothing (--write is empty)") : "wrote " + written);
+        if (files.entries().empty()) ctx.say("wrote nothing (--write is empty)");
+        files.say(ctx);
         return 0;
       };
     }}};

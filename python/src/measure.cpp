@@ -5,7 +5,11 @@
 
 #include "common.h"
 #include "weft/fit/fit.h"
+#include "weft/fit/report.h"
+#include "weft/fit/scale.h"
+#include "weft/fit/validation.h"
 #include "weft/volume/beam.h"
+#include "weft/volume/provenance.h"
 
 namespace weft::python {
 namespace {
@@ -201,6 +205,34 @@ void init_measure(py::module_& m) {
         return fit::compare(curve, model_log_t);
       },
       py::arg("curve"), py::arg("model_log_t"), "Errors of a model's log T against the ground truth.");
+
+  m.def(
+      "_validate_json",
+      [](const vol::Grid& grid, const py::object& sigma, const std::string& window, const std::string& axes,
+         int rays_per_column, std::uint64_t seed, const py::object& progress) {
+        // The same rules as `weft validate --grid`: σ from --sigma or the provenance, the scale from
+        // fit::resolve_scale, the report's science part from fit::validation_json.
+        const vol::Provenance prov = vol::read_provenance(grid);
+        fit::ValidationSpec spec;
+        if (!sigma.is_none()) {
+          spec.sigma = require_positive("validate: sigma", sigma.cast<double>());
+        } else if (prov.sigma) {
+          spec.sigma = *prov.sigma;
+        } else {
+          fail("validate: concentration grid without sigma in its metadata (not written by weft gen); pass sigma=S");
+        }
+        if (rays_per_column < 1) fail("validate: rays_per_column must be >= 1, got {}", rays_per_column);
+        spec.directions = fit::parse_axes(axes);
+        spec.rays_per_column = rays_per_column;
+        spec.seed = seed;
+        return run_released(progress, [&](ProgressSink& p) {
+          spec.scale = fit::resolve_scale(window, grid, prov, p).length;
+          return fit::validation_json(fit::validate(grid, spec, p));
+        });
+      },
+      py::arg("grid"), py::kw_only(), py::arg("sigma") = py::none(), py::arg("window") = "yarn",
+      py::arg("axes") = "x,y,z", py::arg("rays_per_column") = 1, py::arg("seed") = 1, py::arg("progress") = py::none(),
+      "The validation's report (JSON text); use weft.validate.");
 }
 
 }  // namespace weft::python

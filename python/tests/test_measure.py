@@ -1,6 +1,7 @@
 """Ground truth, window statistics and fits through Python, against numpy oracles and the CLI."""
 
 import csv
+import json
 import threading
 
 import numpy as np
@@ -188,3 +189,35 @@ def test_fit_bad_input():
         weft.compare(c, [0.0])
     with pytest.raises(weft.Error):
         weft.log_curve(weft.law("exponential", mu=1), [-1.0])
+
+
+def test_validate_equals_the_cli_report(tmp_path, run_cli, small_cloth):
+    """weft.validate(grid) gives the same models and errors as `weft validate --grid` (same text)."""
+    path = tmp_path / "cloth.vdb"
+    small_cloth.grid.save(path)
+    run_cli("validate", "--grid", path, "--no-plot", "--out", tmp_path / "v")
+    with open(tmp_path / "v" / "report.json") as f:
+        cli = json.load(f)
+    py = weft.validate(weft.load_grid(path))
+    assert py["sigma"] == cli["sigma"]
+    assert len(py["axes"]) == len(cli["axes"]) == 3
+    for a, b in zip(py["axes"], cli["axes"]):
+        assert a["errors"] == b["errors"]
+        assert a["best_predictive"] == b["best_predictive"]
+        # Only the least-squares reference sees the ground truth.
+        for name, model in a["models"].items():
+            assert model["uses_ground_truth"] == (name == "least-squares")
+
+
+def test_validate_refuses_a_grid_without_sigma():
+    g = weft.Grid.from_numpy(np.full((4, 4, 4), 0.5, dtype=np.float32), voxel_size=0.1)
+    with pytest.raises(weft.Error, match="sigma"):
+        weft.validate(g)
+    with pytest.raises(weft.Error, match="yarn diameter"):
+        weft.validate(g, sigma=2.0)
+    report = weft.validate(g, sigma=2.0, window="extent")
+    # A uniform medium: every predictive model is the exponential, to rounding.
+    for axis in report["axes"]:
+        for name, err in axis["errors"].items():
+            if name != "least-squares":
+                assert err["rms_abs_T"] < 1e-9, name

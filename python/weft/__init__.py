@@ -12,7 +12,17 @@ import json as _json
 import os as _os
 
 from ._weft import *  # noqa: F401,F403  (the compiled bindings)
-from ._weft import Error, Grid, _gen_json, _render
+from ._weft import Error, Grid, _gen_json, _render, _validate_json
+
+
+def validate(grid, sigma=None, window="yarn", axes="x,y,z", rays_per_column=1, seed=1, progress=None):
+    """The main job on a grid, as ``weft validate --grid`` computes it: sigma from the grid's
+    provenance unless given, the statistics scale ``window`` (yarn, yarn-measured, corr, extent or a
+    length), ground truth per axis, the paper's gamma law and every predictive model. Returns the
+    science part of report.json as Python objects: ``["axes"][i]["errors"][model]["rms_abs_T"]``,
+    ``["axes"][i]["models"][model]["uses_ground_truth"]``, ``["axes"][i]["best_predictive"]``, ..."""
+    return _json.loads(_validate_json(grid, sigma=sigma, window=window, axes=axes,
+                                      rays_per_column=rays_per_column, seed=seed, progress=progress))
 
 def load_grid(path, name=""):
     """Reads the float grid ``name`` (default: the first) of a .vdb file (same as ``Grid.load``)."""

@@ -63,13 +63,13 @@ if(CMAKE_SCRIPT_MODE_FILE)
       check_fail("cloth.vdb not described as the grid: ${out}")
     endif()
   elseif(CASE STREQUAL "fit_block")
-    run_weft(fit --grid ${GRIDS}/good.vdb --block 2 --out ${WORK}/f)
+    run_weft(fit --grid ${GRIDS}/good.vdb --sigma 2 --window extent --block 2 --out ${WORK}/f)
     check_listed(${WORK}/f)
     check_report_size(${WORK}/f/fit.json local_fields.vdb)
   elseif(CASE STREQUAL "measure")
     # An axis beam and an oblique one with 3 rays per column: the axis beam's rays count once
     # per column (they cross the same voxels), the oblique beam's all count.
-    run_weft(measure --grid ${GRIDS}/good.vdb --direction z --direction 1,1,2 --rays 3 --scatterer
+    run_weft(measure --grid ${GRIDS}/good.vdb --sigma 2 --direction z --direction 1,1,2 --rays 3 --scatterer
              --scatterer-rays 1000 --out ${WORK}/m)
     check_listed(${WORK}/m)
     check_report_size(${WORK}/m/measure.json beams.csv)
