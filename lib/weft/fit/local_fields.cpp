@@ -60,7 +60,7 @@ std::vector<Item> tree_items(const openvdb::FloatGrid& vdb) {
     Item item;
     item.leaf = it.getLeaf();
     if (item.leaf->isEmpty()) continue;  // no active voxel
-    item.box = openvdb::CoordBBox();  // empty: the call below grows it to the active voxels
+    item.box = openvdb::CoordBBox();     // empty: the call below grows it to the active voxels
     item.leaf->evalActiveBoundingBox(item.box, false);
     items.push_back(item);
   }

@@ -31,9 +31,7 @@ TEST(FileKind, JsonTestSkipsLeadingWhiteSpace) {
   EXPECT_FALSE(looks_like_json(""));
 }
 
-TEST(FileKind, UnreadablePathIsSaidSo) {
-  EXPECT_EQ(file_kind_at("/nonexistent/weft/file"), "an unreadable file");
-}
+TEST(FileKind, UnreadablePathIsSaidSo) { EXPECT_EQ(file_kind_at("/nonexistent/weft/file"), "an unreadable file"); }
 
 }  // namespace
 }  // namespace weft
