@@ -10,6 +10,8 @@
 #include "validate_common.h"
 #include "validate_output.h"
 #include "weft/core/atomic_file.h"
+#include "weft/dist/distributed.h"
+#include "weft/dist/unit_store.h"
 #include "weft/viz/chart.h"
 #include "weft/viz/display.h"
 #include "written_files.h"
@@ -81,16 +83,16 @@ viz::Chart corpus_chart(const std::vector<cloth::CorpusResult>& results) {
 int run_corpus(const CorpusOptions& o, const Context& ctx) {
   const auto t0 = std::chrono::steady_clock::now();
   const auto cases = cloth::corpus_cases(o.quick);
-  std::vector<cloth::CorpusResult> results;
-  {
-    ProgressTask task(ctx.progress, "corpus cases", cases.size());
-    for (const auto& c : cases) {
-      results.push_back(cloth::run_corpus_case(c, o.seed, o.window));
-      task.step();
-    }
-  }
   const fs::path out = o.out;
-  ensure_directory(out);
+  // Each finished case is recorded in <out>/units/ (rank 0), so a run that dies can be finished
+  // with --resume; the key is everything a case's bytes depend on.
+  json case_names = json::array();
+  for (const auto& c : cases) case_names.push_back(c.name());
+  const json key = {{"weft", "validate --corpus"}, {"cases", case_names}, {"seed", o.seed}, {"window", o.window}};
+  dist::UnitStore store(out / "units", key.dump(2) + "\n", o.resume);
+  if (dist::is_root()) ensure_directory(out);
+  const std::vector<cloth::CorpusResult> results = cloth::run_corpus(cases, o.seed, o.window, ctx.progress, &store);
+  if (!dist::is_root()) return 0;  // rank 0 gathered every case and writes
   WrittenFiles files;
   write_text_atomically(out / "corpus.csv", corpus_csv(results));
   files.add(out / "corpus.csv", "every case, axis and model");
@@ -133,15 +135,23 @@ int run_corpus(const CorpusOptions& o, const Context& ctx) {
                  {"quick", o.quick},
                  {"seed", o.seed},
                  {"window", o.window},
+                 {"ranks", ctx.ranks()},
+                 {"threads", ctx.threads()},
+                 {"resumed_units", store.found()},
                  {"cases", cases_json},
                  {"axes_missing_one_third", misses},
                  {"corpus.png", plot},
                  {"seconds", seconds_since(t0)}};
   write_text_atomically(out / "corpus.json", report.dump(2) + "\n");
   files.add(out / "corpus.json", "summary");
+  store.remove();  // the outputs are whole: the finished cases are no longer needed
 
-  ctx.say(
-      fmt::format("weft validate --corpus: {} cases, sigma and scale L from each cloth's provenance", cases.size()));
+  ctx.say(fmt::format(
+      "weft validate --corpus: {} cases, sigma and scale L from each cloth's provenance; {} rank(s) x "
+      "{} thread(s){}",
+      cases.size(), ctx.ranks(), ctx.threads(),
+      store.found() > 0 ? fmt::format("; {} case(s) resumed from {}", store.found(), store.folder().string())
+                        : std::string()));
   ctx.say(fmt::format("{:<28} {:>4} {:>7} {:>7} {:>7} {:<20} {:>6}", "case", "axis", "L mm", "gamma", "local-g",
                       "best predictive", "ratio"));
   auto ratio_of = [](const cloth::CorpusAxis& a, const std::string& name) -> double {

@@ -13,11 +13,13 @@ struct CorpusOptions {
   std::string out;
   bool no_plot = false;
   bool quick = false;
+  bool resume = false;
   std::uint64_t seed = 1;
   std::string window = "yarn";
 };
 
-/// Runs every case of cloth::corpus_cases, writes corpus.csv, corpus.json and corpus.png.
+/// Runs every case of cloth::corpus_cases (spread over MPI ranks; finished cases recorded in
+/// OUT/units/ for --resume), writes corpus.csv, corpus.json and corpus.png on rank 0.
 int run_corpus(const CorpusOptions& o, const Context& ctx);
 
 }  // namespace weft::app

@@ -84,12 +84,12 @@ const Registrar kValidate{Command{
                    "With --sweep: one timing run instead of the median of 3; with --corpus: patterns plain and "
                    "stockinette, cotton only, 20 um");
       sub.add_flag("--resume", o->resume,
-                   "With --sweep: keep the units a killed run finished (OUT/units/) and compute only the rest; "
-                   "same options required")
-          ->needs(sweep);
+                   "With --sweep or --corpus: keep the units (sweep points, cases) a killed run finished "
+                   "(OUT/units/) and compute only the rest; same options required");
       return [o](const Context& ctx) -> int {
         const auto t_start = std::chrono::steady_clock::now();
         if (o->quick && !o->sweep && !o->corpus) usage_fail("--quick needs --sweep or --corpus");
+        if (o->resume && !o->sweep && !o->corpus) usage_fail("--resume needs --sweep or --corpus");
         json timings = json::object();
         // Everything is checked and computed before the output folder is touched.
         if (o->rays < 1) usage_fail("--rays must be >= 1, got {}", o->rays);
@@ -97,9 +97,9 @@ const Registrar kValidate{Command{
         as_usage([&] { fit::check_scale_text(o->window); });
         if (o->input.extinction() && o->input.grid.empty())
           usage_fail("--values extinction needs --grid (a cloth grid holds concentrations)");
-        // Only --sweep is spread over MPI ranks; the validation and the corpus run on rank 0.
+        // --sweep and --corpus are spread over MPI ranks; the validation runs on rank 0.
+        if (o->corpus) return run_corpus({o->out, o->no_plot, o->quick, o->resume, o->seed, o->window}, ctx);
         if (!o->sweep && !dist::is_root()) return 0;
-        if (o->corpus) return run_corpus({o->out, o->no_plot, o->quick, o->seed, o->window}, ctx);
         fit::ValidationSpec spec;
         spec.directions = as_usage([&] { return fit::parse_axes(o->axes); });
         spec.rays_per_column = o->rays;

@@ -3,14 +3,66 @@
 #include <chrono>
 
 #include <fmt/core.h>
+#include <nlohmann/json.hpp>
 
 #include "data_gen/cloth/cloth.h"
 #include "weft/core/error.h"
+#include "weft/dist/distributed.h"
 #include "weft/fit/scale.h"
 #include "weft/fit/validation.h"
 #include "weft/volume/provenance.h"
 
 namespace weft::cloth {
+namespace {
+
+using nlohmann::json;
+
+// A case's result crosses ranks (and the --resume store) as MessagePack: doubles round-trip
+// exactly (nlohmann writes float32 only when that is exact, float64 otherwise, NaN included), so
+// rank 0 writes the same digits as a one-process run.
+json ratio_json(const fit::ModelRatio& m) {
+  return {{"name", m.name}, {"rms", m.rms_abs_t}, {"ratio", m.ratio}, {"gt", m.uses_ground_truth}};
+}
+
+fit::ModelRatio ratio_from(const json& j) {
+  fit::ModelRatio m;
+  m.name = j.at("name").get<std::string>();
+  m.rms_abs_t = j.at("rms").get<double>();
+  m.ratio = j.at("ratio").get<double>();
+  m.uses_ground_truth = j.at("gt").get<bool>();
+  return m;
+}
+
+dist::Bytes encode(const CorpusResult& r) {
+  json axes = json::array();
+  for (const auto& a : r.axes) {
+    json models = json::array();
+    for (const auto& m : a.models) models.push_back(ratio_json(m));
+    axes.push_back({{"axis", a.axis}, {"scale", a.scale}, {"models", models}, {"best", ratio_json(a.best)}});
+  }
+  const json j = {{"sigma", r.sigma}, {"active_voxels", r.active_voxels}, {"seconds", r.seconds}, {"axes", axes}};
+  return json::to_msgpack(j);
+}
+
+CorpusResult decode(const CorpusCase& c, const dist::Bytes& b) {
+  const json j = json::from_msgpack(b);
+  CorpusResult r;
+  r.c = c;
+  r.sigma = j.at("sigma").get<double>();
+  r.active_voxels = j.at("active_voxels").get<std::uint64_t>();
+  r.seconds = j.at("seconds").get<double>();
+  for (const auto& ja : j.at("axes")) {
+    CorpusAxis a;
+    a.axis = ja.at("axis").get<std::string>();
+    a.scale = ja.at("scale").get<double>();
+    for (const auto& m : ja.at("models")) a.models.push_back(ratio_from(m));
+    a.best = ratio_from(ja.at("best"));
+    r.axes.push_back(std::move(a));
+  }
+  return r;
+}
+
+}  // namespace
 
 std::string CorpusCase::name() const { return fmt::format("{}-{}-{:g}um", pattern, preset, voxel_size * 1000.0); }
 
@@ -63,6 +115,25 @@ CorpusResult run_corpus_case(const CorpusCase& c, std::uint64_t seed, const std:
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
+}
+
+std::vector<CorpusResult> run_corpus(const std::vector<CorpusCase>& cases, std::uint64_t seed,
+                                     const std::string& window, ProgressSink& progress, dist::UnitStore* store) {
+  if (cases.empty()) fail("corpus: no cases");
+  ProgressTask task(progress, "corpus cases", cases.size());
+  dist::UnitsOptions how;
+  how.progress = &task;
+  how.store = store;
+  how.name = [&](std::size_t u) { return fmt::format("corpus case {} ({})", u, cases[u].name()); };
+  // A case runs its stages on the rank's threads too (nested in TBB), so a rank with few cases
+  // still uses every thread; its own progress stays silent (cases run side by side).
+  const std::vector<dist::Bytes> units = dist::run_units(
+      cases.size(), [&](std::size_t u) { return encode(run_corpus_case(cases[u], seed, window)); }, how);
+  std::vector<CorpusResult> out;
+  if (!dist::is_root()) return out;  // rank 0 gathered every case
+  out.reserve(units.size());
+  for (std::size_t u = 0; u < units.size(); ++u) out.push_back(decode(cases[u], units[u]));
+  return out;
 }
 
 }  // namespace weft::cloth

@@ -12,6 +12,10 @@
 #include "weft/core/progress.h"
 #include "weft/fit/report.h"
 
+namespace weft::dist {
+class UnitStore;
+}
+
 namespace weft::cloth {
 
 struct CorpusCase {
@@ -44,5 +48,14 @@ struct CorpusResult {
 /// --window`). The cloth's seed is `seed` for every case (the same yarns at both voxel sizes).
 [[nodiscard]] CorpusResult run_corpus_case(const CorpusCase& c, std::uint64_t seed, const std::string& window,
                                            ProgressSink& progress = null_progress());
+
+/// @brief The corpus study: run_corpus_case for every case, each case a work unit spread over
+/// threads and, under mpirun, over ranks (dist::run_units; case i is unit i). Every case uses the
+/// same `seed` (as run_corpus_case), so a case's bytes depend only on (seed, window, the case),
+/// never on where it ran. Returns the results in case order on rank 0, an empty vector elsewhere.
+/// `store` records each finished case (--resume); `progress` counts cases over all ranks.
+[[nodiscard]] std::vector<CorpusResult> run_corpus(const std::vector<CorpusCase>& cases, std::uint64_t seed,
+                                                   const std::string& window, ProgressSink& progress = null_progress(),
+                                                   dist::UnitStore* store = nullptr);
 
 }  // namespace weft::cloth

@@ -4,7 +4,10 @@
 # without "ranks", "threads" and "resumed_units"; the sweep's CSV without its timing columns and
 # the Pareto flag (which is decided by the timings).
 #
-# Usage: cmake -DWEFT=<weft> -DCASE=sim2d|sweep|render -DMPIEXEC=<mpirun> -DMPIFLAGS=<flags> -DWORK=<dir>
+# The corpus case also runs without mpirun on one thread (t1): cases then run one after the
+# other instead of side by side.
+#
+# Usage: cmake -DWEFT=<weft> -DCASE=sim2d|sweep|render|corpus -DMPIEXEC=<mpirun> -DMPIFLAGS=<flags> -DWORK=<dir>
 #              -P mpi_compare.cmake
 cmake_minimum_required(VERSION 3.25)
 include(${CMAKE_CURRENT_LIST_DIR}/mpi_common.cmake)
@@ -19,6 +22,9 @@ elseif(CASE STREQUAL "sweep")
        "{\"pattern\": \"plain\", \"warp_count\": 2, \"weft_count\": 2, \"voxel_size\": 0.02}\n")
   set(run_args validate --sweep --quick --no-plot --axes x,z --cloth "${WORK}/in/cloth.json" --seed 3
                --out "${WORK}/@RUN@")
+elseif(CASE STREQUAL "corpus")
+  # The quick corpus: 2 cases (plain and stockinette, cotton, 20 um), so -n 3 leaves a rank idle.
+  set(run_args validate --corpus --quick --no-plot --seed 3 --out "${WORK}/@RUN@")
 elseif(CASE STREQUAL "render")
   # Media, surfaces and lights on a small film: tiles of 16² pixels over the ranks.
   set(run_args render cornell_media --quick --spp 2 --seed 7 -o "${WORK}/@RUN@/image.exr")
@@ -30,10 +36,15 @@ else()
 endif()
 
 set(runs plain n1 n2 n3)
+if(CASE STREQUAL "corpus")
+  list(APPEND runs t1)
+endif()
 foreach(run IN LISTS runs)
   string(REPLACE "@RUN@" "${run}" args "${run_args}")
   if(run STREQUAL "plain")
     set(cmd "${WEFT}" --quiet --threads 2 ${args})
+  elseif(run STREQUAL "t1")
+    set(cmd "${WEFT}" --quiet --threads 1 ${args})
   else()
     string(SUBSTRING "${run}" 1 -1 n)
     set(cmd "${MPIEXEC}" ${MPIFLAGS} -n ${n} "${WEFT}" --quiet --threads 1 ${args})
@@ -44,14 +55,16 @@ foreach(run IN LISTS runs)
   endif()
 endforeach()
 
-foreach(run n1 n2 n3)
+set(others ${runs})
+list(REMOVE_ITEM others plain)
+foreach(run IN LISTS others)
   compare_folders("${WORK}/plain" "${WORK}/${run}" differ)
   if(differ)
-    message(FATAL_ERROR "${CASE}: the plain run and mpirun -n ${run} differ in: ${differ} (outputs kept in ${WORK})")
+    message(FATAL_ERROR "${CASE}: the plain run (2 threads) and run ${run} differ in: ${differ} (outputs kept in ${WORK})")
   endif()
 endforeach()
 # The reports say how they were run.
-foreach(run plain n1 n2 n3)
+foreach(run IN LISTS runs)
   file(GLOB reports "${WORK}/${run}/*.json")
   foreach(r IN LISTS reports)
     file(READ "${r}" j)
@@ -61,6 +74,8 @@ foreach(run plain n1 n2 n3)
     set(expect_threads 1)
     if(run STREQUAL "plain")
       set(expect_threads 2)
+    elseif(run STREQUAL "t1")
+      set(expect_threads 1)
     else()
       string(SUBSTRING "${run}" 1 -1 expect_ranks)
     endif()
@@ -70,4 +85,4 @@ foreach(run plain n1 n2 n3)
   endforeach()
 endforeach()
 file(GLOB_RECURSE files RELATIVE "${WORK}/plain" "${WORK}/plain/*")
-message(STATUS "${CASE}: identical without mpirun and with -n 1, 2, 3: ${files}")
+message(STATUS "${CASE}: identical for runs ${runs} (plain: no mpirun; nK: mpirun -n K; t1: one thread): ${files}")
