@@ -7,8 +7,11 @@
 # The corpus case also runs without mpirun on one thread (t1): cases then run one after the
 # other instead of side by side.
 #
+# With -DREFERENCE=<dir> (scripts/check_mpich: another build's WORK of the same CASE, e.g. against
+# another MPI library) the plain and -n 2 runs must also equal that folder's.
+#
 # Usage: cmake -DWEFT=<weft> -DCASE=sim2d|sweep|render|corpus -DMPIEXEC=<mpirun> -DMPIFLAGS=<flags> -DWORK=<dir>
-#              -P mpi_compare.cmake
+#              [-DREFERENCE=<dir>] -P mpi_compare.cmake
 cmake_minimum_required(VERSION 3.25)
 include(${CMAKE_CURRENT_LIST_DIR}/mpi_common.cmake)
 
@@ -63,6 +66,15 @@ foreach(run IN LISTS others)
     message(FATAL_ERROR "${CASE}: the plain run (2 threads) and run ${run} differ in: ${differ} (outputs kept in ${WORK})")
   endif()
 endforeach()
+if(REFERENCE)
+  foreach(run plain n2)
+    compare_folders("${REFERENCE}/${run}" "${WORK}/${run}" differ)
+    if(differ)
+      message(FATAL_ERROR "${CASE}: run ${run} differs from ${REFERENCE}/${run} in: ${differ}")
+    endif()
+  endforeach()
+  message(STATUS "${CASE}: plain and -n 2 identical to ${REFERENCE}")
+endif()
 # The reports say how they were run.
 foreach(run IN LISTS runs)
   file(GLOB reports "${WORK}/${run}/*.json")
