@@ -6,23 +6,23 @@
 #include <fmt/format.h>
 
 #include "command.h"
-#include "data_gen/cloth/provenance.h"
 #include "data_gen/cloth/voxelize.h"
+#include "grid_input.h"
+#include "usage.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 #include "weft/volume/dense.h"
 #include "weft/volume/renderer_export.h"
+#include "written_files.h"
 
 namespace weft::app {
 namespace {
 namespace fs = std::filesystem;
 
 struct ExportOptions {
-  std::string grid;
-  std::string grid_name;
+  GridInputOptions input;
   std::string out = "export";
   std::string formats = "mitsuba,pbrt";
-  double sigma = 0.0;
   std::string albedo = "0.8";
   double g = 0.0;
   int width = 256;
@@ -51,27 +51,8 @@ std::array<double, 3> parse_albedo(const std::string& text) {
   return {v[0], v[1], v[2]};
 }
 
-// σ: given, 1 for extinction grids, else 2/(π r) from the fibre radius in the grid's provenance.
-double sigma_of(const volume::Grid& grid, const ExportOptions& o, std::string& why) {
-  const auto md = grid.metadata();
-  const auto kind = md.find("value_kind");
-  const bool extinction = kind != md.end() && kind->second == "extinction";
-  if (o.sigma != 0.0) {
-    if (extinction) fail("--sigma: grid '{}' holds extinction values already", grid.name());
-    why = "given";
-    return require_positive("--sigma", o.sigma);
-  }
-  if (extinction) {
-    why = "extinction grid";
-    return 1.0;
-  }
-  const auto spec = cloth::spec_of_grid(grid);
-  if (!spec) fail("{}: grid '{}' has no weft gen provenance to take sigma from; give --sigma", o.grid, grid.name());
-  why = fmt::format("2/(pi r), fibre radius r = {} mm from the grid's provenance", spec->warp_yarn.fiber_radius);
-  return cloth::fiber_sigma(*spec);
-}
-
 int run(const ExportOptions& o, const Context& ctx) {
+  // Every option is checked before anything is read (exit 2), every refusal before the first file.
   bool mitsuba = false;
   bool pbrt = false;
   std::stringstream ss(o.formats);
@@ -82,30 +63,31 @@ int run(const ExportOptions& o, const Context& ctx) {
     } else if (f == "pbrt") {
       pbrt = true;
     } else {
-      fail("--format: unknown format '{}' (mitsuba, pbrt)", f);
+      usage_fail("--format: unknown format '{}' (mitsuba, pbrt)", f);
     }
   }
-  if (!mitsuba && !pbrt) fail("--format: give mitsuba, pbrt or both");
-  if (o.max_memory_mb < 0.0) fail("--max-memory-mb must be >= 0, got {}", o.max_memory_mb);
+  if (!mitsuba && !pbrt) usage_fail("--format: give mitsuba, pbrt or both");
+  if (o.max_memory_mb < 0.0) usage_fail("--max-memory-mb must be >= 0, got {}", o.max_memory_mb);
+  check_grid_input(o.input);
   volume::ExportMedium medium;
-  medium.albedo = parse_albedo(o.albedo);
+  medium.albedo = as_usage([&] { return parse_albedo(o.albedo); });
   medium.g = o.g;
   volume::ExportView view;
   view.width = o.width;
   view.height = o.height;
   view.spp = o.spp;
   medium.sigma = 1.0;
-  volume::validate(medium, view);  // options first, before reading anything
+  as_usage([&] { volume::validate(medium, view); });
 
-  const volume::Grid grid = volume::Grid::load(o.grid, o.grid_name);
+  // σ the same way as validate, measure and fit: --sigma, else the grid's provenance
+  // (weft:sigma_per_concentration), --values extinction for μ grids; never a silent σ = 1.
+  const LoadedGrid loaded = load_grid_input(o.input);
+  const volume::Grid& grid = loaded.grid;
   const volume::IndexBox box = grid.active_bbox();
-  if (box.empty()) fail("{}: grid '{}' is empty (no active voxels)", o.grid, grid.name());
-  std::string why;
-  medium.sigma = sigma_of(grid, o, why);
+  medium.sigma = loaded.sigma.sigma;
   const volume::WorldBox world = volume::world_box(grid, box);
   const std::uint64_t budget = o.max_memory_mb > 0.0 ? static_cast<std::uint64_t>(o.max_memory_mb * 1024.0 * 1024.0)
                                                      : cloth::default_memory_budget();
-  // Every refusal before the first file: a failed run leaves no partial output.
   if (mitsuba && volume::dense_bytes(box) > budget) {
     fail("{}: the dense volume of {} voxels would take {:.4g} MiB, over the limit of {:.4g} MiB",
          (fs::path(o.out) / "mitsuba" / "cloth.vol").string(), volume::dense_bytes(box) / sizeof(float),
@@ -116,21 +98,26 @@ int run(const ExportOptions& o, const Context& ctx) {
   const std::string pbrt_text = pbrt ? volume::pbrt_scene(world, "cloth.nvdb", medium, view) : std::string();
   const fs::path out(o.out);
   ensure_directory(out);
+  WrittenFiles files;
   if (mitsuba) {
     const fs::path dir = out / "mitsuba";
     ensure_directory(dir);
     volume::write_mitsuba_vol(grid, box, dir / "cloth.vol", budget);
+    files.add(dir / "cloth.vol", "Mitsuba 3 dense grid");
     write_text_atomically(dir / "cloth.xml", xml);
-    ctx.say(fmt::format("wrote {} and {}", (dir / "cloth.xml").string(), (dir / "cloth.vol").string()));
+    files.add(dir / "cloth.xml", "Mitsuba 3 scene");
   }
   if (pbrt) {
     const fs::path dir = out / "pbrt";
     ensure_directory(dir);
     volume::write_nanovdb(grid, dir / "cloth.nvdb");
+    files.add(dir / "cloth.nvdb", "pbrt-v4 NanoVDB grid");
     write_text_atomically(dir / "cloth.pbrt", pbrt_text);
-    ctx.say(fmt::format("wrote {} and {}", (dir / "cloth.pbrt").string(), (dir / "cloth.nvdb").string()));
+    files.add(dir / "cloth.pbrt", "pbrt-v4 scene");
   }
-  ctx.say(fmt::format("sigma = {:.6g} per unit concentration ({}), albedo {}, g {}", medium.sigma, why, o.albedo, o.g));
+  files.say(ctx);
+  ctx.say(fmt::format("sigma = {:.6g} per unit {} ({}), albedo {}, g {}", medium.sigma,
+                      o.input.extinction() ? "extinction value" : "concentration", loaded.sigma.source, o.albedo, o.g));
   return 0;
 }
 
@@ -138,13 +125,9 @@ const Registrar kExport{Command{
     "export", "Export a grid and a ready scene for Mitsuba 3 (.xml + .vol) and pbrt-v4 (.pbrt + .nvdb)", 65,
     [](CLI::App& sub) -> Action {
       auto o = std::make_shared<ExportOptions>();
-      sub.add_option("--grid", o->grid, "Input .vdb grid (e.g. cloth.vdb of weft gen)")->required();
-      sub.add_option("--grid-name", o->grid_name, "Grid to read (default: the first float grid)");
+      add_grid_input(sub, o->input, true);
       sub.add_option("--out", o->out, "Output folder (mitsuba/ and pbrt/ inside)")->capture_default_str();
       sub.add_option("--format", o->formats, "mitsuba, pbrt or mitsuba,pbrt")->capture_default_str();
-      sub.add_option("--sigma", o->sigma,
-                     "Extinction per unit concentration [1/length] (default: 2/(pi r) from the fibre radius r in the "
-                     "grid's weft gen provenance; 1 for extinction grids)");
       sub.add_option("--albedo", o->albedo, "Single-scattering albedo A or R,G,B in [0, 1]")->capture_default_str();
       sub.add_option("--g", o->g, "Henyey-Greenstein asymmetry in (-1, 1)")->capture_default_str();
       sub.add_option("--width", o->width, "Image width of the scenes")->capture_default_str();

@@ -18,6 +18,7 @@
 #include "weft/dist/distributed.h"
 #include "weft/render/builtin_scenes.h"
 #include "weft/render/cloth_scene.h"
+#include "weft/render/contact_sheet.h"
 #include "weft/render/convergence.h"
 #include "weft/render/render.h"
 #include "weft/viz/chart.h"
@@ -256,7 +257,10 @@ int run(const RenderCliOptions& o, const Context& ctx) {
     files.add(json_path, "convergence summary");
     const fs::path sheet_path = beside(exr, ".contact.png");
     if (!conv.sheet.empty()) {
-      render::write_png(sheet_path, render::contact_sheet(conv.sheet, 4, 1.0F), o.exposure);
+      std::vector<render::SheetTile> tiles;
+      for (std::size_t i = 0; i < conv.sheet.size(); ++i)
+        tiles.push_back({conv.sheet[i], fmt::format("{} spp", conv.sheet_spp[i]), o.exposure});
+      render::write_contact_sheet_png(sheet_path, tiles);
       files.add(sheet_path, fmt::format("contact sheet, left to right: {} spp", fmt::join(conv.sheet_spp, ", ")));
     }
     const fs::path chart_path = beside(exr, ".convergence.png");

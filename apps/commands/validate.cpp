@@ -60,7 +60,9 @@ const Registrar kValidate{Command{
           ->excludes(o->input.grid_option);
       sub.add_option("--axes", o->axes, "Beam axes, comma separated: x, y, z, optionally signed (-z)")
           ->capture_default_str();
-      sub.add_option("--rays", o->rays, "Rays per column (> 1: jittered; axis rays of one column see the same voxels)")
+      sub.add_option("--rays", o->rays,
+                     "Rays per voxel column: 1 (validate's beams run along axes, where every ray of a column "
+                     "crosses the same voxels; jittered oblique beams: weft measure --direction)")
           ->capture_default_str();
       sub.add_option("--window", o->window,
                      "Scale L of the statistics (window of Eq. 19-20, block of the local fields): yarn (the yarn "
@@ -93,6 +95,14 @@ const Registrar kValidate{Command{
         json timings = json::object();
         // Everything is checked and computed before the output folder is touched.
         if (o->rays < 1) usage_fail("--rays must be >= 1, got {}", o->rays);
+        // Every beam of validate is an axis beam: N jittered rays in one column cross the same
+        // voxels, so N > 1 would cost N times the time for the same T (the same rule as measure).
+        if (o->rays > 1)
+          usage_fail(
+              "--rays {}: validate's beams run along axes, where every ray of a voxel column crosses the same "
+              "voxels, so more rays per column cannot change T or its error; drop --rays (jittered oblique "
+              "beams: weft measure --direction 1,1,1 --rays N)",
+              o->rays);
         check_grid_input(o->input);
         as_usage([&] { fit::check_scale_text(o->window); });
         if (o->input.extinction() && o->input.grid.empty())

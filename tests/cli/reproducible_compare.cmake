@@ -16,10 +16,10 @@ file(MAKE_DIRECTORY "${WORK}/in")
 
 # Small sizes: each case runs in a few seconds per thread count.
 if(CASE STREQUAL "validate")
-  # A 2x2 plain weave at 20 um voxels, jittered rays (--rays 2 draws from the RNG), plots on.
+  # A 2x2 plain weave at 20 um voxels (the generator draws from the RNG), plots on.
   file(WRITE "${WORK}/in/cloth.json"
        "{\"pattern\": \"plain\", \"warp_count\": 2, \"weft_count\": 2, \"voxel_size\": 0.02}\n")
-  set(run_args validate --cloth "${WORK}/in/cloth.json" --rays 2 --seed 11 --out "${WORK}/@RUN@")
+  set(run_args validate --cloth "${WORK}/in/cloth.json" --seed 11 --out "${WORK}/@RUN@")
 elseif(CASE STREQUAL "render")
   # Media, surfaces and lights: the memory-tracking integrator and the RNG streams per tile.
   set(run_args render cornell_media --spp 2 --seed 7 -o "${WORK}/@RUN@/image.exr")

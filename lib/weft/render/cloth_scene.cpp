@@ -8,14 +8,9 @@
 
 #include "weft/core/error.h"
 #include "weft/volume/grid.h"
+#include "weft/volume/provenance.h"
 
 namespace weft::render {
-
-double fiber_sigma(double fiber_radius) {
-  if (!(fiber_radius > 0.0) || !std::isfinite(fiber_radius))
-    fail("fibre radius must be finite and > 0, got {}", fiber_radius);
-  return 2.0 / (std::numbers::pi * fiber_radius);
-}
 
 Rgb preset_albedo(const std::string& preset) {
   // Undyed fibres scatter almost all light; the small absorption differs by material and tints
@@ -29,22 +24,25 @@ Rgb preset_albedo(const std::string& preset) {
   fail("unknown yarn preset '{}' (known: cotton, polyester, silk, wool, linen)", preset);
 }
 
-ClothLook cloth_look(const std::filesystem::path& vdb) {
-  const volume::Grid grid = volume::Grid::load(vdb);
+ClothLook cloth_look(const volume::Grid& grid, const std::filesystem::path& vdb) {
   ClothLook look;
+  const volume::Provenance provenance = volume::read_provenance(grid);
+  if (!provenance.sigma)
+    fail(
+        "{}: no sigma in the grid's metadata (weft:sigma_per_concentration): cloth scenes are made for grids of "
+        "weft gen",
+        vdb.string());
+  look.sigma = *provenance.sigma;
   const auto meta = grid.metadata();
   const auto it = meta.find("generator");
   if (it != meta.end()) {
-    // The ClothSpec JSON of `weft gen` (cloth.json): the warp yarn's preset and fibre radius.
+    // The ClothSpec JSON of `weft gen` (cloth.json): the warp yarn's preset.
     const nlohmann::json spec = nlohmann::json::parse(it->second, nullptr, false);
     if (!spec.is_discarded() && spec.contains("warp_yarn") && spec["warp_yarn"].is_object()) {
       const auto& yarn = spec["warp_yarn"];
-      if (yarn.contains("fiber_radius") && yarn["fiber_radius"].is_number())
-        look.fiber_radius_mm = yarn["fiber_radius"].get<double>();
       if (yarn.contains("preset") && yarn["preset"].is_string()) look.preset = yarn["preset"].get<std::string>();
     }
   }
-  (void)fiber_sigma(look.fiber_radius_mm);  // a broken radius is an error here, not a NaN later
   try {
     look.albedo = preset_albedo(look.preset);
   } catch (const Error&) {
@@ -57,7 +55,7 @@ std::string cloth_scene_json(const std::filesystem::path& vdb, const std::string
   const volume::Grid grid = volume::Grid::load(vdb);
   const volume::IndexBox box = grid.active_bbox();
   if (box.empty()) fail("cloth grid '{}' is empty", vdb.string());
-  const ClothLook look = cloth_look(vdb);
+  const ClothLook look = cloth_look(grid, vdb);
   const double h = grid.voxel_size();
   const auto org = grid.origin();
   Vec3 lo;
@@ -111,7 +109,7 @@ std::string cloth_scene_json(const std::filesystem::path& vdb, const std::string
                  {{"type", "grid"},
                   {"file", file_in_scene},
                   {"values", "concentration"},
-                  {"sigma", fiber_sigma(look.fiber_radius_mm)},
+                  {"sigma", look.sigma},
                   {"albedo", {look.albedo.x(), look.albedo.y(), look.albedo.z()}},
                   {"g", 0.3},
                   {"tracking", "delta"}}}};

@@ -61,26 +61,4 @@ double rmse_against_noisy_reference(const Image& image, const Image& reference) 
   return std::sqrt(std::max(0.0, e * e - mean_variance(reference)));
 }
 
-Image contact_sheet(const std::vector<Image>& images, int gap, float background) {
-  if (images.empty()) fail("contact sheet: no images");
-  if (gap < 0) fail("contact sheet: gap must be >= 0, got {}", gap);
-  Image sheet;
-  for (const auto& im : images) {
-    sheet.width += im.width;
-    sheet.height = std::max(sheet.height, im.height);
-  }
-  sheet.width += gap * static_cast<int>(images.size() - 1);
-  sheet.rgb.assign(static_cast<std::size_t>(sheet.width) * sheet.height * 3, background);
-  sheet.variance.assign(sheet.rgb.size(), 0.0F);
-  int x0 = 0;
-  for (const auto& im : images) {
-    for (int y = 0; y < im.height; ++y)
-      for (int x = 0; x < im.width; ++x)
-        for (int c = 0; c < 3; ++c)
-          sheet.rgb[(static_cast<std::size_t>(y) * sheet.width + x0 + x) * 3 + c] = im.at(x, y, c);
-    x0 += im.width + gap;
-  }
-  return sheet;
-}
-
 }  // namespace weft::render

@@ -1,7 +1,8 @@
 #pragma once
 /// @file
 /// @brief Convergence studies of a render (supplement Figs. S.6–S.8; docs/render.md §6):
-/// error against a reference, the log–log rate of that error, and a contact sheet of images.
+/// error against a reference and the log–log rate of that error (the contact sheet of its images:
+/// contact_sheet.h).
 
 #include <vector>
 
@@ -29,9 +30,5 @@ struct LogLogFit {
 /// mean variance when the two are rendered with independent samples, so this is the estimate
 /// of the error against the exact image (equal to rmse() for a reference without variances).
 [[nodiscard]] double rmse_against_noisy_reference(const Image& image, const Image& reference);
-
-/// @brief Tiles `images` left to right, in order, top-aligned, separated by `gap` pixels of grey
-/// level `background` (linear); the result carries no variances. Throws weft::Error for no images.
-[[nodiscard]] Image contact_sheet(const std::vector<Image>& images, int gap = 4, float background = 1.0F);
 
 }  // namespace weft::render

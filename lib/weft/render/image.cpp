@@ -64,23 +64,24 @@ Image read_exr(const std::filesystem::path& path) {
   }
 }
 
+unsigned char srgb8(float linear, double exposure) {
+  // IEC 61966-2-1 transfer curve.
+  const double v = std::clamp(static_cast<double>(linear) * exposure, 0.0, 1.0);
+  const double e = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+  return static_cast<unsigned char>(std::lround(255.0 * e));
+}
+
 void write_png(const std::filesystem::path& path, const Image& image, double exposure) {
   if (image.width <= 0 || image.height <= 0) fail("cannot write empty image to '{}'", path.string());
   vtkNew<vtkImageData> data;
   data->SetDimensions(image.width, image.height, 1);
   data->AllocateScalars(VTK_UNSIGNED_CHAR, 3);
   auto* pixels = static_cast<unsigned char*>(data->GetScalarPointer());
-  auto srgb = [exposure](float linear) {
-    // IEC 61966-2-1 transfer curve.
-    const double v = std::clamp(static_cast<double>(linear) * exposure, 0.0, 1.0);
-    const double e = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
-    return static_cast<unsigned char>(std::lround(255.0 * e));
-  };
   for (int y = 0; y < image.height; ++y) {
     const int row = image.height - 1 - y;  // VTK images start at the bottom row
     for (int x = 0; x < image.width; ++x)
       for (int c = 0; c < 3; ++c)
-        pixels[(static_cast<std::size_t>(row) * image.width + x) * 3 + c] = srgb(image.at(x, y, c));
+        pixels[(static_cast<std::size_t>(row) * image.width + x) * 3 + c] = srgb8(image.at(x, y, c), exposure);
   }
   write_atomically(path, [&](const std::filesystem::path& tmp) {
     vtkNew<vtkPNGWriter> writer;

@@ -25,6 +25,8 @@ struct Image {
 void write_exr(const std::filesystem::path& path, const Image& image);
 /// Reads an RGB(A) OpenEXR file (variance left empty). Throws weft::Error naming the file.
 [[nodiscard]] Image read_exr(const std::filesystem::path& path);
+/// The 8-bit sRGB code of a linear value scaled by `exposure` (clamped to [0, 1]; IEC 61966-2-1).
+[[nodiscard]] unsigned char srgb8(float linear, double exposure = 1.0);
 /// Writes an 8-bit sRGB PNG (clamped, scaled by `exposure`), atomically.
 void write_png(const std::filesystem::path& path, const Image& image, double exposure = 1.0);
 

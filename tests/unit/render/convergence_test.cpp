@@ -1,6 +1,5 @@
 // Convergence-study helpers (docs/render.md §6): log–log fits recover known power laws, the
-// reference-noise correction removes exactly the reference's variance, and the contact sheet
-// places every image where it belongs.
+// reference-noise correction removes exactly the reference's variance.
 #include "weft/render/convergence.h"
 
 #include <cmath>
@@ -65,21 +64,6 @@ TEST(Convergence, ReferenceNoiseIsRemovedFromTheRmse) {
   EXPECT_NEAR(mean_variance(reference), 0.09, 1e-7);
   // Never below 0 when the reference is noisier than the difference.
   EXPECT_EQ(rmse_against_noisy_reference(reference, constant_image(4, 3, 1.0F, 1.0F)), 0.0);
-}
-
-TEST(ContactSheet, TilesImagesLeftToRightWithGaps) {
-  const std::vector<Image> images{constant_image(3, 2, 0.1F), constant_image(2, 4, 0.2F), constant_image(1, 1, 0.3F)};
-  const Image sheet = contact_sheet(images, 2, 0.9F);
-  EXPECT_EQ(sheet.width, 3 + 2 + 1 + 2 * 2);
-  EXPECT_EQ(sheet.height, 4);
-  EXPECT_FLOAT_EQ(sheet.at(0, 0, 0), 0.1F);
-  EXPECT_FLOAT_EQ(sheet.at(2, 1, 2), 0.1F);
-  EXPECT_FLOAT_EQ(sheet.at(2, 2, 0), 0.9F);  // below the first image
-  EXPECT_FLOAT_EQ(sheet.at(3, 0, 0), 0.9F);  // gap
-  EXPECT_FLOAT_EQ(sheet.at(5, 3, 1), 0.2F);
-  EXPECT_FLOAT_EQ(sheet.at(9, 0, 0), 0.3F);
-  EXPECT_FLOAT_EQ(sheet.at(9, 1, 0), 0.9F);
-  EXPECT_THROW((void)contact_sheet({}), Error);
 }
 
 }  // namespace
