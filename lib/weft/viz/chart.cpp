@@ -287,8 +287,9 @@ void build_panel(vtkChartXY& xy, const Chart& chart, const vtkRectf& cell) {
   const FontSizes fonts = font_sizes(static_cast<int>(cell.GetWidth()), static_cast<int>(cell.GetHeight()));
   xy.SetAutoSize(false);
   xy.SetSize(cell);
-  xy.SetTitle(chart.title);
   detail::set_font(*xy.GetTitleProperties(), fonts.title, true);
+  // A title longer than the panel wraps onto more lines instead of running off both edges.
+  xy.SetTitle(detail::wrap_text(*xy.GetTitleProperties(), chart.title, static_cast<int>(cell.GetWidth()) - 40));
   const Ranges r = ranges_of(chart);
   style_axis(*xy.GetAxis(vtkAxis::BOTTOM), chart.x_label, chart.log_x, r.x, fonts);
   style_axis(*xy.GetAxis(vtkAxis::LEFT), chart.y_label, chart.log_y, r.y, fonts);

@@ -1,11 +1,14 @@
 #include "weft/viz/vtk_support.h"
 
+#include <algorithm>
 #include <mutex>
+#include <string>
 
 #include <dlfcn.h>
 #include <link.h>
 #include <unistd.h>
 
+#include <vtkFreeTypeTools.h>
 #include <vtkNew.h>
 #include <vtkObjectFactory.h>
 #include <vtkOutputWindow.h>
@@ -13,6 +16,7 @@
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
 #include <vtkSmartPointer.h>
+#include <vtkStdString.h>
 #include <vtkTextProperty.h>
 #include <vtkWindowToImageFilter.h>
 
@@ -93,6 +97,30 @@ void set_font(vtkTextProperty& text, int size, bool bold) {
   } else {
     text.SetBold(bold ? 1 : 0);
   }
+}
+
+std::string wrap_text(vtkTextProperty& text, const std::string& s, int max_width) {
+  auto width_of = [&](const std::string& line) {
+    int bbox[4] = {0, 0, 0, 0};
+    if (!vtkFreeTypeTools::GetInstance()->GetBoundingBox(&text, vtkStdString(line), 72, bbox)) return 0;
+    return bbox[1] - bbox[0];
+  };
+  std::string out;
+  std::string line;
+  std::size_t pos = 0;
+  while (pos <= s.size()) {
+    const std::size_t end = std::min(s.find(' ', pos), s.size());
+    const std::string word = s.substr(pos, end - pos);
+    const std::string candidate = line.empty() ? word : line + " " + word;
+    if (!line.empty() && width_of(candidate) > max_width) {
+      out += line + "\n";
+      line = word;
+    } else {
+      line = candidate;
+    }
+    pos = end + 1;
+  }
+  return out + line;
 }
 
 void require_writable_folder(const std::filesystem::path& target) {

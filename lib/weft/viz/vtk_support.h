@@ -23,6 +23,11 @@ std::string take_vtk_message();
 /// VTK's built-in fonts lack) at `size` pixels; keeps VTK's own font when the file is missing.
 void set_font(vtkTextProperty& text, int size, bool bold);
 
+/// @brief `s` with spaces turned into line breaks (greedily, at word boundaries) so that no
+/// line is wider than `max_width` pixels in the font of `text` (measured by FreeType, as VTK
+/// draws it). A single word wider than that stays on its own line.
+std::string wrap_text(vtkTextProperty& text, const std::string& s, int max_width);
+
 /// @brief Throws weft::Error unless `target`'s folder exists and is writable: checked before a
 /// display is sought, so a bad path is reported even on a machine without one.
 void require_writable_folder(const std::filesystem::path& target);

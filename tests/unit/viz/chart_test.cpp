@@ -55,6 +55,54 @@ TEST(Chart, WritesPngOfRequestedSizeWithSeriesWhereTheyBelong) {
   test::cleanup(dir);
 }
 
+TEST(Chart, ALongTitleWrapsInsideThePicture) {
+  // Issue 18: accuracy_time.png's title ran off both edges. A title several times the width of
+  // the chart wraps: no dark pixel in the outer columns of the title band, and ink on more rows.
+  const auto dir = test::scratch_dir("chart_long_title");
+  auto render = [&](const std::string& title, const std::string& name) {
+    Chart chart;
+    chart.title = title;
+    chart.x_label = "x";
+    chart.y_label = "y";
+    chart.width = 500;
+    chart.height = 400;
+    chart.series.push_back(constant("a", 0.5, {255, 0, 0}, LineStyle::solid));
+    const RenderOutcome out = save_chart_png(chart, dir / name);
+    EXPECT_TRUE(out.written) << out.reason;
+    return test::read_png(dir / name);
+  };
+  const test::Image long_title =
+      render("plain cloth, 4x4 yarns: accuracy vs time (labels: grid coarsening / ray fraction; dashed: Pareto fronts)",
+             "long.png");
+  const test::Image short_title = render("short", "short.png");
+  ASSERT_TRUE(long_title.data && short_title.data);
+  // In the top third: rows with dark ink between 25 % and 75 % of the width (where the title is
+  // and the axes are not), and dark ink in the 4 outer columns.
+  auto title_rows = [](const test::Image& im, int* edge_ink) {
+    int rows = 0;
+    *edge_ink = 0;
+    for (int y = im.height - 1; y >= im.height - im.height / 3; --y) {
+      bool ink = false;
+      for (int x = 0; x < im.width; ++x) {
+        const auto c = im.rgb(x, y);
+        if (c[0] < 100 && c[1] < 100 && c[2] < 100) {
+          if (x > im.width / 4 && x < 3 * im.width / 4) ink = true;
+          if (x < 4 || x >= im.width - 4) ++*edge_ink;
+        }
+      }
+      rows += ink ? 1 : 0;
+    }
+    return rows;
+  };
+  int edge_long = 0;
+  int edge_short = 0;
+  const int rows_long = title_rows(long_title, &edge_long);
+  const int rows_short = title_rows(short_title, &edge_short);
+  EXPECT_EQ(edge_long, 0) << "the title touches the picture's edges";
+  EXPECT_GT(rows_long, 2 * rows_short) << "the long title did not wrap onto more lines";
+  test::cleanup(dir);
+}
+
 TEST(Chart, LogAxesDropNonPositiveValues) {
   const auto dir = test::scratch_dir("chart_log");
   Chart chart;
