@@ -229,7 +229,7 @@ def test_export_without_provenance_needs_sigma(tmp_path, weft_bin):
     g.save(tmp_path / "plain.vdb")
     r = subprocess.run([weft_bin, "export", "--grid", tmp_path / "plain.vdb", "--out", tmp_path / "o"],
                        capture_output=True, text=True)
-    assert r.returncode == 1 and "give --sigma" in r.stderr and r.stderr.startswith("weft: error:")
+    assert r.returncode == 1 and "pass --sigma" in r.stderr and r.stderr.startswith("weft: error:")
     r = subprocess.run([weft_bin, "--quiet", "export", "--grid", tmp_path / "plain.vdb", "--out", tmp_path / "o",
                         "--sigma", "5", "--format", "mitsuba"], capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
