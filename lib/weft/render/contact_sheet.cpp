@@ -6,11 +6,9 @@
 #include <vtkFreeTypeTools.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
-#include <vtkPNGWriter.h>
 #include <vtkStdString.h>
 #include <vtkTextProperty.h>
 
-#include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 
 namespace weft::render {
@@ -113,21 +111,7 @@ void write_contact_sheet_png(const std::filesystem::path& path, const std::vecto
         for (int c = 0; c < 3; ++c) p[c] = static_cast<unsigned char>((p[c] * (255U - a) + 127U) / 255U);
       }
   }
-  vtkNew<vtkImageData> data;
-  data->SetDimensions(width, height, 1);
-  data->AllocateScalars(VTK_UNSIGNED_CHAR, 3);
-  auto* pixels = static_cast<unsigned char*>(data->GetScalarPointer());
-  for (int y = 0; y < height; ++y)
-    std::copy_n(&rgb[static_cast<std::size_t>(y) * width * 3], static_cast<std::size_t>(width) * 3,
-                &pixels[static_cast<std::size_t>(height - 1 - y) * width * 3]);
-  write_atomically(path, [&](const std::filesystem::path& tmp) {
-    vtkNew<vtkPNGWriter> writer;
-    writer->SetFileName(tmp.c_str());
-    writer->SetInputData(data);
-    writer->Write();
-    if (writer->GetErrorCode() != 0 || !std::filesystem::exists(tmp) || std::filesystem::file_size(tmp) == 0)
-      fail("cannot write PNG '{}'", path.string());
-  });
+  write_rgb8_png(path, width, height, rgb);
 }
 
 }  // namespace weft::render

@@ -71,18 +71,18 @@ unsigned char srgb8(float linear, double exposure) {
   return static_cast<unsigned char>(std::lround(255.0 * e));
 }
 
-void write_png(const std::filesystem::path& path, const Image& image, double exposure) {
-  if (image.width <= 0 || image.height <= 0) fail("cannot write empty image to '{}'", path.string());
+void write_rgb8_png(const std::filesystem::path& path, int width, int height, const std::vector<unsigned char>& rgb) {
+  if (width <= 0 || height <= 0) fail("cannot write empty image to '{}'", path.string());
+  if (rgb.size() != static_cast<std::size_t>(width) * height * 3)
+    fail("PNG '{}': {} bytes for a {}x{} RGB image", path.string(), rgb.size(), width, height);
   vtkNew<vtkImageData> data;
-  data->SetDimensions(image.width, image.height, 1);
+  data->SetDimensions(width, height, 1);
   data->AllocateScalars(VTK_UNSIGNED_CHAR, 3);
   auto* pixels = static_cast<unsigned char*>(data->GetScalarPointer());
-  for (int y = 0; y < image.height; ++y) {
-    const int row = image.height - 1 - y;  // VTK images start at the bottom row
-    for (int x = 0; x < image.width; ++x)
-      for (int c = 0; c < 3; ++c)
-        pixels[(static_cast<std::size_t>(row) * image.width + x) * 3 + c] = srgb8(image.at(x, y, c), exposure);
-  }
+  const auto row_bytes = static_cast<std::size_t>(width) * 3;
+  for (int y = 0; y < height; ++y)  // VTK images start at the bottom row
+    std::copy_n(&rgb[static_cast<std::size_t>(y) * row_bytes], row_bytes,
+                &pixels[static_cast<std::size_t>(height - 1 - y) * row_bytes]);
   write_atomically(path, [&](const std::filesystem::path& tmp) {
     vtkNew<vtkPNGWriter> writer;
     writer->SetFileName(tmp.c_str());
@@ -91,6 +91,13 @@ void write_png(const std::filesystem::path& path, const Image& image, double exp
     if (writer->GetErrorCode() != 0 || !std::filesystem::exists(tmp) || std::filesystem::file_size(tmp) == 0)
       fail("cannot write PNG '{}'", path.string());
   });
+}
+
+void write_png(const std::filesystem::path& path, const Image& image, double exposure) {
+  if (image.width <= 0 || image.height <= 0) fail("cannot write empty image to '{}'", path.string());
+  std::vector<unsigned char> rgb(image.rgb.size());
+  for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = srgb8(image.rgb[i], exposure);
+  write_rgb8_png(path, image.width, image.height, rgb);
 }
 
 double rmse(const Image& a, const Image& b) {

@@ -27,6 +27,8 @@ void write_exr(const std::filesystem::path& path, const Image& image);
 [[nodiscard]] Image read_exr(const std::filesystem::path& path);
 /// The 8-bit sRGB code of a linear value scaled by `exposure` (clamped to [0, 1]; IEC 61966-2-1).
 [[nodiscard]] unsigned char srgb8(float linear, double exposure = 1.0);
+/// Writes 8-bit RGB pixels (width·height·3, row-major from the top-left) as a PNG, atomically.
+void write_rgb8_png(const std::filesystem::path& path, int width, int height, const std::vector<unsigned char>& rgb);
 /// Writes an 8-bit sRGB PNG (clamped, scaled by `exposure`), atomically.
 void write_png(const std::filesystem::path& path, const Image& image, double exposure = 1.0);
 
