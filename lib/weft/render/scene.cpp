@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "weft/core/error.h"
+#include "weft/core/file_kind.h"
 #include "weft/core/names.h"
 #include "weft/curves/curve_io.h"
 #include "weft/render/environment.h"
@@ -431,6 +432,9 @@ json to_json(const transmittance::LawSpec& spec) {
 }  // namespace
 
 SceneDesc parse_scene(std::string_view json_text, const std::string& source, const std::filesystem::path& base_dir) {
+  // A file of another kind (a .vdb grid, an image) gets named, not a parser's "invalid JSON: ' B'".
+  if (!looks_like_json(json_text.substr(0, 512)))
+    fail("{}: not a scene JSON (looks like {})", source, file_kind(json_text.substr(0, 512)));
   json root;
   try {
     root = json::parse(json_text.begin(), json_text.end());
@@ -446,6 +450,13 @@ SceneDesc parse_scene(std::string_view json_text, const std::string& source, con
     // A number beyond double range (1e999): nlohmann throws out_of_range, not parse_error (fuzz_scene).
     fail("{}: invalid JSON: {}", source, e.what());
   }
+  // weft gen's cloth.json is JSON too: say what it is and how to render it, not "unknown key 'crimp'".
+  if (root.is_object() && !root.contains("camera") && !root.contains("shapes") &&
+      (root.contains("warp_yarn") || root.contains("pattern")))
+    fail(
+        "{}: a weft gen cloth spec (cloth.json), not a scene: weft gen --config {} --out DIR writes DIR/scene.json "
+        "for weft render",
+        source, source);
   SceneDesc scene;
   scene.base_dir = base_dir;
   Reader r(root, source);
