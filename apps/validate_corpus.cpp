@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "data_gen/cloth/corpus.h"
+#include "usage.h"
 #include "validate_common.h"
 #include "validate_output.h"
 #include "weft/core/atomic_file.h"
@@ -82,7 +83,7 @@ viz::Chart corpus_chart(const std::vector<cloth::CorpusResult>& results) {
 
 int run_corpus(const CorpusOptions& o, const Context& ctx) {
   const auto t0 = std::chrono::steady_clock::now();
-  const auto cases = cloth::corpus_cases(o.quick);
+  const auto cases = as_usage([&] { return cloth::select_corpus_cases(cloth::corpus_cases(o.quick), o.cases); });
   const fs::path out = o.out;
   // Each finished case is recorded in <out>/units/ (rank 0), so a run that dies can be finished
   // with --resume; the key is everything a case's bytes depend on.
@@ -131,17 +132,12 @@ int run_corpus(const CorpusOptions& o, const Context& ctx) {
       }
     }
   }
-  json report = {{"weft", "validate --corpus"},
-                 {"quick", o.quick},
-                 {"seed", o.seed},
-                 {"window", o.window},
-                 {"ranks", ctx.ranks()},
-                 {"threads", ctx.threads()},
-                 {"resumed_units", store.found()},
-                 {"cases", cases_json},
-                 {"axes_missing_one_third", misses},
-                 {"corpus.png", plot},
-                 {"seconds", seconds_since(t0)}};
+  json report = {{"weft", "validate --corpus"}, {"quick", o.quick},
+                 {"case_filter", o.cases},      {"seed", o.seed},
+                 {"window", o.window},          {"ranks", ctx.ranks()},
+                 {"threads", ctx.threads()},    {"resumed_units", store.found()},
+                 {"cases", cases_json},         {"axes_missing_one_third", misses},
+                 {"corpus.png", plot},          {"seconds", seconds_since(t0)}};
   write_text_atomically(out / "corpus.json", report.dump(2) + "\n");
   files.add(out / "corpus.json", "summary");
   store.remove();  // the outputs are whole: the finished cases are no longer needed

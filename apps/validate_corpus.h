@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "command.h"
 
@@ -16,6 +17,7 @@ struct CorpusOptions {
   bool resume = false;
   std::uint64_t seed = 1;
   std::string window = "yarn";
+  std::vector<std::string> cases;  ///< name parts (--cases); empty: every case
 };
 
 /// Runs every case of cloth::corpus_cases (spread over MPI ranks; finished cases recorded in

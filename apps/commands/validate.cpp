@@ -46,6 +46,7 @@ struct ValidateOptions {
   bool corpus = false;
   bool quick = false;
   bool resume = false;
+  std::vector<std::string> cases;
 };
 
 const Registrar kValidate{Command{
@@ -82,6 +83,10 @@ const Registrar kValidate{Command{
                                   "The corpus study: every woven pattern and the knit x cotton, polyester, wool x "
                                   "voxel sizes 10 and 20 um, default sigma and window (corpus.csv, corpus.png)");
       corpus->excludes(sweep)->excludes(o->input.grid_option);
+      sub.add_option("--cases", o->cases,
+                     "With --corpus: only the cases whose name contains one of these comma-separated parts (names "
+                     "like plain-cotton-20um; e.g. --cases 20um or --cases twill,satin)")
+          ->delimiter(',');
       sub.add_flag("--quick", o->quick,
                    "With --sweep: one timing run instead of the median of 3; with --corpus: patterns plain and "
                    "stockinette, cotton only, 20 um");
@@ -92,6 +97,7 @@ const Registrar kValidate{Command{
         const auto t_start = std::chrono::steady_clock::now();
         if (o->quick && !o->sweep && !o->corpus) usage_fail("--quick needs --sweep or --corpus");
         if (o->resume && !o->sweep && !o->corpus) usage_fail("--resume needs --sweep or --corpus");
+        if (!o->cases.empty() && !o->corpus) usage_fail("--cases needs --corpus");
         json timings = json::object();
         // Everything is checked and computed before the output folder is touched.
         if (o->rays < 1) usage_fail("--rays must be >= 1, got {}", o->rays);
@@ -108,7 +114,7 @@ const Registrar kValidate{Command{
         if (o->input.extinction() && o->input.grid.empty())
           usage_fail("--values extinction needs --grid (a cloth grid holds concentrations)");
         // --sweep and --corpus are spread over MPI ranks; the validation runs on rank 0.
-        if (o->corpus) return run_corpus({o->out, o->no_plot, o->quick, o->resume, o->seed, o->window}, ctx);
+        if (o->corpus) return run_corpus({o->out, o->no_plot, o->quick, o->resume, o->seed, o->window, o->cases}, ctx);
         if (!o->sweep && !dist::is_root()) return 0;
         fit::ValidationSpec spec;
         spec.directions = as_usage([&] { return fit::parse_axes(o->axes); });

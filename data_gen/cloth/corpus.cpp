@@ -1,5 +1,6 @@
 #include "data_gen/cloth/corpus.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include <fmt/core.h>
@@ -76,6 +77,24 @@ std::vector<CorpusCase> corpus_cases(bool quick) {
     for (const char* y : {"cotton", "polyester", "wool"}) {
       for (double h : {0.01, 0.02}) out.push_back({p, y, h});
     }
+  }
+  return out;
+}
+
+std::vector<CorpusCase> select_corpus_cases(const std::vector<CorpusCase>& cases,
+                                            const std::vector<std::string>& parts) {
+  if (parts.empty()) return cases;
+  for (const auto& p : parts) {
+    if (p.empty()) fail("corpus: an empty case name part");
+    const bool any = std::any_of(cases.begin(), cases.end(),
+                                 [&](const CorpusCase& c) { return c.name().find(p) != std::string::npos; });
+    if (!any) fail("corpus: no case name contains '{}' (names look like {})", p, cases.front().name());
+  }
+  std::vector<CorpusCase> out;
+  for (const auto& c : cases) {
+    const std::string n = c.name();
+    if (std::any_of(parts.begin(), parts.end(), [&](const std::string& p) { return n.find(p) != std::string::npos; }))
+      out.push_back(c);
   }
   return out;
 }

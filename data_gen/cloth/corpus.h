@@ -29,6 +29,11 @@ struct CorpusCase {
 /// quick: plain and stockinette, cotton, 20 µm.
 [[nodiscard]] std::vector<CorpusCase> corpus_cases(bool quick);
 
+/// @brief The cases whose name contains one of `parts` (e.g. "20um", "plain-cotton-10um"), in
+/// their order; all cases when `parts` is empty. Fails naming a part that matches no case.
+[[nodiscard]] std::vector<CorpusCase> select_corpus_cases(const std::vector<CorpusCase>& cases,
+                                                          const std::vector<std::string>& parts);
+
 struct CorpusAxis {
   std::string axis;
   double scale = 0.0;

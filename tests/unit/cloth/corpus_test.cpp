@@ -59,6 +59,20 @@ TEST(Corpus, CasesAreDistinctAndTheQuickCorpusIsTheirSubset) {
   for (const auto& c : quick) EXPECT_TRUE(names.count(c.name()) == 1) << c.name();
 }
 
+TEST(Corpus, SelectKeepsTheCasesNamingAPartInCorpusOrder) {
+  const auto all = corpus_cases(false);
+  EXPECT_EQ(select_corpus_cases(all, {}).size(), all.size());
+  const auto fine = select_corpus_cases(all, {"20um"});
+  EXPECT_EQ(fine.size(), 21U);
+  for (const auto& c : fine) EXPECT_DOUBLE_EQ(c.voxel_size, 0.02) << c.name();
+  const auto two = select_corpus_cases(all, {"satin5-wool-10um", "plain-cotton-20um"});
+  ASSERT_EQ(two.size(), 2U);
+  EXPECT_EQ(two[0].name(), "plain-cotton-20um");  // corpus order, not the order asked
+  EXPECT_EQ(two[1].name(), "satin5-wool-10um");
+  EXPECT_THROW((void)select_corpus_cases(all, {"plain", "satin9"}), Error);
+  EXPECT_THROW((void)select_corpus_cases(all, {""}), Error);
+}
+
 TEST(Corpus, UnitsGiveEveryCaseAloneForAnyThreadsAndAfterAResume) {
   const auto cases = corpus_cases(true);
   const std::uint64_t seed = 3;
