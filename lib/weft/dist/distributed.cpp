@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <exception>
 #include <mutex>
 #include <optional>
@@ -86,30 +87,58 @@ struct Reader {
   }
 };
 
-/// WEFT_UNIT_COSTS=<file>: rank 0 appends one CSV row per unit (rank, seconds, result bytes) and
-/// per round (seconds from entering the gather to the decision, bytes gathered), the measured
-/// inputs of the scaling model in docs/scale-out.md. A benchmark aid, not an output.
+/// This thread's CPU time: a unit's cost where wall time is inflated by other processes on a shared
+/// machine (its whole cost with --threads 1; nested parallel work on other threads is not in it).
+double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+/// WEFT_UNIT_COSTS=<file>: rank 0 appends one CSV row per unit (rank, wall seconds, result bytes,
+/// thread CPU seconds) and per round (wall seconds from entering the gather to the decision, bytes
+/// gathered, rank 0's CPU seconds meanwhile), the measured inputs of the scaling model in
+/// docs/scale-out.md. A benchmark aid, not an output.
 struct CostLog {
   std::FILE* f = nullptr;
   static inline int run = 0;
   int id;
   explicit CostLog(const char* path) : f(std::fopen(path, "a")), id(run++) {
-    if (f != nullptr && std::ftell(f) == 0) std::fputs("run,kind,index,rank,ranks,seconds,bytes\n", f);
+    if (f != nullptr && std::ftell(f) == 0) std::fputs("run,kind,index,rank,ranks,seconds,bytes,cpu_seconds\n", f);
   }
   ~CostLog() {
     if (f != nullptr) std::fclose(f);
   }
   CostLog(const CostLog&) = delete;
   CostLog& operator=(const CostLog&) = delete;
-  void unit(std::uint64_t u, std::size_t r, double seconds, std::size_t bytes) const {
-    if (f != nullptr) fmt::print(f, "{},unit,{},{},{},{:.6g},{}\n", id, u, r, g_size, seconds, bytes);
+  void unit(std::uint64_t u, std::size_t r, double seconds, std::size_t bytes, double cpu) const {
+    if (f != nullptr) fmt::print(f, "{},unit,{},{},{},{:.6g},{},{:.6g}\n", id, u, r, g_size, seconds, bytes, cpu);
   }
-  void round(std::size_t index, double seconds, std::size_t bytes) const {
-    if (f != nullptr) fmt::print(f, "{},round,{},0,{},{:.6g},{}\n", id, index, g_size, seconds, bytes);
+  void round(std::size_t index, double seconds, std::size_t bytes, double cpu) const {
+    if (f != nullptr) fmt::print(f, "{},round,{},0,{},{:.6g},{},{:.6g}\n", id, index, g_size, seconds, bytes, cpu);
   }
 };
 
 enum Status : std::uint64_t { kOk = 0, kFailed = 1, kInternal = 2 };
+
+#if WEFT_HAVE_MPI
+/// Waits for a non-blocking collective without spinning. MPI's blocking collectives busy-poll:
+/// a rank that finished its round early burns a core until the slowest rank arrives, which on a
+/// shared or oversubscribed machine (more ranks than cores, as in the CI tests and
+/// scripts/bench_mpi) takes that core from the ranks still computing and doubled the CPU time of
+/// `mpirun -n 2` on 2 cores. Polling with a growing sleep (10 µs … 1 ms) gives the core away;
+/// it adds at most ~1 ms per collective, against rounds that last seconds (≤ ~32 per run).
+void wait_gently(MPI_Request& request) {
+  int done = 0;
+  auto pause = std::chrono::microseconds(10);
+  while (true) {
+    MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+    if (done != 0) return;
+    std::this_thread::sleep_for(pause);
+    pause = std::min(pause * 2, std::chrono::microseconds(1000));
+  }
+}
+#endif
 
 /// Every rank's message on rank 0 (index = rank); other ranks get an empty vector.
 std::vector<Bytes> gather_to_root(const Bytes& mine) {
@@ -119,7 +148,9 @@ std::vector<Bytes> gather_to_root(const Bytes& mine) {
     if (mine.size() > static_cast<std::size_t>(INT_MAX)) throw Error("distributed run: a round's results exceed 2 GiB");
     int n = static_cast<int>(mine.size());
     std::vector<int> counts(g_rank == 0 ? static_cast<std::size_t>(g_size) : 0);
-    MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+    MPI_Request request = MPI_REQUEST_NULL;
+    MPI_Igather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD, &request);
+    wait_gently(request);
     std::vector<int> displs(counts.size());
     Bytes all;
     if (g_rank == 0) {
@@ -131,7 +162,9 @@ std::vector<Bytes> gather_to_root(const Bytes& mine) {
       if (total > INT_MAX) throw Error("distributed run: a round's results exceed 2 GiB on rank 0");
       all.resize(static_cast<std::size_t>(total));
     }
-    MPI_Gatherv(mine.data(), n, MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE, 0, MPI_COMM_WORLD);
+    MPI_Igatherv(mine.data(), n, MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE, 0, MPI_COMM_WORLD,
+                 &request);
+    wait_gently(request);
     std::vector<Bytes> out;
     for (std::size_t r = 0; r < counts.size(); ++r) {
       out.emplace_back(all.begin() + displs[r], all.begin() + displs[r] + counts[r]);
@@ -147,10 +180,13 @@ void broadcast(Bytes& b) {
 #if WEFT_HAVE_MPI
   if (g_size > 1) {
     unsigned long long n = b.size();
-    MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD);
+    MPI_Request request = MPI_REQUEST_NULL;
+    MPI_Ibcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD, &request);
+    wait_gently(request);
     if (n > static_cast<unsigned long long>(INT_MAX)) std::abort();  // rank 0 never sends that much
     b.resize(static_cast<std::size_t>(n));
-    MPI_Bcast(b.data(), static_cast<int>(n), MPI_BYTE, 0, MPI_COMM_WORLD);
+    MPI_Ibcast(b.data(), static_cast<int>(n), MPI_BYTE, 0, MPI_COMM_WORLD, &request);
+    wait_gently(request);
   }
 #else
   (void)b;
@@ -222,7 +258,7 @@ int Session::finish(int code, const std::string& error_line, double failed_wait_
   MPI_Request request = MPI_REQUEST_NULL;
   MPI_Iallreduce(send, recv, 2, MPI_INT, MPI_MAX, MPI_COMM_WORLD, &request);
   if (code == 0) {
-    MPI_Wait(&request, MPI_STATUS_IGNORE);
+    wait_gently(request);  // rank 0 may still be writing outputs: sleep, not spin
   } else {
     // A rank that failed alone may have left the others inside run_units, waiting for it.
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(failed_wait_seconds);
@@ -325,6 +361,7 @@ std::vector<Bytes> run_units(std::size_t count, const std::function<Bytes(std::s
     std::vector<Bytes> out(mine.size());
     std::vector<char> ok(mine.size(), 0);
     std::vector<double> unit_seconds(mine.size(), 0.0);
+    std::vector<double> unit_cpu(mine.size(), 0.0);
     std::mutex failure_mutex;
     std::optional<std::size_t> failed;  // index into `mine` of the lowest failing unit
     std::string failed_what;
@@ -336,7 +373,9 @@ std::vector<Bytes> run_units(std::size_t count, const std::function<Bytes(std::s
       try {
         if (fail_unit && *fail_unit == u) throw Error("failed on purpose (test hook WEFT_TEST_FAIL_UNIT)");
         const auto t0 = std::chrono::steady_clock::now();
+        const double cpu0 = thread_cpu_seconds();
         out[k] = body(u);
+        unit_cpu[k] = thread_cpu_seconds() - cpu0;
         unit_seconds[k] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         ok[k] = 1;
         if (root && options.progress != nullptr) options.progress->step();
@@ -374,10 +413,12 @@ std::vector<Bytes> run_units(std::size_t count, const std::function<Bytes(std::s
         if (ok[k] == 0) continue;
         put_u64(message, mine[k]);
         put_u64(message, std::bit_cast<std::uint64_t>(unit_seconds[k]));
+        put_u64(message, std::bit_cast<std::uint64_t>(unit_cpu[k]));
         put_bytes(message, out[k].data(), out[k].size());
       }
     }
     const auto t_gather = std::chrono::steady_clock::now();
+    const double cpu_gather = thread_cpu_seconds();
     const std::vector<Bytes> all = gather_to_root(message);
 
     Decision decision;
@@ -386,7 +427,7 @@ std::vector<Bytes> run_units(std::size_t count, const std::function<Bytes(std::s
         std::vector<std::uint64_t> finished;
         for (std::size_t k = 0; k < mine.size(); ++k) {
           if (ok[k] == 0) continue;
-          if (costs) costs->unit(mine[k], 0, unit_seconds[k], out[k].size());
+          if (costs) costs->unit(mine[k], 0, unit_seconds[k], out[k].size(), unit_cpu[k]);
           results[mine[k]] = std::move(out[k]);
           finished.push_back(mine[k]);
         }
@@ -408,8 +449,9 @@ std::vector<Bytes> run_units(std::size_t count, const std::function<Bytes(std::s
             const std::uint64_t u = in.u64();
             if (u >= count) throw Error(fmt::format("distributed run: rank {} sent unit {} of {}", r, u, count));
             const double seconds = std::bit_cast<double>(in.u64());
+            const double cpu = std::bit_cast<double>(in.u64());
             results[u] = in.bytes();
-            if (costs) costs->unit(u, r, seconds, results[u].size());
+            if (costs) costs->unit(u, r, seconds, results[u].size(), cpu);
             finished.push_back(u);
           }
           if (r > 0 && options.progress != nullptr) options.progress->step(n);
@@ -439,7 +481,8 @@ std::vector<Bytes> run_units(std::size_t count, const std::function<Bytes(std::s
     if (costs) {
       std::size_t bytes = 0;
       for (const auto& m : all) bytes += m.size();
-      costs->round(round, std::chrono::duration<double>(std::chrono::steady_clock::now() - t_gather).count(), bytes);
+      costs->round(round, std::chrono::duration<double>(std::chrono::steady_clock::now() - t_gather).count(), bytes,
+                   thread_cpu_seconds() - cpu_gather);
     }
     if (d.status != kOk) throw UnitFailure(d.message, d.status == kInternal);
   }
