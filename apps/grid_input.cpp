@@ -8,6 +8,7 @@
 
 #include "usage.h"
 #include "weft/core/error.h"
+#include "weft/core/parse_number.h"
 
 namespace weft::app {
 
@@ -91,14 +92,9 @@ BeamsRecord parse_beams_record(const std::string& line, const std::string& path)
   auto number = [&](const std::string& key) {
     const auto it = kv.find(key);
     if (it == kv.end()) fail("{}: first line has no {}=", path, key);
-    try {
-      std::size_t used = 0;
-      const double v = std::stod(it->second, &used);
-      if (used != it->second.size() || !std::isfinite(v)) throw std::invalid_argument(key);
-      return v;
-    } catch (const std::exception&) {
-      fail("{}: first line: {}='{}' is not a number", path, key, it->second);
-    }
+    const std::optional<double> v = parse_number(it->second);
+    if (!v || !std::isfinite(*v)) fail("{}: first line: {}='{}' is not a number", path, key, it->second);
+    return *v;
   };
   r.sigma = number("sigma");
   r.voxel_size = number("voxel_size");

@@ -11,6 +11,7 @@
 #include "usage.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
+#include "weft/core/parse_number.h"
 #include "weft/volume/dense.h"
 #include "weft/volume/renderer_export.h"
 #include "written_files.h"
@@ -36,15 +37,9 @@ std::array<double, 3> parse_albedo(const std::string& text) {
   std::stringstream ss(text);
   std::string item;
   while (std::getline(ss, item, ',')) {
-    std::size_t used = 0;
-    double x = 0.0;
-    try {
-      x = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != item.size()) fail("--albedo: '{}' is not a number", item);
-    v.push_back(x);
+    const std::optional<double> x = parse_number(item);
+    if (!x) fail("--albedo: '{}' is not a number", item);
+    v.push_back(*x);
   }
   if (v.size() == 1) return {v[0], v[0], v[0]};
   if (v.size() != 3) fail("--albedo: expected A or R,G,B, got '{}'", text);

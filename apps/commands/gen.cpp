@@ -16,6 +16,7 @@
 #include "weft/core/error.h"
 #include "weft/core/memory.h"
 #include "weft/core/names.h"
+#include "weft/core/parse_number.h"
 #include "weft/curves/curve_io.h"
 #include "weft/render/cloth_scene.h"
 #include "weft/viz/vtk_files.h"
@@ -116,14 +117,9 @@ void set_yarn_field(cloth::YarnParams& yarn, const std::string& key, const std::
                     const std::string& where) {
   for (const auto& f : cloth::yarn_fields()) {
     if (key != f.name) continue;
-    std::size_t used = 0;
-    double v = 0.0;
-    try {
-      v = std::stod(value, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != value.size()) usage_fail("{}: '{}' is not a number", where, value);
+    const std::optional<double> parsed = parse_number(value);
+    if (!parsed) usage_fail("{}: '{}' is not a number", where, value);
+    const double v = *parsed;
     if (f.integer) {
       if (v != std::floor(v) || std::abs(v) > 1e9) usage_fail("{}: '{}' is not an integer", where, value);
       yarn.*(f.whole) = static_cast<int>(v);

@@ -6,6 +6,7 @@
 
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
+#include "weft/core/parse_number.h"
 #include "weft/fit/fit.h"
 #include "weft/volume/columns.h"
 
@@ -155,16 +156,9 @@ double measured_yarn_scale(const volume::Grid& grid, ProgressSink& progress) {
 
 void check_scale_text(const std::string& text) {
   if (text == "yarn" || text == "yarn-measured" || text == "corr" || text == "extent") return;
-  double v = NAN;
-  try {
-    std::size_t used = 0;
-    v = std::stod(text, &used);
-    if (used != text.size()) v = NAN;
-  } catch (const std::exception&) {
-    v = NAN;
-  }
-  if (std::isnan(v)) fail("window '{}' is not yarn, yarn-measured, corr, extent or a length", text);
-  require_positive("window", v);
+  const std::optional<double> v = parse_number(text);
+  if (!v || std::isnan(*v)) fail("window '{}' is not yarn, yarn-measured, corr, extent or a length", text);
+  require_positive("window", *v);
 }
 
 StatisticsScale resolve_scale(const std::string& text, const volume::Grid& grid, const volume::Provenance& provenance,
@@ -203,18 +197,11 @@ StatisticsScale resolve_scale(const std::string& text, const volume::Grid& grid,
     s.source = "the grid's extent along each beam";
     return s;
   }
-  double v = NAN;
-  try {
-    std::size_t used = 0;
-    v = std::stod(text, &used);
-    if (used != text.size()) v = NAN;
-  } catch (const std::exception&) {
-    v = NAN;
-  }
-  if (std::isnan(v)) fail("window '{}' is not yarn, yarn-measured, corr, extent or a length", text);
-  require_positive("window", v);
+  const std::optional<double> v = parse_number(text);
+  if (!v || std::isnan(*v)) fail("window '{}' is not yarn, yarn-measured, corr, extent or a length", text);
+  require_positive("window", *v);
   s.rule = "length";
-  s.length.fill(v);
+  s.length.fill(*v);
   s.source = "given length";
   return s;
 }

@@ -12,6 +12,7 @@
 #include "weft/core/error.h"
 #include "weft/core/fp_hold.h"
 #include "weft/core/parallel.h"
+#include "weft/core/parse_number.h"
 #include "weft/core/rng.h"
 #include "weft/volume/columns.h"
 #include "weft/volume/dda.h"
@@ -651,13 +652,9 @@ std::array<double, 3> parse_direction(const std::string& text) {
   int n = 0;
   while (std::getline(in, part, ',')) {
     if (n >= 3) fail("direction '{}': expected x, y, z (optionally signed) or three numbers dx,dy,dz", text);
-    try {
-      std::size_t used = 0;
-      d[static_cast<std::size_t>(n)] = std::stod(part, &used);
-      if (used != part.size()) throw std::invalid_argument(part);
-    } catch (const std::exception&) {
-      fail("direction '{}': '{}' is not a number", text, part);
-    }
+    const std::optional<double> v = parse_number(part);
+    if (!v) fail("direction '{}': '{}' is not a number", text, part);
+    d[static_cast<std::size_t>(n)] = *v;
     ++n;
   }
   if (n != 3) fail("direction '{}': expected x, y, z (optionally signed) or three numbers dx,dy,dz", text);

@@ -7,19 +7,13 @@
 #include <nlohmann/json.hpp>
 
 #include "weft/core/error.h"
+#include "weft/core/parse_number.h"
 
 namespace weft::volume {
 namespace {
 
 double positive_number(const std::string& key, const std::string& text) {
-  double v = NAN;
-  try {
-    std::size_t used = 0;
-    v = std::stod(text, &used);
-    if (used != text.size()) v = NAN;
-  } catch (const std::exception&) {
-    v = NAN;
-  }
+  const double v = parse_number(text).value_or(NAN);
   if (!std::isfinite(v) || !(v > 0.0)) fail("grid metadata '{}' = '{}' is not a positive number", key, text);
   return v;
 }
