@@ -1,7 +1,7 @@
-// parse_number: the whole text is the number, or there is none; locale-independent and exact.
+// parse_number: the whole text is the number, or there is none; exact for 17 digits. (Its locale
+// independence is std::from_chars's; this machine and CI have no decimal-comma locale to show it.)
 #include "weft/core/parse_number.h"
 
-#include <clocale>
 #include <cmath>
 #include <limits>
 
@@ -32,19 +32,6 @@ TEST(ParseNumber, RoundTripsSeventeenDigits) {
     ASSERT_TRUE(parse_number(text).has_value()) << text;
     EXPECT_EQ(*parse_number(text), x) << text;
   }
-}
-
-TEST(ParseNumber, IgnoresTheLocale) {
-  // Under a locale with a decimal comma strtod (and so std::stod) stops at '.'; parse_number
-  // does not. Skipped where no such locale is installed.
-  const char* old = std::setlocale(LC_NUMERIC, nullptr);
-  const std::string saved = old != nullptr ? old : "C";
-  if (std::setlocale(LC_NUMERIC, "de_DE.UTF-8") == nullptr && std::setlocale(LC_NUMERIC, "fr_FR.UTF-8") == nullptr)
-    GTEST_SKIP() << "no decimal-comma locale installed";
-  const auto v = parse_number("0.25");
-  std::setlocale(LC_NUMERIC, saved.c_str());
-  ASSERT_TRUE(v.has_value());
-  EXPECT_EQ(*v, 0.25);
 }
 
 }  // namespace
