@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -13,6 +14,7 @@
 
 #include "command.h"
 #include "data_gen/cloth/cloth.h"
+#include "render_study.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 #include "weft/dist/distributed.h"
@@ -38,6 +40,10 @@ struct RenderCliOptions {
   std::optional<std::uint64_t> seed;
   std::string convergence;
   int reference_spp = 0;
+  bool study = false;
+  double study_time = 0.0;
+  int study_spp = 0;
+  std::vector<int> study_factors;
   bool quick = false;
   bool list = false;
   bool print_scene = false;
@@ -49,9 +55,18 @@ constexpr int kSheetSpp[] = {2, 8, 64, 128, 512};
 /// --quick: the longest image side and the series' spp.
 constexpr int kQuickSide = 48;
 constexpr int kQuickSpp = 128;
+/// --study defaults: seconds per candidate image and the reference's spp (--quick: 1 s, 256).
+constexpr double kStudySeconds = 10.0;
+constexpr int kStudyReferenceSpp = 1024;
 
 /// A path that exists is a scene file; otherwise the name of a built-in scene.
 render::SceneDesc resolve_scene(const std::string& name, std::string& label) {
+  if (name.ends_with(".vdb")) {
+    // A cloth grid (e.g. `weft gen`'s cloth.vdb): rendered in the scene of scene.json (§5c).
+    label = fs::path(name).stem().string();
+    if (!fs::exists(name)) fail("grid file '{}' does not exist", name);
+    return render::cloth_scene(name);
+  }
   if (fs::exists(name) || name.find('/') != std::string::npos || name.ends_with(".json")) {
     label = fs::path(name).stem().string();
     return render::load_scene(name);
@@ -144,7 +159,34 @@ int run(const RenderCliOptions& o, const Context& ctx) {
   if (o.spp > 0) options.spp = o.spp;
   options.seed = o.seed;
   options.time_budget_seconds = o.time_budget;
-  if (o.reference_spp > 0 && o.convergence != "auto") usage_fail("--reference-spp needs --convergence auto");
+  if (o.reference_spp > 0 && o.convergence != "auto" && !o.study)
+    usage_fail("--reference-spp needs --convergence auto or --study");
+  if (!std::isfinite(o.study_time))
+    usage_fail("--study-time: must be a finite number of seconds, got {}", o.study_time);
+  if (!o.study && (o.study_time > 0.0 || o.study_spp > 0 || !o.study_factors.empty()))
+    usage_fail("--study-time, --study-spp and --study-factors need --study");
+  if (o.study) {
+    if (!o.convergence.empty()) usage_fail("--study and --convergence are separate runs: give one");
+    if (o.spp > 0 || o.time_budget > 0.0)
+      usage_fail("--study renders each candidate by --study-time or --study-spp, not --spp or --time-budget");
+    render::StudySpec spec;
+    if (!o.study_factors.empty()) {
+      std::vector<int> sorted = o.study_factors;
+      std::sort(sorted.begin(), sorted.end());
+      if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+        usage_fail("--study-factors: a factor is given twice ({})", fmt::join(o.study_factors, ","));
+      spec.factors = sorted;
+    }
+    spec.seconds = o.study_time > 0.0 ? o.study_time : (o.quick ? 1.0 : kStudySeconds);
+    spec.spp = o.study_spp;
+    spec.reference_spp = o.reference_spp > 0 ? o.reference_spp : (o.quick ? 256 : kStudyReferenceSpp);
+    spec.seed = o.seed.value_or(scene.integrator.seed);
+    render::check_study_scene(scene);  // refuse a scene without a grid before creating anything
+    if (dist::is_root() && !o.out_dir.empty()) ensure_directory(o.out_dir);
+    run_render_study(scene, spec, label, exr, o.exposure, ctx, files);
+    files.say(ctx);
+    return 0;
+  }
 
   Convergence conv;
   if (!o.convergence.empty()) {
@@ -298,7 +340,8 @@ const Registrar kRender{Command{
       auto o = std::make_shared<RenderCliOptions>();
       sub.add_option(
           "scene", o->scene,
-          "Scene file (.json, docs/scene-format.md, e.g. the scene.json `weft gen` writes) or built-in scene name; "
+          "Scene file (.json, docs/scene-format.md, e.g. the scene.json `weft gen` writes), a cloth grid (.vdb, "
+          "rendered in the scene `weft gen` writes beside it) or built-in scene name; "
           "default: the default cloth of `weft gen` as a grid medium");
       auto* output = sub.add_option("-o,--output", o->output,
                                     "Image path ending in .exr or .png in an existing folder; both are written, the "
@@ -318,9 +361,30 @@ const Registrar kRender{Command{
                      "2, 8, 64, 128, 512 spp images (<output>.contact.png); the series runs to 512 spp unless --spp");
       sub.add_option(
              "--reference-spp", o->reference_spp,
-             "spp of the reference rendered by --convergence auto (default: 16x the series' spp, 8x with --quick)")
+             "spp of the reference rendered by --convergence auto (default: 16x the series' spp, 8x with --quick) or "
+             "by --study (default 1024, 256 with --quick)")
           ->check(CLI::Range(1, 1 << 24));
-      sub.add_flag("--quick", o->quick, "Small film (longest side 48 px); with --convergence, a 128 spp series");
+      sub.add_flag("--study", o->study,
+                   "Accuracy vs time (docs/render.md 6c): the scene's grid medium (default: the default cloth) "
+                   "rendered to --reference-spp as the reference, then the fine grid, the grid downsampled by "
+                   "--study-factors (exponential per coarse voxel, and local gamma fields) and one gamma slab, each "
+                   "at --study-time; writes <output>.study.csv/.curves.csv/.json/.png/.contact.png and "
+                   "<output>.study/ (grids, fields, scenes, images); the main image is the reference");
+      auto* study_time = sub.add_option("--study-time", o->study_time,
+                                        "--study: wall seconds per candidate image (default 10, 1 with --quick); "
+                                        "the spp reached is recorded")
+                             ->check(CLI::Range(1e-3, 1e6));
+      sub.add_option("--study-spp", o->study_spp,
+                     "--study: every candidate at this spp instead of a time budget (deterministic: same bytes for "
+                     "any --threads or ranks)")
+          ->check(CLI::Range(1, 1 << 20))
+          ->excludes(study_time);
+      sub.add_option("--study-factors", o->study_factors, "--study: coarsening factors (default 2,4,8,16)")
+          ->delimiter(',')
+          ->check(CLI::Range(2, 4096));
+      sub.add_flag("--quick", o->quick,
+                   "Small film (longest side 48 px); with --convergence, a 128 spp series; with --study, 1 s per "
+                   "candidate and a 256 spp reference");
       sub.add_option("--exposure", o->exposure, "Scale before sRGB conversion of the PNG")->check(CLI::PositiveNumber);
       sub.add_flag("--list-scenes", o->list, "List the built-in scenes and exit");
       sub.add_flag("--print-scene", o->print_scene, "Print the scene as canonical JSON and exit");

@@ -1,0 +1,488 @@
+// Accuracy against time in images (study.h; docs/render.md §6c).
+#include "weft/render/study.h"
+
+#include <algorithm>
+#include <cmath>
+#include <ctime>
+#include <limits>
+#include <map>
+#include <set>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "weft/core/atomic_file.h"
+#include "weft/core/error.h"
+#include "weft/dist/distributed.h"
+#include "weft/fit/fit.h"
+#include "weft/fit/report.h"
+#include "weft/fit/scale.h"
+#include "weft/fit/validation.h"
+#include "weft/render/convergence.h"
+#include "weft/render/medium.h"
+#include "weft/render/render.h"
+#include "weft/volume/downsample.h"
+#include "weft/volume/provenance.h"
+
+namespace weft::render {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+/// Seeds of the second images and of the reference: far from the first images' streams
+/// (stream_for hashes (seed, index), so any distinct seed gives independent noise).
+constexpr std::uint64_t kSeedStep = 0x9E3779B97F4A7C15ULL;
+
+struct Box {
+  Vec3 min;
+  Vec3 max;
+};
+
+/// World box of a grid's active voxels: index i covers origin + h·[i, i + 1).
+Box world_box(const volume::Grid& grid) {
+  const volume::IndexBox b = grid.active_bbox();
+  const auto o = grid.origin();
+  const double h = grid.voxel_size();
+  Box w;
+  for (int a = 0; a < 3; ++a) {
+    w.min[a] = o[static_cast<std::size_t>(a)] + h * b.min[static_cast<std::size_t>(a)];
+    w.max[a] = o[static_cast<std::size_t>(a)] + h * (static_cast<double>(b.max[static_cast<std::size_t>(a)]) + 1.0);
+  }
+  return w;
+}
+
+json vec_json(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+/// Where the study's grid medium is in the scene.
+struct Target {
+  std::string medium;  ///< its name
+  std::size_t shape = 0;
+  json scene;  ///< the scene as canonical JSON, to edit per candidate
+  json medium_json;
+  double sigma_stats = 1.0;  ///< σ that turns grid values into extinction (1 for extinction grids)
+  Box box;                   ///< the bounding box shape
+};
+
+Target find_target(const SceneDesc& scene) {
+  Target t;
+  std::vector<std::string> grids;
+  for (const auto& [name, m] : scene.media)
+    if (m.kind == MediumKind::grid) grids.push_back(name);
+  if (grids.size() != 1)
+    fail("study: the scene needs exactly one grid medium (the fine grid), it has {}", grids.size());
+  t.medium = grids.front();
+  const MediumDesc& m = scene.media.at(t.medium);
+  const std::shared_ptr<const Medium> built = m.loaded ? m.loaded : make_medium(m, "medium '" + t.medium + "'");
+  if (built->traits().law != "exponential")
+    fail("study: medium '{}' must have the exponential law (the reference is exponential per voxel), it has '{}'",
+         t.medium, built->traits().law);
+  int found = 0;
+  for (std::size_t i = 0; i < scene.shapes.size(); ++i) {
+    const ShapeDesc& s = scene.shapes[i];
+    if (s.interior != t.medium && s.exterior != t.medium) continue;
+    ++found;
+    if (s.kind != ShapeKind::box || s.interior != t.medium)
+      fail("study: medium '{}' must fill one box shape (shapes[{}] is not a box holding it inside)", t.medium, i);
+    t.shape = i;
+    t.box = {s.min, s.max};
+  }
+  if (found != 1) fail("study: medium '{}' must fill exactly one box shape, {} shapes name it", t.medium, found);
+  t.scene = json::parse(scene_to_json(scene));
+  t.medium_json = t.scene["media"][t.medium];
+  t.sigma_stats = m.concentration ? m.sigma : 1.0;
+  return t;
+}
+
+/// The scene with the target medium replaced and its box grown to `box` (the box is an
+/// index-matched boundary, so a larger one changes nothing but what it may hold).
+json candidate_scene(const Target& t, const json& medium, const Box& box) {
+  json j = t.scene;
+  j["media"][t.medium] = medium;
+  j["shapes"][t.shape]["min"] = vec_json(box.min);
+  j["shapes"][t.shape]["max"] = vec_json(box.max);
+  return j;
+}
+
+Box union_box(const Box& a, const Box& b) { return {a.min.cwiseMin(b.min), a.max.cwiseMax(b.max)}; }
+
+double mean_square(const Image& a, const Image& b) {
+  const double e = rmse(a, b);
+  return e * e;
+}
+
+double image_mean(const Image& im) {
+  double s = 0.0;
+  for (const float v : im.rgb) s += v;
+  return im.rgb.empty() ? 0.0 : s / static_cast<double>(im.rgb.size());
+}
+
+/// |a − b| averaged over the three channels, as grey (the error map of the contact sheet).
+Image abs_difference(const Image& a, const Image& b) {
+  Image d = a;
+  for (std::size_t p = 0; p + 2 < d.rgb.size(); p += 3) {
+    float e = 0.0F;
+    for (std::size_t c = 0; c < 3; ++c) e += std::abs(a.rgb[p + c] - b.rgb[p + c]);
+    for (std::size_t c = 0; c < 3; ++c) d.rgb[p + c] = e / 3.0F;
+  }
+  d.variance.clear();
+  return d;
+}
+
+/// bias² = mean over pixels and channels of x_i = ((A+B)/2 − R)² − (A − B)²/4 − var R_i, whose
+/// expectation is the squared bias of each value; its standard error is the spread of the x_i
+/// over √n (values taken as independent: pixels are rendered from separate streams).
+struct BiasEstimate {
+  double bias_sq = 0.0;
+  double stderr_sq = 0.0;
+};
+BiasEstimate estimate_bias(const Image& a, const Image& b, const Image& r) {
+  const std::size_t n = r.rgb.size();
+  double sum = 0.0;
+  double sum2 = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double m = 0.5 * (static_cast<double>(a.rgb[i]) + b.rgb[i]) - r.rgb[i];
+    const double d = static_cast<double>(a.rgb[i]) - b.rgb[i];
+    const double x = m * m - d * d / 4.0 - (r.variance.empty() ? 0.0 : static_cast<double>(r.variance[i]));
+    sum += x;
+    sum2 += x * x;
+  }
+  BiasEstimate e;
+  if (n == 0) return e;
+  const auto nn = static_cast<double>(n);
+  e.bias_sq = sum / nn;
+  e.stderr_sq = n > 1 ? std::sqrt(std::max(0.0, (sum2 - nn * e.bias_sq * e.bias_sq) / (nn - 1.0)) / nn) : 0.0;
+  return e;
+}
+
+void say(const StudySpec& spec, const std::string& line) {
+  if (spec.log) spec.log(line);
+}
+
+}  // namespace
+
+void check_study_spec(const StudySpec& spec) {
+  if (spec.factors.empty()) fail("study: no coarsening factors");
+  std::set<int> seen;
+  for (const int f : spec.factors) {
+    if (f < 2 || f > 4096) fail("study: coarsening factor {} is not in [2, 4096]", f);
+    if (!seen.insert(f).second) fail("study: coarsening factor {} given twice", f);
+  }
+  if (spec.spp < 0) fail("study: spp must be >= 0 (0 = time budget), got {}", spec.spp);
+  if (spec.spp == 0 && !(std::isfinite(spec.seconds) && spec.seconds > 0.0))
+    fail("study: time budget must be finite and > 0 seconds, got {}", spec.seconds);
+  if (spec.max_spp < 1) fail("study: max spp must be >= 1, got {}", spec.max_spp);
+  if (spec.reference_spp < 1) fail("study: reference spp must be >= 1, got {}", spec.reference_spp);
+  if (spec.work_dir.empty()) fail("study: no folder for the candidates' files");
+}
+
+void check_study_scene(const SceneDesc& scene) { (void)find_target(scene); }
+
+StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSink& progress) {
+  check_study_spec(spec);
+  const Target target = find_target(scene);
+  const MediumDesc& fine_desc = scene.media.at(target.medium);
+  const volume::Grid fine = volume::Grid::load(fine_desc.file, fine_desc.grid_name);
+  if (fine.active_voxel_count() == 0) fail("study: grid '{}' has no active voxels", fine_desc.file);
+  const bool root = dist::is_root();
+  if (root) fs::create_directories(spec.work_dir);
+
+  StudyResult result;
+  result.sigma = target.sigma_stats;
+  result.mode = spec.spp > 0
+                    ? fmt::format("fixed {} spp per candidate (equal samples, not equal time)", spec.spp)
+                    : fmt::format("time budget of {:.3g} s per candidate (passes of 1 spp until spent)", spec.seconds);
+
+  // The statistics scale: the yarn diameter of the grid's provenance, as `weft validate`.
+  const volume::Provenance provenance = volume::read_provenance(fine);
+  fit::StatisticsScale scale;
+  try {
+    scale = fit::resolve_scale(spec.scale, fine, provenance, progress);
+  } catch (const Error& e) {
+    if (spec.scale != "yarn") throw;
+    scale = fit::resolve_scale("yarn-measured", fine, provenance, progress);
+    result.notes.push_back(fmt::format("scale: {}; measured from the voxels instead", e.what()));
+  }
+  result.scale = (scale.length[0] + scale.length[1] + scale.length[2]) / 3.0;
+
+  // (c) The best predictive model of `weft validate` on the fine grid.
+  fit::ValidationSpec vspec;
+  vspec.sigma = target.sigma_stats;
+  vspec.scale = scale.length;
+  vspec.least_squares = false;
+  vspec.isotropic = false;
+  const fit::Validation validation = fit::validate(fine, vspec, progress);
+  std::map<std::string, std::pair<int, double>> votes;  // name → (axes, sum of ratios)
+  for (const auto& axis : validation.axes) {
+    const fit::ModelRatio best = fit::best_predictive(axis);
+    result.best_predictive_per_axis.emplace_back(axis.label, best.name);
+    votes[best.name].first += 1;
+    votes[best.name].second += best.ratio;
+  }
+  std::pair<int, double> chosen{0, 0.0};
+  for (const auto& [name, v] : votes) {
+    if (v.first > chosen.first || (v.first == chosen.first && v.second / v.first < chosen.second / chosen.first)) {
+      result.best_predictive = name;
+      chosen = v;
+    }
+  }
+  if (result.best_predictive == "local-gamma") {
+    result.best_predictive_note = "(c) is local-gamma, the same fields as (b) local-gamma-Nx: not rendered twice";
+  } else if (result.best_predictive == "local-exponential") {
+    result.best_predictive_note = "(c) is local-exponential, the same grids as (a) exponential-Nx: not rendered twice";
+  } else {
+    result.best_predictive_note = fmt::format(
+        "(c) is {}, which has no local-field medium in the renderer: not rendered (only local-gamma and "
+        "local-exponential do)",
+        result.best_predictive);
+  }
+  say(spec,
+      fmt::format("best predictive model of validate: {}; {}", result.best_predictive, result.best_predictive_note));
+
+  // (d) The slab's law: pooled window statistics of the three axes at scale L (the isotropic
+  // gamma law of `weft validate`), over the grid's active box.
+  std::vector<fit::ConcentrationStats> per_axis;
+  for (int a = 0; a < 3; ++a)
+    per_axis.push_back(fit::window_stats(fine, a, scale.length[static_cast<std::size_t>(a)], progress));
+  const fit::ConcentrationStats pooled = fit::pool(per_axis);
+  const fit::GammaFit slab = fit::gamma_from_moments(pooled.mean, pooled.variance, target.sigma_stats);
+  result.slab_mean_concentration = slab.mean_concentration;
+  result.slab_var_concentration = slab.var_concentration;
+  result.slab_alpha = slab.alpha;
+
+  // The candidates' scenes (rank 0 writes their grids and fields; every rank reads them after).
+  struct Plan {
+    StudyCandidate c;
+    json scene;
+  };
+  std::vector<Plan> plans;
+  const json& base_medium = target.medium_json;
+  {
+    Plan p;
+    p.c.name = "fine";
+    p.c.model = "fine grid";
+    p.c.factor = 1;
+    p.scene = target.scene;
+    plans.push_back(std::move(p));
+  }
+  for (const int f : spec.factors) {
+    const fs::path grid_file = fs::absolute(spec.work_dir / fmt::format("grid_{}x.vdb", f));
+    const fs::path fields_file = fs::absolute(spec.work_dir / fmt::format("fields_{}x.vdb", f));
+    const volume::Grid coarse = volume::downsample(fine, f);
+    if (root) {
+      coarse.save(grid_file);
+      fit::save_local_fields(fit::local_fields(fine, f, progress), fields_file);
+    }
+    const Box box = union_box(target.box, world_box(coarse));
+    Plan e;
+    e.c.name = fmt::format("exponential-{}x", f);
+    e.c.model = "exponential";
+    e.c.factor = f;
+    json em = base_medium;
+    em["file"] = grid_file.string();
+    em.erase("grid");
+    e.scene = candidate_scene(target, em, box);
+    plans.push_back(std::move(e));
+    Plan g;
+    g.c.name = fmt::format("local-gamma-{}x", f);
+    g.c.model = "local-gamma";
+    g.c.factor = f;
+    json gm = {{"type", "local-gamma"},
+               {"fields", fields_file.string()},
+               {"sigma", target.sigma_stats},
+               {"albedo", base_medium.at("albedo")},
+               {"g", base_medium.at("g")}};
+    g.scene = candidate_scene(target, gm, box);
+    plans.push_back(std::move(g));
+  }
+  {
+    Plan s;
+    s.c.name = "slab-gamma";
+    s.c.model = "homogeneous gamma";
+    s.c.factor = 0;
+    const json law = slab.exponential() ? json{{"name", "exponential"}, {"mu", slab.mean_extinction()}}
+                                        : json{{"name", "gamma"},
+                                               {"sigma", target.sigma_stats},
+                                               {"mean_concentration", slab.mean_concentration},
+                                               {"var_concentration", slab.var_concentration}};
+    json sm = {{"type", "homogeneous"}, {"law", law}, {"albedo", base_medium.at("albedo")}, {"g", base_medium.at("g")}};
+    s.scene = candidate_scene(target, sm, world_box(fine));
+    plans.push_back(std::move(s));
+  }
+  // Every rank waits for rank 0's files (root_decides is a collective).
+  (void)dist::root_decides(true);
+
+  const auto parse = [&](const json& j, const std::string& name) {
+    return parse_scene(j.dump(), "study candidate '" + name + "'", scene.base_dir);
+  };
+  const auto write_scene = [&](const json& j, int spp, std::uint64_t seed, const fs::path& path) {
+    if (!root) return;
+    json w = j;
+    w["integrator"]["spp"] = spp;
+    w["integrator"]["seed"] = seed;
+    write_text_atomically(path, w.dump(2) + "\n");
+  };
+
+  // The reference: the fine grid, many samples, its own seed.
+  result.reference_seed = spec.seed + 2 * kSeedStep;
+  {
+    say(spec, fmt::format("rendering the reference (fine grid) at {} spp", spec.reference_spp));
+    RenderOptions ro;
+    ro.spp = spec.reference_spp;
+    ro.seed = result.reference_seed;
+    const RenderResult r = render(parse(target.scene, "reference"), ro, progress);
+    result.reference = r.image;
+    result.reference_seconds = r.stats.seconds;
+    result.reference_mean = image_mean(r.image);
+    result.reference_scene = fs::absolute(spec.work_dir / "reference.json");
+    write_scene(target.scene, spec.reference_spp, result.reference_seed, result.reference_scene);
+  }
+  const Image& reference = result.reference;
+
+  for (Plan& p : plans) {
+    StudyCandidate& c = p.c;
+    const SceneDesc s = parse(p.scene, c.name);
+    c.seed_a = spec.seed;
+    c.seed_b = spec.seed + kSeedStep;
+    RenderOptions oa;
+    oa.seed = c.seed_a;
+    if (spec.spp > 0) {
+      oa.spp = spec.spp;
+    } else {
+      oa.spp = spec.max_spp;
+      oa.time_budget_seconds = spec.seconds;
+    }
+    oa.on_pass = [&](int done, double seconds, const Image& image) {
+      if ((done & (done - 1)) != 0) return;  // powers of two: even spacing on log axes
+      c.curve.push_back({done, seconds, rmse_against_noisy_reference(image, reference)});
+    };
+    say(spec, fmt::format("rendering {} ({})", c.name,
+                          spec.spp > 0 ? fmt::format("{} spp", spec.spp) : fmt::format("{:.3g} s", spec.seconds)));
+    const std::clock_t cpu0 = std::clock();
+    const RenderResult a = render(s, oa, progress);
+    c.cpu_seconds = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
+    c.spp = a.stats.spp;
+    c.seconds = a.stats.seconds;
+    RenderOptions ob;
+    ob.seed = c.seed_b;
+    ob.spp = c.spp;
+    const RenderResult b = render(s, ob, progress);
+    c.scene_file = fs::absolute(spec.work_dir / (c.name + ".json"));
+    write_scene(p.scene, c.spp, c.seed_a, c.scene_file);
+    if (!root) continue;  // images live on rank 0
+    c.image = a.image;
+    c.rmse_raw = rmse(a.image, reference);
+    c.rmse = rmse_against_noisy_reference(a.image, reference);
+    if (c.curve.empty() || c.curve.back().spp != c.spp) c.curve.push_back({c.spp, c.seconds, c.rmse});
+    c.noise = std::sqrt(mean_square(a.image, b.image) / 2.0);
+    const BiasEstimate be = estimate_bias(a.image, b.image, reference);
+    c.bias_sq = be.bias_sq;
+    c.bias_sq_stderr = be.stderr_sq;
+    c.bias = std::sqrt(std::max(0.0, be.bias_sq));
+    c.error_map = abs_difference(a.image, reference);
+  }
+  for (Plan& p : plans) result.candidates.push_back(std::move(p.c));
+  if (!root) return result;
+
+  // Speedups against the fine grid's t^{-1/2} law, and the headline.
+  const StudyCandidate& f = result.candidates.front();
+  const StudyCandidate* best = nullptr;
+  for (StudyCandidate& c : result.candidates) {
+    if (&c == &f) {
+      c.speedup = std::numeric_limits<double>::quiet_NaN();
+      continue;
+    }
+    const double t_fine =
+        c.rmse > 0.0 ? f.seconds * (f.rmse / c.rmse) * (f.rmse / c.rmse) : std::numeric_limits<double>::infinity();
+    c.speedup = t_fine / c.seconds;
+    if (best == nullptr || c.speedup > best->speedup) best = &c;
+  }
+  const auto relative = [&](double e) { return result.reference_mean > 0.0 ? 100.0 * e / result.reference_mean : 0.0; };
+  const auto coarser = [](const StudyCandidate& c) {
+    return c.factor == 0 ? std::string("as one homogeneous slab") : fmt::format("at {}x coarser", c.factor);
+  };
+  if (best != nullptr && best->speedup > 1.0) {
+    result.headline = fmt::format(
+        "{} and {:.3g}x less time, {} ({}) is within RMSE {:.3g} ({:.2g}% of the mean pixel) of the fine grid: "
+        "{:.3g} s at {} spp, bias {:.3g}, noise {:.3g}; the fine grid needs about {:.3g} s to get as close",
+        coarser(*best), best->speedup, best->name, best->model, best->rmse, relative(best->rmse), best->seconds,
+        best->spp, best->bias, best->noise, best->speedup * best->seconds);
+  } else if (best != nullptr) {
+    result.headline = fmt::format(
+        "no coarse model beats the fine grid here: in {:.3g} s the fine grid is within RMSE {:.3g} ({:.2g}% of the "
+        "mean pixel); the best coarse candidate, {} ({}), is within {:.3g} (bias {:.3g}) in {:.3g} s",
+        f.seconds, f.rmse, relative(f.rmse), best->name, coarser(*best), best->rmse, best->bias, best->seconds);
+  }
+  return result;
+}
+
+std::string study_csv(const StudyResult& result) {
+  std::string csv =
+      "candidate,model,factor,spp,seconds,cpu_seconds,seconds_per_spp,rmse,rmse_raw,bias,bias_sq,bias_sq_stderr,"
+      "bias_z,noise,relative_rmse,speedup,seed,scene\n";
+  for (const auto& c : result.candidates) {
+    csv += fmt::format(
+        "{},{},{},{},{:.6g},{:.6g},{:.6g},{:.8g},{:.8g},{:.8g},{:.8g},{:.8g},{:.4g},{:.8g},{:.6g},{:.6g},{},{}\n",
+        c.name, c.model, c.factor, c.spp, c.seconds, c.cpu_seconds, c.seconds / std::max(1, c.spp), c.rmse, c.rmse_raw,
+        c.bias, c.bias_sq, c.bias_sq_stderr, c.bias_z(), c.noise,
+        result.reference_mean > 0.0 ? c.rmse / result.reference_mean : 0.0, c.speedup, c.seed_a, c.scene_file.string());
+  }
+  return csv;
+}
+
+std::string study_curves_csv(const StudyResult& result) {
+  std::string csv = "candidate,spp,seconds,rmse\n";
+  for (const auto& c : result.candidates)
+    for (const auto& p : c.curve) csv += fmt::format("{},{},{:.6g},{:.8g}\n", c.name, p.spp, p.seconds, p.rmse);
+  return csv;
+}
+
+std::string study_json(const StudyResult& result) {
+  const auto num = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+  json j;
+  j["mode"] = result.mode;
+  j["headline"] = result.headline;
+  j["reference"] = {{"spp", result.reference.spp},
+                    {"seconds", result.reference_seconds},
+                    {"seed", result.reference_seed},
+                    {"mean_pixel", result.reference_mean},
+                    {"mean_variance", mean_variance(result.reference)},
+                    {"scene", result.reference_scene.string()},
+                    {"width", result.reference.width},
+                    {"height", result.reference.height}};
+  json axes = json::object();
+  for (const auto& [axis, name] : result.best_predictive_per_axis) axes[axis] = name;
+  j["best_predictive"] = {{"model", result.best_predictive}, {"per_axis", axes}, {"note", result.best_predictive_note}};
+  j["slab_law"] = {{"sigma", result.sigma},
+                   {"mean_concentration", result.slab_mean_concentration},
+                   {"var_concentration", result.slab_var_concentration},
+                   {"alpha", num(result.slab_alpha)},
+                   {"scale", result.scale}};
+  j["notes"] = result.notes;
+  j["candidates"] = json::array();
+  for (const auto& c : result.candidates) {
+    json curve = json::array();
+    for (const auto& p : c.curve) curve.push_back({{"spp", p.spp}, {"seconds", p.seconds}, {"rmse", p.rmse}});
+    j["candidates"].push_back({{"name", c.name},
+                               {"model", c.model},
+                               {"factor", c.factor},
+                               {"spp", c.spp},
+                               {"seconds", c.seconds},
+                               {"cpu_seconds", c.cpu_seconds},
+                               {"rmse", c.rmse},
+                               {"rmse_raw", c.rmse_raw},
+                               {"bias", c.bias},
+                               {"bias_sq", c.bias_sq},
+                               {"bias_sq_stderr", c.bias_sq_stderr},
+                               {"bias_z", c.bias_z()},
+                               {"noise", c.noise},
+                               {"speedup", num(c.speedup)},
+                               {"seed", c.seed_a},
+                               {"second_seed", c.seed_b},
+                               {"scene", c.scene_file.string()},
+                               {"curve", curve}});
+  }
+  return j.dump(2) + "\n";
+}
+
+}  // namespace weft::render

@@ -1,0 +1,153 @@
+#pragma once
+/// @file
+/// @brief Accuracy against time in images (issue 15 item 5; docs/render.md §6c): a fine cloth
+/// grid rendered to low noise is the reference, and coarse models of the same cloth are rendered
+/// at (about) equal time and compared with it, with their bias and their noise apart.
+///
+/// Candidates, all of the one grid medium of a scene (the default cloth of `weft gen` when the
+/// app is given none):
+///   fine              the fine grid itself, exponential per voxel (the reference's model)
+///   exponential-Nx    the grid downsampled N× (volume::downsample, volume-conserving), exponential
+///                     per coarse voxel: what a coarse render grid without statistics carries
+///   local-gamma-Nx    the local statistic fields of N³ blocks (fit::local_fields, what
+///                     `weft fit --block N` writes) as a local-gamma medium (§5b)
+///   slab-gamma        one homogeneous box of the grid's active box with the gamma law of the
+///                     grid's pooled window statistics at the yarn scale (predicted from the
+///                     voxels, never fitted to the rendered reference)
+/// and the best predictive model of `weft validate` on the fine grid, rendered as local fields
+/// when it has a local-field medium: local-gamma is (b) and local-exponential is (a), so it is
+/// then named but not rendered twice; any other model has no local-field medium and is reported
+/// as such.
+///
+/// Time. Each candidate's first image is rendered in passes of one sample per pixel until its
+/// wall-time budget is spent (render's own time budget: rank 0's clock decides for every MPI
+/// rank), or at a fixed spp (StudySpec::spp: deterministic, for tests and MPI comparisons). The
+/// spp reached and the seconds used are recorded; the image is reproduced bit for bit by
+/// rendering the candidate's scene at that spp and seed. The second image (for the noise) is
+/// rendered at exactly the first one's spp with another seed.
+///
+/// Statistics, per candidate with images A and B (independent seeds, same spp) and the
+/// reference R (independent seed, per-pixel variances), means over pixels and channels:
+///   rmse   = sqrt(max(0, |A − R|² − var R))            the error at that time (§6b correction)
+///   noise  = sqrt(|A − B|² / 2)                         the standard deviation of one image
+///   bias²  = |(A+B)/2 − R|² − |A − B|²/4 − var R        (bias = sqrt(max(0, bias²)))
+/// since E|X − R|² = bias² + var X + var R for independent X and R and E|A − B|²/4 = var of
+/// (A+B)/2: bias is the RMSE the candidate would have if rendered to convergence, without
+/// rendering it so. Its standard error comes from the spread of the per-value terms, so a
+/// test can ask whether a bias is distinguishable from 0.
+/// The fine grid has no bias (same model as R), so its error falls as t^{−1/2}: it needs
+/// t_fine(E) = t_f · (rmse_f / E)² seconds to reach error E. A candidate with error E_c after
+/// t_c seconds is `speedup` = t_fine(E_c) / t_c times faster than the fine grid at its accuracy.
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "weft/core/progress.h"
+#include "weft/render/image.h"
+#include "weft/render/scene.h"
+
+namespace weft::render {
+
+struct StudySpec {
+  std::vector<int> factors{2, 4, 8, 16};  ///< coarsening factors, each in [2, 4096], no repeats
+  double seconds = 10.0;                  ///< wall-time budget per candidate image (when spp == 0)
+  int spp = 0;                            ///< > 0: every candidate at this spp instead of a budget
+  int max_spp = 1 << 16;                  ///< cap of a budgeted render
+  int reference_spp = 1024;               ///< the reference: the fine grid at this spp
+  std::uint64_t seed = 1;                 ///< first images; second images and the reference derive theirs
+  /// The statistics scale of the slab's law and of the validation (fit::resolve_scale): "yarn"
+  /// falls back to "yarn-measured" for a grid without provenance (and says so in `notes`).
+  std::string scale = "yarn";
+  /// Folder for the candidates' grids, fields and scene files (created; rank 0 writes).
+  std::filesystem::path work_dir;
+  /// Receives one line per stage ("rendering local-gamma-4x ..."); may be null.
+  std::function<void(const std::string&)> log;
+};
+
+/// Throws weft::Error naming the bad field (factors out of range or repeated, seconds not
+/// finite and > 0, spp < 0, max_spp or reference_spp < 1, an empty work_dir).
+void check_study_spec(const StudySpec& spec);
+
+/// Throws weft::Error unless `scene` has exactly one grid medium with an exponential law filling
+/// one box shape (what run_study needs), before anything is computed or written.
+void check_study_scene(const SceneDesc& scene);
+
+/// One (spp, seconds, rmse) point of a candidate's first image on its way to its budget.
+struct StudyPoint {
+  int spp = 0;
+  double seconds = 0.0;
+  double rmse = 0.0;  ///< against the reference, its noise removed
+};
+
+struct StudyCandidate {
+  std::string name;                  ///< "fine", "exponential-4x", "local-gamma-4x", "slab-gamma"
+  std::string model;                 ///< "fine grid", "exponential", "local-gamma", "homogeneous gamma"
+  int factor = 1;                    ///< coarsening factor (1 = fine; 0 = one homogeneous slab)
+  std::filesystem::path scene_file;  ///< the candidate's scene (renders A at spp and seed_a)
+  std::uint64_t seed_a = 0;
+  std::uint64_t seed_b = 0;
+  int spp = 0;
+  double seconds = 0.0;      ///< wall time of image A (world build included)
+  double cpu_seconds = 0.0;  ///< CPU time of this process during image A (all threads)
+  double rmse = 0.0;
+  double rmse_raw = 0.0;  ///< |A − R| without the reference-noise correction
+  double noise = 0.0;
+  double bias = 0.0;            ///< sqrt(max(0, bias_sq))
+  double bias_sq = 0.0;         ///< the unbiased estimate of bias² (may be < 0 by noise)
+  double bias_sq_stderr = 0.0;  ///< its standard error (per-value terms over √n)
+  /// bias_sq in standard errors (0 when the error is 0): |z| < 5 is no detectable bias.
+  [[nodiscard]] double bias_z() const { return bias_sq_stderr > 0.0 ? bias_sq / bias_sq_stderr : 0.0; }
+  double speedup = 0.0;           ///< t_fine(rmse)/seconds (NaN for the fine grid itself)
+  std::vector<StudyPoint> curve;  ///< at every power of two of spp, and at the end
+  Image image;                    ///< A
+  Image error_map;                ///< |A − R| per channel (no variances)
+};
+
+struct StudyResult {
+  Image reference;
+  double reference_seconds = 0.0;
+  double reference_mean = 0.0;  ///< mean pixel value of the reference (for relative errors)
+  std::filesystem::path reference_scene;
+  std::uint64_t reference_seed = 0;
+  std::string mode;  ///< "time budget of S s per candidate" or "fixed N spp per candidate"
+  std::vector<StudyCandidate> candidates;
+  /// Best predictive model of the validation per axis ("+x": "local-gamma", …), the model the
+  /// study takes (most axes; ties by the smaller mean ratio) and what became of it.
+  std::vector<std::pair<std::string, std::string>> best_predictive_per_axis;
+  std::string best_predictive;
+  std::string best_predictive_note;
+  double scale = 0.0;  ///< statistics scale L used (world units, the pooled axes' mean)
+  double slab_mean_concentration = 0.0;
+  double slab_var_concentration = 0.0;
+  double slab_alpha = 0.0;
+  double sigma = 1.0;
+  std::vector<std::string> notes;
+  std::string headline;  ///< "at N× coarser and M× less time, model X is within E of the fine grid"
+};
+
+/// @brief Runs the study on the one grid medium of `scene` (bounded by a box shape). Every MPI
+/// rank must call it (the renders are collective); rank 0 writes the files under work_dir and
+/// holds the images and statistics. Throws weft::Error for a scene without exactly one grid
+/// medium of concentration or extinction values with an exponential law inside a box.
+[[nodiscard]] StudyResult run_study(const SceneDesc& scene, const StudySpec& spec,
+                                    ProgressSink& progress = null_progress());
+
+/// One row per candidate: candidate,model,factor,spp,seconds,cpu_seconds,seconds_per_spp,
+/// rmse,rmse_raw,bias,bias_sq,bias_sq_stderr,bias_z,noise,relative_rmse,speedup,seed,scene.
+[[nodiscard]] std::string study_csv(const StudyResult& result);
+/// Long form of the curves: candidate,spp,seconds,rmse.
+[[nodiscard]] std::string study_curves_csv(const StudyResult& result);
+/// Everything above as pretty-printed JSON (images excluded).
+[[nodiscard]] std::string study_json(const StudyResult& result);
+
+/// @brief The contact sheet: per candidate (and the reference first) its image above its error
+/// map |A − R| (channel mean, grey, white at `error_white`, linear), each tile under a text
+/// label (name, spp, seconds, RMSE, bias). Rows: the reference, the fine grid and the slab;
+/// the exponential candidates; the local-gamma ones (factors left to right). Labels are drawn
+/// with VTK's FreeType text (no display needed).
+[[nodiscard]] Image study_contact_sheet(const StudyResult& result, double error_white);
+
+}  // namespace weft::render
