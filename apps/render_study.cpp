@@ -9,6 +9,7 @@
 
 #include "weft/core/atomic_file.h"
 #include "weft/dist/distributed.h"
+#include "weft/render/contact_sheet.h"
 #include "weft/render/image.h"
 #include "weft/viz/chart.h"
 
@@ -175,7 +176,10 @@ void run_render_study(const render::SceneDesc& scene, render::StudySpec spec, co
   const double fine_rmse = r.candidates.front().rmse;
   const double white = fine_rmse > 0.0 ? 4.0 * fine_rmse : std::max(1e-6, r.reference_mean);
   const fs::path sheet = beside(exr, ".study.contact.png");
-  render::write_png(sheet, render::study_contact_sheet(r, white), exposure);
+  const render::StudySheet tiles = render::study_sheet(r, exposure, white);
+  render::SheetLayout layout;
+  layout.columns = tiles.columns;
+  render::write_contact_sheet_png(sheet, tiles.tiles, layout);
   files.add(sheet, fmt::format("images over their error maps |A - R| (white = {:.3g})", white));
   const fs::path chart = beside(exr, ".study.png");
   const viz::RenderOutcome outcome = write_chart(r, chart, label);

@@ -485,4 +485,50 @@ std::string study_json(const StudyResult& result) {
   return j.dump(2) + "\n";
 }
 
+StudySheet study_sheet(const StudyResult& result, double exposure, double error_white) {
+  if (!(error_white > 0.0) || !std::isfinite(error_white))
+    fail("study contact sheet: error scale must be finite and > 0, got {}", error_white);
+  std::vector<const StudyCandidate*> exp_row;
+  std::vector<const StudyCandidate*> gamma_row;
+  const StudyCandidate* fine = nullptr;
+  const StudyCandidate* slab = nullptr;
+  for (const auto& c : result.candidates) {
+    if (c.model == "exponential") exp_row.push_back(&c);
+    if (c.model == "local-gamma") gamma_row.push_back(&c);
+    if (c.factor == 1) fine = &c;
+    if (c.factor == 0) slab = &c;
+  }
+  // Both rows hold one candidate per factor, so every row is full.
+  StudySheet sheet;
+  sheet.columns = 1 + static_cast<int>(std::max(exp_row.size(), gamma_row.size()));
+  const auto gain = 1.0 / error_white;
+  const auto image_tile = [&](const StudyCandidate& c) {
+    return SheetTile{c.image, fmt::format("{}: {} spp, {:.3g} s", c.name, c.spp, c.seconds), exposure};
+  };
+  const auto error_tile = [&](const StudyCandidate& c) {
+    return SheetTile{c.error_map, fmt::format("|A-R|: RMSE {:.3g}, bias {:.3g}", c.rmse, c.bias), gain};
+  };
+  // The reference's own per-pixel standard error on the error maps' scale: the noise floor
+  // every RMSE is corrected for.
+  Image sd = result.reference;
+  for (std::size_t j = 0; j < sd.rgb.size(); ++j)
+    sd.rgb[j] = sd.variance.empty() ? 0.0F : std::sqrt(std::max(0.0F, sd.variance[j]));
+  sd.variance.clear();
+  const auto rows = [&](const SheetTile& first_image, const SheetTile& first_error,
+                        const std::vector<const StudyCandidate*>& rest) {
+    sheet.tiles.push_back(first_image);
+    for (const auto* c : rest) sheet.tiles.push_back(image_tile(*c));
+    sheet.tiles.push_back(first_error);
+    for (const auto* c : rest) sheet.tiles.push_back(error_tile(*c));
+  };
+  rows(SheetTile{result.reference, fmt::format("reference (fine grid): {} spp", result.reference.spp), exposure},
+       SheetTile{sd, "reference: standard error", gain}, exp_row);
+  if (fine != nullptr) rows(image_tile(*fine), error_tile(*fine), gamma_row);
+  if (slab != nullptr) {
+    sheet.tiles.push_back(image_tile(*slab));
+    sheet.tiles.push_back(error_tile(*slab));
+  }
+  return sheet;
+}
+
 }  // namespace weft::render

@@ -46,6 +46,7 @@
 #include <vector>
 
 #include "weft/core/progress.h"
+#include "weft/render/contact_sheet.h"
 #include "weft/render/image.h"
 #include "weft/render/scene.h"
 
@@ -143,11 +144,15 @@ struct StudyResult {
 /// Everything above as pretty-printed JSON (images excluded).
 [[nodiscard]] std::string study_json(const StudyResult& result);
 
-/// @brief The contact sheet: per candidate (and the reference first) its image above its error
-/// map |A − R| (channel mean, grey, white at `error_white`, linear), each tile under a text
-/// label (name, spp, seconds, RMSE, bias). Rows: the reference, the fine grid and the slab;
-/// the exponential candidates; the local-gamma ones (factors left to right). Labels are drawn
-/// with VTK's FreeType text (no display needed).
-[[nodiscard]] Image study_contact_sheet(const StudyResult& result, double error_white);
+/// @brief The contact sheet's tiles (write_contact_sheet_png, in `columns` columns): each
+/// image with its error map |A − R| (channel mean, grey, linear scale 1/error_white) under it.
+/// Rows: reference and exponential-Nx images; the reference's standard error and their error
+/// maps; fine and local-gamma-Nx images; their error maps; the slab and its error map.
+/// Captions name the candidate, its spp and seconds, its RMSE and bias.
+struct StudySheet {
+  std::vector<SheetTile> tiles;
+  int columns = 1;
+};
+[[nodiscard]] StudySheet study_sheet(const StudyResult& result, double exposure, double error_white);
 
 }  // namespace weft::render
