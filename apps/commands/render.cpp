@@ -61,12 +61,6 @@ constexpr int kStudyReferenceSpp = 1024;
 
 /// A path that exists is a scene file; otherwise the name of a built-in scene.
 render::SceneDesc resolve_scene(const std::string& name, std::string& label) {
-  if (name.ends_with(".vdb")) {
-    // A cloth grid (e.g. `weft gen`'s cloth.vdb): rendered in the scene of scene.json (§5c).
-    label = fs::path(name).stem().string();
-    if (!fs::exists(name)) fail("grid file '{}' does not exist", name);
-    return render::cloth_scene(name);
-  }
   if (fs::exists(name) || name.find('/') != std::string::npos || name.ends_with(".json")) {
     label = fs::path(name).stem().string();
     return render::load_scene(name);
@@ -340,8 +334,7 @@ const Registrar kRender{Command{
       auto o = std::make_shared<RenderCliOptions>();
       sub.add_option(
           "scene", o->scene,
-          "Scene file (.json, docs/scene-format.md, e.g. the scene.json `weft gen` writes), a cloth grid (.vdb, "
-          "rendered in the scene `weft gen` writes beside it) or built-in scene name; "
+          "Scene file (.json, docs/scene-format.md, e.g. the scene.json `weft gen` writes) or built-in scene name; "
           "default: the default cloth of `weft gen` as a grid medium");
       auto* output = sub.add_option("-o,--output", o->output,
                                     "Image path ending in .exr or .png in an existing folder; both are written, the "
