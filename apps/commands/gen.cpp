@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <memory>
 #include <set>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -238,17 +239,20 @@ ClothSpec make_spec(CLI::App& sub, const GenOptions& o) {
   return spec;
 }
 
-viz::PolylineSet fibers_as_polylines(const cloth::FiberSet& fibers) {
+// The fibres as VTK polylines, taking their arrays (the caller's last use of them): a copy of
+// the points would be the largest buffer of the run (24 bytes a point, more than the grid).
+viz::PolylineSet fibers_as_polylines(cloth::FiberSet&& fibers) {
   viz::PolylineSet lines;
-  lines.points = fibers.points;
-  lines.offsets = fibers.offsets;
-  lines.cell_ints["yarn"] = fibers.yarn;
-  lines.cell_ints["ply"] = fibers.ply;
-  lines.cell_ints["fiber"] = fibers.fiber;
+  lines.points = std::move(fibers.points);
+  lines.offsets = std::move(fibers.offsets);
+  lines.cell_ints["yarn"] = std::move(fibers.yarn);
+  lines.cell_ints["ply"] = std::move(fibers.ply);
+  lines.cell_ints["fiber"] = std::move(fibers.fiber);
   auto& kind = lines.cell_ints["kind"];
   for (auto k : fibers.kind) kind.push_back(static_cast<std::int32_t>(k));
-  lines.cell_scalars["radius"] = fibers.radius;
+  lines.cell_scalars["radius"] = std::move(fibers.radius);
   lines.float_points = true;  // ~0.1 nm at the scale of a swatch: plenty for viewing, half the file
+  fibers = cloth::FiberSet{};
   return lines;
 }
 
@@ -298,18 +302,37 @@ const Registrar kGen{Command{
       return [o, app](const Context& ctx) -> int {
         const std::set<std::string> outputs = parse_outputs(o->write, o->fibers_bcc);
         const ClothSpec spec = make_spec(*app, *o);
-        const cloth::ClothBuild build = cloth::build_cloth(spec, ctx.progress);
+        cloth::ClothBuild build = cloth::build_cloth(spec, ctx.progress);
+        // The summary's figures first: the grid and the fibres are released as soon as their
+        // files are written, so that the run's peak is the voxelizer's, not the outputs'.
+        const auto& r = build.report;
+        const std::string made =
+            fmt::format("{} cloth, {} yarns, {} fibres ({:.1f} mm of fibre), seed {}", build.spec.pattern,
+                        build.centerlines.curves.size(), r.fiber_count, build.fibers.length(), build.spec.seed);
+        const std::string memory = fmt::format("memory: grid {} (OpenVDB), fibres {}; estimated before generating: {}",
+                                               format_bytes(build.grid.memory_bytes()),
+                                               format_bytes(build.fibers.points.size() * sizeof(cloth::Point3)),
+                                               cloth::describe(build.estimate));
         const fs::path out(o->out);
         ensure_directory(out);
         WrittenFiles files;
+        const fs::path scene = out / "scene.json";
         for (const auto& output : kOutputs) {
           if (outputs.count(output.name) == 0) continue;
           const fs::path path = out / output.file;
           const std::string name = output.name;
           if (name == "grid") {
             build.grid.save(path);
+            // A scene that renders the grid as is: `weft render <out>/scene.json` (docs/render.md).
+            write_text_atomically(scene, render::cloth_scene_json(build.grid, "cloth.vdb"));
           } else if (name == "fibers") {
-            viz::write_vtp(fibers_as_polylines(build.fibers), path);
+            // fibers-bcc (after this in kOutputs) still needs the fibres; otherwise this is their last use.
+            if (outputs.count("fibers-bcc") != 0) {
+              cloth::FiberSet copy = build.fibers;
+              viz::write_vtp(fibers_as_polylines(std::move(copy)), path);
+            } else {
+              viz::write_vtp(fibers_as_polylines(std::move(build.fibers)), path);
+            }
           } else if (name == "yarns") {
             curves::write_bcc(path, build.centerlines.curves, "weft yarn centrelines (mm)");
           } else if (name == "config") {
@@ -318,16 +341,10 @@ const Registrar kGen{Command{
             curves::write_bcc(path, cloth::fiber_curves(build.fibers), "weft fibres (mm)");
           }
           files.add(path, output.what);
+          if (name == "grid") build.grid = volume::Grid();  // written: its tree is not needed any more
         }
-        if (outputs.count("grid") != 0) {
-          // A scene that renders the grid as is: `weft render <out>/scene.json` (docs/render.md).
-          const fs::path scene = out / "scene.json";
-          write_text_atomically(scene, render::cloth_scene_json(out / "cloth.vdb", "cloth.vdb"));
-          files.add(scene, "render scene");
-        }
-        const auto& r = build.report;
-        ctx.say(fmt::format("{} cloth, {} yarns, {} fibres ({:.1f} mm of fibre), seed {}", build.spec.pattern,
-                            build.centerlines.curves.size(), r.fiber_count, build.fibers.length(), build.spec.seed));
+        if (outputs.count("grid") != 0) files.add(scene, "render scene");
+        ctx.say(made);
         ctx.say(
             fmt::format("voxel size {} mm: {} active voxels; fibre volume {:.6g} mm^3, grid volume {:.6g} mm^3 "
                         "(relative error {:.2e}, overlap clamped {:.3f} %)",
@@ -336,10 +353,7 @@ const Registrar kGen{Command{
         ctx.say(fmt::format("generated in {:.2f} s, voxelized in {:.2f} s ({:.0f} fibres/s, {:.3g} voxels/s)",
                             r.generate_seconds, r.voxelize_seconds, r.fiber_count / std::max(r.voxelize_seconds, 1e-9),
                             r.active_voxels / std::max(r.voxelize_seconds, 1e-9)));
-        ctx.say(fmt::format("memory: grid {} (OpenVDB), fibres {}; estimated before generating: {}",
-                            format_bytes(build.grid.memory_bytes()),
-                            format_bytes(build.fibers.points.size() * sizeof(cloth::Point3)),
-                            cloth::describe(build.estimate)));
+        ctx.say(memory);
         if (files.entries().empty()) ctx.say("wrote nothing (--write is empty)");
         files.say(ctx);
         return 0;

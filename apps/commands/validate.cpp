@@ -177,6 +177,7 @@ const Registrar kValidate{Command{
         input["values"] = o->input.values;
         input["voxel_size"] = grid.voxel_size();
         input["active_voxels"] = grid.active_voxel_count();
+        input["grid_memory_bytes"] = grid.memory_bytes();  // OpenVDB memUsage(), the floor of any run on it
         input["bbox_index"] = {{"min", box.min}, {"max", box.max}};
         input["origin"] = grid.origin();
         json report = json::parse(fit::validation_json(v));

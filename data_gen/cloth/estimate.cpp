@@ -16,8 +16,7 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kLeafBytes = 512 * 4 + 64 + 96;   // an 8³ float leaf with its mask and node
-constexpr double kPieceBytes = 72;                 // voxelize.cpp: Piece
-constexpr double kBinBytes = 32;                   // voxelize.cpp: (leaf, piece) with the sort's scratch
+constexpr double kBinBytes = 32;                   // voxelize.cpp: (leaf, piece id) with the sort's scratch
 constexpr double kFiberBytes = 8 + 8 + 4 * 4;      // offset, radius, yarn/ply/fiber ids, kind
 constexpr double kVtkPointBytes = 24 + 8;          // vtkPoints (double) and connectivity
 constexpr double kVtkCellBytes = 8 + 4 * 4 + 8;    // offset, int arrays, radius
@@ -40,7 +39,6 @@ ClothEstimate estimate_cloth(const ClothSpec& spec, const CurveSet& centerlines)
   double length = 0.0;
   double voxels = 0.0;
   double leaves = 0.0;
-  double pieces = 0.0;
   double bins = 0.0;
   double stations = 0.0;
   for (std::size_t i = 0; i < centerlines.curves.size(); ++i) {
@@ -62,7 +60,6 @@ ClothEstimate estimate_cloth(const ClothSpec& spec, const CurveSet& centerlines)
     const double segment = y.sample_step * helix;
     const double per_segment = std::max(1.0, std::ceil(segment / (4.0 * h)));
     const double segments = plies * (y.fiber_count * (st - 1.0) + hairs * (hair_points - 1.0));
-    pieces += segments * per_segment;
     const double piece_width = segment / per_segment / std::sqrt(3.0) + 2.0 * y.fiber_radius;
     bins += segments * per_segment * std::pow(1.0 + piece_width / (8.0 * h), 3);
     // Active voxels: each ply a Boolean model in a disc of its (elliptic) area.
@@ -84,7 +81,7 @@ ClothEstimate estimate_cloth(const ClothSpec& spec, const CurveSet& centerlines)
   // Internal nodes: one 16³ node per 128³ voxels touched (32 KiB), bounded by the leaves.
   const double internal = std::min(leaves, std::max(1.0, leaves / 64.0)) * (4096 * 8 + 1024) + 32768 * 8 + 8192;
   e.grid_bytes = count(leaves * kLeafBytes + internal);
-  const double voxelize = pieces * kPieceBytes + bins * kBinBytes;
+  const double voxelize = bins * kBinBytes;  // pieces themselves are not stored
   const double vtk = points * kVtkPointBytes + fibers * kVtkCellBytes;
   e.transient_bytes = count(std::max({voxelize, vtk, stations * kStationBytes}));
   e.peak_bytes = count(points * sizeof(Point3) + fibers * kFiberBytes + leaves * kLeafBytes + internal +

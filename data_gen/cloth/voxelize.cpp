@@ -19,10 +19,18 @@ namespace {
 
 constexpr int kLeafLog2 = 3;  // OpenVDB FloatTree leaves are 8³
 constexpr int kLeafDim = 1 << kLeafLog2;
-constexpr double kPieceVoxels = 4.0;                       // pieces are at most this many voxels long
-constexpr std::int64_t kIndexLimit = 1LL << 22;            // |voxel index| bound that keeps leaf keys in 21 bits
-constexpr std::uint64_t kLeafBytes = 512 * 4 + 64 + 96;    // values, mask, node overhead
-constexpr std::uint64_t kPieceBytes = sizeof(double) * 9;  // a, b, r, station range
+constexpr double kPieceVoxels = 4.0;                     // pieces are at most this many voxels long
+constexpr std::int64_t kIndexLimit = 1LL << 22;          // |voxel index| bound that keeps leaf keys in 21 bits
+constexpr std::uint64_t kLeafBytes = 512 * 4 + 64 + 96;  // values, mask, node overhead
+// A piece is named by one 64-bit id, (point index of its segment's end) << 24 | (run within the
+// segment), and rebuilt from the fibres when a leaf needs it: no array of pieces is kept (at
+// 72 bytes a piece it was 3× the fibre points themselves, the largest buffer of a run). Run
+// indices stay below 2^24 because |voxel index| < 2^22 bounds a segment to < 2^23·√3 voxels,
+// so < 2^22 runs of 4 voxels.
+constexpr unsigned kRunBits = 24;
+constexpr std::uint64_t kRunMask = (1ULL << kRunBits) - 1;
+// A bin entry (leaf key, piece id), doubled for the sort's scratch; every piece has at least one.
+constexpr std::uint64_t kBinEntryBytes = 2 * sizeof(std::uint64_t) * 2;
 
 // A run of quadrature stations of one segment: stations k ∈ [first, last) of `count` spread
 // evenly over the whole segment a→b, so station spacing does not depend on how the segment was
@@ -60,8 +68,18 @@ std::uint64_t station_count(double len, double delta) {
   return static_cast<std::uint64_t>(std::max(1.0, std::ceil(len / delta - 1e-9)));
 }
 
-// Calls visit(piece) for every piece of every fibre: each segment's stations cut into runs
-// spanning at most 4 voxels.
+// Stations of segment a→b and how many of them one piece (at most 4 voxels long) holds.
+struct SegmentRuns {
+  std::uint64_t stations;
+  std::uint64_t per_piece;
+};
+SegmentRuns segment_runs(double len, double h, double delta) {
+  const std::uint64_t m = station_count(len, delta);
+  return {m, static_cast<std::uint64_t>(std::max(1.0, std::floor(kPieceVoxels * h / (len / m))))};
+}
+
+// Calls visit(piece, id) for every piece of every fibre: each segment's stations cut into runs
+// spanning at most 4 voxels, in fibre, segment and run order (the order of their ids).
 template <typename Visit>
 void for_each_piece(const FiberSet& fibers, double h, double delta, Visit visit) {
   for (std::size_t f = 0; f < fibers.size(); ++f) {
@@ -71,15 +89,34 @@ void for_each_piece(const FiberSet& fibers, double h, double delta, Visit visit)
       const auto& b = fibers.points[i];
       const double len = distance(a, b);
       if (!(len > 0.0)) continue;
-      const std::uint64_t m = station_count(len, delta);
+      const auto [m, per_piece] = segment_runs(len, h, delta);
       if (m > 0xFFFFFFFFULL) fail("fibre {}: a segment of {} mm needs too many quadrature stations", f, len);
-      const auto per_piece = static_cast<std::uint64_t>(std::max(1.0, std::floor(kPieceVoxels * h / (len / m))));
-      for (std::uint64_t k = 0; k < m; k += per_piece) {
+      for (std::uint64_t k = 0, run = 0; k < m; k += per_piece, ++run) {
         visit(Piece{a, b, r, static_cast<std::uint32_t>(k), static_cast<std::uint32_t>(std::min(m, k + per_piece)),
-                    static_cast<std::uint32_t>(m)});
+                    static_cast<std::uint32_t>(m)},
+              (i << kRunBits) | run);
       }
     }
   }
+}
+
+// The piece of an id from for_each_piece, rebuilt with the same arithmetic.
+Piece piece_of(const FiberSet& fibers, std::uint64_t id, double h, double delta) {
+  const std::uint64_t i = id >> kRunBits;
+  const std::uint64_t run = id & kRunMask;
+  // The fibre holding point i: the last offset ≤ i - 1 (segment i - 1 → i lies in one fibre).
+  const auto it = std::upper_bound(fibers.offsets.begin(), fibers.offsets.end(), i - 1);
+  const auto f = static_cast<std::size_t>(it - fibers.offsets.begin() - 1);
+  const auto& a = fibers.points[i - 1];
+  const auto& b = fibers.points[i];
+  const auto [m, per_piece] = segment_runs(distance(a, b), h, delta);
+  const std::uint64_t k = run * per_piece;
+  return Piece{a,
+               b,
+               fibers.radius[f],
+               static_cast<std::uint32_t>(k),
+               static_cast<std::uint32_t>(std::min(m, k + per_piece)),
+               static_cast<std::uint32_t>(m)};
 }
 
 // Leaf-coordinate box of a piece's bounding box grown by its radius (and a hair more, so a
@@ -196,12 +233,12 @@ VoxelizeEstimate estimate_voxelize_memory(const FiberSet& fibers, const Voxelize
     }
   }
   const std::uint64_t budget = options.max_memory_bytes > 0 ? options.max_memory_bytes : default_memory_budget();
-  if (pieces * static_cast<double>(kPieceBytes) > static_cast<double>(budget)) {
+  if (pieces * static_cast<double>(kBinEntryBytes) > static_cast<double>(budget)) {
     fail("voxel_size {} mm: {:.3g} fibre pieces alone would exceed the memory budget of {} (--max-memory)", h, pieces,
          format_bytes(budget));
   }
   e.pieces = 0;
-  for_each_piece(fibers, h, h / options.samples_per_voxel, [&](const Piece& p) {
+  for_each_piece(fibers, h, h / options.samples_per_voxel, [&](const Piece& p, std::uint64_t /*id*/) {
     ++e.pieces;
     const auto box = leaf_box(p, h);
     e.bin_entries += static_cast<std::uint64_t>((box[3] - box[0] + 1) * (box[4] - box[1] + 1) * (box[5] - box[2] + 1));
@@ -212,8 +249,8 @@ VoxelizeEstimate estimate_voxelize_memory(const FiberSet& fibers, const Voxelize
                   std::floor(std::floor((lo[c] - max_r) / h) / kLeafDim) + 1.0;
   }
   e.leaves = static_cast<std::uint64_t>(std::min(static_cast<double>(e.bin_entries), box_leaves));
-  // Pieces and bins (with the sort's scratch), leaves twice (built, then moved into the tree).
-  e.bytes = e.pieces * kPieceBytes + e.bin_entries * 2 * sizeof(std::uint64_t) * 2 + e.leaves * kLeafBytes * 2;
+  // Bins (with the sort's scratch), leaves twice (built, then moved into the tree).
+  e.bytes = e.bin_entries * kBinEntryBytes + e.leaves * kLeafBytes * 2;
   return e;
 }
 
@@ -228,7 +265,7 @@ volume::Grid voxelize(const FiberSet& fibers, const VoxelizeOptions& options, Vo
   // Two checks: the pieces and bins (exact counts) before they are made, then the leaves once
   // the sorted bins say how many there are (the bound from the bounding box alone refused
   // long yarns meandering through a large, mostly empty box).
-  const std::uint64_t binning = estimate.pieces * kPieceBytes + estimate.bin_entries * 2 * sizeof(std::uint64_t) * 2;
+  const std::uint64_t binning = estimate.bin_entries * kBinEntryBytes;
   if (binning > budget) {
     fail(
         "voxel_size {} mm: voxelizing would take {} for {} fibre pieces alone, over the memory budget of {} "
@@ -236,22 +273,19 @@ volume::Grid voxelize(const FiberSet& fibers, const VoxelizeOptions& options, Vo
         h, format_bytes(binning), estimate.pieces, format_bytes(budget));
   }
 
-  std::vector<Piece> pieces;
-  pieces.reserve(estimate.pieces);
-  for_each_piece(fibers, h, h / options.samples_per_voxel, [&](const Piece& p) { pieces.push_back(p); });
-
-  // Bin pieces by leaf: (leaf key, piece index) sorted, so each leaf sees its pieces in index
-  // order whatever the thread count.
+  // Bin pieces by leaf: (leaf key, piece id) sorted, so each leaf sees its pieces in id order
+  // (fibre, segment, run) whatever the thread count.
+  const double delta = h / options.samples_per_voxel;
   std::vector<std::pair<LeafKey, std::uint64_t>> bins;
   bins.reserve(estimate.bin_entries);
-  for (std::uint64_t i = 0; i < pieces.size(); ++i) {
-    const auto box = leaf_box(pieces[i], h);
+  for_each_piece(fibers, h, delta, [&](const Piece& p, std::uint64_t id) {
+    const auto box = leaf_box(p, h);
     for (std::int64_t x = box[0]; x <= box[3]; ++x) {
       for (std::int64_t y = box[1]; y <= box[4]; ++y) {
-        for (std::int64_t z = box[2]; z <= box[5]; ++z) bins.emplace_back(leaf_key(x, y, z), i);
+        for (std::int64_t z = box[2]; z <= box[5]; ++z) bins.emplace_back(leaf_key(x, y, z), id);
       }
     }
-  }
+  });
   tbb::parallel_sort(bins.begin(), bins.end());
   std::vector<std::size_t> starts;
   for (std::size_t i = 0; i < bins.size(); ++i) {
@@ -270,7 +304,6 @@ volume::Grid voxelize(const FiberSet& fibers, const VoxelizeOptions& options, Vo
   std::vector<Leaf*> leaves(leaf_count, nullptr);
   std::vector<double> kept(leaf_count, 0.0);
   std::vector<double> lost(leaf_count, 0.0);
-  const double delta = h / options.samples_per_voxel;
   const double inv_volume = 1.0 / (h * h * h);
   const double inv_h = 1.0 / h;
   {
@@ -287,14 +320,15 @@ volume::Grid voxelize(const FiberSet& fibers, const VoxelizeOptions& options, Vo
                                            (origin[2] + kLeafDim + 0.01) * h};
             bool any = false;
             for (std::size_t e = starts[l]; e < starts[l + 1]; ++e) {
-              quadrature(pieces[bins[e].second], delta, lo, hi, [&](double x, double y, double z, double w) {
-                const auto i = static_cast<std::int64_t>(std::floor(x * inv_h)) - origin[0];
-                const auto j = static_cast<std::int64_t>(std::floor(y * inv_h)) - origin[1];
-                const auto k = static_cast<std::int64_t>(std::floor(z * inv_h)) - origin[2];
-                if (i < 0 || j < 0 || k < 0 || i >= kLeafDim || j >= kLeafDim || k >= kLeafDim) return;
-                acc[static_cast<std::size_t>((i << 6) | (j << 3) | k)] += w;
-                any = true;
-              });
+              quadrature(piece_of(fibers, bins[e].second, h, delta), delta, lo, hi,
+                         [&](double x, double y, double z, double w) {
+                           const auto i = static_cast<std::int64_t>(std::floor(x * inv_h)) - origin[0];
+                           const auto j = static_cast<std::int64_t>(std::floor(y * inv_h)) - origin[1];
+                           const auto k = static_cast<std::int64_t>(std::floor(z * inv_h)) - origin[2];
+                           if (i < 0 || j < 0 || k < 0 || i >= kLeafDim || j >= kLeafDim || k >= kLeafDim) return;
+                           acc[static_cast<std::size_t>((i << 6) | (j << 3) | k)] += w;
+                           any = true;
+                         });
             }
             if (any) {
               auto* leaf = new Leaf(openvdb::Coord(origin[0], origin[1], origin[2]), 0.0f, false);

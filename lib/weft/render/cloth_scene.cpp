@@ -51,11 +51,13 @@ ClothLook cloth_look(const volume::Grid& grid, const std::filesystem::path& vdb)
   return look;
 }
 
-std::string cloth_scene_json(const std::filesystem::path& vdb, const std::string& file_in_scene) {
-  const volume::Grid grid = volume::Grid::load(vdb);
+namespace {
+
+// The scene of `grid`, saved as `file_in_scene`; errors name `where`.
+std::string scene_json(const volume::Grid& grid, const std::string& file_in_scene, const std::filesystem::path& where) {
   const volume::IndexBox box = grid.active_bbox();
-  if (box.empty()) fail("cloth grid '{}' is empty", vdb.string());
-  const ClothLook look = cloth_look(grid, vdb);
+  if (box.empty()) fail("cloth grid '{}' is empty", where.string());
+  const ClothLook look = cloth_look(grid, where);
   const double h = grid.voxel_size();
   const auto org = grid.origin();
   Vec3 lo;
@@ -129,6 +131,16 @@ std::string cloth_scene_json(const std::filesystem::path& vdb, const std::string
       {{{"type", "directional"}, {"direction", {towards.x(), towards.y(), towards.z()}}, {"irradiance", 3.0}},
        {{"type", "environment"}, {"radiance", 0.05}}});
   return j.dump(2) + "\n";
+}
+
+}  // namespace
+
+std::string cloth_scene_json(const std::filesystem::path& vdb, const std::string& file_in_scene) {
+  return scene_json(volume::Grid::load(vdb), file_in_scene, vdb);
+}
+
+std::string cloth_scene_json(const volume::Grid& grid, const std::string& file_in_scene) {
+  return scene_json(grid, file_in_scene, file_in_scene);
 }
 
 SceneDesc cloth_scene(const std::filesystem::path& vdb) {

@@ -35,6 +35,9 @@ struct ClothLook {
 /// box, the grid as a delta-tracked exponential medium with the provenance's σ per unit C, a
 /// backlight (area light below) and a grazing directional light from the front.
 [[nodiscard]] std::string cloth_scene_json(const std::filesystem::path& vdb, const std::string& file_in_scene);
+/// The same for a grid already in memory (what was just saved as `file_in_scene`): `weft gen`
+/// uses it so that writing the scene does not read the grid back (a second copy of the tree).
+[[nodiscard]] std::string cloth_scene_json(const volume::Grid& grid, const std::string& file_in_scene);
 
 /// cloth_scene_json parsed with `vdb`'s folder as the scene folder.
 [[nodiscard]] SceneDesc cloth_scene(const std::filesystem::path& vdb);

@@ -7,8 +7,11 @@
 
 #include "weft/core/error.h"
 #include "weft/render/builtin_scenes.h"
+#include "weft/render/cloth_scene.h"
 #include "weft/render/mesh.h"
 #include "weft/render/scene.h"
+#include "weft/volume/grid.h"
+#include "weft/volume/provenance.h"
 
 namespace weft::render {
 namespace {
@@ -124,6 +127,27 @@ TEST(SceneFile, BuiltInScenesIncludeTheExamples) {
   for (const char* required : {"cloth_patch", "cornell_media", "furnace"})
     EXPECT_NE(std::find(names.begin(), names.end(), required), names.end()) << required;
   EXPECT_THROW((void)builtin_scene("furnase"), Error);
+}
+
+TEST(ClothScene, FromTheGridInMemoryIsTheSceneOfItsSavedFile) {
+  // `weft gen` writes scene.json from the grid it holds (no second copy of the tree read back
+  // from cloth.vdb): it must be the scene the file gives.
+  volume::Grid g(0.02, "density");
+  g.set_origin({0.1, -0.3, 0.05});
+  for (int i = 0; i < 30; ++i) g.set_value(i, i % 7, 3 - i % 4, 0.25f + 0.01f * static_cast<float>(i));
+  g.set_metadata("generator", R"({"warp_yarn": {"preset": "wool", "fiber_radius": 0.011}})");
+  volume::Provenance prov;
+  prov.units = "mm";
+  prov.sigma = 123.5;
+  volume::write_provenance(g, prov);
+  const fs::path p = fs::temp_directory_path() / "weft_render_cloth_scene.vdb";
+  g.save(p);
+  const std::string from_memory = cloth_scene_json(g, "cloth.vdb");
+  EXPECT_EQ(from_memory, cloth_scene_json(p, "cloth.vdb"));
+  EXPECT_NE(from_memory.find("\"sigma\": 123.5"), std::string::npos) << from_memory;
+  EXPECT_EQ(cloth_look(g, p).preset, "wool");
+  fs::remove(p);
+  EXPECT_THROW((void)cloth_scene_json(volume::Grid(0.02), "empty.vdb"), Error);
 }
 
 TEST(ObjReader, ReadsPolygonsAndNegativeIndices) {
