@@ -1,17 +1,25 @@
 #include "weft/viz/vtk_files.h"
 
+#include <algorithm>
 #include <set>
+#include <utility>
+#include <vector>
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
 #include <vtkFloatArray.h>
+#include <vtkImageAlgorithm.h>
 #include <vtkImageData.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
 #include <vtkIntArray.h>
 #include <vtkNew.h>
+#include <vtkObjectFactory.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
 #include <vtkTypeInt32Array.h>
 #include <vtkTypeInt64Array.h>
 #include <vtkXMLImageDataWriter.h>
@@ -110,6 +118,102 @@ void write_with(Writer& writer, const fs::path& tmp, const fs::path& target) {
   }
 }
 
+// The grid's active box as vtkImageData, made one requested extent at a time: with
+// vtkXMLImageDataWriter::SetNumberOfPieces(n) the writer streams the image through the pipeline,
+// asking for n sub-extents in turn and writing each before the next, so the dense copy of the
+// box (4 bytes for every voxel of it, active or not: 9× the grid itself for a long yarn
+// meandering through its box) never exists whole. Voxel (i,j,k) is cell (i,j,k) − box.min of a
+// point lattice one larger; the box's lower corner is the image origin.
+class GridImageSource : public vtkImageAlgorithm {
+ public:
+  static GridImageSource* New();
+  vtkTypeMacro(GridImageSource, vtkImageAlgorithm)
+
+      public : const openvdb::FloatGrid* grid = nullptr;
+  volume::IndexBox box;
+  double h = 1.0;
+  std::array<double, 3> origin{};
+  std::string name;
+
+  // Leaves and active tiles with their boxes, once: each piece then visits only the nodes that
+  // overlap it.
+  void index_nodes() {
+    for (auto leaf = grid->tree().cbeginLeaf(); leaf; ++leaf) leaves_.push_back(&*leaf);
+    auto tile = grid->cbeginValueOn();
+    tile.setMaxDepth(tile.getLeafDepth() - 1);  // tiles only: leaf voxels come from leaves_
+    for (; tile; ++tile) tiles_.emplace_back(tile.getBoundingBox(), *tile);
+  }
+
+ protected:
+  GridImageSource() { SetNumberOfInputPorts(0); }
+
+  int RequestInformation(vtkInformation* /*request*/, vtkInformationVector** /*in*/,
+                         vtkInformationVector* out) override {
+    vtkInformation* info = out->GetInformationObject(0);
+    const auto ext = box.extent();
+    const int whole[6] = {0, static_cast<int>(ext[0]), 0, static_cast<int>(ext[1]), 0, static_cast<int>(ext[2])};
+    info->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole, 6);
+    info->Set(vtkDataObject::SPACING(), h, h, h);
+    info->Set(vtkDataObject::ORIGIN(), origin[0] + h * box.min[0], origin[1] + h * box.min[1],
+              origin[2] + h * box.min[2]);
+    info->Set(vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT(), 1);
+    return 1;
+  }
+
+  int RequestData(vtkInformation* /*request*/, vtkInformationVector** /*in*/, vtkInformationVector* out) override {
+    vtkInformation* info = out->GetInformationObject(0);
+    vtkImageData* image = vtkImageData::SafeDownCast(info->Get(vtkDataObject::DATA_OBJECT()));
+    int e[6];
+    info->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), e);
+    image->SetExtent(e);
+    image->SetSpacing(h, h, h);
+    image->SetOrigin(origin[0] + h * box.min[0], origin[1] + h * box.min[1], origin[2] + h * box.min[2]);
+    // Cells of the point extent e, in grid index coordinates.
+    const openvdb::CoordBBox cells(openvdb::Coord(box.min[0] + e[0], box.min[1] + e[2], box.min[2] + e[4]),
+                                   openvdb::Coord(box.min[0] + e[1] - 1, box.min[1] + e[3] - 1, box.min[2] + e[5] - 1));
+    const std::int64_t nx = std::max(0, e[1] - e[0]);
+    const std::int64_t ny = std::max(0, e[3] - e[2]);
+    const std::int64_t nz = std::max(0, e[5] - e[4]);
+    vtkNew<vtkFloatArray> values;
+    values->SetName(name.c_str());
+    values->SetNumberOfValues(static_cast<vtkIdType>(nx * ny * nz));
+    values->FillValue(0.0f);
+    const auto set = [&](const openvdb::Coord& c, float v) {
+      values->SetValue(
+          static_cast<vtkIdType>((c.x() - cells.min().x()) +
+                                 nx * ((c.y() - cells.min().y()) + ny * std::int64_t{c.z() - cells.min().z()})),
+          v);
+    };
+    if (!cells.empty()) {
+      for (const auto* leaf : leaves_) {
+        if (!cells.hasOverlap(leaf->getNodeBoundingBox())) continue;
+        for (auto it = leaf->cbeginValueOn(); it; ++it) {
+          const openvdb::Coord c = it.getCoord();
+          if (cells.isInside(c)) set(c, *it);
+        }
+      }
+      // Active tiles stand for a whole block of voxels with one value: expand their overlap.
+      for (const auto& [tile, v] : tiles_) {
+        if (!cells.hasOverlap(tile)) continue;
+        const openvdb::Coord lo = openvdb::Coord::maxComponent(tile.min(), cells.min());
+        const openvdb::Coord hi = openvdb::Coord::minComponent(tile.max(), cells.max());
+        for (int k = lo.z(); k <= hi.z(); ++k) {
+          for (int j = lo.y(); j <= hi.y(); ++j) {
+            for (int i = lo.x(); i <= hi.x(); ++i) set(openvdb::Coord(i, j, k), v);
+          }
+        }
+      }
+    }
+    image->GetCellData()->SetScalars(values);
+    return 1;
+  }
+
+ private:
+  std::vector<const openvdb::FloatTree::LeafNodeType*> leaves_;
+  std::vector<std::pair<openvdb::CoordBBox, float>> tiles_;
+};
+vtkStandardNewMacro(GridImageSource);
+
 }  // namespace
 
 void write_vtp(const PolylineSet& lines, const fs::path& path) {
@@ -175,7 +279,7 @@ void write_vtp(const PointSet& points, const fs::path& path) {
   });
 }
 
-void write_vti(const volume::Grid& grid, const fs::path& path, std::uint64_t max_voxels) {
+void write_vti(const volume::Grid& grid, const fs::path& path, std::uint64_t max_voxels, std::uint64_t piece_voxels) {
   detail::quiet_vtk_messages();
   const volume::IndexBox box = grid.active_bbox();
   if (box.empty()) fail("{}: grid '{}' has no active voxels; nothing to write", path.string(), grid.name());
@@ -186,45 +290,21 @@ void write_vti(const volume::Grid& grid, const fs::path& path, std::uint64_t max
     fail("{}: grid '{}' spans {}x{}x{} = {} voxels, above the limit of {} for a dense .vti", path.string(), grid.name(),
          ext[0], ext[1], ext[2], total, max_voxels);
   }
-
-  // Voxel (i,j,k) covers [origin + h·i, origin + h·(i+1)): the box's lower corner is the image
-  // origin and voxels are cells of a (n+1)³ point lattice.
-  const double h = grid.voxel_size();
-  const auto o = grid.origin();
-  vtkNew<vtkImageData> image;
-  image->SetDimensions(static_cast<int>(ext[0] + 1), static_cast<int>(ext[1] + 1), static_cast<int>(ext[2] + 1));
-  image->SetSpacing(h, h, h);
-  image->SetOrigin(o[0] + h * box.min[0], o[1] + h * box.min[1], o[2] + h * box.min[2]);
-
-  vtkNew<vtkFloatArray> values;
-  values->SetName(grid.name().empty() ? "density" : grid.name().c_str());
-  values->SetNumberOfValues(static_cast<vtkIdType>(total));
-  values->FillValue(0.0f);
-  const auto cell = [&](int i, int j, int k) {
-    return static_cast<vtkIdType>((i - box.min[0]) +
-                                  ext[0] * ((j - box.min[1]) + ext[1] * std::int64_t{k - box.min[2]}));
-  };
-  const openvdb::FloatGrid& vdb = *grid.impl().grid;
-  // Active tiles stand for a whole block of voxels with one value: expand them.
-  for (auto it = vdb.cbeginValueOn(); it; ++it) {
-    const float v = *it;
-    if (it.isVoxelValue()) {
-      const auto c = it.getCoord();
-      values->SetValue(cell(c.x(), c.y(), c.z()), v);
-      continue;
-    }
-    const openvdb::CoordBBox tile = it.getBoundingBox();
-    for (int k = tile.min().z(); k <= tile.max().z(); ++k) {
-      for (int j = tile.min().y(); j <= tile.max().y(); ++j) {
-        for (int i = tile.min().x(); i <= tile.max().x(); ++i) values->SetValue(cell(i, j, k), v);
-      }
-    }
-  }
-  image->GetCellData()->SetScalars(values);
-
+  vtkNew<GridImageSource> source;
+  source->grid = grid.impl().grid.get();
+  source->box = box;
+  source->h = grid.voxel_size();
+  source->origin = grid.origin();
+  source->name = grid.name().empty() ? "density" : grid.name();
+  source->index_nodes();
+  // Pieces of at most piece_voxels voxels (at least one voxel layer each): the writer asks the
+  // source for one piece at a time and writes it out before asking for the next.
+  const std::uint64_t pieces = std::clamp<std::uint64_t>(
+      (total + piece_voxels - 1) / std::max<std::uint64_t>(piece_voxels, 1), 1, static_cast<std::uint64_t>(ext[2]));
   write_atomically(path, [&](const fs::path& tmp) {
     vtkNew<vtkXMLImageDataWriter> writer;
-    writer->SetInputData(image);
+    writer->SetInputConnection(source->GetOutputPort());
+    writer->SetNumberOfPieces(static_cast<int>(pieces));
     write_with(*writer, tmp, path);
   });
 }
