@@ -129,32 +129,6 @@ Image abs_difference(const Image& a, const Image& b) {
   return d;
 }
 
-/// bias² = mean over pixels and channels of x_i = ((A+B)/2 − R)² − (A − B)²/4 − var R_i, whose
-/// expectation is the squared bias of each value; its standard error is the spread of the x_i
-/// over √n (values taken as independent: pixels are rendered from separate streams).
-struct BiasEstimate {
-  double bias_sq = 0.0;
-  double stderr_sq = 0.0;
-};
-BiasEstimate estimate_bias(const Image& a, const Image& b, const Image& r) {
-  const std::size_t n = r.rgb.size();
-  double sum = 0.0;
-  double sum2 = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double m = 0.5 * (static_cast<double>(a.rgb[i]) + b.rgb[i]) - r.rgb[i];
-    const double d = static_cast<double>(a.rgb[i]) - b.rgb[i];
-    const double x = m * m - d * d / 4.0 - (r.variance.empty() ? 0.0 : static_cast<double>(r.variance[i]));
-    sum += x;
-    sum2 += x * x;
-  }
-  BiasEstimate e;
-  if (n == 0) return e;
-  const auto nn = static_cast<double>(n);
-  e.bias_sq = sum / nn;
-  e.stderr_sq = n > 1 ? std::sqrt(std::max(0.0, (sum2 - nn * e.bias_sq * e.bias_sq) / (nn - 1.0)) / nn) : 0.0;
-  return e;
-}
-
 void say(const StudySpec& spec, const std::string& line) {
   if (spec.log) spec.log(line);
 }
@@ -174,6 +148,29 @@ void check_study_spec(const StudySpec& spec) {
   if (spec.max_spp < 1) fail("study: max spp must be >= 1, got {}", spec.max_spp);
   if (spec.reference_spp < 1) fail("study: reference spp must be >= 1, got {}", spec.reference_spp);
   if (spec.work_dir.empty()) fail("study: no folder for the candidates' files");
+}
+
+BiasEstimate estimate_bias(const Image& a, const Image& b, const Image& r) {
+  if (a.width != r.width || a.height != r.height || b.width != r.width || b.height != r.height ||
+      a.rgb.size() != r.rgb.size() || b.rgb.size() != r.rgb.size())
+    fail("bias estimate: images differ in size ({}x{}, {}x{}, reference {}x{})", a.width, a.height, b.width, b.height,
+         r.width, r.height);
+  const std::size_t n = r.rgb.size();
+  double sum = 0.0;
+  double sum2 = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double m = 0.5 * (static_cast<double>(a.rgb[i]) + b.rgb[i]) - r.rgb[i];
+    const double d = static_cast<double>(a.rgb[i]) - b.rgb[i];
+    const double x = m * m - d * d / 4.0 - (r.variance.empty() ? 0.0 : static_cast<double>(r.variance[i]));
+    sum += x;
+    sum2 += x * x;
+  }
+  BiasEstimate e;
+  if (n == 0) return e;
+  const auto nn = static_cast<double>(n);
+  e.bias_sq = sum / nn;
+  e.stderr_sq = n > 1 ? std::sqrt(std::max(0.0, (sum2 - nn * e.bias_sq * e.bias_sq) / (nn - 1.0)) / nn) : 0.0;
+  return e;
 }
 
 void check_study_scene(const SceneDesc& scene) { (void)find_target(scene); }

@@ -76,6 +76,18 @@ void check_study_spec(const StudySpec& spec);
 /// one box shape (what run_study needs), before anything is computed or written.
 void check_study_scene(const SceneDesc& scene);
 
+/// @brief The squared bias of a candidate from two images `a`, `b` (independent seeds, same
+/// spp) and a `reference` (independent seed, with per-pixel variances): the mean over values i
+/// of x_i = ((a+b)/2 − r)² − (a − b)²/4 − var r_i, whose expectation is the squared bias of
+/// value i (E(X − r)² = bias² + var X + var r; E(a − b)²/4 = var of (a+b)/2). The standard
+/// error is the spread of the x_i over √n (values independent: every pixel has its own streams).
+struct BiasEstimate {
+  double bias_sq = 0.0;    ///< may be < 0 by noise
+  double stderr_sq = 0.0;  ///< standard error of bias_sq
+};
+/// Throws weft::Error for images of different sizes.
+[[nodiscard]] BiasEstimate estimate_bias(const Image& a, const Image& b, const Image& reference);
+
 /// One (spp, seconds, rmse) point of a candidate's first image on its way to its budget.
 struct StudyPoint {
   int spp = 0;

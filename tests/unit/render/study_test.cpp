@@ -1,0 +1,97 @@
+// The study's bias estimator (study.h: estimate_bias) on synthetic images whose truth is known:
+// a, b = truth + shift + noise (σ_c), reference = truth + noise (σ_r) carrying its variance.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "weft/core/error.h"
+#include "weft/render/study.h"
+
+namespace weft::render {
+namespace {
+
+struct Triple {
+  Image a;
+  Image b;
+  Image reference;
+};
+
+Triple synthetic(double shift, double sigma_candidate, double sigma_reference, std::uint64_t seed) {
+  constexpr int kW = 100;
+  constexpr int kH = 100;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> truth(0.0, 1.0);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  Triple t;
+  for (Image* im : {&t.a, &t.b, &t.reference}) {
+    im->width = kW;
+    im->height = kH;
+    im->rgb.resize(static_cast<std::size_t>(kW) * kH * 3);
+  }
+  t.reference.variance.assign(t.reference.rgb.size(), static_cast<float>(sigma_reference * sigma_reference));
+  for (std::size_t i = 0; i < t.reference.rgb.size(); ++i) {
+    const double v = truth(rng);
+    t.a.rgb[i] = static_cast<float>(v + shift + sigma_candidate * unit(rng));
+    t.b.rgb[i] = static_cast<float>(v + shift + sigma_candidate * unit(rng));
+    t.reference.rgb[i] = static_cast<float>(v + sigma_reference * unit(rng));
+  }
+  return t;
+}
+
+TEST(StudyBias, UnbiasedCandidateIsZeroWithinFiveStandardErrors) {
+  // Noise much larger than any bias could hide: the estimate must still centre on 0.
+  for (std::uint64_t seed : {1U, 2U, 3U}) {
+    const Triple t = synthetic(0.0, 0.2, 0.03, seed);
+    const BiasEstimate e = estimate_bias(t.a, t.b, t.reference);
+    EXPECT_GT(e.stderr_sq, 0.0);
+    EXPECT_LT(std::abs(e.bias_sq), 5.0 * e.stderr_sq) << "seed " << seed;
+  }
+}
+
+TEST(StudyBias, ShiftedCandidateGivesTheShiftSquared) {
+  // A constant shift d is a bias of d in every value: bias² = d² within 5 standard errors,
+  // and far from 0 (the estimator sees it through noise of 4× the shift).
+  const double d = 0.05;
+  const Triple t = synthetic(d, 0.2, 0.03, 7);
+  const BiasEstimate e = estimate_bias(t.a, t.b, t.reference);
+  EXPECT_LT(std::abs(e.bias_sq - d * d), 5.0 * e.stderr_sq);
+  EXPECT_GT(e.bias_sq, 5.0 * e.stderr_sq);
+}
+
+TEST(StudyBias, IgnoringTheReferenceVarianceWouldBiasTheEstimate) {
+  // Without the var r term the estimate would be off by σ_r²; the estimator subtracts it.
+  const double sigma_r = 0.1;
+  Triple t = synthetic(0.0, 0.05, sigma_r, 11);
+  const BiasEstimate with = estimate_bias(t.a, t.b, t.reference);
+  t.reference.variance.clear();
+  const BiasEstimate without = estimate_bias(t.a, t.b, t.reference);
+  EXPECT_LT(std::abs(with.bias_sq), 5.0 * with.stderr_sq);
+  EXPECT_LT(std::abs(without.bias_sq - sigma_r * sigma_r), 5.0 * without.stderr_sq);
+}
+
+TEST(StudyBias, ImagesOfDifferentSizesAreRefused) {
+  Triple t = synthetic(0.0, 0.1, 0.1, 1);
+  t.b.width = 50;
+  EXPECT_THROW((void)estimate_bias(t.a, t.b, t.reference), Error);
+}
+
+TEST(StudySpec, BadFieldsAreNamed) {
+  StudySpec s;
+  s.work_dir = "x";
+  EXPECT_NO_THROW(check_study_spec(s));
+  s.factors = {2, 2};
+  EXPECT_THROW(check_study_spec(s), Error);
+  s.factors = {1};
+  EXPECT_THROW(check_study_spec(s), Error);
+  s.factors = {2};
+  s.seconds = std::nan("");
+  EXPECT_THROW(check_study_spec(s), Error);
+  s.spp = 4;  // a fixed spp needs no budget
+  EXPECT_NO_THROW(check_study_spec(s));
+  s.reference_spp = 0;
+  EXPECT_THROW(check_study_spec(s), Error);
+}
+
+}  // namespace
+}  // namespace weft::render
