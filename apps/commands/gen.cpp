@@ -19,6 +19,7 @@
 #include "weft/core/names.h"
 #include "weft/core/parse_number.h"
 #include "weft/curves/curve_io.h"
+#include "weft/dist/distributed.h"
 #include "weft/render/cloth_scene.h"
 #include "weft/viz/vtk_files.h"
 #include "written_files.h"
@@ -302,7 +303,10 @@ const Registrar kGen{Command{
       return [o, app](const Context& ctx) -> int {
         const std::set<std::string> outputs = parse_outputs(o->write, o->fibers_bcc);
         const ClothSpec spec = make_spec(*app, *o);
-        cloth::ClothBuild build = cloth::build_cloth(spec, ctx.progress);
+        // Under mpirun the voxelizer's leaves are spread over the ranks; rank 0 gets the grid and
+        // writes (docs/scale-out.md).
+        cloth::ClothBuild build = cloth::build_cloth(spec, ctx.progress, /*spread_over_ranks=*/true);
+        if (!dist::is_root()) return 0;
         // The summary's figures first: the grid and the fibres are released as soon as their
         // files are written, so that the run's peak is the voxelizer's, not the outputs'.
         const auto& r = build.report;
@@ -350,15 +354,18 @@ const Registrar kGen{Command{
                         "(relative error {:.2e}, overlap clamped {:.3f} %)",
                         build.spec.voxel_size, r.active_voxels, r.fiber_volume, r.grid_volume, r.relative_error,
                         100.0 * r.overlap_fraction));
-        ctx.say(fmt::format("generated in {:.2f} s, voxelized in {:.2f} s ({:.0f} fibres/s, {:.3g} voxels/s)",
-                            r.generate_seconds, r.voxelize_seconds, r.fiber_count / std::max(r.voxelize_seconds, 1e-9),
-                            r.active_voxels / std::max(r.voxelize_seconds, 1e-9)));
+        ctx.say(
+            fmt::format("generated in {:.2f} s, voxelized in {:.2f} s ({:.0f} fibres/s, {:.3g} voxels/s); {} rank(s) x "
+                        "{} thread(s)",
+                        r.generate_seconds, r.voxelize_seconds, r.fiber_count / std::max(r.voxelize_seconds, 1e-9),
+                        r.active_voxels / std::max(r.voxelize_seconds, 1e-9), ctx.ranks(), ctx.threads()));
         ctx.say(memory);
         if (files.entries().empty()) ctx.say("wrote nothing (--write is empty)");
         files.say(ctx);
         return 0;
       };
-    }}};
+    },
+    /*distributed=*/true}};
 
 }  // namespace
 }  // namespace weft::app

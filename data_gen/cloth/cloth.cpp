@@ -92,7 +92,7 @@ volume::Provenance cloth_provenance(const ClothBuild& build) {
   return p;
 }
 
-ClothBuild build_cloth(const ClothSpec& input, ProgressSink& progress) {
+ClothBuild build_cloth(const ClothSpec& input, ProgressSink& progress, bool spread_over_ranks) {
   ClothBuild build;
   build.spec = resolve(input);
   validate(build.spec);
@@ -111,6 +111,7 @@ ClothBuild build_cloth(const ClothSpec& input, ProgressSink& progress) {
   options.voxel_size = build.spec.voxel_size;
   options.samples_per_voxel = build.spec.samples_per_voxel;
   options.max_memory_bytes = budget;
+  options.spread = spread_over_ranks;
   build.grid = voxelize(build.fibers, options, build.report, progress);
   build.report.generate_seconds = generate_seconds;
   // Provenance (no timings: the same spec must give the same file).

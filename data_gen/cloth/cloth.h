@@ -41,8 +41,9 @@ std::string cloth_spec_json(const ClothSpec& spec);
 struct ClothBuild;
 /// Generates fibres and voxelizes them to a grid of volume fraction C with provenance metadata.
 /// The cost is estimated from the centrelines first (estimate.h) and a build over
-/// spec.max_memory_mb is refused before any fibre is made.
-ClothBuild build_cloth(const ClothSpec& spec, ProgressSink& progress);
+/// spec.max_memory_mb is refused before any fibre is made. `spread_over_ranks`: the voxelizer's
+/// leaves go over the MPI ranks and only rank 0 gets the grid (VoxelizeOptions::spread; weft gen).
+ClothBuild build_cloth(const ClothSpec& spec, ProgressSink& progress, bool spread_over_ranks = false);
 
 }  // namespace weft::cloth
 

@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <vector>
 
@@ -12,6 +13,7 @@
 
 #include "weft/core/error.h"
 #include "weft/core/memory.h"
+#include "weft/dist/distributed.h"
 #include "weft/volume/grid_openvdb.h"
 
 namespace weft::cloth {
@@ -306,49 +308,123 @@ volume::Grid voxelize(const FiberSet& fibers, const VoxelizeOptions& options, Vo
   std::vector<double> lost(leaf_count, 0.0);
   const double inv_volume = 1.0 / (h * h * h);
   const double inv_h = 1.0 / h;
-  {
-    ProgressTask task(progress, "voxelizing", leaf_count);
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, leaf_count, 16), [&](const tbb::blocked_range<std::size_t>& range) {
+  // Leaf l from its bin: the pieces in index order, so its values do not depend on who fills it.
+  const auto fill_leaf = [&](std::size_t l, std::array<double, 512>& acc) {
+    acc.fill(0.0);
+    const auto origin = leaf_origin(bins[starts[l]].first);
+    // World box of the leaf, padded by a hundredth of a voxel against rounding.
+    const std::array<double, 3> lo{(origin[0] - 0.01) * h, (origin[1] - 0.01) * h, (origin[2] - 0.01) * h};
+    const std::array<double, 3> hi{(origin[0] + kLeafDim + 0.01) * h, (origin[1] + kLeafDim + 0.01) * h,
+                                   (origin[2] + kLeafDim + 0.01) * h};
+    bool any = false;
+    for (std::size_t e = starts[l]; e < starts[l + 1]; ++e) {
+      quadrature(piece_of(fibers, bins[e].second, h, delta), delta, lo, hi,
+                 [&](double x, double y, double z, double w) {
+                   const auto i = static_cast<std::int64_t>(std::floor(x * inv_h)) - origin[0];
+                   const auto j = static_cast<std::int64_t>(std::floor(y * inv_h)) - origin[1];
+                   const auto k = static_cast<std::int64_t>(std::floor(z * inv_h)) - origin[2];
+                   if (i < 0 || j < 0 || k < 0 || i >= kLeafDim || j >= kLeafDim || k >= kLeafDim) return;
+                   acc[static_cast<std::size_t>((i << 6) | (j << 3) | k)] += w;
+                   any = true;
+                 });
+    }
+    if (!any) return;
+    auto* leaf = new Leaf(openvdb::Coord(origin[0], origin[1], origin[2]), 0.0f, false);
+    double kept_volume = 0.0;
+    double lost_volume = 0.0;
+    for (std::size_t n = 0; n < acc.size(); ++n) {
+      if (acc[n] <= 0.0) continue;
+      const double c = acc[n] * inv_volume;
+      const float stored = static_cast<float>(std::min(c, 1.0));
+      leaf->setValueOn(static_cast<openvdb::Index>(n), stored);
+      kept_volume += static_cast<double>(stored);
+      if (c > 1.0) lost_volume += (c - 1.0) / inv_volume;
+    }
+    leaves[l] = leaf;
+    kept[l] = kept_volume / inv_volume;
+    lost[l] = lost_volume;
+  };
+  if (options.spread && dist::size() > 1) {
+    // Under mpirun (weft gen): units = ranges of leaves over the ranks (dist::run_units). A leaf
+    // crosses as its flag, kept and lost volumes, active mask and 512 values (≈ 2.1 kB, the size
+    // of the grid itself); rank 0 rebuilds the same leaves, so the grid and the report are the
+    // bytes of one process. Fibres, pieces and bins are made on every rank (the serial part).
+    constexpr std::size_t kLeavesPerUnit = 256;
+    const std::size_t units = (leaf_count + kLeavesPerUnit - 1) / kLeavesPerUnit;
+    ProgressTask task(progress, "voxelizing (leaf ranges)", units);
+    dist::UnitsOptions how;
+    how.progress = &task;
+    how.name = [&](std::size_t u) {
+      return fmt::format("voxelizer leaves {}..{}", u * kLeavesPerUnit,
+                         std::min(leaf_count, (u + 1) * kLeavesPerUnit) - 1);
+    };
+    using Word = openvdb::util::NodeMask<kLeafLog2>::Word;
+    constexpr std::size_t kWords = openvdb::util::NodeMask<kLeafLog2>::WORD_COUNT;
+    const std::vector<dist::Bytes> results = dist::run_units(
+        units,
+        [&](std::size_t u) {
+          dist::Bytes b;
           std::array<double, 512> acc{};
-          for (std::size_t l = range.begin(); l != range.end(); ++l) {
-            acc.fill(0.0);
-            const auto origin = leaf_origin(bins[starts[l]].first);
-            // World box of the leaf, padded by a hundredth of a voxel against rounding.
-            const std::array<double, 3> lo{(origin[0] - 0.01) * h, (origin[1] - 0.01) * h, (origin[2] - 0.01) * h};
-            const std::array<double, 3> hi{(origin[0] + kLeafDim + 0.01) * h, (origin[1] + kLeafDim + 0.01) * h,
-                                           (origin[2] + kLeafDim + 0.01) * h};
-            bool any = false;
-            for (std::size_t e = starts[l]; e < starts[l + 1]; ++e) {
-              quadrature(piece_of(fibers, bins[e].second, h, delta), delta, lo, hi,
-                         [&](double x, double y, double z, double w) {
-                           const auto i = static_cast<std::int64_t>(std::floor(x * inv_h)) - origin[0];
-                           const auto j = static_cast<std::int64_t>(std::floor(y * inv_h)) - origin[1];
-                           const auto k = static_cast<std::int64_t>(std::floor(z * inv_h)) - origin[2];
-                           if (i < 0 || j < 0 || k < 0 || i >= kLeafDim || j >= kLeafDim || k >= kLeafDim) return;
-                           acc[static_cast<std::size_t>((i << 6) | (j << 3) | k)] += w;
-                           any = true;
-                         });
+          const auto put = [&b](const void* data, std::size_t n) {
+            const auto* p = static_cast<const std::uint8_t*>(data);
+            b.insert(b.end(), p, p + n);
+          };
+          for (std::size_t l = u * kLeavesPerUnit; l < std::min(leaf_count, (u + 1) * kLeavesPerUnit); ++l) {
+            fill_leaf(l, acc);
+            const std::uint8_t has = leaves[l] != nullptr ? 1 : 0;
+            put(&has, 1);
+            if (has == 0) continue;
+            put(&kept[l], sizeof(double));
+            put(&lost[l], sizeof(double));
+            for (std::size_t w = 0; w < kWords; ++w) {
+              const Word word = leaves[l]->getValueMask().getWord<Word>(static_cast<openvdb::Index>(w));
+              put(&word, sizeof word);
             }
-            if (any) {
-              auto* leaf = new Leaf(openvdb::Coord(origin[0], origin[1], origin[2]), 0.0f, false);
-              double kept_volume = 0.0;
-              double lost_volume = 0.0;
-              for (std::size_t n = 0; n < acc.size(); ++n) {
-                if (acc[n] <= 0.0) continue;
-                const double c = acc[n] * inv_volume;
-                const float stored = static_cast<float>(std::min(c, 1.0));
-                leaf->setValueOn(static_cast<openvdb::Index>(n), stored);
-                kept_volume += static_cast<double>(stored);
-                if (c > 1.0) lost_volume += (c - 1.0) / inv_volume;
-              }
-              leaves[l] = leaf;
-              kept[l] = kept_volume / inv_volume;
-              lost[l] = lost_volume;
-            }
-            task.step();
+            put(leaves[l]->buffer().data(), 512 * sizeof(float));
+            delete leaves[l];  // rank 0 rebuilds it from the bytes, as from any rank
+            leaves[l] = nullptr;
           }
-        });
+          return b;
+        },
+        how);
+    if (dist::is_root()) {
+      for (std::size_t u = 0; u < results.size(); ++u) {
+        const dist::Bytes& b = results[u];
+        std::size_t at = 0;
+        const auto get = [&](void* data, std::size_t n) {
+          if (at + n > b.size()) fail("voxelize: a truncated leaf range from another rank");
+          std::memcpy(data, b.data() + at, n);
+          at += n;
+        };
+        for (std::size_t l = u * kLeavesPerUnit; l < std::min(leaf_count, (u + 1) * kLeavesPerUnit); ++l) {
+          std::uint8_t has = 0;
+          get(&has, 1);
+          if (has == 0) continue;
+          get(&kept[l], sizeof(double));
+          get(&lost[l], sizeof(double));
+          const auto origin = leaf_origin(bins[starts[l]].first);
+          auto* leaf = new Leaf(openvdb::Coord(origin[0], origin[1], origin[2]), 0.0f, false);
+          std::array<Word, kWords> words{};
+          get(words.data(), sizeof words);
+          std::array<float, 512> values{};
+          get(values.data(), sizeof values);
+          for (std::size_t n = 0; n < 512; ++n) {
+            if (((words[n / 64] >> (n % 64)) & 1U) != 0) leaf->setValueOn(static_cast<openvdb::Index>(n), values[n]);
+          }
+          leaves[l] = leaf;
+        }
+      }
+    }
+  } else {
+    ProgressTask task(progress, "voxelizing", leaf_count);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaf_count, 16),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        std::array<double, 512> acc{};
+                        for (std::size_t l = range.begin(); l != range.end(); ++l) {
+                          fill_leaf(l, acc);
+                          task.step();
+                        }
+                      });
   }
 
   volume::Grid grid(h, "density");

@@ -19,6 +19,10 @@ struct VoxelizeOptions {
   double voxel_size = 0.01;            ///< mm, edge of a cubic voxel (index i covers [i·h, (i+1)·h))
   int samples_per_voxel = 4;           ///< quadrature points per voxel edge, along and across each fibre
   std::uint64_t max_memory_bytes = 0;  ///< refuse when the estimate exceeds this; 0 = default_memory_budget()
+  /// Under mpirun, fill the leaves on all ranks (dist::run_units, units = ranges of leaves): rank 0
+  /// returns the whole grid, the same bytes as one process; other ranks an empty grid and a report
+  /// without volumes. Only for callers whose other ranks need no grid (`weft gen`).
+  bool spread = false;
 };
 
 /// @brief Upper bound of the memory a voxelization will take, computed without allocating it.

@@ -19,7 +19,7 @@ if(WEFT_MPI AND MPIEXEC_EXECUTABLE)
   else()
     set(_mpi_flags "")
   endif()
-  foreach(case sim2d sweep render corpus)
+  foreach(case sim2d sweep render corpus gen)
     add_test(NAME cli.mpi.same_bytes.${case}
              COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DCASE=${case} "-DMPIEXEC=${MPIEXEC_EXECUTABLE}"
                      "-DMPIFLAGS=${_mpi_flags}" -DWORK=${CMAKE_CURRENT_BINARY_DIR}/mpi_${case}

@@ -10,7 +10,7 @@
 # With -DREFERENCE=<dir> (scripts/check_mpich: another build's WORK of the same CASE, e.g. against
 # another MPI library) the plain and -n 2 runs must also equal that folder's.
 #
-# Usage: cmake -DWEFT=<weft> -DCASE=sim2d|sweep|render|corpus -DMPIEXEC=<mpirun> -DMPIFLAGS=<flags> -DWORK=<dir>
+# Usage: cmake -DWEFT=<weft> -DCASE=sim2d|sweep|render|corpus|gen -DMPIEXEC=<mpirun> -DMPIFLAGS=<flags> -DWORK=<dir>
 #              [-DREFERENCE=<dir>] -P mpi_compare.cmake
 cmake_minimum_required(VERSION 3.25)
 include(${CMAKE_CURRENT_LIST_DIR}/mpi_common.cmake)
@@ -28,6 +28,9 @@ elseif(CASE STREQUAL "sweep")
 elseif(CASE STREQUAL "corpus")
   # The quick corpus: 2 cases (plain and stockinette, cotton, 20 um), so -n 3 leaves a rank idle.
   set(run_args validate --corpus --quick --no-plot --seed 3 --out "${WORK}/@RUN@")
+elseif(CASE STREQUAL "gen")
+  # 3x3 yarns at 10 um: 2300 leaves, 9 units of 256 leaves over the ranks; .vdb without its UUID.
+  set(run_args gen --yarns 3x3 --write grid,config,yarns --seed 2 --out "${WORK}/@RUN@")
 elseif(CASE STREQUAL "render")
   # Media, surfaces and lights on a small film: tiles of 16² pixels over the ranks.
   set(run_args render cornell_media --quick --spp 2 --seed 7 -o "${WORK}/@RUN@/image.exr")
@@ -75,8 +78,14 @@ if(REFERENCE)
   endforeach()
   message(STATUS "${CASE}: plain and -n 2 identical to ${REFERENCE}")
 endif()
-# The reports say how they were run.
-foreach(run IN LISTS runs)
+# The reports say how they were run (gen writes no report: its cloth.json and scene.json are inputs
+# for other commands).
+if(CASE STREQUAL "gen")
+  set(report_runs "")
+else()
+  set(report_runs ${runs})
+endif()
+foreach(run IN LISTS report_runs)
   file(GLOB reports "${WORK}/${run}/*.json")
   foreach(r IN LISTS reports)
     file(READ "${r}" j)
