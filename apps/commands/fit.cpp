@@ -17,6 +17,7 @@
 #include "weft/fit/local_fields.h"
 #include "weft/fit/scale.h"
 #include "weft/fit/validation.h"
+#include "weft/render/cloth_scene.h"
 #include "weft/volume/grid.h"
 #include "written_files.h"
 
@@ -96,7 +97,9 @@ const Registrar kFit{Command{
                      "Also write local fields per block of B^3 voxels to local_fields.vdb (0 = off)")
           ->capture_default_str();
       sub.add_option("--beams", o->beams, "beams.csv from `weft measure`: adds least-squares fits and model errors");
-      sub.add_option("--out", o->out, "Output folder (created if missing): fit.json, local_fields.vdb with --block")
+      sub.add_option(
+             "--out", o->out,
+             "Output folder (created if missing): fit.json; with --block local_fields.vdb and local_fields_scene.json")
           ->capture_default_str();
       return [o](const Context& ctx) -> int {
         check_grid_input(o->input);
@@ -165,6 +168,16 @@ const Registrar kFit{Command{
         if (fields) {
           fit::save_local_fields(*fields, out / "local_fields.vdb");
           files.add(out / "local_fields.vdb", fmt::format("alpha, beta per {}^3 block", o->block));
+          if (!o->input.extinction()) {
+            // A scene that renders the fields as is (`weft render OUT/local_fields_scene.json`),
+            // framed and lit like `weft gen`'s scene.json of the fine grid it came from.
+            render::ClothSceneMedium medium;
+            medium.kind = render::ClothSceneMedium::Kind::local_fields;
+            medium.fields = out / "local_fields.vdb";
+            write_text_atomically(out / "local_fields_scene.json",
+                                  render::cloth_scene_json(o->input.grid, "local_fields.vdb", medium));
+            files.add(out / "local_fields_scene.json", "scene: the local-gamma fields for weft render");
+          }
         }
         report["outputs"] = files.to_json(out);
         write_text_atomically(out / "fit.json", report.dump(2) + "\n");

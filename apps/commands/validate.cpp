@@ -14,6 +14,7 @@
 #include "validate_common.h"
 #include "validate_corpus.h"
 #include "validate_output.h"
+#include "validate_scenes.h"
 #include "validate_sweep.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
@@ -47,6 +48,7 @@ struct ValidateOptions {
   bool quick = false;
   bool resume = false;
   std::vector<std::string> cases;
+  bool scenes = false;
 };
 
 const Registrar kValidate{Command{
@@ -75,6 +77,10 @@ const Registrar kValidate{Command{
       sub.add_option("--method", o->method, "Beam tracing: auto | streaming | per-ray | openvdb")
           ->capture_default_str();
       sub.add_option("--out", o->out, "Output folder")->capture_default_str();
+      sub.add_flag("--scenes", o->scenes,
+                   "Also write OUT/scenes/ for `weft render`: grid.json (the fine grid), local_gamma.json with "
+                   "local_fields.vdb (blocks of L^3), and slab_<model>.json, a homogeneous slab per predicted law "
+                   "along the cloth's normal; all with the same camera and lights");
       auto* sweep =
           sub.add_flag("--sweep", o->sweep,
                        "Accuracy vs time instead of the validation: reference beams, 1/4 and 1/16 of the rays, and "
@@ -98,6 +104,9 @@ const Registrar kValidate{Command{
         if (o->quick && !o->sweep && !o->corpus) usage_fail("--quick needs --sweep or --corpus");
         if (o->resume && !o->sweep && !o->corpus) usage_fail("--resume needs --sweep or --corpus");
         if (!o->cases.empty() && !o->corpus) usage_fail("--cases needs --corpus");
+        if (o->scenes && (o->sweep || o->corpus))
+          usage_fail("--scenes goes with a validation, not --sweep or --corpus");
+        if (o->scenes && o->input.extinction()) usage_fail("--scenes needs a concentration grid (a cloth)");
         json timings = json::object();
         // Everything is checked and computed before the output folder is touched.
         if (o->rays < 1) usage_fail("--rays must be >= 1, got {}", o->rays);
@@ -214,6 +223,14 @@ const Registrar kValidate{Command{
           outputs.add(out / "cloth.vti", "grid for ParaView");
         } catch (const Error& e) {
           skipped["cloth.vti"] = e.what();
+        }
+        if (o->scenes) {
+          // The fine grid as the scenes name it: the generated cloth.vdb beside scenes/, or the input.
+          const fs::path vdb = o->input.grid.empty() ? out / "cloth.vdb" : fs::path(o->input.grid);
+          const std::string in_scene =
+              o->input.grid.empty() ? std::string("../cloth.vdb") : fs::absolute(o->input.grid).string();
+          for (const auto& note : write_model_scenes(v, grid, vdb, in_scene, out / "scenes", ctx.progress, outputs))
+            skipped[note.substr(0, note.find(' '))] = note;
         }
         timings["write_data"] = seconds_since(t0);
         // report.json goes out before the plots too: a renderer that dies takes nothing with it.

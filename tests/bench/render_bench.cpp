@@ -16,12 +16,16 @@
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 
+#include <filesystem>
+
 #include "weft/core/error.h"
 #include "weft/core/rng.h"
 #include "weft/render/builtin_scenes.h"
 #include "weft/render/geometry.h"
 #include "weft/render/medium.h"
 #include "weft/render/render.h"
+#include "weft/volume/grid.h"
+#include "weft/volume/grid_io.h"
 
 namespace {
 
@@ -139,6 +143,57 @@ const bool kFreeFlightRegistered = [] {
   }
   return true;
 }();
+
+/// A local-gamma medium's flight + shadow transmittance (LocalGammaField's DDA walk over the
+/// coarse fields) on rays in random directions from random points of a 32³ field of varying
+/// C̄ and V (a fixed hash pattern; mean free path ≈ 0.2 of the box side), so each flight
+/// crosses a few to a few dozen coarse voxels. items/s = flights (each with its shadow segment).
+void BM_LocalGammaFlight(benchmark::State& state) {
+  constexpr int n = 32;
+  const std::filesystem::path file = std::filesystem::temp_directory_path() / "weft_bench_local_fields.vdb";
+  std::vector<weft::volume::Grid> grids;
+  for (const std::string name :
+       {"mean_concentration", "var_concentration_x", "var_concentration_y", "var_concentration_z"}) {
+    weft::volume::Grid g(1.0 / n, name);
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          const unsigned hsh = (static_cast<unsigned>(i) * 73856093U) ^ (static_cast<unsigned>(j) * 19349663U) ^
+                               (static_cast<unsigned>(k) * 83492791U);
+          const float c = 0.05F + 0.4F * static_cast<float>(hsh % 1000U) / 1000.0F;
+          g.set_value(i, j, k, name == "mean_concentration" ? c : 0.3F * c * c);
+        }
+    grids.push_back(g);
+  }
+  weft::volume::save_grids(grids, file);
+  MediumDesc desc;
+  desc.kind = MediumKind::local_gamma;
+  desc.file = file.string();
+  desc.sigma = 20.0;
+  const std::shared_ptr<const Medium> m = make_medium(desc, "benchmark medium");
+  const std::unique_ptr<MediumScratch> scratch = m->make_scratch();
+  weft::Pcg32 rng = weft::stream_for(13, 0);
+  std::vector<Vec3> o;
+  std::vector<Vec3> d;
+  for (int i = 0; i < 4096; ++i) {
+    o.emplace_back(0.1 + 0.8 * rng.uniform(), 0.1 + 0.8 * rng.uniform(), 0.1 + 0.8 * rng.uniform());
+    const double z = 1.0 - 2.0 * rng.uniform();
+    const double phi = 2.0 * std::numbers::pi * rng.uniform();
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    d.emplace_back(r * std::cos(phi), r * std::sin(phi), z);
+  }
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const std::size_t k = i++ & 4095U;
+    const Flight f = m->sample_flight(o[k], d[k], 1.0, weft::transmittance::Origin::source, rng, scratch.get());
+    const double tr = m->transmittance(o[k], d[k], 0.5, weft::transmittance::Origin::scatterer, rng, scratch.get());
+    benchmark::DoNotOptimize(f.t);
+    benchmark::DoNotOptimize(tr);
+  }
+  state.SetItemsProcessed(state.iterations());
+  std::filesystem::remove(file);
+}
+BENCHMARK(BM_LocalGammaFlight);
 
 /// Embree ray queries in the Cornell box with its media cubes: rays from random points inside
 /// the box in uniform random directions (closest hit, and any hit over half the box size).

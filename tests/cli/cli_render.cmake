@@ -131,6 +131,63 @@ if(CMAKE_SCRIPT_MODE_FILE)
     if(NOT rc EQUAL 0)
       message(FATAL_ERROR "gen scene image: ${out}${err}")
     endif()
+  elseif(CASE STREQUAL "model_scenes")
+    # Issue 15's example scenes: the fine grid, the local fields of `weft fit --block` and a
+    # homogeneous slab per predicted law of `weft validate --scenes`, each rendered as written.
+    execute_process(COMMAND ${WEFT} --quiet gen --yarns 2x2 --out ${WORK}/cloth RESULT_VARIABLE rc ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0)
+      message(FATAL_ERROR "gen failed (rc=${rc}): ${err}")
+    endif()
+    execute_process(COMMAND ${WEFT} --quiet fit --grid ${WORK}/cloth/cloth.vdb --block 15 --out ${WORK}/fit
+                    RESULT_VARIABLE rc ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0 OR NOT EXISTS ${WORK}/fit/local_fields_scene.json)
+      message(FATAL_ERROR "fit --block did not write local_fields_scene.json (rc=${rc}): ${err}")
+    endif()
+    execute_process(COMMAND ${WEFT} --quiet validate --grid ${WORK}/cloth/cloth.vdb --axes z --no-plot --scenes
+                            --out ${WORK}/val RESULT_VARIABLE rc ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0)
+      message(FATAL_ERROR "validate --scenes failed (rc=${rc}): ${err}")
+    endif()
+    set(_scenes fit/local_fields_scene val/scenes/grid val/scenes/local_gamma)
+    set(_slabs gamma gap-gamma across-beam isotropic exponential)
+    foreach(m ${_slabs})
+      list(APPEND _scenes val/scenes/slab_${m})
+    endforeach()
+    foreach(sc ${_scenes})
+      if(NOT EXISTS ${WORK}/${sc}.json)
+        message(FATAL_ERROR "missing scene ${sc}.json")
+      endif()
+      string(REPLACE "/" "_" img ${sc})
+      execute_process(COMMAND ${WEFT} render ${WORK}/${sc}.json --quick --spp 8 -o ${WORK}/${img}.exr
+                      RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+      if(NOT rc EQUAL 0)
+        message(FATAL_ERROR "render of ${sc}.json failed (rc=${rc}): ${out}${err}")
+      endif()
+      if(sc MATCHES "slab_")
+        if(NOT out MATCHES "homogeneous medium")
+          message(FATAL_ERROR "${sc}: the summary does not name a homogeneous medium: ${out}")
+        endif()
+        set(_mode --slab)
+      else()
+        if(NOT out MATCHES "local-gamma medium|grid medium")
+          message(FATAL_ERROR "${sc}: the summary does not name the grid or local-gamma medium: ${out}")
+        endif()
+        set(_mode)
+      endif()
+      execute_process(COMMAND ${CHECK} ${_mode} ${WORK}/${img}.exr RESULT_VARIABLE rc OUTPUT_VARIABLE cout
+                      ERROR_VARIABLE err)
+      if(NOT rc EQUAL 0)
+        message(FATAL_ERROR "${sc} image: ${cout}${err}")
+      endif()
+    endforeach()
+    # Positive correlation lets more light through than the exponential of the same mean
+    # (Jensen: E[e^{-sigma C t}] >= e^{-sigma E[C] t}): the gamma slab is brighter.
+    execute_process(COMMAND ${CHECK} --slab ${WORK}/val_scenes_slab_gamma.exr --brighter-than
+                            ${WORK}/val_scenes_slab_exponential.exr RESULT_VARIABLE rc OUTPUT_VARIABLE cout
+                            ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0)
+      message(FATAL_ERROR "gamma vs exponential slab: ${cout}${err}")
+    endif()
   else()
     message(FATAL_ERROR "unknown CASE ${CASE}")
   endif()
@@ -161,7 +218,7 @@ add_test(NAME cli.render.time_budget COMMAND weft render furnace --spp 1000000 -
 set_tests_properties(cli.render.time_budget PROPERTIES LABELS "cli;render" TIMEOUT 120
                      PASS_REGULAR_EXPRESSION "64x64 at [0-9]+ spp")
 
-foreach(case bad_input threads round_trip convergence fibres local_gamma default_cloth gen_scene)
+foreach(case bad_input threads round_trip convergence fibres local_gamma default_cloth gen_scene model_scenes)
   add_test(NAME cli.render.${case}
            COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DCASE=${case} -DWORK=${_render_work}/${case}
                    -DCHECK=$<TARGET_FILE:weft_cloth_image_check>

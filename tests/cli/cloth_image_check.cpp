@@ -1,56 +1,115 @@
-// Checks that a rendered cloth image shows the cloth (CLI tests of `weft render` with no scene
-// and of `weft gen` + `weft render <out>/scene.json`). The scene (cloth_scene.h) puts a bright
-// backlight behind the patch: without a cloth the centre of the frame is that light (uniform,
-// saturated) or empty space (dark). A visible cloth makes a large share of the centre's pixels
-// partly transmitting (between 2% and 85% of the backlight's radiance) and textured (the
-// weave's gaps and yarns). Exit 0 when both hold, 1 with the measured statistics otherwise.
+// Checks that a rendered cloth image shows the cloth (CLI tests of `weft render` with no scene,
+// of `weft gen` + `weft render <out>/scene.json`, and of the model scenes of `weft fit --block`
+// and `weft validate --scenes`). The scene (cloth_scene.h) puts a bright backlight behind the
+// patch: without a cloth the centre of the frame is that light (uniform, saturated) or empty
+// space (dark). A visible cloth makes a large share of the centre's pixels partly transmitting
+// (between 2% and 85% of the backlight's radiance) and, for a grid or its local fields,
+// textured (the weave's gaps and yarns).
+//
+//   cloth_image_check IMAGE.exr                  share >= 0.25 and CoV >= 0.1
+//   cloth_image_check --slab IMAGE.exr           share >= 0.25 (a homogeneous slab is smooth)
+//   cloth_image_check --slab IMAGE.exr --brighter-than OTHER.exr
+//                                                also: IMAGE's centre mean exceeds OTHER's by
+//                                                more than 5 standard errors (each the pixel
+//                                                spread of its centre over sqrt(n))
+// Exit 0 when all hold, 1 with the measured statistics otherwise, 2 for bad usage.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <string>
 #include <vector>
 
 #include "weft/core/error.h"
 #include "weft/render/image.h"
 
+namespace {
+
+struct Stats {
+  double backlight = 0.0;
+  double mean = 0.0;
+  double cov = 0.0;
+  double share = 0.0;
+  double stderr_mean = 0.0;
+  bool finite = true;
+};
+
+Stats measure(const char* path) {
+  const weft::render::Image im = weft::render::read_exr(path);
+  std::vector<double> all;
+  std::vector<double> centre;
+  Stats s;
+  for (int y = 0; y < im.height; ++y)
+    for (int x = 0; x < im.width; ++x) {
+      const double l = (im.at(x, y, 0) + im.at(x, y, 1) + im.at(x, y, 2)) / 3.0;
+      if (!std::isfinite(l)) {
+        std::fprintf(stderr, "%s: pixel %d,%d is not finite\n", path, x, y);
+        s.finite = false;
+        return s;
+      }
+      all.push_back(l);
+      if (x >= im.width / 4 && x < 3 * im.width / 4 && y >= im.height / 4 && y < 3 * im.height / 4) centre.push_back(l);
+    }
+  std::sort(all.begin(), all.end());
+  s.backlight = all[static_cast<std::size_t>(0.99 * static_cast<double>(all.size() - 1))];
+  double sum = 0.0;
+  double sum2 = 0.0;
+  int partial = 0;
+  for (double l : centre) {
+    if (l > 0.02 * s.backlight && l < 0.85 * s.backlight) ++partial;
+    sum += l;
+    sum2 += l * l;
+  }
+  const double n = static_cast<double>(centre.size());
+  s.mean = sum / n;
+  const double sd = std::sqrt(std::max(0.0, sum2 / n - s.mean * s.mean));
+  s.cov = sd / std::max(s.mean, 1e-300);
+  s.stderr_mean = sd / std::sqrt(n);
+  s.share = partial / n;
+  std::printf("%s: backlight %.4g, centre mean %.4g +- %.2g, centre CoV %.3f, partly transmitting share %.3f\n", path,
+              s.backlight, s.mean, s.stderr_mean, s.cov, s.share);
+  return s;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: cloth_image_check IMAGE.exr\n");
+  bool slab = false;
+  const char* image = nullptr;
+  const char* dimmer = nullptr;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--slab") == 0) {
+      slab = true;
+    } else if (std::strcmp(argv[i], "--brighter-than") == 0 && i + 1 < argc) {
+      dimmer = argv[++i];
+    } else if (image == nullptr) {
+      image = argv[i];
+    } else {
+      image = nullptr;
+      break;
+    }
+  }
+  if (image == nullptr) {
+    std::fprintf(stderr, "usage: cloth_image_check [--slab] IMAGE.exr [--brighter-than OTHER.exr]\n");
     return 2;
   }
   try {
-    const weft::render::Image im = weft::render::read_exr(argv[1]);
-    std::vector<double> all;
-    std::vector<double> centre;
-    for (int y = 0; y < im.height; ++y)
-      for (int x = 0; x < im.width; ++x) {
-        const double l = (im.at(x, y, 0) + im.at(x, y, 1) + im.at(x, y, 2)) / 3.0;
-        if (!std::isfinite(l)) {
-          std::fprintf(stderr, "pixel %d,%d is not finite\n", x, y);
-          return 1;
-        }
-        all.push_back(l);
-        if (x >= im.width / 4 && x < 3 * im.width / 4 && y >= im.height / 4 && y < 3 * im.height / 4)
-          centre.push_back(l);
-      }
-    std::sort(all.begin(), all.end());
-    const double backlight = all[static_cast<std::size_t>(0.99 * static_cast<double>(all.size() - 1))];
-    double sum = 0.0;
-    double sum2 = 0.0;
-    int partial = 0;
-    for (double l : centre) {
-      if (l > 0.02 * backlight && l < 0.85 * backlight) ++partial;
-      sum += l;
-      sum2 += l * l;
-    }
-    const double n = static_cast<double>(centre.size());
-    const double mean = sum / n;
-    const double cov = std::sqrt(std::max(0.0, sum2 / n - mean * mean)) / std::max(mean, 1e-300);
-    const double share = partial / n;
-    std::printf("backlight %.4g, centre mean %.4g, centre CoV %.3f, partly transmitting share %.3f\n", backlight, mean,
-                cov, share);
-    if (!(backlight > 0.0) || share < 0.25 || cov < 0.1) {
-      std::fprintf(stderr, "the cloth is not visible: share %.3f (need >= 0.25), CoV %.3f (need >= 0.1)\n", share, cov);
+    const Stats s = measure(image);
+    if (!s.finite) return 1;
+    if (!(s.backlight > 0.0) || s.share < 0.25 || (!slab && s.cov < 0.1)) {
+      std::fprintf(stderr, "the cloth is not visible: share %.3f (need >= 0.25), CoV %.3f (need >= %s)\n", s.share,
+                   s.cov, slab ? "0, a slab" : "0.1");
       return 1;
+    }
+    if (dimmer != nullptr) {
+      const Stats d = measure(dimmer);
+      if (!d.finite) return 1;
+      const double se = std::hypot(s.stderr_mean, d.stderr_mean);
+      if (!(s.mean - d.mean > 5.0 * se)) {
+        std::fprintf(stderr, "%s (centre mean %.4g) is not brighter than %s (%.4g) by 5 standard errors (%.2g)\n",
+                     image, s.mean, dimmer, d.mean, se);
+        return 1;
+      }
     }
     return 0;
   } catch (const weft::Error& e) {

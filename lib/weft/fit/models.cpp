@@ -13,6 +13,7 @@
 #include "weft/fit/fit.h"
 #include "weft/transmittance/gamma_mixture.h"
 #include "weft/transmittance/gap_gamma.h"
+#include "weft/transmittance/registry.h"
 #include "weft/volume/beam.h"
 #include "weft/volume/columns.h"
 
@@ -285,6 +286,22 @@ std::vector<double> block_field_curve(const volume::IndexBox& box, int axis, boo
 
 }  // namespace
 
+namespace {
+/// The registry law of gamma_log_t: gamma (mean extinction σC̄, α = C̄²/Var), the exponential
+/// when Var = 0.
+transmittance::LawPtr gamma_or_exponential(double sigma, double mean, double var) {
+  transmittance::LawSpec spec;
+  if (mean > 0.0 && var > 0.0) {
+    spec.name = "gamma";
+    spec.params = {{"mean_extinction", sigma * mean}, {"alpha", mean * mean / var}};
+  } else {
+    spec.name = "exponential";
+    spec.params = {{"mu", sigma * std::max(0.0, mean)}};
+  }
+  return transmittance::make_law(spec);
+}
+}  // namespace
+
 double gamma_log_t(double sigma, double mean, double var, double t) {
   if (!(mean > 0.0) || t == 0.0) return 0.0;
   if (!(var > 0.0)) return -sigma * mean * t;
@@ -310,8 +327,9 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
   const WindowSummary ws = summarize(reader, w, w, progress);
   std::vector<PredictedModel> out;
   auto add = [&](std::string name, std::string description, std::vector<std::pair<std::string, double>> params,
-                 auto&& log_t_of) {
+                 auto&& log_t_of, transmittance::LawPtr law = nullptr) {
     PredictedModel m;
+    m.law = std::move(law);
     m.name = std::move(name);
     m.description = std::move(description);
     m.parameters = std::move(params);
@@ -324,13 +342,15 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
   {
     const double mean = ws.all.mean();
     const double var = ws.all.var();
-    add("gamma", "Eq. 19-20: gamma concentration from all windows of length L",
+    add(
+        "gamma", "Eq. 19-20: gamma concentration from all windows of length L",
         {{"window", L},
          {"mean_concentration", mean},
          {"var_concentration", var},
          {"alpha", var > 0.0 ? mean * mean / var : INFINITY},
          {"beta", var > 0.0 ? mean / var : INFINITY}},
-        [&](std::size_t, double t) { return gamma_log_t(sigma, mean, var, t); });
+        [&](std::size_t, double t) { return gamma_log_t(sigma, mean, var, t); },
+        gamma_or_exponential(sigma, mean, var));
   }
   // Eq. 16 with the empirical distribution (histogram bins at their own mean).
   {
@@ -365,19 +385,20 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
     const double mean = ws.nonzero.mean();
     const double var = ws.nonzero.var();
     // The registry's gap-gamma law (one implementation of its stable log T); α = ∞ without variance.
-    const std::unique_ptr<transmittance::Law> gap_law =
+    const std::shared_ptr<const transmittance::Law> gap_law =
         mean > 0.0 && f0 < 1.0 ? std::unique_ptr<transmittance::Law>(std::make_unique<transmittance::GapGamma>(
                                      f0, sigma * mean, var > 0.0 ? mean * mean / var : INFINITY))
                                : std::unique_ptr<transmittance::Law>(std::make_unique<transmittance::GammaMixture>(
                                      std::vector<transmittance::GammaComponent>{{1.0, 0.0, INFINITY}}));
-    add("gap-gamma", "gap fraction f0 (empty windows of length L) plus a gamma law of the others",
+    add(
+        "gap-gamma", "gap fraction f0 (empty windows of length L) plus a gamma law of the others",
         {{"window", L},
          {"gap_fraction", f0},
          {"mean_concentration", mean},
          {"var_concentration", var},
          {"alpha", var > 0.0 ? mean * mean / var : INFINITY},
          {"beta", var > 0.0 ? mean / var : INFINITY}},
-        [&](std::size_t, double t) { return gap_law->log_transmittance(t); });
+        [&](std::size_t, double t) { return gap_law->log_transmittance(t); }, gap_law);
   }
   // Across the beam: a gamma law per transverse cell of side L, mixed by rays.
   {
@@ -390,10 +411,11 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
       const double v = g.windows.var();
       components.push_back({g.rays / rays, sigma * m, v > 0.0 && m > 0.0 ? m * m / v : INFINITY});
     }
-    const transmittance::GammaMixture mixture(std::move(components));
-    add("across-beam", "gamma law per transverse cell of side L, T the ray-weighted mean (gamma-mixture)",
+    const auto mixture = std::make_shared<const transmittance::GammaMixture>(std::move(components));
+    add(
+        "across-beam", "gamma law per transverse cell of side L, T the ray-weighted mean (gamma-mixture)",
         {{"window", L}, {"cell", L}, {"groups", static_cast<double>(ws.groups.size())}},
-        [&](std::size_t, double t) { return mixture.log_transmittance(t); });
+        [&](std::size_t, double t) { return mixture->log_transmittance(t); }, mixture);
   }
   // Local fields of blocks L³ (the statistics `weft fit --block` writes for rendering), clipped
   // to the active box so that each block holds exactly the beam's columns that cross it.

@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "weft/core/progress.h"
+#include "weft/transmittance/law.h"
 #include "weft/volume/grid.h"
 
 namespace weft::fit {
@@ -43,6 +44,10 @@ struct PredictedModel {
   bool uses_ground_truth = false;  ///< only least-squares references set this
   std::vector<std::pair<std::string, double>> parameters;
   std::vector<double> log_t;
+  /// The one homogeneous law in distance this model predicts (gamma, gap-gamma, the
+  /// across-beam gamma-mixture): what a homogeneous slab of the cloth renders with. Null for
+  /// models that are not one law (empirical, the local-* fields).
+  transmittance::LawPtr law;
 };
 
 struct PredictionSpec {

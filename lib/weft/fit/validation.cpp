@@ -117,7 +117,8 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
                       {"var_concentration", av.moment_fit.var_concentration},
                       {"alpha", av.moment_fit.alpha},
                       {"beta", av.moment_fit.beta}};
-      m.log_t = log_curve(*model_law(av.moment_fit), depths);
+      m.law = model_law(av.moment_fit);
+      m.log_t = log_curve(*m.law, depths);
       add_model(std::move(m));
     }
     if (spec.predictive_models) {
@@ -132,6 +133,7 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
         m.description = p.description;
         m.parameters = std::move(p.parameters);
         m.log_t = std::move(p.log_t);
+        m.law = std::move(p.law);
         add_model(std::move(m));
       }
     }
@@ -141,6 +143,7 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
       m.description = "gamma law from the window statistics of all three axes pooled";
       m.parameters = {{"alpha", v.isotropic_fit.alpha}, {"beta", v.isotropic_fit.beta}};
       m.log_t = log_curve(*iso_law, depths);
+      m.law = iso_law;
       add_model(std::move(m));
     }
     {
@@ -149,6 +152,7 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
       m.description = "Beer-Lambert with the box-mean extinction (the RTE baseline)";
       m.parameters = {{"mean_extinction", v.exponential.mean_extinction()}};
       m.log_t = log_curve(*exp_law, depths);
+      m.law = exp_law;
       add_model(std::move(m));
     }
     av.fit_seconds = seconds_since(t0);

@@ -42,6 +42,8 @@ struct ModelCurve {
   std::vector<std::pair<std::string, double>> parameters;
   std::vector<double> log_t;
   CurveError error;
+  /// The homogeneous law in distance the model predicts (PredictedModel::law), or null.
+  transmittance::LawPtr law;
 };
 
 struct AxisValidation {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include <nlohmann/json.hpp>
@@ -54,7 +55,8 @@ ClothLook cloth_look(const volume::Grid& grid, const std::filesystem::path& vdb)
 namespace {
 
 // The scene of `grid`, saved as `file_in_scene`; errors name `where`.
-std::string scene_json(const volume::Grid& grid, const std::string& file_in_scene, const std::filesystem::path& where) {
+std::string scene_json(const volume::Grid& grid, const std::string& file_in_scene, const std::filesystem::path& where,
+                       const ClothSceneMedium& medium) {
   const volume::IndexBox box = grid.active_bbox();
   if (box.empty()) fail("cloth grid '{}' is empty", where.string());
   const ClothLook look = cloth_look(grid, where);
@@ -65,6 +67,25 @@ std::string scene_json(const volume::Grid& grid, const std::string& file_in_scen
   for (int a = 0; a < 3; ++a) {
     lo[a] = org[a] + h * box.min[a];
     hi[a] = org[a] + h * (static_cast<double>(box.max[a]) + 1.0);
+  }
+  // The medium's bound: the active box plus one voxel for a grid (index-matched, so it is
+  // invisible; no voxel is cut), the active box itself for a homogeneous slab (the thickness
+  // its law was predicted for), and for local fields the box also covers every active block.
+  Vec3 bmin = lo - Vec3::Constant(h);
+  Vec3 bmax = hi + Vec3::Constant(h);
+  if (medium.kind == ClothSceneMedium::Kind::homogeneous) {
+    bmin = lo;
+    bmax = hi;
+  } else if (medium.kind == ClothSceneMedium::Kind::local_fields) {
+    const volume::Grid fields = volume::Grid::load(medium.fields, "mean_concentration");
+    const volume::IndexBox fb = fields.active_bbox();
+    if (fb.empty()) fail("local fields '{}' are empty", medium.fields.string());
+    const double fh = fields.voxel_size();
+    const auto fo = fields.origin();
+    for (int a = 0; a < 3; ++a) {
+      bmin[a] = std::min(bmin[a], fo[a] + fh * fb.min[a]);
+      bmax[a] = std::max(bmax[a], fo[a] + fh * (static_cast<double>(fb.max[a]) + 1.0));
+    }
   }
   const Vec3 size = hi - lo;
   const Vec3 centre = 0.5 * (lo + hi);
@@ -96,8 +117,6 @@ std::string scene_json(const volume::Grid& grid, const std::string& file_in_scen
   // Grazing light from the front: 15° above the plane, from the camera's side.
   const double graze = 15.0 * std::numbers::pi / 180.0;
   const Vec3 towards = (-std::sin(graze) * normal + std::cos(graze) * (0.6 * ev + 0.8 * eu)).normalized();
-  // The medium's bound: the active box plus one voxel (index-matched, so it is invisible).
-  const Vec3 pad = Vec3::Constant(h);
   nlohmann::json j;
   j["camera"] = {{"position", {camera.x(), camera.y(), camera.z()}},
                  {"look_at", {centre.x(), centre.y(), centre.z()}},
@@ -107,16 +126,40 @@ std::string scene_json(const volume::Grid& grid, const std::string& file_in_scen
                  {"height", 240}};
   j["integrator"] = {{"spp", 16}, {"max_depth", 64}, {"rr_depth", 6}, {"seed", 1}};
   j["materials"] = {{"boundary", {{"type", "null"}}}};
-  j["media"] = {{"cloth",
-                 {{"type", "grid"},
-                  {"file", file_in_scene},
-                  {"values", "concentration"},
-                  {"sigma", look.sigma},
-                  {"albedo", {look.albedo.x(), look.albedo.y(), look.albedo.z()}},
-                  {"g", 0.3},
-                  {"tracking", "delta"}}}};
-  const Vec3 bmin = lo - pad;
-  const Vec3 bmax = hi + pad;
+  const nlohmann::json albedo = {look.albedo.x(), look.albedo.y(), look.albedo.z()};
+  nlohmann::json cloth;
+  switch (medium.kind) {
+    case ClothSceneMedium::Kind::grid:
+      cloth = {{"type", "grid"},
+               {"file", file_in_scene},
+               {"values", "concentration"},
+               {"sigma", look.sigma},
+               {"tracking", "delta"}};
+      break;
+    case ClothSceneMedium::Kind::local_fields:
+      cloth = {{"type", "local-gamma"}, {"fields", file_in_scene}, {"sigma", look.sigma}};
+      break;
+    case ClothSceneMedium::Kind::homogeneous: {
+      if (!medium.law) fail("cloth scene for '{}': a homogeneous medium needs a law", where.string());
+      nlohmann::json law = {{"name", medium.law->name()}};
+      for (const auto& p : medium.law->parameters()) {
+        // +∞ (α of an exponential component) is the scene format's "inf"; nothing else non-finite.
+        if (p.value == std::numeric_limits<double>::infinity()) {
+          law[p.name] = "inf";
+          continue;
+        }
+        if (!std::isfinite(p.value))
+          fail("cloth scene for '{}': law {} has {} = {}; a scene file holds numbers or \"inf\"", where.string(),
+               medium.law->name(), p.name, p.value);
+        law[p.name] = p.value;
+      }
+      cloth = {{"type", "homogeneous"}, {"law", law}};
+      break;
+    }
+  }
+  cloth["albedo"] = albedo;
+  cloth["g"] = 0.3;
+  j["media"] = {{"cloth", cloth}};
   j["shapes"] = nlohmann::json::array({{{"type", "box"},
                                         {"min", {bmin.x(), bmin.y(), bmin.z()}},
                                         {"max", {bmax.x(), bmax.y(), bmax.z()}},
@@ -135,12 +178,14 @@ std::string scene_json(const volume::Grid& grid, const std::string& file_in_scen
 
 }  // namespace
 
-std::string cloth_scene_json(const std::filesystem::path& vdb, const std::string& file_in_scene) {
-  return scene_json(volume::Grid::load(vdb), file_in_scene, vdb);
+std::string cloth_scene_json(const std::filesystem::path& vdb, const std::string& file_in_scene,
+                             const ClothSceneMedium& medium) {
+  return scene_json(volume::Grid::load(vdb), file_in_scene, vdb, medium);
 }
 
-std::string cloth_scene_json(const volume::Grid& grid, const std::string& file_in_scene) {
-  return scene_json(grid, file_in_scene, file_in_scene);
+std::string cloth_scene_json(const volume::Grid& grid, const std::string& file_in_scene,
+                             const ClothSceneMedium& medium) {
+  return scene_json(grid, file_in_scene, file_in_scene, medium);
 }
 
 SceneDesc cloth_scene(const std::filesystem::path& vdb) {

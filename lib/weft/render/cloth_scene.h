@@ -8,6 +8,7 @@
 #include <string>
 
 #include "weft/render/scene.h"
+#include "weft/transmittance/law.h"
 #include "weft/volume/grid.h"
 
 namespace weft::render {
@@ -30,14 +31,36 @@ struct ClothLook {
 /// "generator" metadata (the cotton look when there is none or it is not in the table).
 [[nodiscard]] ClothLook cloth_look(const volume::Grid& grid, const std::filesystem::path& vdb);
 
+/// What fills the cloth's box in a cloth scene. Every kind gets the same camera, lights and
+/// box (framed on the fine grid), so the images of the fine grid, its local fields and the
+/// homogeneous slabs of each law compare pixel by pixel.
+struct ClothSceneMedium {
+  enum class Kind {
+    grid,          ///< the fine grid itself (`file_in_scene` names the .vdb): the ground truth
+    local_fields,  ///< the local-gamma fields of `weft fit --block` (`file_in_scene` names them)
+    homogeneous,   ///< one law in distance over the whole box (`law`; `file_in_scene` unused)
+  };
+  Kind kind = Kind::grid;
+  /// local_fields: the fields file as it is now (its blocks may reach past the fine grid's
+  /// active box; the medium's box then covers them, so no block is cut).
+  std::filesystem::path fields;
+  /// homogeneous: the law (e.g. a predictive model of `weft validate`).
+  transmittance::LawPtr law;
+};
+
 /// The scene JSON for the cloth grid `vdb`, naming it as `file_in_scene` (relative to the
 /// scene file's folder, e.g. "cloth.vdb" beside scene.json): camera framing the grid's active
 /// box, the grid as a delta-tracked exponential medium with the provenance's σ per unit C, a
-/// backlight (area light below) and a grazing directional light from the front.
-[[nodiscard]] std::string cloth_scene_json(const std::filesystem::path& vdb, const std::string& file_in_scene);
+/// backlight (area light below) and a grazing directional light from the front. `medium`
+/// replaces the grid by its local fields (same σ) or by a homogeneous law. Throws weft::Error
+/// for an empty grid, a homogeneous kind without a law, or a law parameter that is NaN or −∞
+/// (+∞, e.g. α of an exponential mixture component, is written as "inf").
+[[nodiscard]] std::string cloth_scene_json(const std::filesystem::path& vdb, const std::string& file_in_scene,
+                                           const ClothSceneMedium& medium = {});
 /// The same for a grid already in memory (what was just saved as `file_in_scene`): `weft gen`
 /// uses it so that writing the scene does not read the grid back (a second copy of the tree).
-[[nodiscard]] std::string cloth_scene_json(const volume::Grid& grid, const std::string& file_in_scene);
+[[nodiscard]] std::string cloth_scene_json(const volume::Grid& grid, const std::string& file_in_scene,
+                                           const ClothSceneMedium& medium = {});
 
 /// cloth_scene_json parsed with `vdb`'s folder as the scene folder.
 [[nodiscard]] SceneDesc cloth_scene(const std::filesystem::path& vdb);

@@ -5,10 +5,7 @@
 #include <limits>
 #include <string>
 
-#include <openvdb/openvdb.h>
-
 #include "weft/core/error.h"
-#include "weft/volume/grid_openvdb.h"
 
 namespace weft::render {
 
@@ -24,22 +21,15 @@ LocalGammaField::LocalGammaField(const std::filesystem::path& vdb, double sigma)
     fail("local-gamma medium: {}", e.what());
   }
   if (mean_->active_voxel_count() == 0) fail("local-gamma medium '{}': mean_concentration is empty", vdb.string());
-  // Concentrations and variances are >= 0 by definition; a negative or NaN value is a broken file.
-  auto check = [&](const volume::Grid& grid) {
-    const auto& g = *grid.impl().grid;
-    if (!(g.background() >= 0.0F))
-      fail("local-gamma medium '{}': grid '{}' has a negative or NaN background", vdb.string(), grid.name());
-    for (auto it = g.cbeginValueOn(); it; ++it) {
-      if (!(*it >= 0.0F)) {
-        const openvdb::Coord c = it.getCoord();
-        fail("local-gamma medium '{}': grid '{}' has value {} at voxel ({}, {}, {}); values must be >= 0 and not NaN",
-             vdb.string(), grid.name(), static_cast<double>(*it), c.x(), c.y(), c.z());
-      }
-    }
-  };
-  check(*mean_);
-  for (const auto& v : var_) check(*v);
+  // Concentrations and variances are >= 0 by definition; Grid::load refuses a negative, NaN or
+  // infinite value and a non-zero background (naming the grid and the voxel), so a broken file
+  // has already failed above with the medium named.
+  make_accessors();
+}
+
+void LocalGammaField::make_accessors() {
   tracer_ = std::make_unique<volume::Tracer>(*mean_);
+  for (std::size_t a = 0; a < 3; ++a) var_readers_[a] = std::make_unique<volume::VoxelReader>(*var_[a]);
 }
 
 std::unique_ptr<LocalGammaField> LocalGammaField::clone() const {
@@ -47,7 +37,7 @@ std::unique_ptr<LocalGammaField> LocalGammaField::clone() const {
   f->mean_ = mean_;
   f->var_ = var_;
   f->sigma_ = sigma_;
-  f->tracer_ = std::make_unique<volume::Tracer>(*mean_);
+  f->make_accessors();
   return f;
 }
 
@@ -57,16 +47,20 @@ void LocalGammaField::walk(const volume::Ray& ray, double t0, double t1, transmi
   const auto& d = ray.direction;
   const int axis = std::abs(d[0]) >= std::abs(d[1]) ? (std::abs(d[0]) >= std::abs(d[2]) ? 0 : 2)
                                                     : (std::abs(d[1]) >= std::abs(d[2]) ? 1 : 2);
-  const volume::Grid& var = *var_[static_cast<std::size_t>(axis)];
-  tracer_->march(ray, t0, t1, [&](const volume::Segment& s) {
+  volume::VoxelReader& var = *var_readers_[static_cast<std::size_t>(axis)];
+  // Pulled segment by segment (volume::Tracer::start/next): the piece below inlines here, no
+  // callback object per flight.
+  tracer_->start(ray, t0, t1);
+  volume::Segment s;
+  while (tracer_->next(s)) {
     const double mean = s.value;
-    if (!(mean > 0.0)) return true;
-    const double v = var.value(s.voxel[0], s.voxel[1], s.voxel[2]);
+    if (!(mean > 0.0)) continue;
+    const double v = var.value(s.voxel);
     // Σ_Q(s) = σα/(β + σs) = σC̄/(1 + κs) with κ = σV/C̄ (α = C̄²/V, β = C̄/V); the partner
     // T_S = (1 + κs)^{−(α+1)} has Σ_S = (α + 1)κ/(1 + κs) = (σC̄ + κ)/(1 + κs).
     const double kappa = sigma_ * v / mean;
-    return piece(s.t0 - t0, s.t1 - t0, sigma_ * mean + (scatterer ? kappa : 0.0), kappa);
-  });
+    if (!piece(s.t0 - t0, s.t1 - t0, sigma_ * mean + (scatterer ? kappa : 0.0), kappa)) return;
+  }
 }
 
 namespace {

@@ -24,7 +24,7 @@ namespace weft::render {
 /// size-biased concentration E[C²]/E[C] = C̄ + V/C̄ replaces C̄ (docs/render.md §5b; exact for a
 /// constant field, a per-voxel approximation where the field varies along the ray).
 ///
-/// Holds a volume::Tracer, so one instance per thread (clone() shares the grids).
+/// Holds a volume::Tracer and voxel readers, so one instance per thread (clone() shares the grids).
 class LocalGammaField {
  public:
   /// Reads "mean_concentration" and "var_concentration_{x,y,z}" from the .vdb `weft fit
@@ -50,10 +50,12 @@ class LocalGammaField {
   template <typename Piece>
   void walk(const volume::Ray& ray, double t0, double t1, transmittance::Origin origin, Piece&& piece);
   LocalGammaField() = default;
+  void make_accessors();
 
   std::shared_ptr<const volume::Grid> mean_;
   std::array<std::shared_ptr<const volume::Grid>, 3> var_;
   std::unique_ptr<volume::Tracer> tracer_;
+  std::array<std::unique_ptr<volume::VoxelReader>, 3> var_readers_;
   double sigma_ = 1.0;
 };
 

@@ -672,7 +672,7 @@ Features scene_features(const SceneDesc& scene) {
     for (const auto& [name, desc] : scene.media) {
       const std::shared_ptr<const Medium> m = desc.loaded ? desc.loaded : make_medium(desc, "medium '" + name + "'");
       const MediumTraits t = m->traits();
-      if (!t.exponential) f.non_exponential = true;
+      if (!t.exponential) f.general_media = true;
       if (t.heterogeneous) f.heterogeneous = true;
       if (t.non_reciprocal) f.non_reciprocal = true;
       f.media_described.push_back("medium '" + name + "': " + t.describe());
@@ -708,15 +708,15 @@ RenderResult render(const SceneDesc& scene, const RenderOptions& options, Progre
   const int pass_count = (spp + per_pass - 1) / per_pass;
   ProgressTask task(progress, "render", static_cast<std::uint64_t>(tiles) * pass_count);
   IntegratorChoice choice = options.integrator;
-  const IntegratorChoice needed = !f.media            ? IntegratorChoice::surfaces
-                                  : f.non_exponential ? IntegratorChoice::general
-                                                      : IntegratorChoice::exponential;
+  const IntegratorChoice needed = !f.media          ? IntegratorChoice::surfaces
+                                  : f.general_media ? IntegratorChoice::general
+                                                    : IntegratorChoice::exponential;
   if (choice == IntegratorChoice::automatic) choice = needed;
   if (static_cast<int>(choice) < static_cast<int>(needed))
     fail("the scene needs a more general integrator than the one requested");
   result.stats.integrator = choice == IntegratorChoice::surfaces      ? "surfaces"
                             : choice == IntegratorChoice::exponential ? "volpath<exponential>"
-                                                                      : "volpath<non-exponential>";
+                                                                      : "volpath<general>";
 
   int done = 0;
   auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };

@@ -37,7 +37,7 @@ struct Features {
   bool media = false;  ///< any participating medium
   /// Some medium is not a homogeneous exponential one (MediumTraits::exponential): the general
   /// integrator runs.
-  bool non_exponential = false;
+  bool general_media = false;
   bool heterogeneous = false;   ///< some medium's density varies in space (grid, local fields)
   bool non_reciprocal = false;  ///< some medium needs the T_S/(c·p_Q) weights (same/explicit mode)
   /// "medium 'cloth': grid medium, exponential law, delta + ratio tracking", one per medium.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -244,8 +245,13 @@ transmittance::LawSpec parse_law(const json& j, const std::string& where) {
     } else if (key == "sampler") {
       if (!value.is_string()) fail("{}: 'sampler' must be a string", where);
       spec.sampler = value.get<std::string>();
+    } else if (value.is_string() && value.get<std::string>() == "inf") {
+      // α = ∞ (the exponential limit, e.g. a zero-variance component of a gamma mixture); the
+      // law decides whether it accepts it.
+      spec.params[key] = std::numeric_limits<double>::infinity();
     } else {
-      if (!value.is_number()) fail("{}: law parameter '{}' must be a number, got {}", where, key, value.dump());
+      if (!value.is_number())
+        fail("{}: law parameter '{}' must be a number (or \"inf\"), got {}", where, key, value.dump());
       const double x = value.get<double>();
       if (!std::isfinite(x)) fail("{}: law parameter '{}' must be finite", where, key);
       spec.params[key] = x;
@@ -269,7 +275,7 @@ MediumDesc parse_medium(const json& j, const std::string& where, const std::file
     if (!std::filesystem::exists(p)) fail("{}: fields file '{}' does not exist", where, p.string());
     m.file = p.string();
     m.sigma = r.positive("sigma", m.sigma);
-    m.law = transmittance::LawSpec{"gamma-field", {}, "", ""};
+    m.law = transmittance::LawSpec{};  // no law: the fields carry one gamma law per voxel
     m.albedo = r.rgb("albedo", m.albedo);
     if ((m.albedo > 1.0).any()) fail("{}: 'albedo' must be <= 1", where);
     m.g = r.number("g", m.g);
@@ -423,7 +429,9 @@ json to_json(const Rgb& c) { return json::array({c[0], c[1], c[2]}); }
 json to_json(const transmittance::LawSpec& spec) {
   json j;
   j["name"] = spec.name;
-  for (const auto& [k, v] : spec.params) j[k] = v;
+  // +∞ (an exponential component of a gamma mixture, α = ∞) is written as the string "inf":
+  // JSON has no infinity, and parse_law reads it back.
+  for (const auto& [k, v] : spec.params) j[k] = v == std::numeric_limits<double>::infinity() ? json("inf") : json(v);
   if (!spec.table.empty()) j["table"] = spec.table;
   if (!spec.sampler.empty()) j["sampler"] = spec.sampler;
   return j;

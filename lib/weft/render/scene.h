@@ -80,6 +80,8 @@ enum class Tracking {
 /// A participating medium bounded by shapes that name it as `interior` (or `exterior`).
 struct MediumDesc {
   MediumKind kind = MediumKind::homogeneous;
+  /// homogeneous: the law in distance; grid: the law in optical depth. Empty for local-gamma
+  /// media, whose fields carry one gamma law per voxel (the medium kind says so, not a law name).
   transmittance::LawSpec law{"exponential", {{"mu", 1.0}}, "", ""};
   transmittance::PairMode mode = transmittance::PairMode::reciprocal;
   /// Which segments `law` describes; the partner is derived (reciprocal) or equal (same).

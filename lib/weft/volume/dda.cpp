@@ -12,6 +12,7 @@ struct Tracer::Impl {
   openvdb::FloatGrid::ConstPtr grid;
   detail::Accessor acc;
   detail::CellBox box;
+  detail::CellWalk walk;  // the pull-style march of start/next
   explicit Impl(openvdb::FloatGrid::ConstPtr g)
       : grid(std::move(g)), acc(grid->getConstAccessor()), box(detail::active_cell_box(*grid)) {}
 };
@@ -40,6 +41,23 @@ void Tracer::march(const Ray& ray, double tmin, double tmax, const SegmentVisito
                         s.size = size;
                         return visit(s);
                       });
+}
+
+void Tracer::start(const Ray& ray, double tmin, double tmax) {
+  require_range(tmin, tmax);
+  impl_->walk.done = true;
+  (void)impl_->walk.start(detail::to_cell_ray(*impl_->grid, ray), impl_->box, tmin, tmax);
+}
+
+bool Tracer::next(Segment& s) {
+  detail::CellStep c;
+  if (!impl_->walk.next(impl_->acc, c)) return false;
+  s.t0 = c.t0;
+  s.t1 = c.t1;
+  s.value = c.value;
+  s.voxel = {static_cast<int>(c.lo[0]), static_cast<int>(c.lo[1]), static_cast<int>(c.lo[2])};
+  s.size = c.size;
+  return true;
 }
 
 double Tracer::optical_depth(const Ray& ray, double tmin, double tmax, double scale) {

@@ -62,7 +62,15 @@ class Tracer {
   Tracer(const Tracer&) = delete;
   Tracer& operator=(const Tracer&) = delete;
 
+  /// The segments of `ray` over [tmin, tmax] through a callback (std::function: for tools and
+  /// tests; hot loops use start/next or, inside volume/, the templated kernel of dda_impl.h).
   void march(const Ray& ray, double tmin, double tmax, const SegmentVisitor& visit);
+  /// The same march pulled one segment at a time, without a callback or type erasure: start()
+  /// clips the ray (throws weft::Error for a bad ray or range, as march does), then each next()
+  /// fills `s` with the following segment and returns false once the march has ended. One walk
+  /// at a time per Tracer; starting again abandons the previous one.
+  void start(const Ray& ray, double tmin, double tmax);
+  [[nodiscard]] bool next(Segment& s);
   [[nodiscard]] double optical_depth(const Ray& ray, double tmin, double tmax, double scale = 1.0);
   [[nodiscard]] std::vector<double> optical_depth_profile(const Ray& ray, const std::vector<double>& depths,
                                                           double scale = 1.0);

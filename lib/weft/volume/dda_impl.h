@@ -95,97 +95,175 @@ inline std::int64_t cell_at(const CellRay& r, int a, double t) {
   return static_cast<std::int64_t>(std::floor(p));
 }
 
-/// Amanatides–Woo traversal over [t0, t1] (world distances) with hierarchical skipping.
-/// `visit(t0, t1, value, lowest voxel, size)` returns false to stop. Inactive voxels have value 0.
+/// One piece of a walk: [t0, t1) in world distance inside a cell of `size`³ voxels whose
+/// lowest voxel is `lo` (size 1: a voxel of a leaf; 8, 128, 4096: a tile or empty node).
+struct CellStep {
+  double t0 = 0.0;
+  double t1 = 0.0;
+  float value = 0.0f;
+  std::int64_t lo[3] = {0, 0, 0};
+  int size = 1;
+};
+
+/// Amanatides–Woo traversal with hierarchical skipping, as a resumable state (the one DDA of
+/// weft): `start` clips the ray to the box, each `next` yields the following cell piece in
+/// order of increasing t, so the pieces tile [t0, t1] ∩ box without gaps. Inside a leaf it steps
+/// voxel by voxel reading the leaf's buffer directly; elsewhere it crosses a whole tile or empty
+/// node (getValueDepth) at once. Callers either pull pieces (Tracer::start/next, for code
+/// outside volume/ that cannot take a template through the header wall) or are called back
+/// (march_cells, inlined for volume's own hot loops). Inactive voxels have value 0.
+struct CellWalk {
+  CellRay r{};
+  CellBox box{};
+  std::int64_t cell[3] = {0, 0, 0};
+  double t = 0.0;
+  double t1 = 0.0;
+  std::int64_t budget = 0;
+  // The leaf being walked (null: probe the tree at `cell` next).
+  const LeafT* leaf = nullptr;
+  openvdb::Coord org;
+  const float* data = nullptr;
+  const LeafT::NodeMaskType* mask = nullptr;
+  bool done = true;
+
+  /// Begins a walk of `ray` over [t_begin, t_end]; false (and no pieces) when it misses the box.
+  bool start(const CellRay& ray, const CellBox& b, double t_begin, double t_end) {
+    r = ray;
+    box = b;
+    leaf = nullptr;
+    done = true;
+    double t0 = t_begin;
+    t1 = t_end;
+    if (!clip(r, box, t0, t1)) return false;
+    for (int a = 0; a < 3; ++a) {
+      cell[a] = cell_at(r, a, t0);
+      if (r.sgn[a] != 0) cell[a] = std::clamp(cell[a], box.lo[a], box.hi[a] - 1);
+    }
+    // Safety net against rounding ping-pong; a correct march needs far fewer steps.
+    budget = 8 * ((box.hi[0] - box.lo[0]) + (box.hi[1] - box.lo[1]) + (box.hi[2] - box.lo[2])) + 64;
+    t = t0;
+    done = false;
+    return true;
+  }
+
+  /// The next piece, or false when the walk has ended.
+  bool next(Accessor& acc, CellStep& s) {
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    while (!done) {
+      if (leaf == nullptr) {
+        if (!(t < t1) || budget-- <= 0) {
+          done = true;
+          return false;
+        }
+        const openvdb::Coord c(static_cast<openvdb::Int32>(cell[0]), static_cast<openvdb::Int32>(cell[1]),
+                               static_cast<openvdb::Int32>(cell[2]));
+        leaf = acc.probeConstLeaf(c);
+        if (leaf != nullptr) {
+          org = leaf->origin();
+          data = leaf->buffer().data();
+          mask = &leaf->getValueMask();
+        } else {
+          // A tile or empty space: constant over a block of `size`³ voxels aligned to `size`.
+          const int depth = acc.getValueDepth(c);
+          std::int64_t size = 0;
+          if (depth >= 2) {
+            size = LeafT::DIM;
+          } else if (depth == 1) {
+            size = FloatTree::RootNodeType::ChildNodeType::ChildNodeType::DIM;
+          } else {
+            size = FloatTree::RootNodeType::ChildNodeType::DIM;
+          }
+          float v = 0.0f;
+          if (!acc.probeValue(c, v)) v = 0.0f;
+          std::int64_t blo[3];
+          double tn[3];
+          double te = kInf;
+          for (int a = 0; a < 3; ++a) {
+            blo[a] = cell[a] & ~(size - 1);
+            tn[a] = r.sgn[a] > 0   ? (static_cast<double>(blo[a] + size) - r.o[a]) * r.inv[a]
+                    : r.sgn[a] < 0 ? (static_cast<double>(blo[a]) - r.o[a]) * r.inv[a]
+                                   : kInf;
+            te = std::min(te, tn[a]);
+          }
+          const double tend = std::min(te, t1);
+          const bool produced = tend > t;
+          if (produced) {
+            s.t0 = t;
+            s.t1 = tend;
+            s.value = v;
+            for (int a = 0; a < 3; ++a) s.lo[a] = blo[a];
+            s.size = static_cast<int>(size);
+            t = tend;
+          }
+          if (te >= t1) {
+            done = true;
+            return produced;
+          }
+          for (int a = 0; a < 3; ++a) {
+            if (r.sgn[a] == 0) continue;
+            if (tn[a] == te) {
+              cell[a] = r.sgn[a] > 0 ? blo[a] + size : blo[a] - 1;
+            } else {
+              cell[a] = std::clamp(cell_at(r, a, te), blo[a], blo[a] + size - 1);
+            }
+          }
+          if (produced) return true;
+          continue;
+        }
+      }
+      // Voxel by voxel inside the leaf.
+      double tn[3];
+      double te = kInf;
+      for (int a = 0; a < 3; ++a) {
+        tn[a] = r.sgn[a] > 0   ? (static_cast<double>(cell[a] + 1) - r.o[a]) * r.inv[a]
+                : r.sgn[a] < 0 ? (static_cast<double>(cell[a]) - r.o[a]) * r.inv[a]
+                               : kInf;
+        te = std::min(te, tn[a]);
+      }
+      const double tend = std::min(te, t1);
+      const bool produced = tend > t;
+      if (produced) {
+        const openvdb::Index off = LeafT::coordToOffset(openvdb::Coord(static_cast<openvdb::Int32>(cell[0]),
+                                                                       static_cast<openvdb::Int32>(cell[1]),
+                                                                       static_cast<openvdb::Int32>(cell[2])));
+        s.t0 = t;
+        s.t1 = tend;
+        s.value = mask->isOn(off) ? data[off] : 0.0f;
+        for (int a = 0; a < 3; ++a) s.lo[a] = cell[a];
+        s.size = 1;
+        t = tend;
+      }
+      if (te >= t1) {
+        done = true;
+        return produced;
+      }
+      bool inside = true;
+      for (int a = 0; a < 3; ++a) {
+        if (tn[a] == te) {
+          cell[a] += r.sgn[a];
+          if (cell[a] < org[a] || cell[a] >= org[a] + static_cast<std::int64_t>(LeafT::DIM)) inside = false;
+        }
+      }
+      if (!inside) {
+        leaf = nullptr;
+      } else if (--budget <= 0) {
+        done = true;
+      }
+      if (produced) return true;
+    }
+    return false;
+  }
+};
+
+/// The walk of CellWalk over [t0, t1] (world distances) with a callback:
+/// `visit(t0, t1, value, lowest voxel, size)` returns false to stop.
 template <typename Visit>
 void march_cells(Accessor& acc, const CellRay& r, const CellBox& box, double t0, double t1, Visit&& visit) {
-  if (!clip(r, box, t0, t1)) return;
-  std::int64_t cell[3];
-  for (int a = 0; a < 3; ++a) {
-    cell[a] = cell_at(r, a, t0);
-    if (r.sgn[a] != 0) cell[a] = std::clamp(cell[a], box.lo[a], box.hi[a] - 1);
-  }
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  // Safety net against rounding ping-pong; a correct march needs far fewer steps.
-  std::int64_t budget = 8 * ((box.hi[0] - box.lo[0]) + (box.hi[1] - box.lo[1]) + (box.hi[2] - box.lo[2])) + 64;
-  double t = t0;
-  while (t < t1 && budget-- > 0) {
-    const openvdb::Coord c(static_cast<openvdb::Int32>(cell[0]), static_cast<openvdb::Int32>(cell[1]),
-                           static_cast<openvdb::Int32>(cell[2]));
-    if (const LeafT* leaf = acc.probeConstLeaf(c)) {
-      // Voxel-by-voxel inside the leaf, reading its buffer directly.
-      const openvdb::Coord org = leaf->origin();
-      const auto* data = leaf->buffer().data();
-      const auto& mask = leaf->getValueMask();
-      for (;;) {
-        double tn[3];
-        double te = kInf;
-        for (int a = 0; a < 3; ++a) {
-          tn[a] = r.sgn[a] > 0   ? (static_cast<double>(cell[a] + 1) - r.o[a]) * r.inv[a]
-                  : r.sgn[a] < 0 ? (static_cast<double>(cell[a]) - r.o[a]) * r.inv[a]
-                                 : kInf;
-          te = std::min(te, tn[a]);
-        }
-        const double tend = std::min(te, t1);
-        if (tend > t) {
-          const openvdb::Index off = LeafT::coordToOffset(openvdb::Coord(static_cast<openvdb::Int32>(cell[0]),
-                                                                         static_cast<openvdb::Int32>(cell[1]),
-                                                                         static_cast<openvdb::Int32>(cell[2])));
-          const float v = mask.isOn(off) ? data[off] : 0.0f;
-          if (!visit(t, tend, v, cell, 1)) return;
-          t = tend;
-        }
-        if (te >= t1) return;
-        bool inside = true;
-        for (int a = 0; a < 3; ++a) {
-          if (tn[a] == te) {
-            cell[a] += r.sgn[a];
-            if (cell[a] < org[a] || cell[a] >= org[a] + static_cast<std::int64_t>(LeafT::DIM)) inside = false;
-          }
-        }
-        if (!inside) break;
-        if (--budget <= 0) return;
-      }
-      continue;
-    }
-    // A tile or empty space: constant over a block of `size`³ voxels aligned to `size`.
-    const int depth = acc.getValueDepth(c);
-    std::int64_t size = 0;
-    if (depth >= 2) {
-      size = LeafT::DIM;
-    } else if (depth == 1) {
-      size = FloatTree::RootNodeType::ChildNodeType::ChildNodeType::DIM;
-    } else {
-      size = FloatTree::RootNodeType::ChildNodeType::DIM;
-    }
-    float v = 0.0f;
-    const bool on = acc.probeValue(c, v);
-    if (!on) v = 0.0f;
-    std::int64_t blo[3];
-    double tn[3];
-    double te = kInf;
-    for (int a = 0; a < 3; ++a) {
-      blo[a] = cell[a] & ~(size - 1);
-      tn[a] = r.sgn[a] > 0   ? (static_cast<double>(blo[a] + size) - r.o[a]) * r.inv[a]
-              : r.sgn[a] < 0 ? (static_cast<double>(blo[a]) - r.o[a]) * r.inv[a]
-                             : kInf;
-      te = std::min(te, tn[a]);
-    }
-    const double tend = std::min(te, t1);
-    if (tend > t) {
-      if (!visit(t, tend, v, blo, static_cast<int>(size))) return;
-      t = tend;
-    }
-    if (te >= t1) return;
-    for (int a = 0; a < 3; ++a) {
-      if (r.sgn[a] == 0) continue;
-      if (tn[a] == te) {
-        cell[a] = r.sgn[a] > 0 ? blo[a] + size : blo[a] - 1;
-      } else {
-        cell[a] = std::clamp(cell_at(r, a, te), blo[a], blo[a] + size - 1);
-      }
-    }
-  }
+  CellWalk walk;
+  if (!walk.start(r, box, t0, t1)) return;
+  CellStep s;
+  while (walk.next(acc, s))
+    if (!visit(s.t0, s.t1, s.value, static_cast<const std::int64_t*>(s.lo), s.size)) return;
 }
 
 }  // namespace weft::volume::detail

@@ -79,4 +79,23 @@ class Grid {
   std::shared_ptr<Impl> impl_;
 };
 
+/// @brief Cached read access to one grid's voxels, for hot loops outside volume/ (Grid::value
+/// walks the tree from its root on every call). One per thread; the grid must outlive it.
+class VoxelReader {
+ public:
+  explicit VoxelReader(const Grid& grid);
+  ~VoxelReader();
+  VoxelReader(VoxelReader&&) noexcept;
+  VoxelReader& operator=(VoxelReader&&) noexcept;
+  VoxelReader(const VoxelReader&) = delete;
+  VoxelReader& operator=(const VoxelReader&) = delete;
+
+  /// Value at voxel (i, j, k): the voxel's or its tile's value, 0 where inactive.
+  [[nodiscard]] float value(const std::array<int, 3>& ijk);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 }  // namespace weft::volume

@@ -90,11 +90,20 @@ MajorantGrid& MajorantGrid::operator=(MajorantGrid&&) noexcept = default;
 std::uint64_t MajorantGrid::active_cells() const { return cells_->active_voxel_count(); }
 
 namespace {
-/// World-space lookups of the voxel containing a point, with a cached accessor.
+/// World-space lookups of the voxel containing a point. The last leaf found is kept with its
+/// buffer and mask: a majorant cell is one leaf of the density tree, so the tentative
+/// collisions inside it read that leaf's buffer directly, and the accessor (whose own cache
+/// check and node probing were ~30 % of a cloth render's time, perf) is asked only when a point
+/// falls in another leaf (a new cell, or rounding across the cell's face) or in a tile.
 struct PointLookup {
+  using LeafT = detail::LeafT;
   detail::Accessor acc;
   double origin[3];
   double inv_h;
+  const LeafT* leaf = nullptr;
+  openvdb::Coord leaf_origin{openvdb::Coord::max()};
+  const float* data = nullptr;
+  const LeafT::NodeMaskType* mask = nullptr;
   explicit PointLookup(const Grid& grid) : acc(grid.impl().grid->getConstAccessor()) {
     const auto o = grid.origin();
     for (int a = 0; a < 3; ++a) origin[a] = o[a];
@@ -104,8 +113,22 @@ struct PointLookup {
     const openvdb::Coord c(static_cast<openvdb::Int32>(std::floor((x - origin[0]) * inv_h)),
                            static_cast<openvdb::Int32>(std::floor((y - origin[1]) * inv_h)),
                            static_cast<openvdb::Int32>(std::floor((z - origin[2]) * inv_h)));
-    float v = 0.0F;
-    return acc.probeValue(c, v) ? static_cast<double>(v) : 0.0;
+    constexpr openvdb::Int32 kMask = ~static_cast<openvdb::Int32>(LeafT::DIM - 1);
+    const openvdb::Coord org(c.x() & kMask, c.y() & kMask, c.z() & kMask);
+    if (org != leaf_origin) {
+      leaf = acc.probeConstLeaf(c);
+      if (leaf == nullptr) {
+        // A tile or empty space: no buffer to keep.
+        leaf_origin = openvdb::Coord::max();
+        float v = 0.0F;
+        return acc.probeValue(c, v) ? static_cast<double>(v) : 0.0;
+      }
+      leaf_origin = org;
+      data = leaf->buffer().data();
+      mask = &leaf->getValueMask();
+    }
+    const openvdb::Index off = LeafT::coordToOffset(c);
+    return mask->isOn(off) ? static_cast<double>(data[off]) : 0.0;
   }
 };
 

@@ -129,9 +129,9 @@ TEST_P(ConstantLocalGamma, RendersLikeHomogeneousGammaMedium) {
   other_seed.seed = 4321;
   const RenderResult b = render(homogeneous, other_seed);
   EXPECT_TRUE(a.stats.features.heterogeneous);
-  EXPECT_TRUE(a.stats.features.non_exponential);
+  EXPECT_TRUE(a.stats.features.general_media);
   EXPECT_FALSE(a.stats.features.non_reciprocal);
-  EXPECT_EQ(a.stats.integrator, "volpath<non-exponential>");
+  EXPECT_EQ(a.stats.integrator, "volpath<general>");
   EXPECT_EQ(a.stats.invalid_samples, 0U);
   expect_same_image(a.image, b.image);
 }

@@ -4,8 +4,10 @@
 // (each pixel is the pixel-average of T_Q of the chord's optical depth), for homogeneous laws,
 // the new gap-gamma and gamma-mixture laws, delta-tracked and optical-depth grids and a constant
 // local-gamma field. Tolerances: 5 standard errors of the rendered estimate plus float rounding.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -13,6 +15,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "weft/core/error.h"
 #include "weft/render/medium.h"
 #include "weft/render/render.h"
 #include "weft/render/scene.h"
@@ -53,31 +56,35 @@ std::string constant_fields() {
 
 struct Kind {
   std::string label;
-  std::string medium;  ///< JSON with "{albedo}" where the albedo goes
-  std::string kind;    ///< expected MediumTraits::kind
+  std::string medium;    ///< JSON with "{albedo}" where the albedo goes
+  std::string kind;      ///< expected MediumTraits::kind
+  std::string describe;  ///< expected start of the run summary's description (kind, law, estimator)
 };
 
 std::vector<Kind> kinds() {
   const std::string grid = constant_grid();
   const std::string fields = constant_fields();
   return {
-      {"exponential", R"({"law": {"name": "exponential", "mu": 3}, "albedo": ALBEDO})", "homogeneous"},
-      {"gamma", R"({"law": {"name": "gamma", "mean_extinction": 3, "alpha": 0.5}, "albedo": ALBEDO})", "homogeneous"},
+      {"exponential", R"({"law": {"name": "exponential", "mu": 3}, "albedo": ALBEDO})", "homogeneous",
+       "homogeneous medium, exponential law, closed-form flights"},
+      {"gamma", R"({"law": {"name": "gamma", "mean_extinction": 3, "alpha": 0.5}, "albedo": ALBEDO})", "homogeneous",
+       "homogeneous medium, gamma law, T_Q/T_S flights ("},
       {"gap_gamma",
        R"({"law": {"name": "gap-gamma", "gap": 0.2, "mean_extinction": 3, "alpha": 1.5}, "albedo": ALBEDO})",
-       "homogeneous"},
+       "homogeneous", "homogeneous medium, gap-gamma law, T_Q/T_S flights ("},
       {"gamma_mixture",
        R"({"law": {"name": "gamma-mixture", "weight_1": 0.3, "alpha_1": 1, "mean_extinction_1": 1,
                    "weight_2": 0.7, "alpha_2": 3, "mean_extinction_2": 4}, "albedo": ALBEDO})",
-       "homogeneous"},
-      {"grid_delta", fmt::format(R"({{"type": "grid", "file": "{}", "sigma": 6, "albedo": ALBEDO}})", grid), "grid"},
+       "homogeneous", "homogeneous medium, gamma-mixture law, T_Q/T_S flights ("},
+      {"grid_delta", fmt::format(R"({{"type": "grid", "file": "{}", "sigma": 6, "albedo": ALBEDO}})", grid), "grid",
+       "grid medium, exponential law, delta + ratio tracking"},
       {"grid_optical_depth_gamma",
        fmt::format(R"({{"type": "grid", "file": "{}", "sigma": 6, "tracking": "optical-depth", "albedo": ALBEDO,
                        "law": {{"name": "gamma", "mean_extinction": 1, "alpha": 0.5}}}})",
                    grid),
-       "grid"},
+       "grid", "grid medium, gamma law, optical-depth flights (exact DDA)"},
       {"local_gamma", fmt::format(R"({{"type": "local-gamma", "fields": "{}", "sigma": 6, "albedo": ALBEDO}})", fields),
-       "local-gamma"},
+       "local-gamma", "local-gamma medium, per-voxel gamma law, hazard inversion"},
   };
 }
 
@@ -87,6 +94,72 @@ std::string with_albedo(std::string medium, const std::string& albedo) {
 }
 
 class MediaKinds : public ::testing::TestWithParam<Kind> {};
+
+// The run summary tells the truth (issue 15): each medium is named with its kind, law and
+// estimator as the medium itself reports them, and only a homogeneous exponential medium lets
+// the exponential specialisation run.
+TEST_P(MediaKinds, FeaturesNameEachMediumsKindLawAndEstimator) {
+  const Kind& k = GetParam();
+  const SceneDesc scene = parse_scene(fmt::format(R"({{
+    "materials": {{"boundary": {{"type": "null"}}}},
+    "media": {{"m": {}}},
+    "shapes": [{{"type": "box", "min": [-0.5, -0.5, -0.5], "max": [0.5, 0.5, 0.5], "material": "boundary",
+                 "interior": "m"}}]
+  }})",
+                                                  with_albedo(k.medium, "0.5")),
+                                      "features " + k.label, ".");
+  const Features f = scene_features(scene);
+  ASSERT_EQ(f.media_described.size(), 1U);
+  const std::string expected = "medium 'm': " + k.describe;
+  EXPECT_EQ(f.media_described[0].substr(0, expected.size()), expected) << f.media_described[0];
+  const auto names = f.names();
+  EXPECT_NE(std::find(names.begin(), names.end(), f.media_described[0]), names.end());
+  EXPECT_EQ(f.general_media, k.label != "exponential") << k.label;
+  EXPECT_EQ(f.heterogeneous, k.kind != "homogeneous") << k.label;
+  EXPECT_FALSE(f.non_reciprocal) << k.label;
+  // The local-gamma medium is its own kind: no law name rides on its description.
+  if (k.kind == "local-gamma") {
+    EXPECT_TRUE(scene.media.at("m").law.name.empty());
+  }
+}
+
+TEST(MediaKindsSummary, SameModeNamesItsPathWeightsAndNoPseudoLawExists) {
+  const SceneDesc scene = parse_scene(R"({
+    "materials": {"boundary": {"type": "null"}},
+    "media": {"m": {"law": {"name": "gamma", "mean_extinction": 3, "alpha": 0.5}, "mode": "same"}},
+    "shapes": [{"type": "box", "min": [-0.5, -0.5, -0.5], "max": [0.5, 0.5, 0.5], "material": "boundary",
+                "interior": "m"}]
+  })",
+                                      "same mode", ".");
+  const Features f = scene_features(scene);
+  ASSERT_EQ(f.media_described.size(), 1U);
+  EXPECT_NE(f.media_described[0].find("T_S/(c·p_Q) path weights"), std::string::npos) << f.media_described[0];
+  EXPECT_TRUE(f.non_reciprocal);
+  // The old placeholder "gamma-field" is no law of the registry: a medium naming it is refused.
+  EXPECT_THROW((void)parse_scene(R"({"media": {"m": {"law": "gamma-field"}}})", "pseudo law", "."), Error);
+}
+
+// α = ∞ (an exponential component: a zero-variance group of the across-beam model) is "inf" in
+// scene files, written by scene_to_json and read back into the same law.
+TEST(MediaKindsSummary, InfiniteAlphaIsWrittenAsInfAndReadBack) {
+  const std::string text = R"({"media": {"m": {"law": {"name": "gamma-mixture", "weight_1": 0.4, "alpha_1": 2,
+      "mean_extinction_1": 1.5, "weight_2": 0.6, "alpha_2": "inf", "mean_extinction_2": 3}}}})";
+  const SceneDesc a = parse_scene(text, "inf alpha", ".");
+  EXPECT_EQ(a.media.at("m").law.params.at("alpha_2"), std::numeric_limits<double>::infinity());
+  const std::string json = scene_to_json(a);
+  EXPECT_NE(json.find(R"("alpha_2": "inf")"), std::string::npos) << json;
+  const SceneDesc b = parse_scene(json, "round trip", ".");
+  const auto pair = make_medium_pair(b.media.at("m"), "m");
+  for (const double t : {0.1, 0.5, 2.0}) {
+    const double expected = 0.4 * std::pow(1.0 + 1.5 * t / 2.0, -2.0) + 0.6 * std::exp(-3.0 * t);
+    EXPECT_NEAR(pair.law(transmittance::Origin::source).transmittance(t), expected, 1e-12) << t;
+  }
+  // Other strings stay errors.
+  EXPECT_THROW((void)parse_scene(R"({"media": {"m": {"law": {"name": "gamma", "alpha": "big",
+      "mean_extinction": 1}}}})",
+                                 "bad", "."),
+               Error);
+}
 
 TEST_P(MediaKinds, WhiteFurnaceRendersOne) {
   const Kind& k = GetParam();

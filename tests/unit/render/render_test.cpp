@@ -206,7 +206,7 @@ TEST(TwoEstimators, ExponentialFastPathEqualsGeneralPath) {
   const RenderResult general =
       render(scene_from(scattering_scene(R"({"name": "gamma-path", "k": 1, "theta": 0.4})", 128)), independent);
   EXPECT_EQ(fast.stats.integrator, "volpath<exponential>");
-  EXPECT_EQ(general.stats.integrator, "volpath<non-exponential>");
+  EXPECT_EQ(general.stats.integrator, "volpath<general>");
   double noiseless = 0.0;
   const double z = chi_square_z(fast.image, general.image, noiseless);
   EXPECT_LT(std::abs(z), 5.0);
@@ -323,10 +323,10 @@ TEST(Features, SelectTheSpecialisedIntegrator) {
   EXPECT_FALSE(none.media);
   const Features exp = scene_features(scene_from(scattering_scene(R"({"name": "exponential", "mu": 1})", 1)));
   EXPECT_TRUE(exp.media);
-  EXPECT_FALSE(exp.non_exponential);
+  EXPECT_FALSE(exp.general_media);
   const Features gam =
       scene_features(scene_from(scattering_scene(R"({"name": "gamma", "mean_extinction": 1, "alpha": 2})", 1)));
-  EXPECT_TRUE(gam.non_exponential);
+  EXPECT_TRUE(gam.general_media);
   EXPECT_FALSE(gam.non_reciprocal);
 }
 
@@ -346,7 +346,7 @@ TEST(Features, SurfaceSpecialisationMatchesGeneralIntegrator) {
   general.integrator = IntegratorChoice::general;
   const RenderResult full = render(scene, general);
   EXPECT_EQ(special.stats.integrator, "surfaces");
-  EXPECT_EQ(full.stats.integrator, "volpath<non-exponential>");
+  EXPECT_EQ(full.stats.integrator, "volpath<general>");
   for (std::size_t i = 0; i < special.image.rgb.size(); ++i)
     EXPECT_NEAR(special.image.rgb[i], full.image.rgb[i], 1e-5 * (1.0 + full.image.rgb[i]));
   const SceneDesc with_medium =
