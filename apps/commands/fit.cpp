@@ -168,7 +168,8 @@ const Registrar kFit{Command{
         if (fields) {
           fit::save_local_fields(*fields, out / "local_fields.vdb");
           files.add(out / "local_fields.vdb", fmt::format("alpha, beta per {}^3 block", o->block));
-          if (!o->input.extinction()) {
+          // Cloth scenes take σ from the grid's provenance (render::cloth_look): grids of weft gen.
+          if (!o->input.extinction() && loaded.provenance.sigma) {
             // A scene that renders the fields as is (`weft render OUT/local_fields_scene.json`),
             // framed and lit like `weft gen`'s scene.json of the fine grid it came from.
             render::ClothSceneMedium medium;

@@ -171,6 +171,10 @@ const Registrar kValidate{Command{
               fmt::format("{} cloth, {}x{} yarns", build.spec.pattern, build.spec.warp_count, build.spec.weft_count);
         }
         spec.sigma = sigma.sigma;
+        if (o->scenes && !provenance.sigma)
+          fail(
+              "--scenes: the grid has no sigma in its metadata (weft:sigma_per_concentration); cloth scenes are "
+              "made for grids of weft gen");
         const std::string units = provenance.units.empty() ? "length units" : provenance.units;
         if (o->sweep)
           return run_sweep({o->out, o->no_plot, o->quick, o->resume, o->axes}, ctx, grid, spec, title, input, timings,
