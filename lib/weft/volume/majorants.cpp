@@ -169,73 +169,72 @@ void MajorantTracker::walk(const Ray& ray, double t0, double t1, FunctionRef<boo
 
 double MajorantTracker::value_at(const std::array<double, 3>& x) { return impl_->lookup(x[0], x[1], x[2]); }
 
+namespace {
+
+// The tentative collisions of a ray through the majorant cells (delta and ratio tracking share
+// them, pbrt-v4's SampleT_maj): in each cell of majorant μ̄ = scale·v, exponential steps of rate
+// μ̄ (memoryless, so a flight that leaves a cell restarts at its face with the next cell's
+// rate); at each, `at(t, mu, majorant)` gets the density's μ there and returns false to stop.
+template <typename At>
+void for_each_tentative(const detail::CellRay& r, detail::Accessor& coarse_acc, const detail::CellBox& box,
+                        const Ray& ray, double t0, double t1, double scale, Pcg32& rng, PointLookup& lookup,
+                        TrackerCounters& counters, At&& at) {
+  const auto d = unit(ray);
+  const auto& o = ray.origin;
+  detail::march_cells(coarse_acc, r, box, t0, t1, [&](double a, double b, float v, const std::int64_t*, int) {
+    ++counters.cells;
+    if (!(v > 0.0F)) return true;
+    const double majorant = scale * static_cast<double>(v);
+    double t = a;
+    for (;;) {
+      t += -std::log(rng.uniform_open()) / majorant;
+      if (t >= b) return true;
+      ++counters.lookups;
+      const double mu = scale * lookup(o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]);
+      if (!at(t, mu, majorant)) return false;
+    }
+  });
+}
+
+constexpr double kRouletteBelow = 0.05;
+constexpr double kRouletteStop = 0.75;
+
+}  // namespace
+
 TrackedCollision MajorantTracker::delta_track(const Ray& ray, double t0, double t1, double scale, Pcg32& rng) {
   TrackedCollision out;
   if (!(scale > 0.0)) return out;
-  const detail::CellRay r = detail::to_cell_ray(*impl_->coarse, ray);
-  const auto d = unit(ray);
-  const auto& o = ray.origin;
-  PointLookup& lookup = impl_->lookup;
-  detail::march_cells(impl_->coarse_acc, r, impl_->box, t0, t1,
-                      [&](double a, double b, float v, const std::int64_t*, int) {
-                        ++counters_.cells;
-                        if (!(v > 0.0F)) return true;
-                        const double majorant = scale * static_cast<double>(v);
-                        double t = a;
-                        for (;;) {
-                          // The exponential is memoryless: a flight that leaves the cell
-                          // restarts at its face with the next cell's rate.
-                          t += -std::log(rng.uniform_open()) / majorant;
-                          if (t >= b) return true;
-                          ++counters_.lookups;
-                          const double mu = scale * lookup(o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]);
-                          if (rng.uniform() * majorant < mu) {
-                            out.collided = true;
-                            out.t = t;
-                            return false;
-                          }
-                        }
-                      });
+  for_each_tentative(detail::to_cell_ray(*impl_->coarse, ray), impl_->coarse_acc, impl_->box, ray, t0, t1, scale, rng,
+                     impl_->lookup, counters_, [&](double t, double mu, double majorant) {
+                       if (rng.uniform() * majorant < mu) {  // a real collision with probability μ/μ̄
+                         out.collided = true;
+                         out.t = t;
+                         return false;
+                       }
+                       return true;
+                     });
   return out;
 }
 
-namespace {
-constexpr double kRouletteBelow = 0.05;
-constexpr double kRouletteStop = 0.75;
-}  // namespace
-
 double MajorantTracker::ratio_track(const Ray& ray, double t0, double t1, double scale, Pcg32& rng) {
   if (!(scale > 0.0)) return 1.0;
-  const detail::CellRay r = detail::to_cell_ray(*impl_->coarse, ray);
-  const auto d = unit(ray);
-  const auto& o = ray.origin;
-  PointLookup& lookup = impl_->lookup;
   double tr = 1.0;
-  detail::march_cells(impl_->coarse_acc, r, impl_->box, t0, t1,
-                      [&](double a, double b, float v, const std::int64_t*, int) {
-                        ++counters_.cells;
-                        if (!(v > 0.0F)) return true;
-                        const double majorant = scale * static_cast<double>(v);
-                        double t = a;
-                        for (;;) {
-                          t += -std::log(rng.uniform_open()) / majorant;
-                          if (t >= b) return true;
-                          ++counters_.lookups;
-                          const double mu = scale * lookup(o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]);
-                          tr *= std::max(0.0, 1.0 - mu / majorant);
-                          if (tr <= 0.0) return false;
-                          // Russian roulette once the estimate is small (pbrt-v4's ratio tracking):
-                          // end with probability q, else divide by 1 − q; unbiased, and a shadow
-                          // ray through a dense yarn stops after a few lookups, not after all.
-                          if (tr < kRouletteBelow) {
-                            if (rng.uniform() < kRouletteStop) {
-                              tr = 0.0;
-                              return false;
-                            }
-                            tr /= 1.0 - kRouletteStop;
-                          }
-                        }
-                      });
+  for_each_tentative(detail::to_cell_ray(*impl_->coarse, ray), impl_->coarse_acc, impl_->box, ray, t0, t1, scale, rng,
+                     impl_->lookup, counters_, [&](double, double mu, double majorant) {
+                       tr *= std::max(0.0, 1.0 - mu / majorant);
+                       if (tr <= 0.0) return false;
+                       // Russian roulette once the estimate is small (pbrt-v4's ratio tracking):
+                       // end with probability q, else divide by 1 − q; unbiased, and a shadow
+                       // ray through a dense yarn stops after a few lookups, not after all.
+                       if (tr < kRouletteBelow) {
+                         if (rng.uniform() < kRouletteStop) {
+                           tr = 0.0;
+                           return false;
+                         }
+                         tr /= 1.0 - kRouletteStop;
+                       }
+                       return true;
+                     });
   return tr;
 }
 

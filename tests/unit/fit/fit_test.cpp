@@ -7,6 +7,7 @@
 #include <limits>
 #include <vector>
 
+#include "test_grids.h"
 #include "weft/core/error.h"
 #include "weft/fit/fit.h"
 #include "weft/fit/local_fields.h"
@@ -18,16 +19,7 @@ namespace {
 
 using volume::Grid;
 
-Grid box_grid(int nx, int ny, int nz, float value, double h = 1.0) {
-  Grid g(h);
-  g.set_origin({0.0, 0.0, 0.0});
-  for (int i = 0; i < nx; ++i) {
-    for (int j = 0; j < ny; ++j) {
-      for (int k = 0; k < nz; ++k) g.set_value(i, j, k, value);
-    }
-  }
-  return g;
-}
+using test::box_grid;
 
 volume::TransmittanceCurve beam(const Grid& g, int axis, double sigma) {
   volume::BeamSpec spec;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "test_grids.h"
 #include "weft/core/error.h"
 #include "weft/fit/models.h"
 #include "weft/fit/report.h"
@@ -18,16 +19,7 @@ namespace {
 
 using volume::Grid;
 
-Grid box_grid(int nx, int ny, int nz, float value, double h = 1.0) {
-  Grid g(h);
-  g.set_origin({0.0, 0.0, 0.0});
-  for (int i = 0; i < nx; ++i) {
-    for (int j = 0; j < ny; ++j) {
-      for (int k = 0; k < nz; ++k) g.set_value(i, j, k, value);
-    }
-  }
-  return g;
-}
+using test::box_grid;
 
 std::vector<double> depths_of(const Grid& g, const std::array<double, 3>& d) {
   volume::BeamSpec b;
