@@ -15,9 +15,11 @@
 #include "command.h"
 #include "data_gen/cloth/cloth.h"
 #include "render_study.h"
+#include "usage.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 #include "weft/dist/distributed.h"
+#include "weft/fit/scale.h"
 #include "weft/render/builtin_scenes.h"
 #include "weft/render/cloth_scene.h"
 #include "weft/render/contact_sheet.h"
@@ -44,6 +46,7 @@ struct RenderCliOptions {
   double study_time = 0.0;
   int study_spp = 0;
   std::vector<int> study_factors;
+  std::string study_window;
   bool quick = false;
   bool list = false;
   bool print_scene = false;
@@ -157,8 +160,8 @@ int run(const RenderCliOptions& o, const Context& ctx) {
     usage_fail("--reference-spp needs --convergence auto or --study");
   if (!std::isfinite(o.study_time))
     usage_fail("--study-time: must be a finite number of seconds, got {}", o.study_time);
-  if (!o.study && (o.study_time > 0.0 || o.study_spp > 0 || !o.study_factors.empty()))
-    usage_fail("--study-time, --study-spp and --study-factors need --study");
+  if (!o.study && (o.study_time > 0.0 || o.study_spp > 0 || !o.study_factors.empty() || !o.study_window.empty()))
+    usage_fail("--study-time, --study-spp, --study-factors and --study-window need --study");
   if (o.study) {
     if (!o.convergence.empty()) usage_fail("--study and --convergence are separate runs: give one");
     if (o.spp > 0 || o.time_budget > 0.0)
@@ -170,6 +173,10 @@ int run(const RenderCliOptions& o, const Context& ctx) {
       if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
         usage_fail("--study-factors: a factor is given twice ({})", fmt::join(o.study_factors, ","));
       spec.factors = sorted;
+    }
+    if (!o.study_window.empty()) {
+      as_usage([&] { fit::check_scale_text(o.study_window); });
+      spec.scale = o.study_window;
     }
     spec.seconds = o.study_time > 0.0 ? o.study_time : (o.quick ? 1.0 : kStudySeconds);
     spec.spp = o.study_spp;
@@ -375,6 +382,10 @@ const Registrar kRender{Command{
       sub.add_option("--study-factors", o->study_factors, "--study: coarsening factors (default 2,4,8,16)")
           ->delimiter(',')
           ->check(CLI::Range(2, 4096));
+      sub.add_option("--study-window", o->study_window,
+                     "--study: scale of the statistics behind the slab's law and the validation, as weft validate "
+                     "--window (default yarn: the yarn diameter of the grid's provenance; a grid without it needs "
+                     "a LENGTH or yarn-measured)");
       sub.add_flag("--quick", o->quick,
                    "Small film (longest side 48 px); with --convergence, a 128 spp series; with --study, 1 s per "
                    "candidate and a 256 spp reference");

@@ -181,6 +181,17 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
   const MediumDesc& fine_desc = scene.media.at(target.medium);
   const volume::Grid fine = volume::Grid::load(fine_desc.file, fine_desc.grid_name);
   if (fine.active_voxel_count() == 0) fail("study: grid '{}' has no active voxels", fine_desc.file);
+  // The statistics scale: the yarn diameter of the grid's provenance, as `weft validate`.
+  const volume::Provenance provenance = volume::read_provenance(fine);
+  fit::StatisticsScale scale;
+  // No silent voxel-dependent fallback (as validate): a grid without a yarn diameter is refused
+  // with what to pass.
+  try {
+    scale = fit::resolve_scale(spec.scale, fine, provenance, progress);
+  } catch (const Error& e) {
+    if (spec.scale != "yarn") throw;
+    fail("--study: {} (weft render: --study-window)", e.what());
+  }
   const bool root = dist::is_root();
   if (root) fs::create_directories(spec.work_dir);
 
@@ -190,16 +201,6 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
                     ? fmt::format("fixed {} spp per candidate (equal samples, not equal time)", spec.spp)
                     : fmt::format("time budget of {:.3g} s per candidate (passes of 1 spp until spent)", spec.seconds);
 
-  // The statistics scale: the yarn diameter of the grid's provenance, as `weft validate`.
-  const volume::Provenance provenance = volume::read_provenance(fine);
-  fit::StatisticsScale scale;
-  try {
-    scale = fit::resolve_scale(spec.scale, fine, provenance, progress);
-  } catch (const Error& e) {
-    if (spec.scale != "yarn") throw;
-    scale = fit::resolve_scale("yarn-measured", fine, provenance, progress);
-    result.notes.push_back(fmt::format("scale: {}; measured from the voxels instead", e.what()));
-  }
   result.scale = (scale.length[0] + scale.length[1] + scale.length[2]) / 3.0;
 
   // (c) The best predictive model of `weft validate` on the fine grid.

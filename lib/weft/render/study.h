@@ -59,8 +59,9 @@ struct StudySpec {
   int max_spp = 1 << 16;                  ///< cap of a budgeted render
   int reference_spp = 1024;               ///< the reference: the fine grid at this spp
   std::uint64_t seed = 1;                 ///< first images; second images and the reference derive theirs
-  /// The statistics scale of the slab's law and of the validation (fit::resolve_scale): "yarn"
-  /// falls back to "yarn-measured" for a grid without provenance (and says so in `notes`).
+  /// The statistics scale of the slab's law and of the validation (fit::resolve_scale, as
+  /// `weft validate --window`): "yarn" needs a grid whose provenance records the yarn diameter
+  /// (otherwise weft::Error before anything is written: no voxel-dependent fallback).
   std::string scale = "yarn";
   /// Folder for the candidates' grids, fields and scene files (created; rank 0 writes).
   std::filesystem::path work_dir;
