@@ -18,6 +18,7 @@
 #include "weft/core/error.h"
 #include "weft/core/rng.h"
 #include "weft/transmittance/gamma_concentration.h"
+#include "weft/transmittance/law_json.h"
 #include "weft/transmittance/pair.h"
 #include "weft/transmittance/registry.h"
 
@@ -99,9 +100,10 @@ json number(double x) {
 
 std::string text(double x) { return fmt::format("{:.10g}", x); }
 
+/// The law's parameters in the scene format's convention (+∞ as "inf"; transmittance/law_json.h).
 json parameters_json(const tr::Law& law) {
-  json out = json::object();
-  for (const auto& p : law.parameters()) out[p.name] = number(p.value);
+  json out = tr::law_to_json(tr::spec_of(law));
+  out.erase("name");
   return out;
 }
 

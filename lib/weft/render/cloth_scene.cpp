@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "weft/core/error.h"
+#include "weft/transmittance/law_json.h"
 #include "weft/volume/grid.h"
 #include "weft/volume/provenance.h"
 
@@ -141,19 +142,7 @@ std::string scene_json(const volume::Grid& grid, const std::string& file_in_scen
       break;
     case ClothSceneMedium::Kind::homogeneous: {
       if (!medium.law) fail("cloth scene for '{}': a homogeneous medium needs a law", where.string());
-      nlohmann::json law = {{"name", medium.law->name()}};
-      for (const auto& p : medium.law->parameters()) {
-        // +∞ (α of an exponential component) is the scene format's "inf"; nothing else non-finite.
-        if (p.value == std::numeric_limits<double>::infinity()) {
-          law[p.name] = "inf";
-          continue;
-        }
-        if (!std::isfinite(p.value))
-          fail("cloth scene for '{}': law {} has {} = {}; a scene file holds numbers or \"inf\"", where.string(),
-               medium.law->name(), p.name, p.value);
-        law[p.name] = p.value;
-      }
-      cloth = {{"type", "homogeneous"}, {"law", law}};
+      cloth = {{"type", "homogeneous"}, {"law", transmittance::law_to_json(transmittance::spec_of(*medium.law))}};
       break;
     }
   }

@@ -16,6 +16,7 @@
 #include "weft/render/environment.h"
 #include "weft/render/medium.h"
 #include "weft/render/mesh.h"
+#include "weft/transmittance/law_json.h"
 
 namespace weft::render {
 
@@ -228,39 +229,6 @@ MaterialDesc parse_material(const json& j, const std::string& where) {
   return m;
 }
 
-transmittance::LawSpec parse_law(const json& j, const std::string& where) {
-  transmittance::LawSpec spec;
-  if (j.is_string()) {
-    spec.name = j.get<std::string>();
-    return spec;
-  }
-  if (!j.is_object()) fail("{}: a law is a name or an object {{\"name\": ..., parameters}}, got {}", where, j.dump());
-  for (const auto& [key, value] : j.items()) {
-    if (key == "name") {
-      if (!value.is_string()) fail("{}: 'name' must be a string", where);
-      spec.name = value.get<std::string>();
-    } else if (key == "table") {
-      if (!value.is_string()) fail("{}: 'table' must be a file name", where);
-      spec.table = value.get<std::string>();
-    } else if (key == "sampler") {
-      if (!value.is_string()) fail("{}: 'sampler' must be a string", where);
-      spec.sampler = value.get<std::string>();
-    } else if (value.is_string() && value.get<std::string>() == "inf") {
-      // α = ∞ (the exponential limit, e.g. a zero-variance component of a gamma mixture); the
-      // law decides whether it accepts it.
-      spec.params[key] = std::numeric_limits<double>::infinity();
-    } else {
-      if (!value.is_number())
-        fail("{}: law parameter '{}' must be a number (or \"inf\"), got {}", where, key, value.dump());
-      const double x = value.get<double>();
-      if (!std::isfinite(x)) fail("{}: law parameter '{}' must be finite", where, key);
-      spec.params[key] = x;
-    }
-  }
-  if (spec.name.empty()) fail("{}: missing required key 'name'", where);
-  return spec;
-}
-
 MediumDesc parse_medium(const json& j, const std::string& where, const std::filesystem::path& base_dir) {
   Reader r(j, where);
   MediumDesc m;
@@ -298,17 +266,17 @@ MediumDesc parse_medium(const json& j, const std::string& where, const std::file
     if (m.concentration) m.sigma = r.non_negative("sigma", m.sigma);
     m.tracking = parse_choice(where, "tracking", r.string("tracking", "delta"), kTrackings);
     // The law of a grid medium is in optical depth; exponential with μ = 1 by default.
-    m.law = r.has("law") ? parse_law(r.at("law"), where + ".law")
+    m.law = r.has("law") ? transmittance::law_from_json(r.at("law"), where + ".law")
                          : transmittance::LawSpec{"exponential", {{"mu", 1.0}}, "", ""};
   } else {
-    m.law = parse_law(r.at("law"), where + ".law");
+    m.law = transmittance::law_from_json(r.at("law"), where + ".law");
   }
   if (!m.law.table.empty() && std::filesystem::path(m.law.table).is_relative())
     m.law.table = (base_dir / m.law.table).string();
   m.mode = parse_choice(where, "mode", r.string("mode", "reciprocal"), kModes);
   m.given = parse_choice(where, "origin", r.string("given", "source"), kOrigins);
   if (m.mode == transmittance::PairMode::explicit_) {
-    m.scatterer_law = parse_law(r.at("scatterer_law"), where + ".scatterer_law");
+    m.scatterer_law = transmittance::law_from_json(r.at("scatterer_law"), where + ".scatterer_law");
     if (!m.scatterer_law.table.empty() && std::filesystem::path(m.scatterer_law.table).is_relative())
       m.scatterer_law.table = (base_dir / m.scatterer_law.table).string();
   }
@@ -426,16 +394,6 @@ LightDesc parse_light(const json& j, const std::string& where, const std::filesy
 
 json to_json(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
 json to_json(const Rgb& c) { return json::array({c[0], c[1], c[2]}); }
-json to_json(const transmittance::LawSpec& spec) {
-  json j;
-  j["name"] = spec.name;
-  // +∞ (an exponential component of a gamma mixture, α = ∞) is written as the string "inf":
-  // JSON has no infinity, and parse_law reads it back.
-  for (const auto& [k, v] : spec.params) j[k] = v == std::numeric_limits<double>::infinity() ? json("inf") : json(v);
-  if (!spec.table.empty()) j["table"] = spec.table;
-  if (!spec.sampler.empty()) j["sampler"] = spec.sampler;
-  return j;
-}
 
 }  // namespace
 
@@ -577,12 +535,12 @@ std::string scene_to_json(const SceneDesc& scene) {
       continue;
     }
     json j = {{"type", choice_name(m.kind, kMediumKinds)},
-              {"law", to_json(m.law)},
+              {"law", transmittance::law_to_json(m.law)},
               {"mode", choice_name(m.mode, kModes)},
               {"given", choice_name(m.given, kOrigins)},
               {"albedo", to_json(m.albedo)},
               {"g", m.g}};
-    if (m.mode == transmittance::PairMode::explicit_) j["scatterer_law"] = to_json(m.scatterer_law);
+    if (m.mode == transmittance::PairMode::explicit_) j["scatterer_law"] = transmittance::law_to_json(m.scatterer_law);
     if (m.kind == MediumKind::grid) {
       j["file"] = m.file;
       j["grid"] = m.grid_name;

@@ -1,0 +1,63 @@
+// Laws ↔ JSON (transmittance/law_json.h): every registered law survives the round trip through
+// its own parameters, +∞ travels as "inf", and what JSON cannot hold is refused by name.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "weft/core/error.h"
+#include "weft/transmittance/law_json.h"
+#include "weft/transmittance/registry.h"
+
+namespace weft::transmittance {
+namespace {
+
+using json = nlohmann::json;
+constexpr double inf = std::numeric_limits<double>::infinity();
+
+TEST(LawJson, RoundTripRebuildsTheSameLaw) {
+  const LawSpec specs[] = {
+      {"exponential", {{"mu", 2.5}}, "", ""},         {"gamma", {{"mean_extinction", 3.0}, {"alpha", 0.7}}, "", ""},
+      {"linear", {{"mean_extinction", 1.5}}, "", ""}, {"gamma-path", {{"k", 2.5}, {"theta", 0.4}}, "", ""},
+      {"erlang", {{"k", 3}, {"rate", 2.0}}, "", ""},
+  };
+  for (const LawSpec& spec : specs) {
+    const LawPtr law = make_law(spec);
+    const json j = law_to_json(spec_of(*law));
+    const LawPtr back = make_law(law_from_json(json::parse(j.dump()), "test"));
+    EXPECT_EQ(back->name(), law->name());
+    for (const double t : {0.0, 0.1, 1.0, 7.0}) EXPECT_EQ(back->transmittance(t), law->transmittance(t)) << spec.name;
+  }
+}
+
+TEST(LawJson, InfinityIsTheStringInf) {
+  EXPECT_EQ(parameter_to_json(inf, "w", "alpha"), json("inf"));
+  LawSpec spec{"gamma", {{"mean_extinction", 2.0}, {"alpha", inf}}, "", ""};
+  const json j = law_to_json(spec);
+  EXPECT_EQ(j.at("alpha"), json("inf"));
+  const LawSpec back = law_from_json(json::parse(j.dump()), "test");
+  EXPECT_EQ(back.params.at("alpha"), inf);
+}
+
+TEST(LawJson, RefusesWhatJsonCannotHold) {
+  EXPECT_THROW((void)parameter_to_json(std::nan(""), "w", "alpha"), Error);
+  EXPECT_THROW((void)parameter_to_json(-inf, "w", "alpha"), Error);
+  EXPECT_THROW((void)law_from_json(json::parse(R"({"name": "gamma", "alpha": "infinite"})"), "w"), Error);
+  EXPECT_THROW((void)law_from_json(json::parse(R"({"alpha": 2})"), "w"), Error);
+  EXPECT_THROW((void)law_from_json(json(3), "w"), Error);
+  try {
+    (void)law_from_json(json::parse(R"({"name": "gamma", "alpha": [1]})"), "scene.media.cloth.law");
+    FAIL() << "an array parameter must be refused";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("scene.media.cloth.law"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("'alpha'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(LawJson, NameAloneIsALaw) { EXPECT_EQ(law_from_json(json("exponential"), "w").name, "exponential"); }
+
+}  // namespace
+}  // namespace weft::transmittance
