@@ -29,15 +29,40 @@ std::vector<std::string> Features::names() const {
 
 namespace {
 
+/// The work units of a pass: square tiles of 16, 8, 4, 2 or 1 pixels a side, the largest side
+/// that still gives kMinTiles tiles (a 64×64 film: 1024 tiles of 2×2 pixels; 256×256: 1024 of
+/// 8×8; 1024×768: 3072 of 16×16). A few large tiles of very unequal cost (background vs medium)
+/// leave threads idle at the end of a pass; with ≥ 1024 units, dynamic scheduling leaves at most
+/// about one unit per thread. The side depends only on the film size, and each pixel's samples are
+/// still summed by one unit in sample order, so the image does not depend on it (docs/render.md §1).
+struct Tiling {
+  static constexpr int kMaxSide = 16;
+  static constexpr std::size_t kMinTiles = 1024;
+  int side = kMaxSide;
+  int tiles_x = 1;
+  int tiles_y = 1;
+
+  Tiling(int width, int height) {
+    for (;; side /= 2) {
+      tiles_x = (width + side - 1) / side;
+      tiles_y = (height + side - 1) / side;
+      if (side == 1 || count() >= kMinTiles) break;
+    }
+  }
+  [[nodiscard]] std::size_t count() const {
+    return static_cast<std::size_t>(tiles_x) * static_cast<std::size_t>(tiles_y);
+  }
+};
+
 template <bool kMedia, bool kNonExp>
 void render_pass(const World& world, const Camera& camera, std::uint64_t seed, int s_begin, int s_end,
                  std::vector<double>& sum, std::vector<double>& sum2, std::atomic<std::uint64_t>& rays,
                  std::atomic<std::uint64_t>& invalid, std::atomic<std::uint64_t>& cells,
                  std::atomic<std::uint64_t>& lookups, ProgressTask& task) {
   const Integrator<kMedia, kNonExp> integrator(world);
-  constexpr int kTile = 16;
-  const int tiles_x = (camera.width + kTile - 1) / kTile;
-  const int tiles_y = (camera.height + kTile - 1) / kTile;
+  const Tiling tiling(camera.width, camera.height);
+  const int side = tiling.side;
+  const int tiles_x = tiling.tiles_x;
   tbb::enumerable_thread_specific<PathCounters> thread_counters(world.media);
   // Tiles are the work units, over threads and MPI ranks (dist::run_units). A run without a store
   // gives tile t to rank t mod N in every pass, so each rank keeps the running sums of its own
@@ -47,20 +72,20 @@ void render_pass(const World& world, const Camera& camera, std::uint64_t seed, i
   dist::UnitsOptions how;
   how.progress = &task;
   how.name = [&](std::size_t t) {
-    return fmt::format("render tile {} (x {}, y {}), samples {}..{}", t, (t % tiles_x) * kTile, (t / tiles_x) * kTile,
-                       s_begin, s_end - 1);
+    return fmt::format("render tile {} (x {}, y {}, {} px a side), samples {}..{}", t, (t % tiles_x) * side,
+                       (t / tiles_x) * side, side, s_begin, s_end - 1);
   };
   const auto tile_pixels = [&](std::size_t t, auto&& f) {
     const int tx = static_cast<int>(t % static_cast<std::size_t>(tiles_x));
     const int ty = static_cast<int>(t / static_cast<std::size_t>(tiles_x));
-    for (int y = ty * kTile; y < std::min(camera.height, (ty + 1) * kTile); ++y) {
-      for (int x = tx * kTile; x < std::min(camera.width, (tx + 1) * kTile); ++x) {
+    for (int y = ty * side; y < std::min(camera.height, (ty + 1) * side); ++y) {
+      for (int x = tx * side; x < std::min(camera.width, (tx + 1) * side); ++x) {
         f(x, y, static_cast<std::size_t>(y) * camera.width + x);
       }
     }
   };
   const std::vector<dist::Bytes> tiles = dist::run_units(
-      static_cast<std::size_t>(tiles_x) * tiles_y,
+      tiling.count(),
       [&](std::size_t t) {
         PathCounters& counters = thread_counters.local();
         const std::uint64_t rays_before = counters.rays;
@@ -197,9 +222,9 @@ RenderResult render(const SceneDesc& scene, const RenderOptions& options, Progre
 
   const bool passes = options.time_budget_seconds > 0.0 || static_cast<bool>(options.on_pass);
   const int per_pass = passes ? std::max(1, options.spp_per_pass) : spp;
-  const int tiles = ((camera.width + 15) / 16) * ((camera.height + 15) / 16);
+  const std::size_t tiles = Tiling(camera.width, camera.height).count();
   const int pass_count = (spp + per_pass - 1) / per_pass;
-  ProgressTask task(progress, "render", static_cast<std::uint64_t>(tiles) * pass_count);
+  ProgressTask task(progress, "render", static_cast<std::uint64_t>(tiles) * static_cast<std::uint64_t>(pass_count));
   IntegratorChoice choice = options.integrator;
   const IntegratorChoice needed = !f.media          ? IntegratorChoice::surfaces
                                   : f.general_media ? IntegratorChoice::general
