@@ -325,12 +325,17 @@ std::vector<Bytes> run_units(std::size_t count, const std::function<Bytes(std::s
         if (!have[u]) pending.push_back(u);
       }
       // Enough units per round to keep every thread busy, and at most ~32 rounds per run: each
-      // round ends in a gather, and fewer rounds wait less on the slowest rank.
+      // round ends in a gather, and fewer rounds wait less on the slowest rank. One rank without a
+      // store has nothing to gather or record: its units go in one round, since every round ends
+      // with the threads waiting for that round's slowest unit (docs/scale-out.md "Rounds").
       const auto threads = static_cast<std::size_t>(
           std::max<std::size_t>(1, tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
       const std::size_t ranks = static_cast<std::size_t>(g_size);
       const std::size_t per_rank = (pending.size() + ranks - 1) / ranks;
-      const std::size_t batch = options.batch > 0 ? options.batch : std::max(threads, (per_rank + 31) / 32);
+      const bool one_round = ranks == 1 && options.store == nullptr;
+      const std::size_t batch = options.batch > 0 ? options.batch
+                                : one_round       ? std::max<std::size_t>(1, per_rank)
+                                                  : std::max(threads, (per_rank + 31) / 32);
       put_u64(plan, batch);
       put_u64(plan, pending.size());
       for (const std::uint64_t u : pending) put_u64(plan, u);

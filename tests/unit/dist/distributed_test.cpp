@@ -46,6 +46,30 @@ TEST(RunUnits, ResultsComeBackInUnitOrderForAnyThreadsAndBatch) {
   }
 }
 
+TEST(RunUnits, OneRankWithoutAStoreRunsOneRound) {
+  // Every round ends with the threads waiting for its slowest unit; one rank without a store has
+  // nothing to gather or record between rounds, so all its units go in one (the cost log's rows).
+  const fs::path d = fresh_dir("one_round");
+  fs::create_directories(d);
+  const fs::path log = d / "costs.csv";
+  ASSERT_EQ(setenv("WEFT_UNIT_COSTS", log.c_str(), 1), 0);
+  {
+    const ThreadLimit limit(2);
+    (void)run_units(200, [](std::size_t u) { return Bytes{static_cast<std::uint8_t>(u)}; });
+  }
+  ASSERT_EQ(unsetenv("WEFT_UNIT_COSTS"), 0);
+  std::ifstream in(log);
+  int rounds = 0;
+  int units = 0;
+  for (std::string line; std::getline(in, line);) {
+    if (line.find(",round,") != std::string::npos) ++rounds;
+    if (line.find(",unit,") != std::string::npos) ++units;
+  }
+  EXPECT_EQ(units, 200);
+  EXPECT_EQ(rounds, 1);
+  fs::remove_all(d);
+}
+
 TEST(RunUnits, NoUnitsIsNoWork) {
   const auto out = run_units(0, [](std::size_t) -> Bytes { throw Error("never called"); });
   EXPECT_TRUE(out.empty());
