@@ -8,7 +8,6 @@
 #include <memory>
 
 #include "weft/core/error.h"
-#include "weft/core/floor_div.h"
 #include "weft/core/parallel.h"
 #include "weft/fit/fit.h"
 #include "weft/transmittance/gamma_mixture.h"
@@ -81,9 +80,12 @@ double log_sum_exp_mean(const std::vector<double>& log_terms, const std::vector<
 
 /// One pass (twice: the histogram needs the largest window mean first) over every window of
 /// w voxels of every column along the reader's axis; groups are transverse cells of `cell`
-/// voxels aligned to multiples of `cell` in index space (as coarse render grids are).
+/// voxels anchored at the active box's lower corner (docs/validate.md "Blocks anchored to the
+/// cloth"), so the same voxels at another index origin give the same groups.
 WindowSummary summarize(const volume::ColumnReader& reader, int w, int cell, ProgressSink& progress) {
   const int n = static_cast<int>(reader.box().extent()[reader.axis()]);
+  const std::int64_t u_lo = reader.box().min[static_cast<std::size_t>((reader.axis() + 1) % 3)];
+  const std::int64_t v_lo = reader.box().min[static_cast<std::size_t>((reader.axis() + 2) % 3)];
   const std::size_t units = reader.tile_count();
   const std::size_t shards = std::min(kShards, units);
   const int positions = n - w + 1;
@@ -110,7 +112,7 @@ WindowSummary summarize(const volume::ColumnReader& reader, int w, int cell, Pro
               prefix[static_cast<std::size_t>(k) + 1] = prefix[static_cast<std::size_t>(k)] + col[k];
             Group* g = nullptr;
             if (pass == 0) {
-              const GroupKey key{floor_div(tile.u0 + iu, cell), floor_div(tile.v0 + iv, cell)};
+              const GroupKey key{(tile.u0 + iu - u_lo) / cell, (tile.v0 + iv - v_lo) / cell};
               g = &part.groups[key];
               g->rays += 1.0;
             }
@@ -170,58 +172,57 @@ double block_hazard(double sigma, double mean, double var, double s0, double s1)
 
 enum class Memory { none, from_entry, per_block };
 
-/// Block statistics of the beam's columns: blocks of B voxels (aligned to multiples of B in
-/// index space, as coarse render grids are) clipped to the active box, so that a block holds
-/// exactly the columns (rays) of the beam that cross it. Per block: the mean of C and the
-/// variance of the column means over the block's length across its columns (Eq. 19 per block).
+/// Block statistics of the beam's columns: blocks of B voxels anchored to the cloth, not to the
+/// index lattice (docs/validate.md "Blocks anchored to the cloth"): across the beam at the active
+/// box's lower corner, along it at the face where the beam enters (block 0 holds the first B
+/// voxels every ray crosses, as the memory of the hazard starts there), clipped to the box, so
+/// that a block holds exactly the columns (rays) of the beam that cross it and a translated copy
+/// of the voxels gives the same blocks. Per block: the mean of C and the variance of the column
+/// means over the block's length across its columns (Eq. 19 per block).
 struct BlockStats {
-  std::int64_t cu0 = 0, cv0 = 0, cb0 = 0;
   std::int64_t nu = 0, nv = 0, nb = 0;
-  std::vector<Sums> sums;    ///< [(cu·nv + cv)·nb + cb]: Σ of column means, one sample per column
+  std::vector<Sums> sums;    ///< [(cu·nv + cv)·nb + cb], cb counted from the entry face
   std::vector<double> rays;  ///< per coarse column (cu, cv): beam columns in it
   [[nodiscard]] const Sums& at(std::int64_t u, std::int64_t v, std::int64_t b) const {
     return sums[static_cast<std::size_t>((u * nv + v) * nb + b)];
   }
 };
 
-BlockStats block_stats(const volume::ColumnReader& reader, int B, ProgressSink& progress) {
+BlockStats block_stats(const volume::ColumnReader& reader, bool reverse, int B, ProgressSink& progress) {
   const int axis = reader.axis();
   const auto box = reader.box();
-  const int au = (axis + 1) % 3;
-  const int av = (axis + 2) % 3;
+  const auto au = static_cast<std::size_t>((axis + 1) % 3);
+  const auto av = static_cast<std::size_t>((axis + 2) % 3);
+  const auto ext = box.extent();
   BlockStats st;
-  st.cu0 = floor_div(box.min[static_cast<std::size_t>(au)], B);
-  st.cv0 = floor_div(box.min[static_cast<std::size_t>(av)], B);
-  st.cb0 = floor_div(box.min[static_cast<std::size_t>(axis)], B);
-  st.nu = floor_div(box.max[static_cast<std::size_t>(au)], B) - st.cu0 + 1;
-  st.nv = floor_div(box.max[static_cast<std::size_t>(av)], B) - st.cv0 + 1;
-  st.nb = floor_div(box.max[static_cast<std::size_t>(axis)], B) - st.cb0 + 1;
+  st.nu = (ext[au] + B - 1) / B;
+  st.nv = (ext[av] + B - 1) / B;
+  st.nb = (ext[static_cast<std::size_t>(axis)] + B - 1) / B;
   const std::size_t cells = static_cast<std::size_t>(st.nu * st.nv * st.nb);
   if (cells > 50'000'000) fail("local fields: {} blocks of {} voxels is too many", cells, B);
   const std::size_t units = reader.tile_count();
   const std::size_t shards = std::min(kShards, units);
   std::vector<std::vector<Sums>> parts(shards, std::vector<Sums>(cells));
   std::vector<std::vector<double>> rays(shards, std::vector<double>(static_cast<std::size_t>(st.nu * st.nv), 0.0));
-  const std::int64_t d0 = box.min[static_cast<std::size_t>(axis)];
   ProgressTask task(progress, fmt::format("local fields {}", "xyz"[axis]), units);
   parallel_units(shards, [&](std::size_t shard) {
     volume::ColumnTile tile;
     for (std::size_t unit = shard * units / shards; unit < (shard + 1) * units / shards; ++unit) {
       reader.read(unit, tile);
+      const int n = tile.depth;
       for (int iu = 0; iu < tile.nu; ++iu) {
         for (int iv = 0; iv < tile.nv; ++iv) {
-          const std::int64_t cu = floor_div(tile.u0 + iu, B) - st.cu0;
-          const std::int64_t cv = floor_div(tile.v0 + iv, B) - st.cv0;
+          const std::int64_t cu = (tile.u0 + iu - box.min[au]) / B;
+          const std::int64_t cv = (tile.v0 + iv - box.min[av]) / B;
           rays[shard][static_cast<std::size_t>(cu * st.nv + cv)] += 1.0;
           const float* col = tile.column(iu, iv);
-          int k = 0;
-          while (k < tile.depth) {
-            const std::int64_t cb = floor_div(d0 + k, B);
-            const int end = static_cast<int>(std::min<std::int64_t>(tile.depth, (cb + 1) * B - d0));
+          Sums* block = &parts[shard][static_cast<std::size_t>((cu * st.nv + cv) * st.nb)];
+          // Depth e from the entry face; block e / B.
+          for (int e0 = 0; e0 < n; e0 += B) {
+            const int e1 = std::min(n, e0 + B);
             double sum = 0.0;
-            for (int q = k; q < end; ++q) sum += static_cast<double>(col[q]);
-            parts[shard][static_cast<std::size_t>((cu * st.nv + cv) * st.nb + (cb - st.cb0))].add(sum / (end - k));
-            k = end;
+            for (int e = e0; e < e1; ++e) sum += static_cast<double>(col[reverse ? n - 1 - e : e]);
+            block[e0 / B].add(sum / (e1 - e0));
           }
         }
       }
@@ -239,11 +240,8 @@ BlockStats block_stats(const volume::ColumnReader& reader, int B, ProgressSink& 
 
 /// log T on `depths` of the beam through block fields: per coarse column the hazard of each
 /// block integrated exactly, T the ray-weighted mean over coarse columns.
-std::vector<double> block_field_curve(const volume::IndexBox& box, int axis, bool reverse, int B, double h,
-                                      double sigma, const BlockStats& st, Memory memory,
+std::vector<double> block_field_curve(int n, int B, double h, double sigma, const BlockStats& st, Memory memory,
                                       const std::vector<double>& depths) {
-  const auto A = static_cast<std::size_t>(axis);
-  const int n = static_cast<int>(box.extent()[A]);
   const std::size_t columns = static_cast<std::size_t>(st.nu * st.nv);
   std::vector<std::vector<double>> log_terms(depths.size(), std::vector<double>(columns, 0.0));
   parallel_units(columns, [&](std::size_t c) {
@@ -252,7 +250,6 @@ std::vector<double> block_field_curve(const volume::IndexBox& box, int axis, boo
     // Walk the fine slices from the entry face; H at the start of slice k is `H`.
     double H = 0.0;
     std::size_t d = 0;
-    std::int64_t current = std::numeric_limits<std::int64_t>::min();
     double mean = 0.0;
     double var = 0.0;
     double block_entry = 0.0;  // memory origin of the current block (per_block)
@@ -262,11 +259,8 @@ std::vector<double> block_field_curve(const volume::IndexBox& box, int axis, boo
         while (d < depths.size()) log_terms[d++][c] = -H;  // past the box: nothing more
         break;
       }
-      const std::int64_t i = reverse ? box.max[A] - k : box.min[A] + k;
-      const std::int64_t cb = floor_div(i, B) - st.cb0;
-      if (cb != current) {
-        current = cb;
-        const Sums& b = st.at(cu, cv, cb);
+      if (k % B == 0) {
+        const Sums& b = st.at(cu, cv, k / B);
         mean = b.mean();
         var = memory == Memory::none ? 0.0 : b.var();
         block_entry = s0;
@@ -420,7 +414,7 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
   // Local fields of blocks L³ (the statistics `weft fit --block` writes for rendering), clipped
   // to the active box so that each block holds exactly the beam's columns that cross it.
   {
-    const BlockStats st = block_stats(reader, w, progress);
+    const BlockStats st = block_stats(reader, reverse, w, progress);
     double blocks = 0.0;
     for (const auto& b : st.sums) blocks += b.n > 0.0 && b.s > 0.0 ? 1.0 : 0.0;
     const std::vector<std::tuple<std::string, std::string, Memory>> kinds{
@@ -432,7 +426,7 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
         {"local-gamma-renewal", "blocks of side L, gamma hazard with memory restarting at every block",
          Memory::per_block}};
     for (const auto& [name, description, memory] : kinds) {
-      auto curve = block_field_curve(box, axis, reverse, w, h, sigma, st, memory, depths);
+      auto curve = block_field_curve(n, w, h, sigma, st, memory, depths);
       add(name, description, {{"block", L}, {"blocks", blocks}}, [&](std::size_t d, double) { return curve[d]; });
     }
   }

@@ -5,7 +5,10 @@
 /// scale and the depths at which to evaluate — never a measured curve: predictions cannot see
 /// the ground truth.
 ///
-/// All models use one length scale L (fit/scale.h: the yarn diameter by default):
+/// All models use one length scale L (fit/scale.h: the yarn diameter by default). Blocks and
+/// cells are anchored to the cloth (across the beam at the active box's lower corner, along it
+/// at the entry face), never to the index lattice: the same voxels at another index origin give
+/// the same predictions (docs/validate.md "Blocks anchored to the cloth").
 ///   gamma              the paper's law (Eq. 19–20): C̄, Var of the means of every window of
 ///                      length L along every column → (1 + σt/β)^−α. The reference row.
 ///   empirical          Eq. 16 with the empirical distribution of those window means (no gamma
