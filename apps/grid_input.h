@@ -2,7 +2,7 @@
 /// @file
 /// @brief The grid-input options shared by `weft validate`, `weft measure` and `weft fit`
 /// (--grid, --grid-name, --values, --sigma), their checks, and σ resolved from the options and
-/// the grid's provenance (issue 13: physical σ by default, never a silent σ = 1).
+/// the grid's provenance (physical σ by default, never a silent σ = 1; docs/validate.md).
 
 #include <cstdint>
 #include <string>

@@ -1,4 +1,4 @@
-// weft: how light gets through cloth. One binary, one subcommand per stage (design §1).
+// weft: how light gets through cloth. One binary, one subcommand per stage (docs/architecture.md §1).
 #include <algorithm>
 #include <cstdio>
 #include <exception>

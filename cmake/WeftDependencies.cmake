@@ -1,4 +1,4 @@
-# All dependencies come from Debian 12 packages (shared/design.md §5).
+# All dependencies come from Debian 12 packages (docs/architecture.md §9).
 
 # The libraries' dependencies (shared with the installed package's config).
 macro(weft_find_dependency)
@@ -9,7 +9,7 @@ include(WeftLibraryDependencies)
 # Only the app needs CLI11.
 find_package(CLI11 CONFIG REQUIRED)
 
-# MPI (issue 16, docs/scale-out.md): independent work units spread over ranks under mpirun. The C
+# MPI (docs/scale-out.md): independent work units spread over ranks under mpirun. The C
 # API only (MPI's C++ bindings left the standard in MPI 3), so Open MPI and MPICH both serve.
 # weft_dist links it privately; a consumer of an installed WEFT_MPI build needs MPI too.
 find_package(MPI COMPONENTS C)

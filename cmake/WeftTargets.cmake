@@ -10,7 +10,7 @@ if(WEFT_SANITIZE)
   target_link_options(weft_warnings INTERFACE -fsanitize=address,undefined)
 endif()
 
-# Fuzzing (issue 8, preset `fuzz`): weft code gets libFuzzer's coverage instrumentation plus
+# Fuzzing (preset `fuzz`, docs/robustness.md): weft code gets libFuzzer's coverage instrumentation plus
 # ASan/UBSan; the targets in fuzz/ link libFuzzer's main. fuzz/targets.cmake is included once the
 # whole project has been read (deferred: subdirectories cannot be added then), so it can link any
 # weft module.
@@ -29,7 +29,7 @@ if(WEFT_FUZZ OR WEFT_BUILD_TESTS)
   cmake_language(DEFER DIRECTORY ${PROJECT_SOURCE_DIR} CALL include ${PROJECT_SOURCE_DIR}/fuzz/targets.cmake)
 endif()
 
-# Floating-point traps (issue 8, preset `fp-trap`): every unit test links a GoogleTest
+# Floating-point traps (preset `fp-trap`, docs/robustness.md): every unit test links a GoogleTest
 # environment that enables FE_INVALID | FE_DIVBYZERO | FE_OVERFLOW before the tests run, so an
 # unintended NaN, division by zero or overflow stops the test with SIGFPE where it happens.
 option(WEFT_TRAP_FP "Unit tests trap floating-point exceptions (invalid, divide-by-zero, overflow)" OFF)

@@ -1,4 +1,4 @@
-// Replays inputs through one fuzz target's LLVMFuzzerTestOneInput without libFuzzer (issue 8),
+// Replays inputs through one fuzz target's LLVMFuzzerTestOneInput without libFuzzer (docs/robustness.md),
 // so the ordinary build (gcc, no fuzzer runtime) guards every crash input kept in
 // tests/data/fuzz_regressions/<target>/: fuzz/targets.cmake links this main with each
 // fuzz/<target>_fuzz.cpp as `fuzz_replay_<target>` and registers one CTest per input.

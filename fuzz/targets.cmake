@@ -1,4 +1,4 @@
-# Fuzz targets (issue 8): one fuzz/<target>_fuzz.cpp per loader, each defining
+# Fuzz targets (docs/robustness.md): one fuzz/<target>_fuzz.cpp per loader, each defining
 # LLVMFuzzerTestOneInput. cmake/WeftTargets.cmake includes this file once the whole project has
 # been read (deferred, so every weft module exists), in two kinds of build:
 #

@@ -1,5 +1,5 @@
 // `weft model`: evaluate and sample a transmittance law and its source/scatterer partner
-// (lib/weft/transmittance; design §3). Thin: parses options, calls the library, prints.
+// (lib/weft/transmittance; docs/architecture.md §6). Thin: parses options, calls the library, prints.
 #include <cerrno>
 #include <cmath>
 #include <cstdint>

@@ -58,7 +58,7 @@ FiberSet generate_fibers(const ClothSpec& spec, const CurveSet& centerlines, Pro
 }
 
 volume::Provenance cloth_provenance(const ClothBuild& build) {
-  // σ per unit concentration, fibre-volume weighted over every fibre (design §3, issue 13):
+  // σ per unit concentration, fibre-volume weighted over every fibre (docs/validate.md, "σ: physical by default"):
   // each fibre of radius r and length ℓ has volume π r² ℓ and, seen across the beam, projected
   // area 2 r ℓ, so σ = Σ 2 r ℓ / Σ π r² ℓ (= 2/(π r) when all fibres share one radius).
   const auto& f = build.fibers;

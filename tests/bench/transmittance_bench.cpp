@@ -1,4 +1,4 @@
-// ns per T(t) evaluation and per sample, per law and sampler (issue 2). Run:
+// ns per T(t) evaluation and per sample, per law and sampler. Run:
 //   build/<preset>/tests/bench/bench_transmittance --benchmark_min_time=0.2
 #include <cmath>
 #include <memory>

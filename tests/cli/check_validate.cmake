@@ -124,7 +124,7 @@ if(NOT lsq LESS expo)
   message(FATAL_ERROR "fit.json: least-squares RMS ${lsq} not below exponential ${expo}")
 endif()
 
-# Issue 13: the figure shows what it claims — each axis's ground truth and the model colours are
+# The figure shows what it claims — each axis's ground truth and the model colours are
 # drawn (pixel counts of each series' colour; png_probe exits 1 when a bound fails).
 if(PLOT AND PROBE)
   foreach(color "220,30,30" "30,160,40" "30,60,220" "230,120,0" "140,40,180" "120,200,90")

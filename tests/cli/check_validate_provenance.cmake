@@ -1,4 +1,4 @@
-# Issue 13: `weft validate --grid out/cloth.vdb` (no --sigma, no --window) reproduces the built-in
+# `weft validate --grid out/cloth.vdb` (no --sigma, no --window) reproduces the built-in
 # run bit for bit (σ and the yarn scale come from the grid's provenance); `weft fit --beams` refuses
 # beams measured at another σ. Usage: cmake -DWEFT=<weft> -DOUT=<folder> -P check_validate_provenance.cmake
 file(REMOVE_RECURSE ${OUT})

@@ -16,7 +16,7 @@ foreach(row IN LISTS weft_bad_rows)
                    -DWORK=${CMAKE_CURRENT_BINARY_DIR}/bad_inputs/${id} -DGRIDS=${CMAKE_CURRENT_BINARY_DIR}/grids
                    -DDATA=${WEFT_BAD_DIR}/data -P ${WEFT_BAD_DIR}/run_case.cmake)
   set_tests_properties(${name} PROPERTIES LABELS cli TIMEOUT 20)
-  # Refusals that an estimate makes before spending (issue 14) must come at once: a few seconds,
+  # Refusals that an estimate makes before spending must come at once: a few seconds,
   # where the run they refuse would take minutes and gigabytes.
   if(id MATCHES "^(gen_absurd_input_scale|gen_huge_yarns|fit_huge_block)$")
     set_tests_properties(${name} PROPERTIES TIMEOUT 5)

@@ -1,4 +1,4 @@
-# Work units over MPI ranks (issue 16, docs/scale-out.md). Included by tests/cli/CMakeLists.txt.
+# Work units over MPI ranks (docs/scale-out.md). Included by tests/cli/CMakeLists.txt.
 #  - cli.mpi.same_bytes.<case>: the same command without mpirun and under mpirun -n 1, 2, 3
 #    writes the same files, byte for byte (timings, "ranks", "threads" aside): mpi_compare.cmake.
 #  - cli.mpi.resume: a sweep killed midway (SIGKILL after 5 recorded units), then --resume,

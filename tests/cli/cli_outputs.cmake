@@ -1,4 +1,4 @@
-# Output convention and "say what was written" (issue 18): every command lists every file it
+# Output convention and "say what was written" (README, "Outputs"): every command lists every file it
 # wrote with its size, render takes --out DIR like the others, measure counts distinct rays.
 # Included by tests/cli/CMakeLists.txt it declares the tests; run with -P it is their check.
 if(CMAKE_SCRIPT_MODE_FILE)

@@ -132,7 +132,7 @@ if(CMAKE_SCRIPT_MODE_FILE)
       message(FATAL_ERROR "gen scene image: ${out}${err}")
     endif()
   elseif(CASE STREQUAL "model_scenes")
-    # Issue 15's example scenes: the fine grid, the local fields of `weft fit --block` and a
+    # The example scenes of docs/render.md §5d: the fine grid, the local fields of `weft fit --block` and a
     # homogeneous slab per predicted law of `weft validate --scenes`, each rendered as written.
     execute_process(COMMAND ${WEFT} --quiet gen --yarns 2x2 --out ${WORK}/cloth RESULT_VARIABLE rc ERROR_VARIABLE err)
     if(NOT rc EQUAL 0)

@@ -1,4 +1,4 @@
-# `weft render --convergence auto` (issue 7, supplement Figs. S.6–S.8) on the example scenes with
+# `weft render --convergence auto` (docs/render.md §6b, supplement Figs. S.6–S.8) on the example scenes with
 # exponential, linear-law (negatively correlated) and gamma-law (positively correlated) media.
 # Included by tests/cli/CMakeLists.txt (adds the tests) and run as a script for one case:
 #   cmake -DWEFT=... -DSCENE=cornell_linear -DWORK=... [-DSLOW=ON] -P cli_render_convergence.cmake

@@ -1,4 +1,4 @@
-# Reproducibility (issue 8): `weft validate`, `weft render` and `weft sim2d --quick` with the same
+# Reproducibility (docs/robustness.md): `weft validate`, `weft render` and `weft sim2d --quick` with the same
 # seed write bit-identical files for --threads 1 and --threads 2 (report.json compared without its
 # timing entries). The comparison is reproducible_compare.cmake; PNGs need a display (scripts/test
 # runs ctest under xvfb-run).

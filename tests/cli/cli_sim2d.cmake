@@ -22,7 +22,7 @@ if(CMAKE_SCRIPT_MODE_FILE)
       endforeach()
     endforeach()
     # The quick boundary (t = 4) is within reach of the few rays for every eta: each boundary
-    # transmittance still has flights left beyond it (issue 18: at t = 10 they ended at 5-8).
+    # transmittance still has flights left beyond it (they once ended at 5-8 for t = 10).
     foreach(eta -0.5 0 0.5)
       string(REGEX MATCHALL "\n${eta},T_boundary,eta12=0,[0-9.e+-]+,[0-9.e+-]+," rows "${csv}")
       set(beyond 0)
@@ -61,7 +61,7 @@ if(CMAKE_SCRIPT_MODE_FILE)
         message(FATAL_ERROR "report.json medium ${i} (${generator}): dof ${dof}, fits ${fits}, delaunay ${ok}, degree ${degree}")
       endif()
     endforeach()
-    # Parsimony (issue 18): the Poisson medium (eta 0) is exponential; the lattice (eta -0.5) is
+    # Parsimony: the Poisson medium (eta 0) is exponential; the lattice (eta -0.5) is
     # not. The selection is by BIC and the report says so and names the runner-up.
     string(JSON sel0 GET "${report}" media 1 law_selection T_Q_iso selected)
     string(JSON crit GET "${report}" media 1 law_selection T_Q_iso criterion)

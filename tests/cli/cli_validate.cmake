@@ -44,7 +44,7 @@ weft_bad_input(measure_direction "direction '0,0,0'" measure --grid ${WEFT_CLI_G
 weft_bad_input(fit_nan "invalid value nan" fit --grid ${WEFT_CLI_GRIDS}/nan.vdb)
 weft_bad_input(fit_block "--block" fit --grid ${WEFT_CLI_GRIDS}/good.vdb --block -2)
 
-# Issue 13: σ and the scale come from the grid's provenance, so `--grid cloth.vdb` of a generated
+# σ and the scale come from the grid's provenance, so `--grid cloth.vdb` of a generated
 # cloth reproduces the built-in run's numbers; beams of another σ are refused; a grid without
 # provenance needs --sigma and --window.
 add_test(NAME cli.validate.grid_equals_builtin

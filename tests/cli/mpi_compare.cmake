@@ -1,4 +1,4 @@
-# Same answer for any number of ranks (issue 16): runs one `weft` command without mpirun
+# Same answer for any number of ranks (docs/scale-out.md): runs one `weft` command without mpirun
 # (--threads 2) and under mpirun -n 1, 2, 3 (--threads 1), each into a fresh folder, then requires
 # the same files with the same bytes. JSON reports are compared without timing entries and
 # without "ranks", "threads" and "resumed_units"; the sweep's CSV without its timing columns and

@@ -1,4 +1,4 @@
-# Nothing lost on failure (issue 16).
+# Nothing lost on failure (docs/scale-out.md).
 #  MODE=resume: a sweep killed midway (WEFT_TEST_KILL_AFTER_UNITS=5: rank 0 SIGKILLs itself once
 #    it has recorded 5 units, as a crash or a cluster's time limit would) leaves its finished units
 #    in OUT/units/ and no outputs; `--resume` (with another number of ranks) computes only the

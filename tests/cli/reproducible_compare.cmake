@@ -1,4 +1,4 @@
-# Same seed, same output, whatever the thread count (issue 8, design §2 "Work is sharded").
+# Same seed, same output, whatever the thread count (docs/architecture.md §5, docs/robustness.md).
 # Runs one `weft` command twice, with --threads 1 and --threads 2, into two fresh folders, then
 # requires the same set of files and identical bytes in each, except that report.json files are
 # compared with their timing entries removed (keys matching TIMING_KEYS at any depth: wall-clock

@@ -3,7 +3,7 @@
 /// @brief PCG32 random streams keyed by (run seed, work-unit index).
 ///
 /// Every work unit (a ray range, an image tile, a 2D realization) draws from its own stream, so
-/// results do not depend on how units are scheduled over threads (design §2).
+/// results do not depend on how units are scheduled over threads (docs/architecture.md §5).
 
 #include <cstdint>
 #include <limits>

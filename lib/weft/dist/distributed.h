@@ -3,7 +3,7 @@
 /// @brief Independent work units spread over MPI ranks, with results identical to one process.
 ///
 /// A run is a set of units [0, n); unit u's work depends only on u (its RNG streams come from
-/// stream_for(seed, u), design §2), so where it runs cannot change its bytes. `run_units` assigns
+/// stream_for(seed, u), docs/architecture.md §5), so where it runs cannot change its bytes. `run_units` assigns
 /// the units to ranks statically and cyclically (rank k gets the k-th, (k+N)-th, … pending unit),
 /// runs each rank's share on its TBB threads, gathers every unit's result bytes on rank 0 and
 /// returns them there in unit order: the caller's reduction then sees exactly what a one-process

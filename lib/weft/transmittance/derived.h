@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// @brief Numerically derived reciprocal partners (design §3), for laws without a closed form.
+/// @brief Numerically derived reciprocal partners (docs/architecture.md §6), for laws without a closed form.
 ///
 /// p_Q(t) = T_S(t)/ℓ_S ties the source law Q to the scatterer law S. From a given T_Q,
 /// T_S = p_Q/p_Q(0); from a given T_S, T_Q(t) = ∫_t^∞ T_S/ℓ_S.

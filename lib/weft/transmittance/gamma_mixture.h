@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// @brief A finite mixture of gamma-concentration laws (issue 13: statistics local across a beam).
+/// @brief A finite mixture of gamma-concentration laws (statistics local across a beam; docs/transmittance.md).
 ///
 /// The rays of a beam fall into groups (height layers of a sheet, coarse cells across it, or
 /// "gap" and "yarn"); the rays of group i, a fraction w_i of the beam, see a gamma concentration

@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// @brief The gap-aware gamma law (issue 13): a fraction f₀ of rays sees no fibre, the rest a
+/// @brief The gap-aware gamma law (docs/transmittance.md): a fraction f₀ of rays sees no fibre, the rest a
 /// gamma concentration.
 ///
 ///   T_Q(t) = f₀ + (1 − f₀)(1 + μ̄_c t/α)^−α,  f₀ ∈ [0, 1),

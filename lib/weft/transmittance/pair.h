@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// @brief Source vs scatterer transmittance (Extended GBE, S.21–S.36; design §3).
+/// @brief Source vs scatterer transmittance (Extended GBE, S.21–S.36; docs/architecture.md §6, docs/render.md §2).
 ///
 /// A free-flight segment starts at a source/surface/camera (uncorrelated with the medium's
 /// particles: law Q) or at a scattering event (correlated: law S) and ends at a surface

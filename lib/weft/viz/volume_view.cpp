@@ -306,7 +306,7 @@ RenderOutcome save_volume_png(const volume::Grid& grid, const VolumeView& view, 
   detail::prepare_window(*window, view.width, view.height);
 
   // The yarns as a surface: an isosurface of the (block-mean) values, lit, which llvmpipe
-  // rasterizes in a fraction of the time its ray caster needed for the same grid (issue 14:
+  // rasterizes in a fraction of the time its ray caster needed for the same grid (docs/benchmarks.md:
   // the volume rendering was most of `weft validate`). The level sits at a fraction of a high
   // percentile of the positive values, not of the maximum, so one saturated voxel does not move it.
   const double level = iso_level(s);

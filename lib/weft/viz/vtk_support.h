@@ -34,7 +34,7 @@ void require_writable_folder(const std::filesystem::path& target);
 
 /// @brief An offscreen window of `width` x `height` without multisampling. VTK 9.1 asks for 8x
 /// MSAA by default, which Mesa's llvmpipe pays for in full: it was about 60 % of a volume view's
-/// render and 30 % of a chart's (issue 14); prepare_renderer's FXAA smooths the edges instead.
+/// render and 30 % of a chart's (docs/viz.md); prepare_renderer's FXAA smooths the edges instead.
 void prepare_window(vtkRenderWindow& window, int width, int height);
 
 /// @brief White background and FXAA (a cheap post-pass antialiasing) for a renderer.

@@ -5,7 +5,7 @@
 /// Voxel values are piecewise constant: voxel (i, j, k) covers index space [i−½, i+½)³
 /// (OpenVDB's cell-centred convention; in world space [origin + h·i, origin + h·(i+1)) per axis,
 /// see Grid::origin()). A ray's optical depth is then an exact sum over the voxels it crosses of
-/// (segment length × μ), μ = σ·C for concentration grids (design §3, "ground truth").
+/// (segment length × μ), μ = σ·C for concentration grids (docs/architecture.md §6, "ground truth").
 ///
 /// A point on a face between two voxels belongs to the voxel on the upper side (half-open
 /// intervals), so a ray running exactly along a face, edge or corner line sees every voxel of

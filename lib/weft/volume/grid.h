@@ -2,7 +2,7 @@
 /// @file
 /// @brief A handle to a sparse scalar voxel grid (OpenVDB FloatGrid behind a wall).
 ///
-/// Public headers never include OpenVDB (design §1); code that needs the tree itself includes
+/// Public headers never include OpenVDB (docs/architecture.md §1); code that needs the tree itself includes
 /// weft/volume/grid_openvdb.h from a .cpp file.
 
 #include <array>

@@ -1,7 +1,7 @@
 #pragma once
 /// @file
 /// @brief What a grid's metadata says about the medium it holds: units, the physical extinction
-/// cross-section σ per unit concentration, and the yarn scale (issue 13: "physical σ by default").
+/// cross-section σ per unit concentration, and the yarn scale (docs/validate.md, "σ: physical by default").
 ///
 /// `weft gen` writes these keys (prefixed "weft:" so that downsampled grids and local fields
 /// carry them on):

@@ -1,4 +1,4 @@
-// Issue 13: the predictions at the default scale are a property of the cloth, not of the voxel.
+// The predictions at the default scale are a property of the cloth, not of the voxel.
 // The same cloth voxelized at 5, 10 and 20 µm: per axis, the predicted curves of the best
 // predictive model (local-gamma) and of the paper's gamma law differ between resolutions by no
 // more than the ground truth itself changes (plus twice the noise of that difference), and the

@@ -1,4 +1,4 @@
-// Randomized property tests of the fits (issue 8): on random valid inputs over their whole
+// Randomized property tests of the fits (docs/robustness.md): on random valid inputs over their whole
 // range (log-uniform, with zeros and extremes), gamma moment matching and the Levenberg–Marquardt
 // least-squares fit return parameters that are never NaN (finite, or +∞ where the docs say so:
 // the exponential limit) or throw weft::Error; the model law they give obeys T in [0, 1]. Every

@@ -1,4 +1,4 @@
-// Labelled contact sheets (issue 18: "the contact sheet is four unlabelled 48 px images"): small
+// Labelled contact sheets (docs/render.md §6c: never four unlabelled 48 px images): small
 // images are enlarged by an integer factor, each keeps its own pixels, and each gets a caption.
 #include "weft/render/contact_sheet.h"
 

@@ -95,7 +95,7 @@ std::string with_albedo(std::string medium, const std::string& albedo) {
 
 class MediaKinds : public ::testing::TestWithParam<Kind> {};
 
-// The run summary tells the truth (issue 15): each medium is named with its kind, law and
+// The run summary tells the truth: each medium is named with its kind, law and
 // estimator as the medium itself reports them, and only a homogeneous exponential medium lets
 // the exponential specialisation run.
 TEST_P(MediaKinds, FeaturesNameEachMediumsKindLawAndEstimator) {

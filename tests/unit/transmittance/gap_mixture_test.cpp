@@ -1,4 +1,4 @@
-// The gap-aware gamma law and the gamma mixture (issue 13): samplers by KS against their own CDF
+// The gap-aware gamma law and the gamma mixture: samplers by KS against their own CDF
 // plus a binomial test of the "no collision" fraction, the hard limits (f0 → 0 is the gamma law,
 // α → ∞ gap + exponential, μ̄ = 0), the reciprocal partners derived in docs/transmittance.md
 // checked against the numerical derivation, and the registry laws through TransmittancePair (the

@@ -1,4 +1,4 @@
-// Randomized property tests (issue 8): every law of the registry, with parameters drawn
+// Randomized property tests (docs/robustness.md): every law of the registry, with parameters drawn
 // log-uniformly over its whole valid range (plus the range's extremes), obeys the Law contract
 // (law.h): no NaN anywhere; T(0) = 1; T in [0, 1] and non-increasing; log T consistent with T
 // and non-increasing; p ≥ 0; Σ ≥ 0; sampled distances ≥ 0, +∞ only for laws with T(∞) > 0 and

@@ -56,7 +56,7 @@ TEST(Chart, WritesPngOfRequestedSizeWithSeriesWhereTheyBelong) {
 }
 
 TEST(Chart, ALongTitleWrapsInsideThePicture) {
-  // Issue 18: accuracy_time.png's title ran off both edges. A title several times the width of
+  // accuracy_time.png's title ran off both edges. A title several times the width of
   // the chart wraps: no dark pixel in the outer columns of the title band, and ink on more rows.
   const auto dir = test::scratch_dir("chart_long_title");
   auto render = [&](const std::string& title, const std::string& name) {

@@ -104,7 +104,7 @@ TEST(Display, ConcurrentCallersShareOneDisplay) {
   }
   for (auto& th : threads) th.join();
   for (int t = 1; t < kThreads; ++t) EXPECT_EQ(ok[static_cast<std::size_t>(t)], ok[0]);
-  ASSERT_EQ(ok[0], 1) << "this machine has Xvfb (design §5), so a display must be available";
+  ASSERT_EQ(ok[0], 1) << "this machine has Xvfb (docs/architecture.md §9), so a display must be available";
   const std::string first = std::getenv("DISPLAY");
   EXPECT_TRUE(ensure_display(nullptr));
   EXPECT_EQ(std::string(std::getenv("DISPLAY")), first);
