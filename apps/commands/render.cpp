@@ -189,6 +189,9 @@ int run(const RenderCliOptions& o, const Context& ctx) {
     return 0;
   }
 
+  // Every file the scene names is read and every medium built here, once, before anything is
+  // written; the reference and the image render this same world.
+  const render::World world = render::build_world(scene);
   Convergence conv;
   if (!o.convergence.empty()) {
     // The series runs to 512 spp (128 with --quick) unless --spp says otherwise.
@@ -200,7 +203,7 @@ int run(const RenderCliOptions& o, const Context& ctx) {
       ref.spp = o.reference_spp > 0 ? o.reference_spp : (o.quick ? 8 : 16) * *options.spp;
       ref.seed = options.seed.value_or(scene.integrator.seed) + 0x9E3779B97F4A7C15ULL;
       ctx.say(fmt::format("rendering the reference at {} spp", *ref.spp));
-      conv.reference = render::render(scene, ref, ctx.progress).image;
+      conv.reference = render::render(world, ref, ctx.progress).image;
       if (dist::is_root()) {
         if (!o.out_dir.empty()) ensure_directory(o.out_dir);
         render::write_exr(beside(exr, ".reference.exr"), *conv.reference);
@@ -229,7 +232,7 @@ int run(const RenderCliOptions& o, const Context& ctx) {
     };
   }
 
-  const render::RenderResult result = render::render(scene, options, ctx.progress);
+  const render::RenderResult result = render::render(world, options, ctx.progress);
   if (!dist::is_root()) return 0;  // the tiles were gathered on rank 0, which writes
   if (!o.out_dir.empty()) ensure_directory(o.out_dir);
   render::write_exr(exr, result.image);

@@ -63,11 +63,8 @@ void add_sphere(RTCDevice device, RTCScene scene, const Vec3& c, double r, unsig
 /// where a B-spline or Catmull–Rom basis would smooth it away from the points. Returns the
 /// number of segments; the bounds grow by every point ± radius.
 std::size_t add_curves(RTCDevice device, RTCScene scene, const ShapeDesc& d, unsigned id, Vec3& lo, Vec3& hi) {
-  // What parse_scene read; a description built in code without it is read here.
-  const std::shared_ptr<const std::vector<curves::Curve>> read =
-      d.loaded_curves ? d.loaded_curves
-                      : std::make_shared<const std::vector<curves::Curve>>(curves::read_curves(d.file));
-  const std::vector<curves::Curve>& polylines = *read;
+  const std::vector<curves::Curve> polylines = curves::read_curves(d.file);
+  if (polylines.empty()) fail("curve file '{}' holds no curves", d.file);
   const double radius = d.radius * d.scale;
   std::vector<float> vertices;
   std::vector<unsigned> first;       // index of each segment's first vertex
@@ -141,51 +138,56 @@ Geometry::Geometry(const SceneDesc& scene, const std::map<std::string, int>& mat
   for (std::size_t i = 0; i < scene.shapes.size(); ++i) {
     const ShapeDesc& d = scene.shapes[i];
     ShapeInfo s;
-    s.kind = d.kind;
-    s.material = lookup(material_index, d.material);
-    s.null_material = s.material >= 0 && scene.materials.at(d.material).kind == MaterialKind::null;
-    s.interior = lookup(medium_index, d.interior);
-    s.exterior = lookup(medium_index, d.exterior);
-    s.emission = d.emission;
-    const auto id = static_cast<unsigned>(i);
-    switch (d.kind) {
-      case ShapeKind::sphere:
-        s.center = d.center;
-        s.radius = d.radius;
-        s.area = 4.0 * std::numbers::pi * d.radius * d.radius;
-        add_sphere(impl_->device, impl_->scene, d.center, d.radius, id);
-        lo = lo.cwiseMin(d.center - Vec3::Constant(d.radius));
-        hi = hi.cwiseMax(d.center + Vec3::Constant(d.radius));
-        break;
-      case ShapeKind::box:
-      case ShapeKind::rectangle:
-      case ShapeKind::mesh: {
-        if (d.kind == ShapeKind::box) {
-          s.mesh = box_mesh(d.min, d.max);
-        } else if (d.kind == ShapeKind::rectangle) {
-          s.mesh = rectangle_mesh(d.corner, d.edge_u, d.edge_v);
-        } else {
-          s.mesh = d.loaded_mesh ? *d.loaded_mesh : load_mesh(d.file);
-          for (auto& v : s.mesh.vertices) v = v * d.scale + d.translate;
+    try {
+      s.kind = d.kind;
+      s.material = lookup(material_index, d.material);
+      s.null_material = s.material >= 0 && scene.materials.at(d.material).kind == MaterialKind::null;
+      s.interior = lookup(medium_index, d.interior);
+      s.exterior = lookup(medium_index, d.exterior);
+      s.emission = d.emission;
+      const auto id = static_cast<unsigned>(i);
+      switch (d.kind) {
+        case ShapeKind::sphere:
+          s.center = d.center;
+          s.radius = d.radius;
+          s.area = 4.0 * std::numbers::pi * d.radius * d.radius;
+          add_sphere(impl_->device, impl_->scene, d.center, d.radius, id);
+          lo = lo.cwiseMin(d.center - Vec3::Constant(d.radius));
+          hi = hi.cwiseMax(d.center + Vec3::Constant(d.radius));
+          break;
+        case ShapeKind::box:
+        case ShapeKind::rectangle:
+        case ShapeKind::mesh: {
+          if (d.kind == ShapeKind::box) {
+            s.mesh = box_mesh(d.min, d.max);
+          } else if (d.kind == ShapeKind::rectangle) {
+            s.mesh = rectangle_mesh(d.corner, d.edge_u, d.edge_v);
+          } else {
+            s.mesh = load_mesh(d.file);
+            for (auto& v : s.mesh.vertices) v = v * d.scale + d.translate;
+          }
+          double total = 0.0;
+          for (const auto& tri : s.mesh.triangles) {
+            const Vec3& a = s.mesh.vertices[tri[0]];
+            total += 0.5 * (s.mesh.vertices[tri[1]] - a).cross(s.mesh.vertices[tri[2]] - a).norm();
+            s.area_cdf.push_back(total);
+          }
+          for (auto& c : s.area_cdf) c /= total;
+          s.area = total;
+          for (const auto& v : s.mesh.vertices) {
+            lo = lo.cwiseMin(v);
+            hi = hi.cwiseMax(v);
+          }
+          add_triangles(impl_->device, impl_->scene, s.mesh, id);
+          break;
         }
-        double total = 0.0;
-        for (const auto& tri : s.mesh.triangles) {
-          const Vec3& a = s.mesh.vertices[tri[0]];
-          total += 0.5 * (s.mesh.vertices[tri[1]] - a).cross(s.mesh.vertices[tri[2]] - a).norm();
-          s.area_cdf.push_back(total);
-        }
-        for (auto& c : s.area_cdf) c /= total;
-        s.area = total;
-        for (const auto& v : s.mesh.vertices) {
-          lo = lo.cwiseMin(v);
-          hi = hi.cwiseMax(v);
-        }
-        add_triangles(impl_->device, impl_->scene, s.mesh, id);
-        break;
+        case ShapeKind::curves:
+          s.curve_segments = add_curves(impl_->device, impl_->scene, d, id, lo, hi);
+          break;
       }
-      case ShapeKind::curves:
-        s.curve_segments = add_curves(impl_->device, impl_->scene, d, id, lo, hi);
-        break;
+    } catch (const Error& e) {
+      // The files a shape names are read here, once per render: name the shape (scene keys).
+      fail("{}: shapes[{}]: {}", scene.source, i, e.what());
     }
     shapes_.push_back(std::move(s));
   }

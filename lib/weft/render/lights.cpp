@@ -4,6 +4,8 @@
 #include <limits>
 #include <numbers>
 
+#include "weft/core/error.h"
+
 namespace weft::render {
 
 LightSample LightSet::sample(const Vec3& x, const Geometry& geometry, double eps, double extent, Pcg32& rng) const {
@@ -86,7 +88,8 @@ LightSet build_lights(const SceneDesc& scene, const Geometry& geometry) {
       w.lights.push_back(light);
     }
   }
-  for (const auto& l : scene.lights) {
+  for (std::size_t index = 0; index < scene.lights.size(); ++index) {
+    const LightDesc& l = scene.lights[index];
     switch (l.kind) {
       case LightKind::point: {
         Light light;
@@ -106,8 +109,11 @@ LightSet build_lights(const SceneDesc& scene, const Geometry& geometry) {
       }
       case LightKind::environment:
         if (!l.image.empty()) {
-          w.environment_map =
-              l.loaded ? l.loaded : std::make_shared<const EnvironmentMap>(load_environment(l.image, l.scale));
+          try {
+            w.environment_map = std::make_shared<const EnvironmentMap>(load_environment(l.image, l.scale));
+          } catch (const Error& e) {
+            fail("{}: lights[{}]: {}", scene.source, index, e.what());
+          }
           w.environment = Rgb(1, 1, 1);  // marks the light as present; radiance comes from the map
         } else {
           w.environment += l.intensity;

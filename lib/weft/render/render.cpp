@@ -17,16 +17,6 @@
 
 namespace weft::render {
 
-std::vector<std::string> Features::names() const {
-  std::vector<std::string> out{"surfaces"};
-  if (area_lights) out.emplace_back("area lights");
-  if (environment) out.emplace_back(environment_image ? "image environment" : "environment");
-  if (curves) out.emplace_back("curves");
-  // Each medium as it is rendered: kind, law and estimator (asked from the medium).
-  for (const auto& m : media_described) out.push_back(m);
-  return out;
-}
-
 namespace {
 
 /// The work units of a pass: square tiles of 16, 8, 4, 2 or 1 pixels a side, the largest side
@@ -172,45 +162,21 @@ Image make_image(int width, int height, int n, const std::vector<double>& sum, c
 
 }  // namespace
 
-Features scene_features(const SceneDesc& scene) {
-  Features f;
-  for (const auto& s : scene.shapes) {
-    if ((s.emission > 0.0).any()) f.area_lights = true;
-    if (!s.interior.empty() || !s.exterior.empty()) f.media = true;
-    if (s.kind == ShapeKind::curves) f.curves = true;
-  }
-  for (const auto& l : scene.lights)
-    if (l.kind == LightKind::environment && ((l.intensity > 0.0).any() || !l.image.empty())) {
-      f.environment = true;
-      if (!l.image.empty()) f.environment_image = true;
-    }
-  if (f.media) {
-    // Asked from the media themselves (built once by parse_scene; built here for a description
-    // made in code).
-    for (const auto& [name, desc] : scene.media) {
-      const std::shared_ptr<const Medium> m = desc.loaded ? desc.loaded : make_medium(desc, "medium '" + name + "'");
-      const MediumTraits t = m->traits();
-      if (!t.exponential) f.general_media = true;
-      if (t.heterogeneous) f.heterogeneous = true;
-      if (t.non_reciprocal) f.non_reciprocal = true;
-      f.media_described.push_back("medium '" + name + "': " + t.describe());
-    }
-  }
-  return f;
+RenderResult render(const SceneDesc& scene, const RenderOptions& options, ProgressSink& progress) {
+  return render(build_world(scene), options, progress);
 }
 
-RenderResult render(const SceneDesc& scene, const RenderOptions& options, ProgressSink& progress) {
+RenderResult render(const World& world, const RenderOptions& options, ProgressSink& progress) {
   const auto start = std::chrono::steady_clock::now();
-  const World world = build_world(scene);
-  const Camera camera(scene.camera);
-  const int spp = options.spp.value_or(scene.integrator.spp);
+  const Camera camera(world.camera);
+  const int spp = options.spp.value_or(world.settings.spp);
   if (spp < 1) fail("spp must be >= 1, got {}", spp);
-  const std::uint64_t seed = options.seed.value_or(scene.integrator.seed);
+  const std::uint64_t seed = options.seed.value_or(world.settings.seed);
   if (options.time_budget_seconds < 0.0 || !std::isfinite(options.time_budget_seconds))
     fail("time budget must be finite and >= 0, got {}", options.time_budget_seconds);
 
   RenderResult result;
-  result.stats.features = scene_features(scene);
+  result.stats.features = world.features;
   const Features& f = result.stats.features;
   const std::size_t n = static_cast<std::size_t>(camera.width) * camera.height * 3;
   std::vector<double> sum(n, 0.0);

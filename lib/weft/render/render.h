@@ -9,8 +9,10 @@
 #include <vector>
 
 #include "weft/core/progress.h"
+#include "weft/render/features.h"
 #include "weft/render/image.h"
 #include "weft/render/scene.h"
+#include "weft/render/world.h"
 
 namespace weft::render {
 
@@ -32,23 +34,6 @@ struct RenderOptions {
   int spp_per_pass = 1;
 };
 
-/// What the scene called for: selects the specialised integrator.
-struct Features {
-  bool media = false;  ///< any participating medium
-  /// Some medium is not a homogeneous exponential one (MediumTraits::exponential): the general
-  /// integrator runs.
-  bool general_media = false;
-  bool heterogeneous = false;   ///< some medium's density varies in space (grid, local fields)
-  bool non_reciprocal = false;  ///< some medium needs the T_S/(c·p_Q) weights (same/explicit mode)
-  /// "medium 'cloth': grid medium, exponential law, delta + ratio tracking", one per medium.
-  std::vector<std::string> media_described;
-  bool area_lights = false;
-  bool environment = false;
-  bool environment_image = false;  ///< an environment light reads a lat-long image (importance-sampled)
-  bool curves = false;             ///< fibre curves (Embree round linear curves)
-  [[nodiscard]] std::vector<std::string> names() const;
-};
-
 struct RenderStats {
   Features features;
   std::string integrator;  ///< which specialisation ran
@@ -66,12 +51,15 @@ struct RenderResult {
   RenderStats stats;
 };
 
-/// @brief Renders `scene`. Deterministic for a given seed and spp whatever the thread count.
-/// Throws weft::Error for scenes that cannot be built (e.g. a mesh file that vanished).
-[[nodiscard]] RenderResult render(const SceneDesc& scene, const RenderOptions& options = {},
+/// @brief Renders a built world. Deterministic for a given seed and spp whatever the thread
+/// count. Callers that render one scene several times (studies, convergence runs) build the
+/// world once and render it each time.
+[[nodiscard]] RenderResult render(const World& world, const RenderOptions& options = {},
                                   ProgressSink& progress = null_progress());
 
-/// The features `scene` uses (what render() will specialise on).
-[[nodiscard]] Features scene_features(const SceneDesc& scene);
+/// @brief Builds the world of `scene` (build_world) and renders it. Throws weft::Error for
+/// scenes that cannot be built (e.g. a mesh file that vanished), naming the key.
+[[nodiscard]] RenderResult render(const SceneDesc& scene, const RenderOptions& options = {},
+                                  ProgressSink& progress = null_progress());
 
 }  // namespace weft::render

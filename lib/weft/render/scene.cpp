@@ -459,38 +459,8 @@ SceneDesc parse_scene(std::string_view json_text, const std::string& source, con
   }
   if (env_images > 1 || (env_images == 1 && env_constants > 0))
     fail("{}: an image environment must be the only environment light", source);
-  load_resources(scene, source);
+  scene.source = source;
   return scene;
-}
-
-void load_resources(SceneDesc& scene, const std::string& source) {
-  // Everything is read and built now, once, so bad input is reported at load and not halfway
-  // through a render; render() uses these handles. Errors name the key.
-  for (auto& [name, m] : scene.media) m.loaded = make_medium(m, source + ": media." + name);
-  for (std::size_t i = 0; i < scene.lights.size(); ++i) {
-    LightDesc& l = scene.lights[i];
-    l.loaded.reset();
-    if (l.image.empty()) continue;
-    try {
-      l.loaded = std::make_shared<const EnvironmentMap>(load_environment(l.image, l.scale));
-    } catch (const Error& e) {
-      fail("{}: lights[{}]: {}", source, i, e.what());
-    }
-  }
-  for (std::size_t i = 0; i < scene.shapes.size(); ++i) {
-    ShapeDesc& s = scene.shapes[i];
-    s.loaded_mesh.reset();
-    s.loaded_curves.reset();
-    try {
-      if (s.kind == ShapeKind::mesh) s.loaded_mesh = std::make_shared<const TriangleMesh>(load_mesh(s.file));
-      if (s.kind == ShapeKind::curves)
-        s.loaded_curves = std::make_shared<const std::vector<curves::Curve>>(curves::read_curves(s.file));
-    } catch (const Error& e) {
-      fail("{}: shapes[{}]: {}", source, i, e.what());
-    }
-    if (s.loaded_curves && s.loaded_curves->empty())
-      fail("{}: shapes[{}]: curve file '{}' holds no curves", source, i, s.file);
-  }
 }
 
 SceneDesc load_scene(const std::filesystem::path& path) {

@@ -24,15 +24,7 @@
 #include "weft/transmittance/pair.h"
 #include "weft/transmittance/registry.h"
 
-namespace weft::curves {
-struct Curve;
-}
-
 namespace weft::render {
-
-class Medium;
-class EnvironmentMap;
-struct TriangleMesh;
 
 using Vec3 = Eigen::Vector3d;
 using Rgb = Eigen::Array3d;
@@ -96,8 +88,6 @@ struct MediumDesc {
   bool concentration = true;  ///< values are concentrations C (μ = σ·C) rather than μ
   double sigma = 1.0;         ///< σ for concentration grids and local-gamma fields
   Tracking tracking = Tracking::delta;
-  /// The medium parse_scene built from this description (null: render() builds it).
-  std::shared_ptr<const Medium> loaded;
 };
 
 enum class ShapeKind { sphere, box, rectangle, mesh, curves };
@@ -124,9 +114,6 @@ struct ShapeDesc {
   std::string interior;   ///< medium inside (empty: none)
   std::string exterior;   ///< medium outside (empty: none)
   Rgb emission{0, 0, 0};  ///< radiance emitted from the front side (area light when > 0)
-  /// What parse_scene read from `file` (mesh: untransformed triangles; curves: polylines).
-  std::shared_ptr<const TriangleMesh> loaded_mesh;
-  std::shared_ptr<const std::vector<curves::Curve>> loaded_curves;
 };
 
 enum class LightKind { point, directional, environment };
@@ -139,7 +126,6 @@ struct LightDesc {
   /// environment: lat-long radiance image (EXR; empty = constant `intensity`), times `scale`.
   std::string image;
   double scale = 1.0;
-  std::shared_ptr<const EnvironmentMap> loaded;  ///< the image parse_scene read (image environments)
 };
 
 struct SceneDesc {
@@ -151,17 +137,17 @@ struct SceneDesc {
   std::vector<LightDesc> lights;
   /// Folder that relative file names are resolved against (the scene file's folder).
   std::filesystem::path base_dir;
+  /// Names the input in errors of building the world (a path, "built-in scene x", "scene dict").
+  std::string source = "scene";
 };
 
-/// Parses and checks a scene. `source` names the input in errors (a path or "built-in scene x").
-/// Throws weft::Error with one line: invalid JSON with line and column, unknown types or keys
-/// with the closest known name, out-of-range numbers, dangling names, missing mesh files.
+/// Parses and checks a scene description. `source` names the input in errors (a path or
+/// "built-in scene x"). Throws weft::Error with one line: invalid JSON with line and column,
+/// unknown types or keys with the closest known name, out-of-range numbers, dangling names,
+/// missing files. The description holds no built object: build_world (world.h) reads the files
+/// it names and builds its media, once per render.
 [[nodiscard]] SceneDesc parse_scene(std::string_view json_text, const std::string& source,
                                     const std::filesystem::path& base_dir);
-
-/// Reads (again) every file the description names and builds its media: what parse_scene
-/// does after checking the keys, for descriptions made or edited in code. Errors name the key.
-void load_resources(SceneDesc& scene, const std::string& source);
 
 /// Reads and parses a scene file.
 [[nodiscard]] SceneDesc load_scene(const std::filesystem::path& path);

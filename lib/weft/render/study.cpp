@@ -73,7 +73,7 @@ Target find_target(const SceneDesc& scene) {
     fail("study: the scene needs exactly one grid medium (the fine grid), it has {}", grids.size());
   t.medium = grids.front();
   const MediumDesc& m = scene.media.at(t.medium);
-  const std::shared_ptr<const Medium> built = m.loaded ? m.loaded : make_medium(m, "medium '" + t.medium + "'");
+  const std::shared_ptr<const Medium> built = build_medium(scene, t.medium);
   if (built->traits().law != "exponential")
     fail("study: medium '{}' must have the exponential law (the reference is exponential per voxel), it has '{}'",
          t.medium, built->traits().law);
@@ -339,7 +339,7 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
 
   for (Plan& p : plans) {
     StudyCandidate& c = p.c;
-    const SceneDesc s = parse(p.scene, c.name);
+    const World s = build_world(parse(p.scene, c.name));  // built once, rendered twice
     c.seed_a = spec.seed;
     c.seed_b = spec.seed + kSeedStep;
     RenderOptions oa;

@@ -25,6 +25,9 @@
 namespace weft::render {
 namespace {
 
+/// What a render of `scene` specialises on: the features of its built world.
+Features features_of_scene(const SceneDesc& scene) { return build_world(scene).features; }
+
 namespace fs = std::filesystem;
 
 /// 10³ voxels of concentration 0.5 over [-0.5, 0.5]³ (σ = 6 makes μ = 3).
@@ -108,7 +111,7 @@ TEST_P(MediaKinds, FeaturesNameEachMediumsKindLawAndEstimator) {
   }})",
                                                   with_albedo(k.medium, "0.5")),
                                       "features " + k.label, ".");
-  const Features f = scene_features(scene);
+  const Features f = features_of_scene(scene);
   ASSERT_EQ(f.media_described.size(), 1U);
   const std::string expected = "medium 'm': " + k.describe;
   EXPECT_EQ(f.media_described[0].substr(0, expected.size()), expected) << f.media_described[0];
@@ -131,12 +134,13 @@ TEST(MediaKindsSummary, SameModeNamesItsPathWeightsAndNoPseudoLawExists) {
                 "interior": "m"}]
   })",
                                       "same mode", ".");
-  const Features f = scene_features(scene);
+  const Features f = features_of_scene(scene);
   ASSERT_EQ(f.media_described.size(), 1U);
   EXPECT_NE(f.media_described[0].find("T_S/(c·p_Q) path weights"), std::string::npos) << f.media_described[0];
   EXPECT_TRUE(f.non_reciprocal);
   // The old placeholder "gamma-field" is no law of the registry: a medium naming it is refused.
-  EXPECT_THROW((void)parse_scene(R"({"media": {"m": {"law": "gamma-field"}}})", "pseudo law", "."), Error);
+  EXPECT_THROW((void)build_medium(parse_scene(R"({"media": {"m": {"law": "gamma-field"}}})", "pseudo law", "."), "m"),
+               Error);
 }
 
 // α = ∞ (an exponential component: a zero-variance group of the across-beam model) is "inf" in
@@ -174,7 +178,7 @@ TEST_P(MediaKinds, WhiteFurnaceRendersOne) {
   }})",
                                                   with_albedo(k.medium, "1")),
                                       "furnace " + k.label, ".");
-  EXPECT_EQ(scene.media.at("m").loaded->traits().kind, k.kind);
+  EXPECT_EQ(build_medium(scene, "m")->traits().kind, k.kind);
   const RenderResult r = render(scene);
   // The cube covers the central 4x4 pixels.
   double sum = 0.0;

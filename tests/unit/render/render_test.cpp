@@ -22,6 +22,9 @@
 namespace weft::render {
 namespace {
 
+/// What a render of `scene` specialises on: the features of its built world.
+Features features_of_scene(const SceneDesc& scene) { return build_world(scene).features; }
+
 constexpr double kFloat = 1e-5;  // images are stored as float
 
 SceneDesc scene_from(const std::string& json) { return parse_scene(json, "test scene", "."); }
@@ -319,13 +322,13 @@ TEST(PointLight, DiffusePlaneRadianceMatchesClosedForm) {
 
 TEST(Features, SelectTheSpecialisedIntegrator) {
   const Features none =
-      scene_features(scene_from(R"({"materials": {"d": {}}, "shapes": [{"type": "sphere", "material": "d"}]})"));
+      features_of_scene(scene_from(R"({"materials": {"d": {}}, "shapes": [{"type": "sphere", "material": "d"}]})"));
   EXPECT_FALSE(none.media);
-  const Features exp = scene_features(scene_from(scattering_scene(R"({"name": "exponential", "mu": 1})", 1)));
+  const Features exp = features_of_scene(scene_from(scattering_scene(R"({"name": "exponential", "mu": 1})", 1)));
   EXPECT_TRUE(exp.media);
   EXPECT_FALSE(exp.general_media);
   const Features gam =
-      scene_features(scene_from(scattering_scene(R"({"name": "gamma", "mean_extinction": 1, "alpha": 2})", 1)));
+      features_of_scene(scene_from(scattering_scene(R"({"name": "gamma", "mean_extinction": 1, "alpha": 2})", 1)));
   EXPECT_TRUE(gam.general_media);
   EXPECT_FALSE(gam.non_reciprocal);
 }
