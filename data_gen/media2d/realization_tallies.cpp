@@ -31,38 +31,6 @@ Tally tally_from(const json& j) {
   return t;
 }
 
-json structure_json(const StructureStats& s) {
-  return {{"realization", s.realization},
-          {"points", s.points},
-          {"delaunay_ok", s.delaunay_ok},
-          {"note", s.note},
-          {"mean_nn", s.mean_nn},
-          {"sd_nn", s.sd_nn},
-          {"mean_delaunay_degree", s.mean_delaunay_degree},
-          {"nn_edges", s.nn_edges},
-          {"nn_density", s.nn_density},
-          {"g_centres", s.g_centres},
-          {"g", s.g},
-          {"max_overlap_fraction", s.max_overlap_fraction}};
-}
-
-StructureStats structure_from(const json& j) {
-  StructureStats s;
-  s.realization = j.at("realization").get<std::size_t>();
-  s.points = j.at("points").get<std::size_t>();
-  s.delaunay_ok = j.at("delaunay_ok").get<bool>();
-  s.note = j.at("note").get<std::string>();
-  s.mean_nn = j.at("mean_nn").get<double>();
-  s.sd_nn = j.at("sd_nn").get<double>();
-  s.mean_delaunay_degree = j.at("mean_delaunay_degree").get<double>();
-  j.at("nn_edges").get_to(s.nn_edges);
-  j.at("nn_density").get_to(s.nn_density);
-  j.at("g_centres").get_to(s.g_centres);
-  j.at("g").get_to(s.g);
-  s.max_overlap_fraction = j.at("max_overlap_fraction").get<double>();
-  return s;
-}
-
 }  // namespace
 
 dist::Bytes encode(const RealizationOut& r) {
@@ -75,7 +43,6 @@ dist::Bytes encode(const RealizationOut& r) {
   for (const auto& t : r.boundary) j["boundary"].push_back(tally_json(t));
   j["perturbed"] = r.perturbed;
   j["count"] = r.count;
-  j["structure"] = r.structure ? structure_json(*r.structure) : json(nullptr);
   return json::to_msgpack(j);
 }
 
@@ -88,7 +55,6 @@ RealizationOut decode(const dist::Bytes& b) {
   for (const auto& t : j.at("boundary")) r.boundary.push_back(tally_from(t));
   r.perturbed = j.at("perturbed").get<std::size_t>();
   r.count = j.at("count").get<std::size_t>();
-  if (!j.at("structure").is_null()) r.structure = structure_from(j.at("structure"));
   return r;
 }
 
@@ -111,13 +77,11 @@ Point2 direction_deg(double theta_deg) {
   return {std::cos(a), std::sin(a)};
 }
 
-RealizationOut trace_realization(const SimulationSpec& spec, std::size_t e, std::size_t j,
-                                 std::size_t structure_count) {
+RealizationOut trace_realization(const SimulationSpec& spec, std::size_t e, std::size_t j) {
   const std::size_t bins = spec.bins;
   const double width = spec.t_max / static_cast<double>(bins);
   const double lambda = spec.mean_free_path;
   const double reach = spec.t_max * lambda;
-  const MediumSpec mspec{spec.etas[e], spec.radius, spec.mean_free_path, spec.cluster_size, spec.step_unit};
   const std::uint64_t base = unit_key(e, j);
   Pcg32 rays = stream_for(spec.seed, base | 1U);
   Pcg32 shift_rng = stream_for(spec.seed, base | 2U);
@@ -198,24 +162,6 @@ RealizationOut trace_realization(const SimulationSpec& spec, std::size_t e, std:
         tally.add(second.found() ? spec.boundary_t + second.t / lambda : kInf, spec.t_max, width);
       }
       out.boundary.push_back(std::move(tally));
-    }
-  }
-  if (j < structure_count) {
-    if (medium.centers.size() <= spec.structure_max_points) {
-      out.structure = structure_stats(medium, j);
-    } else {
-      // Stand-in with n' = structure_max_points particles: λ' solves n' = 1/(2rλ' + πr²).
-      MediumSpec small = mspec;
-      const double n_small = static_cast<double>(spec.structure_max_points);
-      small.mean_free_path = (1.0 / n_small - std::numbers::pi * spec.radius * spec.radius) / (2.0 * spec.radius);
-      if (spec.step_unit > 0.0)
-        small.step_unit = spec.step_unit * std::sqrt(static_cast<double>(medium.centers.size()) / n_small);
-      Pcg32 stand_in_rng = stream_for(spec.seed, base | 3U);
-      out.structure = structure_stats(generate(small, stand_in_rng), j);
-      out.structure->note = fmt::format(
-          "measured on a stand-in realization of the same generator with {} particles (the medium has {}); "
-          "distances in units of the mean spacing",
-          out.structure->points, medium.centers.size());
     }
   }
   return out;

@@ -10,7 +10,6 @@
 
 #include "data_gen/media2d/disk_grid.h"
 #include "data_gen/media2d/simulation.h"
-#include "data_gen/media2d/structure.h"
 #include "data_gen/media2d/tally.h"
 #include "weft/core/rng.h"
 #include "weft/dist/distributed.h"
@@ -24,7 +23,6 @@ struct RealizationOut {
   std::vector<Tally> boundary;
   std::size_t perturbed = 0;
   std::size_t count = 0;
-  std::optional<StructureStats> structure;
 };
 
 /// MessagePack: integers and doubles round-trip exactly, so the reduction on rank 0 sees the same
@@ -40,9 +38,8 @@ struct RealizationOut {
 /// The unit direction at `theta_deg` from +x.
 [[nodiscard]] Point2 direction_deg(double theta_deg);
 
-/// Realization `j` of η = spec.etas[e]: generated, traced, and (for j < structure_count) its
-/// structure statistics.
-[[nodiscard]] RealizationOut trace_realization(const SimulationSpec& spec, std::size_t e, std::size_t j,
-                                               std::size_t structure_count);
+/// Realization `j` of η = spec.etas[e]: generated and traced (its structure statistics are a unit
+/// of their own, realization_structure.h).
+[[nodiscard]] RealizationOut trace_realization(const SimulationSpec& spec, std::size_t e, std::size_t j);
 
 }  // namespace weft::media2d

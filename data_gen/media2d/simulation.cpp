@@ -7,6 +7,7 @@
 
 #include "data_gen/media2d/disk_grid.h"
 #include "data_gen/media2d/law_fit.h"
+#include "data_gen/media2d/realization_structure.h"
 #include "data_gen/media2d/realization_tallies.h"
 #include "data_gen/media2d/reciprocity.h"
 #include "data_gen/media2d/tally.h"
@@ -91,20 +92,47 @@ SimulationResult simulate(const SimulationSpec& spec, ProgressSink& progress) {
     fail("sim2d: structure max points must be >= 16, got {}", spec.structure_max_points);
   }
 
-  ProgressTask task(progress, "sim2d realizations", spec.etas.size() * spec.realizations);
-  for (std::size_t e = 0; e < spec.etas.size(); ++e) {
+  // The units, over ranks and threads: first the structure statistics of every η (each costs more
+  // than a realization, so they start first and the realizations fill the threads around them),
+  // then every η's realizations. One call for all η: no thread waits at the end of one η for the
+  // next. The reduction below runs on rank 0 over the units in index order.
+  const std::size_t etas = spec.etas.size();
+  const std::size_t structure_units = etas * structure_count;
+  ProgressTask task(progress, "sim2d units", structure_units + etas * spec.realizations);
+  const auto structure_of = [&](std::size_t u) { return std::pair{u / structure_count, u % structure_count}; };
+  const auto realization_of = [&](std::size_t u) {
+    const std::size_t r = u - structure_units;
+    return std::pair{r / spec.realizations, r % spec.realizations};
+  };
+  dist::UnitsOptions how;
+  how.progress = &task;
+  how.name = [&](std::size_t u) {
+    if (u < structure_units) {
+      const auto [e, j] = structure_of(u);
+      return fmt::format("sim2d structure of realization {} of eta {}", j, spec.etas[e]);
+    }
+    const auto [e, j] = realization_of(u);
+    return fmt::format("sim2d realization {} of eta {}", j, spec.etas[e]);
+  };
+  const std::vector<dist::Bytes> units = dist::run_units(
+      structure_units + etas * spec.realizations,
+      [&](std::size_t u) {
+        if (u < structure_units) {
+          const auto [e, j] = structure_of(u);
+          return encode(realization_structure(spec, e, j));
+        }
+        const auto [e, j] = realization_of(u);
+        return encode(trace_realization(spec, e, j));
+      },
+      how);
+  if (!dist::is_root()) return result;
+
+  for (std::size_t e = 0; e < etas; ++e) {
     const MediumSpec mspec{spec.etas[e], spec.radius, spec.mean_free_path, spec.cluster_size, spec.step_unit};
-    // Realizations are the units spread over ranks (and threads); the reduction below runs on
-    // rank 0 over all of them in index order.
-    dist::UnitsOptions how;
-    how.progress = &task;
-    how.name = [&](std::size_t j) { return fmt::format("sim2d realization {} of eta {}", j, spec.etas[e]); };
-    const std::vector<dist::Bytes> units = dist::run_units(
-        spec.realizations, [&](std::size_t j) { return encode(trace_realization(spec, e, j, structure_count)); }, how);
-    if (!dist::is_root()) continue;
     std::vector<RealizationOut> outs;
-    outs.reserve(units.size());
-    for (const auto& b : units) outs.push_back(decode(b));
+    outs.reserve(spec.realizations);
+    for (std::size_t j = 0; j < spec.realizations; ++j)
+      outs.push_back(decode(units[structure_units + e * spec.realizations + j]));
 
     EtaResult er;
     er.eta = spec.etas[e];
@@ -144,9 +172,8 @@ SimulationResult simulate(const SimulationSpec& spec, ProgressSink& progress) {
             {spec.eta12[b], transmittance_curve(tallies, spec.samples), pdf_curve(tallies, spec.samples, width)});
       }
     }
-    for (const auto& o : outs) {
-      if (o.structure) er.structure.push_back(*o.structure);
-    }
+    for (std::size_t j = 0; j < structure_count; ++j)
+      er.structure.push_back(decode_structure(units[e * structure_count + j]));
     const double floor = 1.0 / static_cast<double>(spec.samples * spec.realizations);
     for (const auto& [name, curve] : {std::pair<std::string, const Curve*>{"T_Q_iso", &er.t_q_iso},
                                       std::pair<std::string, const Curve*>{"T_S", &er.t_s}}) {

@@ -131,11 +131,12 @@ struct SimulationResult {
   std::vector<std::string> warnings;
 };
 
-/// @brief Runs the whole sweep; progress counts realizations.
+/// @brief Runs the whole sweep; progress counts work units (structure statistics, realizations).
 ///
-/// Under mpirun the realizations of each η are spread over the ranks (dist::run_units) and
-/// reduced on rank 0; on the other ranks the result holds the spec, the grid and the warnings but
-/// no `etas` (they write nothing).
+/// The units — every η's structure statistics, then every η's realizations — are spread over the
+/// threads and, under mpirun, the ranks (dist::run_units, one call) and reduced on rank 0; on the
+/// other ranks the result holds the spec, the grid and the warnings but no `etas` (they write
+/// nothing).
 [[nodiscard]] SimulationResult simulate(const SimulationSpec& spec, ProgressSink& progress = null_progress());
 
 /// @brief The medium of realization `realization` for η = spec.etas[eta_index], exactly as

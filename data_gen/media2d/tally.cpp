@@ -49,6 +49,7 @@ Curve pdf_curve(const std::vector<const Tally*>& tallies, std::size_t samples, d
 
 std::pair<double, double> mean_truncated(const std::vector<const Tally*>& tallies, std::size_t samples) {
   std::vector<std::vector<double>> rows;
+  rows.reserve(tallies.size());
   for (const Tally* t : tallies) rows.push_back({t->truncated_sum / t->n});
   const Curve c = mean_curve(rows, samples);
   double se = c.stderr_[0];

@@ -85,7 +85,7 @@ void BM_CornellSurfacesOnlyGeneralIntegrator(benchmark::State& state) {
 void BM_ClothPatch(benchmark::State& state) { run(state, builtin("cloth_patch")); }
 void BM_Furnace(benchmark::State& state) { run(state, builtin("furnace")); }
 
-/// One medium-vertex step of the integrator's homogeneous branch (render.cpp): a free flight
+/// One medium-vertex step of the integrator's homogeneous branch (integrator.cpp): a free flight
 /// from a scatterer (the fast path −log ξ/μ for exponential media, else the pair's sampler and,
 /// outside reciprocal mode, its weights) and the transmittance of a shadow segment leaving it.
 void free_flight(benchmark::State& state, const MediumDesc& desc) {

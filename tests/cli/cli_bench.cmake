@@ -1,5 +1,5 @@
 # `scripts/bench --quick` on the built tree: runs every benchmark executable once, the whole-run
-# timings and the scaling study, and checks the markdown it writes. Included by
+# timings, the scaling study and the 1- vs 2-thread runs, and checks the markdown it writes. Included by
 # tests/cli/CMakeLists.txt to declare the test; the same file runs in script mode (cmake -P) to
 # drive the script and check its output.
 if(CMAKE_SCRIPT_MODE_FILE)
@@ -19,7 +19,8 @@ if(CMAKE_SCRIPT_MODE_FILE)
       "## Machine" "| CPU |" "| cores (online) |" "| memory |" "| load average" "| OS |" "| compiler |" "| commit |"
       "## Headline ratios" "## Micro-benchmarks (Google Benchmark)" "## Whole runs (`/usr/bin/time -v`)"
       "| validate |" "| sim2d --quick |" "## Scaling: `weft gen` + `weft validate` vs active voxels"
-      "## Notes and analysis")
+      "## Notes and analysis" "## Threads: 1 vs 2" "| render cube 64x64 " "| render cloth 1024x768 " "| sim2d | `"
+      "| gen | `")
   # One table per benchmark executable that was built, one row per built-in scene.
   file(GLOB bench_cmake "${SOURCE_DIR}/tests/bench/bench_*.cmake")
   foreach(f ${bench_cmake})

@@ -100,7 +100,7 @@ if(MODE STREQUAL "resume" OR MODE STREQUAL "resume_corpus")
 elseif(MODE STREQUAL "failing" OR MODE STREQUAL "failing_corpus")
   if(MODE STREQUAL "failing")
     set(run_args sim2d --quick --no-plot --eta 0.5 --radius 4e-4 --mfp 0.1 --realizations 4 --samples 100)
-    set(unit_name "sim2d realization 1 of eta 0.5")
+    set(unit_name "sim2d realization 0 of eta 0.5")  # unit 0 is its structure statistics
     set(report_file report.json)
   else()
     set(run_args validate --corpus --quick --no-plot)

@@ -20,23 +20,28 @@ namespace weft::render {
 namespace {
 
 /// The work units of a pass: square tiles of 16, 8, 4, 2 or 1 pixels a side, the largest side
-/// that still gives kMinTiles tiles (a 64×64 film: 1024 tiles of 2×2 pixels; 256×256: 1024 of
-/// 8×8; 1024×768: 3072 of 16×16). A few large tiles of very unequal cost (background vs medium)
-/// leave threads idle at the end of a pass; with ≥ 1024 units, dynamic scheduling leaves at most
-/// about one unit per thread. The side depends only on the film size, and each pixel's samples are
-/// still summed by one unit in sample order, so the image does not depend on it (docs/render.md §1).
+/// that still gives kMinTiles tiles, but no tile under kMinSamples samples per pass (a 64×64 film
+/// at 1024 spp: 1024 tiles of 2×2 pixels; 256×256: 1024 of 8×8; 1024×768: 3072 of 16×16; a 48×48
+/// film in passes of 1 spp keeps 16×16, as smaller units would cost more to schedule than to
+/// render). A few large tiles of very unequal cost (background vs medium) leave threads idle at
+/// the end of a pass; with ≥ 1024 units, dynamic scheduling leaves at most about one unit per
+/// thread. One tiling serves every pass of a render (a rank keeps its tiles' running sums between
+/// passes), and each pixel's samples are still summed by one unit in sample order, so the image
+/// does not depend on it (docs/render.md §1).
 struct Tiling {
   static constexpr int kMaxSide = 16;
   static constexpr std::size_t kMinTiles = 1024;
+  static constexpr long kMinSamples = 256;
   int side = kMaxSide;
   int tiles_x = 1;
   int tiles_y = 1;
 
-  Tiling(int width, int height) {
+  Tiling(int width, int height, int spp_per_pass) {
     for (;; side /= 2) {
       tiles_x = (width + side - 1) / side;
       tiles_y = (height + side - 1) / side;
-      if (side == 1 || count() >= kMinTiles) break;
+      const long next_samples = static_cast<long>(side / 2) * (side / 2) * spp_per_pass;
+      if (side == 1 || count() >= kMinTiles || next_samples < kMinSamples) break;
     }
   }
   [[nodiscard]] std::size_t count() const {
@@ -45,12 +50,11 @@ struct Tiling {
 };
 
 template <bool kMedia, bool kNonExp>
-void render_pass(const World& world, const Camera& camera, std::uint64_t seed, int s_begin, int s_end,
-                 std::vector<double>& sum, std::vector<double>& sum2, std::atomic<std::uint64_t>& rays,
+void render_pass(const World& world, const Camera& camera, const Tiling& tiling, std::uint64_t seed, int s_begin,
+                 int s_end, std::vector<double>& sum, std::vector<double>& sum2, std::atomic<std::uint64_t>& rays,
                  std::atomic<std::uint64_t>& invalid, std::atomic<std::uint64_t>& cells,
                  std::atomic<std::uint64_t>& lookups, ProgressTask& task) {
   const Integrator<kMedia, kNonExp> integrator(world);
-  const Tiling tiling(camera.width, camera.height);
   const int side = tiling.side;
   const int tiles_x = tiling.tiles_x;
   tbb::enumerable_thread_specific<PathCounters> thread_counters(world.media);
@@ -188,7 +192,8 @@ RenderResult render(const World& world, const RenderOptions& options, ProgressSi
 
   const bool passes = options.time_budget_seconds > 0.0 || static_cast<bool>(options.on_pass);
   const int per_pass = passes ? std::max(1, options.spp_per_pass) : spp;
-  const std::size_t tiles = Tiling(camera.width, camera.height).count();
+  const Tiling tiling(camera.width, camera.height, per_pass);
+  const std::size_t tiles = tiling.count();
   const int pass_count = (spp + per_pass - 1) / per_pass;
   ProgressTask task(progress, "render", static_cast<std::uint64_t>(tiles) * static_cast<std::uint64_t>(pass_count));
   IntegratorChoice choice = options.integrator;
@@ -207,11 +212,11 @@ RenderResult render(const World& world, const RenderOptions& options, ProgressSi
   while (done < spp) {
     const int end = std::min(spp, done + per_pass);
     if (choice == IntegratorChoice::surfaces) {
-      render_pass<false, false>(world, camera, seed, done, end, sum, sum2, rays, invalid, cells, lookups, task);
+      render_pass<false, false>(world, camera, tiling, seed, done, end, sum, sum2, rays, invalid, cells, lookups, task);
     } else if (choice == IntegratorChoice::exponential) {
-      render_pass<true, false>(world, camera, seed, done, end, sum, sum2, rays, invalid, cells, lookups, task);
+      render_pass<true, false>(world, camera, tiling, seed, done, end, sum, sum2, rays, invalid, cells, lookups, task);
     } else {
-      render_pass<true, true>(world, camera, seed, done, end, sum, sum2, rays, invalid, cells, lookups, task);
+      render_pass<true, true>(world, camera, tiling, seed, done, end, sum, sum2, rays, invalid, cells, lookups, task);
     }
     done = end;
     // Rank 0 holds the whole image after each pass (render_pass) and decides for every rank
