@@ -21,6 +21,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "weft/transmittance/gamma_hazard.h"
 #include "weft/transmittance/pair.h"
 #include "weft/transmittance/registry.h"
 
@@ -96,6 +97,8 @@ struct MediumDesc {
   bool concentration = true;  ///< values are concentrations C (μ = σ·C) rather than μ
   double sigma = 1.0;         ///< σ for concentration grids and local-gamma fields
   Tracking tracking = Tracking::delta;
+  /// local-gamma: how the hazard's memory passes from cell to cell (docs/render.md §5e).
+  transmittance::MemoryRule memory = transmittance::MemoryRule::segment;
   /// The medium parse_scene built from this description (null: render() builds it).
   std::shared_ptr<const Medium> loaded;
 };
