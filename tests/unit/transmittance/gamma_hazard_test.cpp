@@ -161,5 +161,19 @@ TEST(GammaHazard, AdvanceUntilInvertsTheHazard) {
   }
 }
 
+// Past any representable survival (H/α beyond log DBL_MAX) the memory is +∞ and the hazard of
+// what follows 0, never NaN; a flight then does not end there.
+TEST(GammaHazard, OpaqueSegmentsStayFinite) {
+  for (const MemoryRule r : kRules) {
+    const std::vector<Cell> cells{{10.0, 50.0, 0.0}, {1.0, 2.0, 400.0}, {1.0, 3.0, 900.0}};
+    const double h = walk(cells, 10.0, r, Origin::scatterer);
+    EXPECT_FALSE(std::isnan(h)) << memory_rule_name(r);
+    EXPECT_GE(h, 5000.0) << memory_rule_name(r);
+    GammaHazard g(r, Origin::source);
+    g.enter(10.0, 2.0, 400.0, 0.0);
+    EXPECT_FALSE(std::isnan(g.advance_until(0.0, 1.0, 1e4))) << memory_rule_name(r);
+  }
+}
+
 }  // namespace
 }  // namespace weft::transmittance
