@@ -25,6 +25,7 @@
 #include "weft/render/contact_sheet.h"
 #include "weft/render/convergence.h"
 #include "weft/render/render.h"
+#include "weft/transmittance/gamma_hazard.h"
 #include "weft/viz/chart.h"
 #include "written_files.h"
 
@@ -47,6 +48,7 @@ struct RenderCliOptions {
   int study_spp = 0;
   std::vector<int> study_factors;
   std::string study_window;
+  std::vector<std::string> study_memory;
   bool quick = false;
   bool list = false;
   bool print_scene = false;
@@ -160,8 +162,9 @@ int run(const RenderCliOptions& o, const Context& ctx) {
     usage_fail("--reference-spp needs --convergence auto or --study");
   if (!std::isfinite(o.study_time))
     usage_fail("--study-time: must be a finite number of seconds, got {}", o.study_time);
-  if (!o.study && (o.study_time > 0.0 || o.study_spp > 0 || !o.study_factors.empty() || !o.study_window.empty()))
-    usage_fail("--study-time, --study-spp, --study-factors and --study-window need --study");
+  if (!o.study && (o.study_time > 0.0 || o.study_spp > 0 || !o.study_factors.empty() || !o.study_window.empty() ||
+                   !o.study_memory.empty()))
+    usage_fail("--study-time, --study-spp, --study-factors, --study-window and --study-memory need --study");
   if (o.study) {
     if (!o.convergence.empty()) usage_fail("--study and --convergence are separate runs: give one");
     if (o.spp > 0 || o.time_budget > 0.0)
@@ -177,6 +180,15 @@ int run(const RenderCliOptions& o, const Context& ctx) {
     if (!o.study_window.empty()) {
       as_usage([&] { fit::check_scale_text(o.study_window); });
       spec.scale = o.study_window;
+    }
+    if (!o.study_memory.empty()) {
+      spec.memory_rules.clear();
+      for (const std::string& name : o.study_memory) {
+        const auto rule = transmittance::parse_memory_rule(name);
+        if (!rule)
+          usage_fail("--study-memory: unknown memory rule '{}' (segment, renewal, optical-depth, carried)", name);
+        spec.memory_rules.push_back(*rule);
+      }
     }
     spec.seconds = o.study_time > 0.0 ? o.study_time : (o.quick ? 1.0 : kStudySeconds);
     spec.spp = o.study_spp;
@@ -389,6 +401,10 @@ const Registrar kRender{Command{
                      "--study: scale of the statistics behind the slab's law and the validation, as weft validate "
                      "--window (default yarn: the yarn diameter of the grid's provenance; a grid without it needs "
                      "a LENGTH or yarn-measured)");
+      sub.add_option("--study-memory", o->study_memory,
+                     "--study: memory rules of the local-gamma candidates, comma-separated (default segment; "
+                     "renewal, optical-depth, carried: docs/render.md §5e)")
+          ->delimiter(',');
       sub.add_flag("--quick", o->quick,
                    "Small film (longest side 48 px); with --convergence, a 128 spp series; with --study, 1 s per "
                    "candidate and a 256 spp reference");

@@ -10,6 +10,7 @@
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
 #include "weft/fit/fit.h"
+#include "weft/transmittance/gamma_hazard.h"
 #include "weft/transmittance/gamma_mixture.h"
 #include "weft/transmittance/gap_gamma.h"
 #include "weft/transmittance/registry.h"
@@ -159,17 +160,6 @@ WindowSummary summarize(const volume::ColumnReader& reader, int w, int cell, Pro
   return out;
 }
 
-/// Hazard integral of one block over [s0, s1) of memory (exact for the gamma hazard
-/// Σ(s) = μ̄/(1 + κ s)): α [log1p(κ s1) − log1p(κ s0)], or μ̄ (s1 − s0) without variance.
-double block_hazard(double sigma, double mean, double var, double s0, double s1) {
-  if (!(mean > 0.0)) return 0.0;
-  const double mu = sigma * mean;
-  if (!(var > 0.0)) return mu * (s1 - s0);
-  const double kappa = sigma * var / mean;
-  const double alpha = mean * mean / var;
-  return alpha * (std::log1p(kappa * s1) - std::log1p(kappa * s0));
-}
-
 enum class Memory { none, from_entry, per_block };
 
 /// Block statistics of the beam's columns: blocks of B voxels anchored to the cloth, not to the
@@ -247,30 +237,28 @@ std::vector<double> block_field_curve(int n, int B, double h, double sigma, cons
   parallel_units(columns, [&](std::size_t c) {
     const auto cu = static_cast<std::int64_t>(c) / st.nv;
     const auto cv = static_cast<std::int64_t>(c) % st.nv;
-    // Walk the fine slices from the entry face; H at the start of slice k is `H`.
-    double H = 0.0;
+    // Walk the fine slices from the entry face, the block hazard (transmittance::GammaHazard,
+    // the render medium's) entered at each block face; a block without variance is exponential.
+    transmittance::GammaHazard hazard(
+        memory == Memory::per_block ? transmittance::MemoryRule::renewal : transmittance::MemoryRule::segment,
+        transmittance::Origin::source);
     std::size_t d = 0;
-    double mean = 0.0;
-    double var = 0.0;
-    double block_entry = 0.0;  // memory origin of the current block (per_block)
     for (int k = 0; k <= n && d < depths.size(); ++k) {
       const double s0 = k * h;
       if (k == n) {
-        while (d < depths.size()) log_terms[d++][c] = -H;  // past the box: nothing more
+        while (d < depths.size()) log_terms[d++][c] = -hazard.hazard();  // past the box: nothing more
         break;
       }
       if (k % B == 0) {
+        // Blocks are anchored at the entry face (docs/validate.md "Blocks anchored to the cloth").
         const Sums& b = st.at(cu, cv, k / B);
-        mean = b.mean();
-        var = memory == Memory::none ? 0.0 : b.var();
-        block_entry = s0;
+        hazard.enter(sigma, b.mean(), memory == Memory::none ? 0.0 : b.var(), s0);
       }
-      const double origin = memory == Memory::per_block ? block_entry : 0.0;
       while (d < depths.size() && depths[d] <= s0 + h) {
         const double t = std::max(depths[d], s0);
-        log_terms[d++][c] = -(H + block_hazard(sigma, mean, var, s0 - origin, t - origin));
+        log_terms[d++][c] = -(hazard.hazard() + hazard.piece(s0, t));
       }
-      H += block_hazard(sigma, mean, var, s0 - origin, s0 + h - origin);
+      hazard.advance(s0, s0 + h);
     }
   });
   std::vector<double> out(depths.size());

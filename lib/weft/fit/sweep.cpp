@@ -14,6 +14,7 @@
 #include "weft/core/parallel.h"
 #include "weft/dist/distributed.h"
 #include "weft/fit/fit.h"
+#include "weft/transmittance/gamma_hazard.h"
 #include "weft/volume/beam.h"
 #include "weft/volume/downsample.h"
 #include "weft/volume/grid_openvdb.h"
@@ -29,15 +30,10 @@ struct Segment {
   double var = 0.0;
 };
 
-/// −log T contributed by segment `g` over [g.a, t] (t ≤ g.b), per law (sweep.h).
-double segment_depth(const Segment& g, double t, double sigma, CoarseLaw law) {
-  const double len = t - g.a;
-  if (!(len > 0.0) || !(g.mean > 0.0)) return 0.0;
-  if (law == CoarseLaw::exponential || !(g.var > 0.0)) return sigma * g.mean * len;
-  const double alpha = g.mean * g.mean / g.var;
-  const double kappa = sigma * g.var / g.mean;  // σ/β
-  if (law == CoarseLaw::gamma_independent) return alpha * std::log1p(kappa * len);
-  return alpha * (std::log1p(kappa * t) - std::log1p(kappa * g.a));
+/// The hazard composition of a coarse law (sweep.h): exponential voxels (variance ignored),
+/// independent voxels (memory renewed at every voxel face) or memory from the ray's entry.
+transmittance::MemoryRule memory_rule(CoarseLaw law) {
+  return law == CoarseLaw::gamma_independent ? transmittance::MemoryRule::renewal : transmittance::MemoryRule::segment;
 }
 
 double median(std::vector<double> v) {
@@ -134,15 +130,20 @@ std::vector<double> coarse_beam_log_t(const volume::Grid& mean, const volume::Gr
         segs.push_back(g);
       }
       double* h = H.data() + (iu * static_cast<std::size_t>(nv) + static_cast<std::size_t>(iv)) * K;
+      // The coarse voxels' hazard with memory (transmittance::GammaHazard, the render medium's).
+      transmittance::GammaHazard hazard(memory_rule(law), transmittance::Origin::source);
+      const auto enter = [&](const Segment& g) {
+        hazard.enter(sigma, g.mean, law == CoarseLaw::exponential ? 0.0 : g.var, g.a);
+      };
       std::size_t s = 0;
-      double done = 0.0;
+      enter(segs[s]);
       for (std::size_t k = 0; k < K; ++k) {
         const double t = fine_voxel * static_cast<double>(k);
         while (s + 1 < segs.size() && t > segs[s].b) {
-          done += segment_depth(segs[s], segs[s].b, sigma, law);
-          ++s;
+          hazard.advance(segs[s].a, segs[s].b);
+          enter(segs[++s]);
         }
-        h[k] = done + segment_depth(segs[s], std::min(t, segs[s].b), sigma, law);
+        h[k] = hazard.hazard() + hazard.piece(segs[s].a, std::max(segs[s].a, std::min(t, segs[s].b)));
       }
     }
   });

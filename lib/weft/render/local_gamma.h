@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "weft/transmittance/gamma_hazard.h"
 #include "weft/transmittance/pair.h"
 #include "weft/volume/dda.h"
 #include "weft/volume/grid.h"
@@ -15,14 +16,16 @@ namespace weft::render {
 
 /// @brief Per coarse voxel v a gamma-concentration law (α_v = C̄²/V, β_v = C̄/V from the block
 /// mean C̄ and the column-mean variance V along the ray's dominant axis), applied along a ray
-/// as the hazard Σ(s) = σα_v/(β_v + σs) of that law with the memory s measured from the
-/// segment start; H(t) = ∫Σ and T = e^{−H}. A constant field is exactly the homogeneous gamma
-/// law T = (1 + σt/β)^{−α}; V = 0 gives the exponential e^{−σC̄t}.
+/// as the hazard Σ(s) = σα_v/(β_v + σs) of that law at memory s
+/// (transmittance::GammaHazard); how s passes from voxel to voxel is the memory rule
+/// (docs/render.md §5e; `segment`, the default, measures it from the segment start).
+/// H(t) = ∫Σ and T = e^{−H}. A constant field is exactly the homogeneous gamma law
+/// T = (1 + σt/β)^{−α} under every rule but renewal; V = 0 gives the exponential e^{−σC̄t}.
 ///
 /// A segment that starts at a scattering event (Origin::scatterer) uses each voxel's reciprocal
 /// partner T_S = (1 + σt/β)^{−(α+1)}, i.e. the hazard (σC̄ + κ)/(1 + κs) with κ = σV/C̄: the
-/// size-biased concentration E[C²]/E[C] = C̄ + V/C̄ replaces C̄ (docs/render.md §5b; exact for a
-/// constant field, a per-voxel approximation where the field varies along the ray).
+/// size-biased concentration E[C²]/E[C] = C̄ + V/C̄ replaces C̄ (docs/render.md §5b; which rules
+/// make the pair exactly reciprocal where the field varies: §5e).
 ///
 /// Holds a volume::Tracer and voxel readers, so one instance per thread (clone() shares the grids).
 class LocalGammaField {
@@ -30,10 +33,12 @@ class LocalGammaField {
   /// Reads "mean_concentration" and "var_concentration_{x,y,z}" from the .vdb `weft fit
   /// --block` writes. Throws weft::Error naming the file for a missing grid, an empty mean
   /// grid, a negative or NaN value in a grid, or σ not finite and positive.
-  LocalGammaField(const std::filesystem::path& vdb, double sigma);
+  LocalGammaField(const std::filesystem::path& vdb, double sigma,
+                  transmittance::MemoryRule memory = transmittance::MemoryRule::segment);
 
   /// A field on the same (shared, read-only) grids with its own DDA tracer, for another thread.
   [[nodiscard]] std::unique_ptr<LocalGammaField> clone() const;
+  [[nodiscard]] transmittance::MemoryRule memory() const { return memory_; }
 
   /// log T = −H over [t0, t1] along the ray, the memory starting at t0 (world distances);
   /// T_Q for segments from a source or surface, T_S for segments from a scattering event.
@@ -45,10 +50,10 @@ class LocalGammaField {
                                        transmittance::Origin origin = transmittance::Origin::source);
 
  private:
-  /// Walks the coarse cells, calling piece(a, b, σC̄, κ) with a, b memories from t0 and
-  /// hazard σC̄/(1 + κs); stops when piece returns false.
+  /// Walks the non-empty coarse cells, entering each into `hazard` and calling piece(a, b) with
+  /// a, b distances from t0; stops when piece returns false.
   template <typename Piece>
-  void walk(const volume::Ray& ray, double t0, double t1, transmittance::Origin origin, Piece&& piece);
+  void walk(const volume::Ray& ray, double t0, double t1, transmittance::GammaHazard& hazard, Piece&& piece);
   LocalGammaField() = default;
   void make_accessors();
 
@@ -57,6 +62,7 @@ class LocalGammaField {
   std::unique_ptr<volume::Tracer> tracer_;
   std::array<std::unique_ptr<volume::VoxelReader>, 3> var_readers_;
   double sigma_ = 1.0;
+  transmittance::MemoryRule memory_ = transmittance::MemoryRule::segment;
 };
 
 }  // namespace weft::render

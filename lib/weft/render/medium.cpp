@@ -287,7 +287,7 @@ MediumTraits LocalGammaMedium::traits() const {
   MediumTraits t;
   t.kind = "local-gamma";
   t.law = "per-voxel gamma";
-  t.estimator = "hazard inversion";
+  t.estimator = fmt::format("hazard inversion, {} memory", transmittance::memory_rule_name(field_->memory()));
   t.heterogeneous = true;
   return t;
 }
@@ -298,7 +298,7 @@ std::shared_ptr<const Medium> make_medium(const MediumDesc& desc, const std::str
   if (desc.kind == MediumKind::local_gamma) {
     std::shared_ptr<const LocalGammaField> field;
     try {
-      field = std::make_shared<const LocalGammaField>(desc.file, desc.sigma);
+      field = std::make_shared<const LocalGammaField>(desc.file, desc.sigma, desc.memory);
     } catch (const Error& e) {
       fail("{}: {}", where, e.what());
     }

@@ -161,6 +161,15 @@ const std::vector<std::pair<std::string, MaterialKind>> kMaterialKinds = {{"diff
                                                                           {"mirror", MaterialKind::mirror},
                                                                           {"dielectric", MaterialKind::dielectric},
                                                                           {"null", MaterialKind::null}};
+/// The memory rules by their names (transmittance::memory_rule_name, the one spelling).
+const std::vector<std::pair<std::string, transmittance::MemoryRule>>& memory_rules() {
+  static const auto rules = [] {
+    std::vector<std::pair<std::string, transmittance::MemoryRule>> v;
+    for (const auto r : transmittance::kMemoryRules) v.emplace_back(transmittance::memory_rule_name(r), r);
+    return v;
+  }();
+  return rules;
+}
 const std::vector<std::pair<std::string, MediumKind>> kMediumKinds = {
     {"homogeneous", MediumKind::homogeneous}, {"grid", MediumKind::grid}, {"local-gamma", MediumKind::local_gamma}};
 const std::vector<std::pair<std::string, Tracking>> kTrackings = {{"delta", Tracking::delta},
@@ -243,6 +252,7 @@ MediumDesc parse_medium(const json& j, const std::string& where, const std::file
     if (!std::filesystem::exists(p)) fail("{}: fields file '{}' does not exist", where, p.string());
     m.file = p.string();
     m.sigma = r.positive("sigma", m.sigma);
+    m.memory = parse_choice(where, "memory rule", r.string("memory", "segment"), memory_rules());
     m.law = transmittance::LawSpec{};  // no law: the fields carry one gamma law per voxel
     m.albedo = r.rgb("albedo", m.albedo);
     if ((m.albedo > 1.0).any()) fail("{}: 'albedo' must be <= 1", where);
@@ -500,6 +510,7 @@ std::string scene_to_json(const SceneDesc& scene) {
       media[name] = {{"type", choice_name(m.kind, kMediumKinds)},
                      {"fields", m.file},
                      {"sigma", m.sigma},
+                     {"memory", choice_name(m.memory, memory_rules())},
                      {"albedo", to_json(m.albedo)},
                      {"g", m.g}};
       continue;

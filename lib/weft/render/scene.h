@@ -3,10 +3,9 @@
 /// @brief Scene description: value types read from and written to JSON (docs/scene-format.md).
 ///
 /// A SceneDesc is what the file says, checked (names resolved, parameters in range, files
-/// present). The files it names are read once, by parse_scene: the media it built and the
-/// meshes, curves and environment images it read ride along as `loaded` handles, and render()
-/// uses them instead of reading again (the Embree scene is built in render()). Code that edits
-/// a parsed description's file-backed fields calls load_resources() again.
+/// present). It holds no built object: build_world (world.h) reads the files it names and
+/// builds its media, geometry and lights, once per render, so a description made or edited in
+/// code builds exactly like a parsed one.
 /// Every object round-trips: parse_scene(scene_to_json(s)) == s up to float formatting.
 
 #include <cstdint>
@@ -21,6 +20,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "weft/transmittance/gamma_hazard.h"
 #include "weft/transmittance/pair.h"
 #include "weft/transmittance/registry.h"
 
@@ -88,6 +88,8 @@ struct MediumDesc {
   bool concentration = true;  ///< values are concentrations C (μ = σ·C) rather than μ
   double sigma = 1.0;         ///< σ for concentration grids and local-gamma fields
   Tracking tracking = Tracking::delta;
+  /// local-gamma: how the hazard's memory passes from cell to cell (docs/render.md §5e).
+  transmittance::MemoryRule memory = transmittance::MemoryRule::segment;
 };
 
 enum class ShapeKind { sphere, box, rectangle, mesh, curves };

@@ -150,15 +150,17 @@ void check_study_spec(const StudySpec& spec) {
   if (spec.work_dir.empty()) fail("study: no folder for the candidates' files");
 }
 
-BiasEstimate estimate_bias(const Image& a, const Image& b, const Image& r) {
+BiasEstimate estimate_bias(const Image& a, const Image& b, const Image& r, const std::vector<bool>* mask) {
   if (a.width != r.width || a.height != r.height || b.width != r.width || b.height != r.height ||
       a.rgb.size() != r.rgb.size() || b.rgb.size() != r.rgb.size())
     fail("bias estimate: images differ in size ({}x{}, {}x{}, reference {}x{})", a.width, a.height, b.width, b.height,
          r.width, r.height);
-  const std::size_t n = r.rgb.size();
+  std::size_t n = 0;
   double sum = 0.0;
   double sum2 = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < r.rgb.size(); ++i) {
+    if (mask != nullptr && !(*mask)[i / 3]) continue;
+    ++n;
     const double m = 0.5 * (static_cast<double>(a.rgb[i]) + b.rgb[i]) - r.rgb[i];
     const double d = static_cast<double>(a.rgb[i]) - b.rgb[i];
     const double x = m * m - d * d / 4.0 - (r.variance.empty() ? 0.0 : static_cast<double>(r.variance[i]));
@@ -290,8 +292,16 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
                {"sigma", target.sigma_stats},
                {"albedo", base_medium.at("albedo")},
                {"g", base_medium.at("g")}};
-    g.scene = candidate_scene(target, gm, box);
-    plans.push_back(std::move(g));
+    for (const transmittance::MemoryRule rule : spec.memory_rules) {
+      const std::string rule_name(transmittance::memory_rule_name(rule));
+      const bool plain = rule == transmittance::MemoryRule::segment;
+      Plan gr = g;
+      gr.c.name = plain ? g.c.name : fmt::format("local-gamma-{}-{}x", rule_name, f);
+      gr.c.model = plain ? g.c.model : "local-gamma " + rule_name;
+      gm["memory"] = rule_name;
+      gr.scene = candidate_scene(target, gm, box);
+      plans.push_back(std::move(gr));
+    }
   }
   {
     Plan s;
@@ -336,6 +346,30 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
     write_scene(target.scene, spec.reference_spp, result.reference_seed, result.reference_scene);
   }
   const Image& reference = result.reference;
+  {
+    // The cloth's pixels: the reference against the same scene without the cloth's box.
+    say(spec, "rendering the background (the scene without the cloth)");
+    json bare = target.scene;
+    bare["shapes"].erase(target.shape);
+    RenderOptions ro;
+    ro.spp = std::max(16, spec.reference_spp / 4);
+    ro.seed = result.reference_seed + kSeedStep;
+    const Image bg = render(parse(bare, "background"), ro, progress).image;
+    const std::size_t pixels = reference.rgb.size() / 3;
+    result.cloth_mask.assign(pixels, false);
+    double sum = 0.0;
+    for (std::size_t p = 0; p < pixels; ++p) {
+      for (std::size_t c = 0; c < 3; ++c) {
+        const std::size_t i = 3 * p + c;
+        const double var = (reference.variance.empty() ? 0.0 : reference.variance[i]) + bg.variance[i];
+        if (std::abs(reference.rgb[i] - bg.rgb[i]) > 5.0 * std::sqrt(var) + 1e-6) result.cloth_mask[p] = true;
+      }
+      if (!result.cloth_mask[p]) continue;
+      ++result.cloth_pixels;
+      for (std::size_t c = 0; c < 3; ++c) sum += reference.rgb[3 * p + c];
+    }
+    result.cloth_mean = result.cloth_pixels > 0 ? sum / (3.0 * result.cloth_pixels) : 0.0;
+  }
 
   for (Plan& p : plans) {
     StudyCandidate& c = p.c;
@@ -377,6 +411,13 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
     c.bias_sq = be.bias_sq;
     c.bias_sq_stderr = be.stderr_sq;
     c.bias = std::sqrt(std::max(0.0, be.bias_sq));
+    const BiasEstimate cloth = estimate_bias(a.image, b.image, reference, &result.cloth_mask);
+    c.cloth_bias_sq = cloth.bias_sq;
+    c.cloth_bias_sq_stderr = cloth.stderr_sq;
+    c.cloth_bias = std::sqrt(std::max(0.0, cloth.bias_sq));
+    for (std::size_t i = 0; i < reference.rgb.size(); ++i)
+      if (result.cloth_mask[i / 3]) c.cloth_difference += 0.5 * (a.image.rgb[i] + b.image.rgb[i]) - reference.rgb[i];
+    if (result.cloth_pixels > 0) c.cloth_difference /= 3.0 * result.cloth_pixels;
     c.error_map = abs_difference(a.image, reference);
   }
   for (Plan& p : plans) result.candidates.push_back(std::move(p.c));
@@ -417,13 +458,17 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
 std::string study_csv(const StudyResult& result) {
   std::string csv =
       "candidate,model,factor,spp,seconds,cpu_seconds,seconds_per_spp,rmse,rmse_raw,bias,bias_sq,bias_sq_stderr,"
-      "bias_z,noise,relative_rmse,speedup,seed,scene\n";
+      "bias_z,noise,relative_rmse,speedup,seed,scene,cloth_bias,cloth_bias_sq_stderr,cloth_relative_bias,cloth_"
+      "difference\n";
   for (const auto& c : result.candidates) {
     csv += fmt::format(
-        "{},{},{},{},{:.6g},{:.6g},{:.6g},{:.8g},{:.8g},{:.8g},{:.8g},{:.8g},{:.4g},{:.8g},{:.6g},{:.6g},{},{}\n",
+        "{},{},{},{},{:.6g},{:.6g},{:.6g},{:.8g},{:.8g},{:.8g},{:.8g},{:.8g},{:.4g},{:.8g},{:.6g},{:.6g},{},{},{:.8g},"
+        "{:.8g},{:.6g},{:.6g}\n",
         c.name, c.model, c.factor, c.spp, c.seconds, c.cpu_seconds, c.seconds / std::max(1, c.spp), c.rmse, c.rmse_raw,
         c.bias, c.bias_sq, c.bias_sq_stderr, c.bias_z(), c.noise,
-        result.reference_mean > 0.0 ? c.rmse / result.reference_mean : 0.0, c.speedup, c.seed_a, c.scene_file.string());
+        result.reference_mean > 0.0 ? c.rmse / result.reference_mean : 0.0, c.speedup, c.seed_a, c.scene_file.string(),
+        c.cloth_bias, c.cloth_bias_sq_stderr, result.cloth_mean > 0.0 ? c.cloth_bias / result.cloth_mean : 0.0,
+        c.cloth_difference);
   }
   return csv;
 }
@@ -445,6 +490,8 @@ std::string study_json(const StudyResult& result) {
                     {"seed", result.reference_seed},
                     {"mean_pixel", result.reference_mean},
                     {"mean_variance", mean_variance(result.reference)},
+                    {"cloth_pixels", result.cloth_pixels},
+                    {"cloth_mean_pixel", result.cloth_mean},
                     {"scene", result.reference_scene.string()},
                     {"width", result.reference.width},
                     {"height", result.reference.height}};
@@ -473,6 +520,10 @@ std::string study_json(const StudyResult& result) {
                                {"bias_sq", c.bias_sq},
                                {"bias_sq_stderr", c.bias_sq_stderr},
                                {"bias_z", c.bias_z()},
+                               {"cloth_bias", c.cloth_bias},
+                               {"cloth_bias_sq", c.cloth_bias_sq},
+                               {"cloth_bias_sq_stderr", c.cloth_bias_sq_stderr},
+                               {"cloth_difference", c.cloth_difference},
                                {"noise", c.noise},
                                {"speedup", num(c.speedup)},
                                {"seed", c.seed_a},

@@ -63,6 +63,9 @@ struct StudySpec {
   /// `weft validate --window`): "yarn" needs a grid whose provenance records the yarn diameter
   /// (otherwise weft::Error before anything is written: no voxel-dependent fallback).
   std::string scale = "yarn";
+  /// The local-gamma candidates' memory rules (docs/render.md §5e), one candidate per rule and
+  /// factor: `local-gamma-Nx` (segment), `local-gamma-<rule>-Nx` (the others).
+  std::vector<transmittance::MemoryRule> memory_rules{transmittance::MemoryRule::segment};
   /// Folder for the candidates' grids, fields and scene files (created; rank 0 writes).
   std::filesystem::path work_dir;
   /// Receives one line per stage ("rendering local-gamma-4x ..."); may be null.
@@ -86,8 +89,10 @@ struct BiasEstimate {
   double bias_sq = 0.0;    ///< may be < 0 by noise
   double stderr_sq = 0.0;  ///< standard error of bias_sq
 };
-/// Throws weft::Error for images of different sizes.
-[[nodiscard]] BiasEstimate estimate_bias(const Image& a, const Image& b, const Image& reference);
+/// Only the pixels where `mask` (one flag per pixel, if given) is set count. Throws weft::Error
+/// for images of different sizes.
+[[nodiscard]] BiasEstimate estimate_bias(const Image& a, const Image& b, const Image& reference,
+                                         const std::vector<bool>* mask = nullptr);
 
 /// One (spp, seconds, rmse) point of a candidate's first image on its way to its budget.
 struct StudyPoint {
@@ -114,6 +119,12 @@ struct StudyCandidate {
   double bias_sq_stderr = 0.0;  ///< its standard error (per-value terms over √n)
   /// bias_sq in standard errors (0 when the error is 0): |z| < 5 is no detectable bias.
   [[nodiscard]] double bias_z() const { return bias_sq_stderr > 0.0 ? bias_sq / bias_sq_stderr : 0.0; }
+  /// The same over the cloth's pixels (StudyResult::cloth_mask).
+  double cloth_bias = 0.0;
+  double cloth_bias_sq = 0.0;
+  double cloth_bias_sq_stderr = 0.0;
+  /// Mean of (A + B)/2 − R over the cloth's values: the sign of the bias (> 0: too bright).
+  double cloth_difference = 0.0;
   double speedup = 0.0;           ///< t_fine(rmse)/seconds (NaN for the fine grid itself)
   std::vector<StudyPoint> curve;  ///< at every power of two of spp, and at the end
   Image image;                    ///< A
@@ -124,6 +135,11 @@ struct StudyResult {
   Image reference;
   double reference_seconds = 0.0;
   double reference_mean = 0.0;  ///< mean pixel value of the reference (for relative errors)
+  /// The cloth's pixels: where the reference differs from the scene without the cloth by more
+  /// than 5 standard errors in a channel; their number and the reference's mean over them.
+  std::vector<bool> cloth_mask;
+  int cloth_pixels = 0;
+  double cloth_mean = 0.0;
   std::filesystem::path reference_scene;
   std::uint64_t reference_seed = 0;
   std::string mode;  ///< "time budget of S s per candidate" or "fixed N spp per candidate"

@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "image_mean.h"
 #include "weft/core/error.h"
 #include "weft/render/local_gamma.h"
 #include "weft/render/medium.h"
@@ -47,22 +48,8 @@ fs::path write_fields(const std::string& name, int n, double h, double lo, float
   return path;
 }
 
-struct Estimate {
-  double mean = 0.0;
-  double stderr_ = 0.0;
-};
-Estimate image_mean(const Image& im) {
-  double sum = 0.0;
-  double var = 0.0;
-  int n = 0;
-  for (int y = 0; y < im.height; ++y)
-    for (int x = 0; x < im.width; ++x) {
-      sum += im.at(x, y, 0);
-      var += im.var_at(x, y, 0);
-      ++n;
-    }
-  return {sum / n, std::sqrt(var) / n};
-}
+using test::Estimate;
+using test::image_mean;
 
 /// The same cube scene as render_test's grid-medium tests: [-0.5, 0.5]³ of `medium`.
 std::string cube_scene(const std::string& medium, int spp) {
