@@ -180,7 +180,8 @@ CurveDifference curve_difference(const volume::TransmittanceCurve& a, const volu
   if (a.size() != b.size() || a.size() == 0) fail("curve difference: {} depths against {}", a.size(), b.size());
   CurveDifference d;
   double sq = 0.0;
-  double se = 0.0;
+  double se_a = 0.0;
+  double se_b = 0.0;
   for (std::size_t k = 0; k < a.size(); ++k) {
     if (std::abs(a.depth[k] - b.depth[k]) > 1e-9 * std::max(1.0, std::abs(a.depth[k])))
       fail("curve difference: depth {} is {} against {}", k, a.depth[k], b.depth[k]);
@@ -188,11 +189,13 @@ CurveDifference curve_difference(const volume::TransmittanceCurve& a, const volu
     const double tb = b.transmittance(k);
     sq += (ta - tb) * (ta - tb);
     d.max_abs = std::max(d.max_abs, std::abs(ta - tb));
-    se += a.stderr_abs(k) * a.stderr_abs(k) + b.stderr_abs(k) * b.stderr_abs(k);
+    se_a += a.stderr_abs(k) * a.stderr_abs(k);
+    se_b += b.stderr_abs(k) * b.stderr_abs(k);
   }
   const auto n = static_cast<double>(a.size());
   d.rms = std::sqrt(sq / n);
-  d.rms_stderr = std::sqrt(se / n);
+  d.rms_stderr_a = std::sqrt(se_a / n);
+  d.rms_stderr_b = std::sqrt(se_b / n);
   d.end_a = a.transmittance(a.size() - 1);
   d.end_b = b.transmittance(b.size() - 1);
   return d;

@@ -48,11 +48,12 @@ namespace weft::fibres {
 /// How far a voxel beam's T is from the fibre beam's on the same depths (the voxelization
 /// error, docs/validate.md §Voxelization error).
 struct CurveDifference {
-  double rms = 0.0;         ///< √(mean over depths of (T_a − T_b)²)
-  double max_abs = 0.0;     ///< max over depths of |T_a − T_b|
-  double rms_stderr = 0.0;  ///< √(mean over depths of se_a² + se_b²): the noise in `rms`
-  double end_a = 0.0;       ///< T_a at the last depth
-  double end_b = 0.0;       ///< T_b at the last depth
+  double rms = 0.0;           ///< √(mean over depths of (T_a − T_b)²)
+  double max_abs = 0.0;       ///< max over depths of |T_a − T_b|
+  double rms_stderr_a = 0.0;  ///< √(mean over depths of se_a²)
+  double rms_stderr_b = 0.0;  ///< √(mean over depths of se_b²): the noise of a jittered fibre beam
+  double end_a = 0.0;         ///< T_a at the last depth
+  double end_b = 0.0;         ///< T_b at the last depth
 };
 /// Throws weft::Error when the depth grids differ.
 [[nodiscard]] CurveDifference curve_difference(const volume::TransmittanceCurve& a,
