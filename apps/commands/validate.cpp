@@ -265,7 +265,8 @@ const Registrar kValidate{Command{
             skipped["transmittance.png"] = fmt::format("not rendered: {}", why);
             skipped["cloth.png"] = fmt::format("not rendered: {}", why);
           } else {
-            const auto chart = save_transmittance_figure(v, title, units, out / "transmittance.png");
+            const auto chart = save_transmittance_figure(v, title, units, out / "transmittance.png",
+                                                         fibre_check ? &fibre_check->curves : nullptr);
             if (chart.written)
               outputs.add(out / "transmittance.png", "T(t) per axis, every model");
             else
