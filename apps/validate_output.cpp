@@ -58,7 +58,8 @@ ModelStyle model_style(const std::string& m) {
 }
 
 viz::RenderOutcome save_transmittance_figure(const fit::Validation& v, const std::string& title,
-                                             const std::string& units, const std::filesystem::path& path) {
+                                             const std::string& units, const std::filesystem::path& path,
+                                             const std::vector<volume::TransmittanceCurve>* fibres) {
   std::vector<viz::Chart> panels;
   for (const auto& a : v.axes) {
     viz::Chart c;
@@ -106,6 +107,18 @@ viz::RenderOutcome save_transmittance_figure(const fit::Validation& v, const std
       c.series.push_back(s);
     }
     c.series.insert(c.series.begin(), g);
+    // --- weft validate --fibres: the fibre ground truth on the same rays (validate_fibres.h) ---
+    if (fibres != nullptr && panels.size() < fibres->size()) {
+      const auto& fc = (*fibres)[panels.size()];
+      viz::Series f;
+      f.label = fmt::format("fibres {} (opaque)", a.label);
+      f.color = axis_color(a.direction);
+      f.style = viz::LineStyle::dotted;
+      f.width = 2.0f;
+      f.x = fc.depth;
+      for (std::size_t k = 0; k < fc.size(); ++k) f.y.push_back(std::max(1e-12, fc.transmittance(k)));
+      c.series.insert(c.series.begin() + 1, f);
+    }
     c.y_range = std::make_pair(std::max(1e-6, std::min(1e-2, 0.5 * tmin)), 1.15);
     c.x_range = std::make_pair(0.0, gt.depth.back());
     panels.push_back(std::move(c));

@@ -26,9 +26,11 @@ struct ModelStyle {
 
 /// transmittance.png: small multiples, one panel per axis: ground truth with its ±2 standard
 /// error band, the paper's gamma law, every predictive model, the least-squares reference and
-/// the exponential; log T over depth in `units`.
-[[nodiscard]] viz::RenderOutcome save_transmittance_figure(const fit::Validation& v, const std::string& title,
-                                                           const std::string& units, const std::filesystem::path& path);
+/// the exponential; log T over depth in `units`. `fibres` (weft validate --fibres): T_fibre per
+/// axis of `v`, drawn as a thin curve in the axis colour.
+[[nodiscard]] viz::RenderOutcome save_transmittance_figure(
+    const fit::Validation& v, const std::string& title, const std::string& units, const std::filesystem::path& path,
+    const std::vector<volume::TransmittanceCurve>* fibres = nullptr);
 
 /// The summary table: per axis, RMS error on T of every model and its ratio to the exponential.
 [[nodiscard]] std::vector<std::string> summary_table(const fit::Validation& v);

@@ -1,5 +1,6 @@
-// `weft measure`: ground-truth transmittance of beams through a grid (DDA), and optionally the
-// particle-origin (T_S) vs source-origin (T_Q) rays of the reciprocity check.
+// `weft measure`: ground-truth transmittance of beams through a grid (DDA), optionally the
+// particle-origin (T_S) vs source-origin (T_Q) rays of the reciprocity check, and the fibre
+// ground truth of the same beams (--fibres, docs/validate.md §Fibre ground truth).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -8,11 +9,14 @@
 #include <nlohmann/json.hpp>
 
 #include "command.h"
+#include "data_gen/cloth/grid_fibres.h"
 #include "grid_input.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
+#include "weft/fibres/fibre_beam.h"
 #include "weft/volume/beam.h"
 #include "weft/volume/grid.h"
+#include "weft/volume/voxel_rule.h"
 #include "written_files.h"
 
 namespace weft::app {
@@ -33,6 +37,12 @@ struct MeasureOptions {
   std::uint64_t scatterer_rays = 100000;
   std::string scatterer_direction;
   std::string out = "weft-out";
+  bool fibres = false;
+  int fibre_rays = 1;
+  double fibre_extinction = 0.0;  // 0: opaque
+  CLI::Option* fibre_extinction_option = nullptr;
+  CLI::Option* fibre_rays_option = nullptr;
+  std::string voxel_rule = "linear";
 };
 
 std::string num(double x) { return std::isfinite(x) ? fmt::format("{:.10g}", x) : (x < 0 ? "-inf" : "inf"); }
@@ -58,6 +68,19 @@ const Registrar kMeasure{Command{
       sub.add_option("--scatterer-rays", o->scatterer_rays, "Rays of each kind for --scatterer")->capture_default_str();
       sub.add_option("--scatterer-direction", o->scatterer_direction,
                      "Fixed direction of --scatterer rays (default: isotropic)");
+      sub.add_flag("--fibres", o->fibres,
+                   "Also trace the beams through the fibres the grid was generated from (regenerated from its "
+                   "weft gen provenance), on the same ray lattice: fibres.csv and the voxel-fibre difference");
+      o->fibre_rays_option =
+          sub.add_option("--fibre-rays", o->fibre_rays, "Jittered rays per lattice cell of the fibre beams (--fibres)")
+              ->capture_default_str();
+      o->fibre_extinction_option =
+          sub.add_option("--fibre-extinction", o->fibre_extinction,
+                         "Extinction inside the fibres [1/length] for --fibres (default: opaque fibres)");
+      sub.add_option("--voxel-rule", o->voxel_rule,
+                     "How concentration becomes extinction in the voxel beams: linear (sigma C) | opaque "
+                     "(-max(sigma, 1/h) ln(1 - C), docs/validate.md)")
+          ->capture_default_str();
       sub.add_option("--out", o->out,
                      "Output folder (created if missing): beams.csv, measure.json, scatterer.csv with --scatterer")
           ->capture_default_str();
@@ -79,15 +102,32 @@ const Registrar kMeasure{Command{
               "{}: axis beams' rays in one voxel column cross the same voxels, so more rays per column and "
               "jitter cannot change T or its error; drop them, or add an oblique --direction (e.g. 1,1,1)",
               o->rays > 1 ? fmt::format("--rays {}", o->rays) : std::string("--jitter"));
+        const auto rule = as_usage([&] { return volume::parse_voxel_rule(o->voxel_rule); });
+        if (rule != volume::VoxelRule::linear && o->input.extinction())
+          usage_fail("--voxel-rule {} needs concentration values, not --values extinction", o->voxel_rule);
+        if (!o->fibres && (o->fibre_extinction_option->count() > 0 || o->fibre_rays_option->count() > 0))
+          usage_fail("--fibre-rays and --fibre-extinction need --fibres");
+        if (o->fibre_rays < 1) usage_fail("--fibre-rays must be >= 1, got {}", o->fibre_rays);
+        if (o->fibre_extinction_option->count() > 0 && !(o->fibre_extinction > 0.0))
+          usage_fail("--fibre-extinction must be > 0, got {}", o->fibre_extinction);
         const LoadedGrid loaded = load_grid_input(o->input);
-        const volume::Grid& grid = loaded.grid;
-        const double sigma = loaded.sigma.sigma;
+        // The fibres first: a grid that does not name its fibres is refused before any beam.
+        std::optional<fibres::CapsuleIndex> fibre_index;
+        if (o->fibres) {
+          fibre_index.emplace(cloth::fibre_geometry(cloth::fibers_of_grid(loaded.grid, o->input.grid, ctx.progress)));
+        }
+        const bool ruled = rule != volume::VoxelRule::linear;
+        const volume::Grid grid = ruled ? volume::extinction_grid(loaded.grid, loaded.sigma.sigma, rule) : loaded.grid;
+        const double sigma = ruled ? 1.0 : loaded.sigma.sigma;
+        const std::string values =
+            ruled ? fmt::format("{} ({} voxel rule)", o->input.values, o->voxel_rule) : o->input.values;
+        const double fibre_kappa = o->fibre_extinction_option->count() > 0 ? o->fibre_extinction : fibres::kOpaque;
 
         // The first line records σ and the grid, so `weft fit --beams` can refuse curves of another σ or grid.
-        std::string csv =
-            beams_record_line({sigma, o->input.values, grid.voxel_size(), grid.active_voxel_count(), grid.sum()}) +
-            "beam,dx,dy,dz,t,T,stderr,logT\n";
+        std::string csv = beams_record_line({sigma, values, grid.voxel_size(), grid.active_voxel_count(), grid.sum()}) +
+                          "beam,dx,dy,dz,t,T,stderr,logT\n";
         json beams = json::array();
+        std::string fibre_csv = "beam,dx,dy,dz,t,T_fibre,stderr_fibre,T_voxel,stderr_voxel\n";
         for (std::size_t b = 0; b < dirs.size(); ++b) {
           volume::BeamSpec spec;
           spec.direction = dirs[b];
@@ -114,6 +154,27 @@ const Registrar kMeasure{Command{
                            {"T_at_depth_max", curve.transmittance(curve.size() - 1)},
                            {"logT_at_depth_max", curve.log_t.back()},
                            {"seconds", secs}});
+          if (fibre_index) {
+            volume::BeamSpec fs = spec;
+            fs.rays_per_column = o->fibre_rays;
+            fs.jitter = o->fibre_rays > 1;
+            const auto f0 = std::chrono::steady_clock::now();
+            const auto fc = fibres::measure_fibre_beam(*fibre_index, grid, fs, fibre_kappa, ctx.progress);
+            const double fsecs = std::chrono::duration<double>(std::chrono::steady_clock::now() - f0).count();
+            for (std::size_t k = 0; k < fc.size(); ++k) {
+              fibre_csv += fmt::format("{},{},{},{},{},{},{},{},{}\n", b, num(fc.direction[0]), num(fc.direction[1]),
+                                       num(fc.direction[2]), num(fc.depth[k]), num(fc.transmittance(k)),
+                                       num(fc.stderr_abs(k)), num(curve.transmittance(k)), num(curve.stderr_abs(k)));
+            }
+            const auto diff = fibres::curve_difference(curve, fc);
+            beams.back()["fibres"] = {{"rays", fc.rays},
+                                      {"method", fc.method},
+                                      {"T_fibre_at_depth_max", diff.end_b},
+                                      {"rms_T_voxel_minus_T_fibre", diff.rms},
+                                      {"max_abs_T_voxel_minus_T_fibre", diff.max_abs},
+                                      {"rms_stderr_fibre", diff.rms_stderr_b},
+                                      {"seconds", fsecs}};
+          }
         }
         std::string scatterer_csv;
         json scatterer = nullptr;
@@ -146,7 +207,10 @@ const Registrar kMeasure{Command{
         json report = {{"weft", "measure"},
                        {"grid", fs::absolute(o->input.grid).string()},
                        {"grid_name", grid.name()},
-                       {"values", o->input.values},
+                       {"values", values},
+                       {"voxel_rule", o->voxel_rule},
+                       {"fibres", o->fibres ? json(fibre_kappa == fibres::kOpaque ? json("opaque") : json(fibre_kappa))
+                                            : json(nullptr)},
                        {"sigma", sigma},
                        {"sigma_source", loaded.sigma.source},
                        {"voxel_size", grid.voxel_size()},
@@ -159,6 +223,10 @@ const Registrar kMeasure{Command{
         WrittenFiles files;
         write_text_atomically(out / "beams.csv", csv);
         files.add(out / "beams.csv", "T(t) per beam");
+        if (o->fibres) {
+          write_text_atomically(out / "fibres.csv", fibre_csv);
+          files.add(out / "fibres.csv", "T_fibre(t) and T_voxel(t) per beam");
+        }
         if (o->scatterer) {
           write_text_atomically(out / "scatterer.csv", scatterer_csv);
           files.add(out / "scatterer.csv", "T_S, T_Q, p_Q");
@@ -177,6 +245,15 @@ const Registrar kMeasure{Command{
                               b["direction"].get<std::string>(), distinct, b["depth_max"].get<double>(),
                               b["T_at_depth_max"].get<double>(), b["logT_at_depth_max"].get<double>(),
                               b["seconds"].get<double>(), b["method"].get<std::string>()));
+          if (b.contains("fibres")) {
+            const auto& f = b["fibres"];
+            ctx.say(fmt::format(
+                "  fibres {:>9} rays  T = {:.4e}  voxel - fibre: RMS {:.4f} max {:.4f} (noise {:.4f})  "
+                "{:.2f}s",
+                f["rays"].get<std::uint64_t>(), f["T_fibre_at_depth_max"].get<double>(),
+                f["rms_T_voxel_minus_T_fibre"].get<double>(), f["max_abs_T_voxel_minus_T_fibre"].get<double>(),
+                f["rms_stderr_fibre"].get<double>(), f["seconds"].get<double>()));
+          }
         }
         if (o->scatterer) {
           ctx.say(fmt::format("scatterer rays: max |p_Q - mu T_S|/mu = {:.3g}",

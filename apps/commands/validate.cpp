@@ -4,6 +4,7 @@
 // pattern × yarn preset × voxel size.
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -13,6 +14,7 @@
 #include "grid_input.h"
 #include "validate_common.h"
 #include "validate_corpus.h"
+#include "validate_fibres.h"
 #include "validate_output.h"
 #include "validate_scenes.h"
 #include "validate_sweep.h"
@@ -49,6 +51,7 @@ struct ValidateOptions {
   bool resume = false;
   std::vector<std::string> cases;
   bool scenes = false;
+  bool fibres = false;  // the fibre ground truth beside T_gt (validate_fibres.h)
 };
 
 const Registrar kValidate{Command{
@@ -99,8 +102,13 @@ const Registrar kValidate{Command{
       sub.add_flag("--resume", o->resume,
                    "With --sweep or --corpus: keep the units (sweep points, cases) a killed run finished "
                    "(OUT/units/) and compute only the rest; same options required");
+      sub.add_flag("--fibres", o->fibres,
+                   "Also measure each axis through the fibres the grid was generated from (opaque, same rays): "
+                   "T_fibre and the voxelization error T_gt - T_fibre in report.json (docs/validate.md)");
       return [o](const Context& ctx) -> int {
         const auto t_start = std::chrono::steady_clock::now();
+        if (o->fibres && (o->sweep || o->corpus))
+          usage_fail("--fibres goes with a validation, not --sweep or --corpus");
         if (o->quick && !o->sweep && !o->corpus) usage_fail("--quick needs --sweep or --corpus");
         if (o->resume && !o->sweep && !o->corpus) usage_fail("--resume needs --sweep or --corpus");
         if (!o->cases.empty() && !o->corpus) usage_fail("--cases needs --corpus");
@@ -184,6 +192,10 @@ const Registrar kValidate{Command{
         timings["scale"] = seconds_since(t0);
         spec.scale = scale.length;
         const fit::Validation v = fit::validate(grid, spec, ctx.progress);
+        std::optional<FibreCheck> fibre_check;  // before any output: a grid without its fibres writes nothing
+        if (o->fibres)
+          fibre_check =
+              check_against_fibres(grid, v, spec.seed, o->input.grid.empty() ? "cloth" : o->input.grid, ctx.progress);
 
         // Texts first (in memory), then files.
         const auto box = grid.active_bbox();
@@ -204,6 +216,7 @@ const Registrar kValidate{Command{
         report["window_meaning"] =
             "scale L of every predictive model: window of the window statistics (all positions along every column, "
             "stride one voxel), cell of the across-beam groups and block of the local fields";
+        if (fibre_check) report["fibre_ground_truth"] = fibre_check->report;
         report["rays_per_column"] = spec.rays_per_column;
         report["seed"] = spec.seed;
         if (v.has_isotropic) timings["isotropic_stats"] = v.isotropic_seconds;
@@ -252,7 +265,8 @@ const Registrar kValidate{Command{
             skipped["transmittance.png"] = fmt::format("not rendered: {}", why);
             skipped["cloth.png"] = fmt::format("not rendered: {}", why);
           } else {
-            const auto chart = save_transmittance_figure(v, title, units, out / "transmittance.png");
+            const auto chart = save_transmittance_figure(v, title, units, out / "transmittance.png",
+                                                         fibre_check ? &fibre_check->curves : nullptr);
             if (chart.written)
               outputs.add(out / "transmittance.png", "T(t) per axis, every model");
             else
@@ -288,6 +302,9 @@ const Registrar kValidate{Command{
             "baseline{}",
             o->axes, v.axes.empty() ? 0 : v.axes.front().models.size(), o->no_plot ? "; plots off" : "; plots"));
         for (const auto& line : summary_table(v)) ctx.say(line);
+        if (fibre_check) {
+          for (const auto& line : fibre_check->summary) ctx.say(line);
+        }
         std::string stages;
         for (auto it = timings.begin(); it != timings.end(); ++it) {
           stages += fmt::format("{}{} {:.2f}s", stages.empty() ? "" : ", ", it.key(), it.value().get<double>());

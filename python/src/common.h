@@ -27,6 +27,7 @@ void init_grid(py::module_& m);
 void init_measure(py::module_& m);
 void init_cloth(py::module_& m);
 void init_render(py::module_& m);
+void init_fibres(py::module_& m);
 
 /// Thrown through library code (from a progress callback) to stop a long call when the Python
 /// callback raised or the user pressed Ctrl-C; `run_released` re-raises the Python error.

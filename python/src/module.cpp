@@ -51,4 +51,5 @@ PYBIND11_MODULE(_weft, m) {
   weft::python::init_measure(m);
   weft::python::init_cloth(m);
   weft::python::init_render(m);
+  weft::python::init_fibres(m);
 }

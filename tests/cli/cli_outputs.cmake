@@ -89,6 +89,36 @@ if(CMAKE_SCRIPT_MODE_FILE)
     if(NOT out MATCHES "note: beam \\+z: 3 rays per column cross the same voxels. ${axis_rays} distinct rays")
       check_fail("no note on the axis beam's identical rays: ${out}")
     endif()
+  elseif(CASE STREQUAL "measure_fibres")
+    # The fibre ground truth beside the voxel beams (docs/validate.md §Fibre ground truth): the
+    # grid names its fibres (weft gen provenance), fibres.csv is listed, each beam has its block.
+    run_weft(-q gen --yarns 2x2 --voxel-size 0.02 --write grid --out ${WORK}/g)
+    run_weft(measure --grid ${WORK}/g/cloth.vdb --direction z --direction 1,1,2 --fibres --fibre-rays 4
+             --voxel-rule opaque --out ${WORK}/m)
+    check_listed(${WORK}/m)
+    check_report_size(${WORK}/m/measure.json fibres.csv)
+    file(READ ${WORK}/m/measure.json report)
+    foreach(b 0 1)
+      string(JSON t GET "${report}" beams ${b} fibres T_fibre_at_depth_max)
+      string(JSON rms GET "${report}" beams ${b} fibres rms_T_voxel_minus_T_fibre)
+      if(NOT t GREATER 0.05 OR NOT t LESS 0.95 OR NOT rms LESS 0.2)
+        check_fail("beam ${b}: T_fibre ${t}, voxel - fibre RMS ${rms}")
+      endif()
+    endforeach()
+  elseif(CASE STREQUAL "validate_fibres")
+    # validate --fibres on a generated grid: one fibre_ground_truth entry per validated axis.
+    run_weft(-q gen --yarns 2x2 --voxel-size 0.02 --write grid --out ${WORK}/g)
+    run_weft(validate --grid ${WORK}/g/cloth.vdb --axes x,z --fibres --no-plot --out ${WORK}/v)
+    file(READ ${WORK}/v/report.json report)
+    foreach(axis +x +z)
+      string(JSON t GET "${report}" fibre_ground_truth axes ${axis} T_fibre_at_depth_max)
+      if(NOT t GREATER 0.05 OR NOT t LESS 0.95)
+        check_fail("axis ${axis}: T_fibre ${t}")
+      endif()
+    endforeach()
+    if(NOT out MATCHES "fibres \\+z: T_fibre\\(end\\) = ")
+      check_fail("no fibre line for +z in: ${out}")
+    endif()
   elseif(CASE STREQUAL "export")
     # Warp and weft of different fibre radii (cotton 6 um, wool 10 um): export takes the σ of the
     # grid's provenance, the same number measure reports for that grid, and lists its four files.
@@ -138,7 +168,7 @@ if(CMAKE_SCRIPT_MODE_FILE)
   return()
 endif()
 
-foreach(case gen fit_block measure export render_out render_o)
+foreach(case gen fit_block measure measure_fibres validate_fibres export render_out render_o)
   add_test(NAME cli.outputs.${case}
            COMMAND ${CMAKE_COMMAND} -DCASE=${case} -DWEFT=$<TARGET_FILE:weft> -DWORK=${CMAKE_CURRENT_BINARY_DIR}/outputs_${case}
                    -DGRIDS=${CMAKE_CURRENT_BINARY_DIR}/grids -P ${CMAKE_CURRENT_LIST_FILE})

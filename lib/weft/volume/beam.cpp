@@ -18,6 +18,7 @@
 #include "weft/volume/dda.h"
 #include "weft/volume/dda_impl.h"
 #include "weft/volume/grid_openvdb.h"
+#include "weft/volume/lattice.h"
 
 namespace weft::volume {
 namespace {
@@ -26,20 +27,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr std::size_t kMaxShards = 64;  // fixed, so reductions do not depend on the thread count
 
 using Vec3 = std::array<double, 3>;
-
-Vec3 normalized(const Vec3& d, const char* what) {
-  for (double c : d) {
-    if (!std::isfinite(c)) fail("{}: direction ({}, {}, {}) is not finite", what, d[0], d[1], d[2]);
-  }
-  const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-  if (!(len > 0.0)) fail("{}: direction ({}, {}, {}) has no length", what, d[0], d[1], d[2]);
-  return {d[0] / len, d[1] / len, d[2] / len};
-}
-
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 /// The optical depths of the columns of one face patch on the depth grid, depth-major
 /// (tau[k·cols + c]), so that per-depth reductions over the columns are contiguous loops.
@@ -274,115 +261,10 @@ struct ProfileBuilder {
   }
 };
 
-std::vector<double> depth_grid(double length, double step) {
-  const double n = std::ceil(length / step - 1e-9);
-  const auto count = static_cast<std::size_t>(std::max(1.0, n));
-  if (count > 50'000'000) fail("beam: depth grid of {} points is too fine", count);
-  std::vector<double> d(count + 1);
-  for (std::size_t k = 0; k <= count; ++k) d[k] = std::min(static_cast<double>(k) * step, length);
-  return d;
-}
-
-/// The rays of a beam: a lattice of cells on the plane perpendicular to the direction.
-struct Lattice {
-  Vec3 d{};
-  int axis = -1;
-  Vec3 e1{};
-  Vec3 e2{};
-  Vec3 origin{};  // world point of lattice cell (0,0)'s corner, upstream of the box
-  std::int64_t na = 0;
-  std::int64_t nb = 0;
-  int per_cell = 1;
-  bool jitter = false;
-  std::uint64_t seed = 1;
-  std::int64_t stride = 1;  ///< BeamSpec::column_stride
-  double h = 1.0;
-  std::vector<double> depths;
-};
+using Lattice = BeamLattice;
 
 Lattice make_lattice(const Grid& grid, const BeamSpec& spec) {
-  Lattice L;
-  L.d = normalized(spec.direction, "beam");
-  L.axis = beam_axis(spec.direction);
-  L.h = grid.voxel_size();
-  L.per_cell = spec.rays_per_column;
-  L.jitter = spec.jitter || spec.rays_per_column > 1;
-  L.seed = spec.seed;
-  L.stride = spec.column_stride;
-  const IndexBox box = grid.active_bbox();
-  const auto o = grid.origin();
-  Vec3 lo{};
-  Vec3 hi{};
-  for (int a = 0; a < 3; ++a) {
-    lo[a] = o[a] + L.h * box.min[a];
-    hi[a] = o[a] + L.h * (box.max[a] + 1);
-  }
-  const double step = spec.depth_step > 0.0 ? spec.depth_step : L.h;
-  if (L.axis >= 0) {
-    const int a = L.axis;
-    const int ua = (a + 1) % 3;
-    const int va = (a + 2) % 3;
-    L.e1 = {0, 0, 0};
-    L.e2 = {0, 0, 0};
-    L.e1[ua] = 1.0;
-    L.e2[va] = 1.0;
-    L.origin = lo;
-    if (L.d[a] < 0.0) L.origin[a] = hi[a];
-    L.na = box.extent()[ua];
-    L.nb = box.extent()[va];
-    L.depths = depth_grid(hi[a] - lo[a], step);
-    return L;
-  }
-  // A general direction: project the box's corners on the plane ⊥ d.
-  const Vec3 helper = std::abs(L.d[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-  L.e1 = normalized(cross(L.d, helper), "beam");
-  L.e2 = cross(L.d, L.e1);
-  double amin = kInf;
-  double amax = -kInf;
-  double bmin = kInf;
-  double bmax = -kInf;
-  double cmin = kInf;
-  for (int c = 0; c < 8; ++c) {
-    const Vec3 p{(c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1], (c & 4) ? hi[2] : lo[2]};
-    amin = std::min(amin, dot(p, L.e1));
-    amax = std::max(amax, dot(p, L.e1));
-    bmin = std::min(bmin, dot(p, L.e2));
-    bmax = std::max(bmax, dot(p, L.e2));
-    cmin = std::min(cmin, dot(p, L.d));
-  }
-  const double upstream = cmin - L.h;
-  for (int a = 0; a < 3; ++a) L.origin[a] = amin * L.e1[a] + bmin * L.e2[a] + upstream * L.d[a];
-  L.na = static_cast<std::int64_t>(std::ceil((amax - amin) / L.h - 1e-9));
-  L.nb = static_cast<std::int64_t>(std::ceil((bmax - bmin) / L.h - 1e-9));
-  double chord = kInf;
-  for (int a = 0; a < 3; ++a) {
-    if (L.d[a] != 0.0) chord = std::min(chord, (hi[a] - lo[a]) / std::abs(L.d[a]));
-  }
-  L.depths = depth_grid(chord, step);
-  return L;
-}
-
-/// A ray of the lattice: starts at the box face for axis beams, upstream otherwise.
-Ray lattice_ray(const Lattice& L, std::int64_t i, std::int64_t j, double ja, double jb) {
-  Ray r;
-  const double a = (static_cast<double>(i) + ja) * L.h;
-  const double b = (static_cast<double>(j) + jb) * L.h;
-  for (int c = 0; c < 3; ++c) r.origin[c] = L.origin[c] + a * L.e1[c] + b * L.e2[c];
-  r.direction = L.d;
-  return r;
-}
-
-/// Keeps one lattice cell per stride×stride block of cells (BeamSpec::column_stride), at an
-/// offset drawn from the block's own stream, so the subset does not depend on the method.
-bool keep_cell(const Lattice& L, std::int64_t i, std::int64_t j) {
-  if (L.stride <= 1) return true;
-  const std::int64_t s = L.stride;
-  const std::int64_t bi = i / s;
-  const std::int64_t bj = j / s;
-  const std::int64_t blocks_b = (L.nb + s - 1) / s;
-  Pcg32 rng = stream_for(L.seed ^ 0x636f6c756d6e73ULL, static_cast<std::uint64_t>(bi * blocks_b + bj));
-  const auto pick = static_cast<std::int64_t>(rng.uniform_below(static_cast<std::uint32_t>(s * s)));
-  return i - bi * s == pick / s && j - bj * s == pick % s;
+  return make_beam_lattice(active_world_box(grid), grid.voxel_size(), spec);
 }
 
 /// Profiles from the streaming pass (axis beams): τ at voxel boundaries by prefix sums, then
@@ -493,7 +375,7 @@ void stream_columns(const Grid& grid, const Lattice& L, double scale, ProgressSi
         std::size_t kept = 0;
         for (std::size_t c = 0; c < block.cols; ++c) {
           const std::uint64_t ray = block.ray[c];
-          if (!keep_cell(L, static_cast<std::int64_t>(ray / ext_v), static_cast<std::int64_t>(ray % ext_v))) continue;
+          if (!L.keeps(static_cast<std::int64_t>(ray / ext_v), static_cast<std::int64_t>(ray % ext_v))) continue;
           for (std::size_t q = 0; q < K; ++q) block.tau[q * stride + kept] = block.tau[q * stride + c];
           block.ray[kept++] = ray;
         }
@@ -519,18 +401,17 @@ void trace_rays(const Grid& grid, const Lattice& L, double scale, bool use_openv
     auto acc = vdb.getConstAccessor();
     const detail::CellBox box = detail::active_cell_box(vdb);
     std::vector<double> tau(L.depths.size());
+    std::vector<std::array<double, 2>> offsets;
     const std::size_t begin = shard * units / shards;
     const std::size_t end = (shard + 1) * units / shards;
     for (std::size_t i = begin; i < end; ++i) {
       for (std::int64_t j = 0; j < L.nb; ++j) {
-        if (!keep_cell(L, static_cast<std::int64_t>(i), j)) continue;
-        const auto cell =
-            static_cast<std::uint64_t>(i) * static_cast<std::uint64_t>(L.nb) + static_cast<std::uint64_t>(j);
-        Pcg32 rng = stream_for(L.seed, cell);
+        const auto ii = static_cast<std::int64_t>(i);
+        if (!L.keeps(ii, j)) continue;
+        L.offsets(ii, j, offsets);
         for (int r = 0; r < L.per_cell; ++r) {
-          const double ja = L.jitter ? rng.uniform() : 0.5;
-          const double jb = L.jitter ? rng.uniform() : 0.5;
-          Ray ray = lattice_ray(L, static_cast<std::int64_t>(i), j, ja, jb);
+          const auto& off = offsets[static_cast<std::size_t>(r)];
+          Ray ray{L.ray_origin(ii, j, off[0], off[1]), L.d};
           if (L.axis < 0) {
             const BoxHit hit = tracer.intersect_active_box(ray, 0.0);
             if (!hit.hit) continue;
@@ -563,8 +444,7 @@ void trace_rays(const Grid& grid, const Lattice& L, double scale, bool use_openv
             }
           }
           pb.finish();
-          const std::uint64_t index = cell * static_cast<std::uint64_t>(L.per_cell) + static_cast<std::uint64_t>(r);
-          consume(shard, index, tau.data());
+          consume(shard, L.ray_index(ii, j, r), tau.data());
         }
       }
       task.step();
@@ -590,7 +470,7 @@ void check_spec(const Grid& grid, const BeamSpec& spec) {
   if (spec.depth_step != 0.0) require_positive("beam: depth step", spec.depth_step);
   // The first active value, not a count of them all (a parallel pass over every leaf).
   if (!grid.impl().grid->tree().cbeginValueOn()) fail("beam: grid '{}' has no active voxels", grid.name());
-  (void)normalized(spec.direction, "beam");
+  (void)unit_direction(spec.direction, "beam");
   if (spec.method == BeamMethod::streaming && beam_axis(spec.direction) < 0) {
     fail("beam: the streaming method needs an axis direction, got {}", direction_label(spec.direction));
   }
@@ -658,7 +538,7 @@ std::array<double, 3> parse_direction(const std::string& text) {
     ++n;
   }
   if (n != 3) fail("direction '{}': expected x, y, z (optionally signed) or three numbers dx,dy,dz", text);
-  (void)normalized(d, fmt::format("direction '{}'", text).c_str());
+  (void)unit_direction(d, fmt::format("direction '{}'", text).c_str());
   return d;
 }
 
@@ -747,7 +627,7 @@ ScattererCurves measure_scatterer(const Grid& grid, const ScattererSpec& spec, P
   if (grid.active_voxel_count() == 0) fail("scatterer rays: grid '{}' has no active voxels", grid.name());
   const double total = grid.sum();
   if (!(total > 0.0)) fail("scatterer rays: grid '{}' holds no particles (all values 0)", grid.name());
-  const Vec3 fixed = spec.fixed_direction ? normalized(spec.direction, "scatterer rays") : Vec3{0, 0, 1};
+  const Vec3 fixed = spec.fixed_direction ? unit_direction(spec.direction, "scatterer rays") : Vec3{0, 0, 1};
   const auto& vdb = *grid.impl().grid;
   const double h = grid.voxel_size();
   const IndexBox box = grid.active_bbox();
@@ -769,7 +649,7 @@ ScattererCurves measure_scatterer(const Grid& grid, const ScattererSpec& spec, P
   for (int a = 0; a < 3; ++a) diag += std::pow(h * static_cast<double>(ext[a]), 2);
   diag = std::sqrt(diag);
   const double max_depth = spec.max_depth > 0.0 ? spec.max_depth : diag;
-  const std::vector<double> depths = depth_grid(max_depth, spec.depth_step > 0.0 ? spec.depth_step : h);
+  const std::vector<double> depths = beam_depth_grid(max_depth, spec.depth_step > 0.0 ? spec.depth_step : h);
   constexpr std::uint64_t kChunk = 1024;
   const std::uint64_t units = (spec.rays + kChunk - 1) / kChunk;
   const std::size_t shards = static_cast<std::size_t>(std::min<std::uint64_t>(kMaxShards, units));

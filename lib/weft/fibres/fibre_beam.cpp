@@ -1,0 +1,204 @@
+#include "weft/fibres/fibre_beam.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "weft/core/error.h"
+#include "weft/core/parallel.h"
+
+namespace weft::fibres {
+namespace {
+
+constexpr std::size_t kShards = 64;  // fixed, so the sums do not depend on the thread count
+
+/// The parameter range [t0, t1] of the ray o + t·d inside the box, false when it misses.
+bool clip_to_box(const Point3& o, const Point3& d, const volume::WorldBox& box, double& t0, double& t1) {
+  t0 = -1e300;
+  t1 = 1e300;
+  for (int k = 0; k < 3; ++k) {
+    if (d[k] == 0.0) {
+      if (o[k] < box.lo[k] || o[k] > box.hi[k]) return false;
+      continue;
+    }
+    double a = (box.lo[k] - o[k]) / d[k];
+    double b = (box.hi[k] - o[k]) / d[k];
+    if (a > b) std::swap(a, b);
+    t0 = std::max(t0, a);
+    t1 = std::min(t1, b);
+  }
+  return t0 < t1;
+}
+
+/// Σ exp(−τ) and Σ exp(−2τ) per depth over one shard's rays.
+struct Sums {
+  std::vector<double> s1;
+  std::vector<double> s2;
+  std::uint64_t n = 0;
+};
+
+}  // namespace
+
+volume::WorldBox fibre_box(const CapsuleIndex& fibres) {
+  if (fibres.capsule_count() == 0) fail("fibre beam: there are no fibres");
+  return {fibres.lo(), fibres.hi()};
+}
+
+volume::TransmittanceCurve measure_fibre_beam(const CapsuleIndex& fibres, const volume::Grid& grid,
+                                              const volume::BeamSpec& spec, double extinction, ProgressSink& progress) {
+  return measure_fibre_beam(fibres, volume::active_world_box(grid), grid.voxel_size(), spec, extinction, progress);
+}
+
+volume::TransmittanceCurve measure_fibre_beam(const CapsuleIndex& fibres, const volume::WorldBox& box, double cell,
+                                              const volume::BeamSpec& spec, double extinction, ProgressSink& progress) {
+  if (spec.rays_per_column < 1) fail("fibre beam: rays per cell must be >= 1, got {}", spec.rays_per_column);
+  if (spec.column_stride < 1 || spec.column_stride > 4096)
+    fail("fibre beam: column stride must be in 1..4096, got {}", spec.column_stride);
+  if (spec.depth_step != 0.0) require_positive("fibre beam: depth step", spec.depth_step);
+  if (std::isnan(extinction) || extinction < 0.0)
+    fail("fibre beam: extinction inside the fibres must be >= 0 (or infinite: opaque), got {}", extinction);
+  const bool opaque = std::isinf(extinction);
+  const volume::BeamLattice L = volume::make_beam_lattice(box, cell, spec);
+  const std::size_t K = L.depths.size();
+  const auto units = static_cast<std::size_t>(L.na);
+  const std::size_t shards = std::min(kShards, units);
+  std::vector<Sums> parts(shards);
+  ProgressTask task(progress, "fibre beam " + volume::direction_label(L.d), units);
+  parallel_units(shards, [&](std::size_t shard) {
+    Sums& sum = parts[shard];
+    sum.s1.assign(K, 0.0);
+    sum.s2.assign(K, 0.0);
+    std::vector<std::array<double, 2>> offsets;
+    std::vector<Interval> hits;
+    std::vector<std::uint64_t> blocked(K + 1, 0);  // opaque: rays whose first entry lies before depth k
+    const std::size_t begin = shard * units / shards;
+    const std::size_t end = (shard + 1) * units / shards;
+    for (std::size_t i = begin; i < end; ++i) {
+      const auto ii = static_cast<std::int64_t>(i);
+      for (std::int64_t j = 0; j < L.nb; ++j) {
+        if (!L.keeps(ii, j)) continue;
+        L.offsets(ii, j, offsets);
+        for (const auto& off : offsets) {
+          const Point3 o = L.ray_origin(ii, j, off[0], off[1]);
+          double t_in = 0.0;
+          double t_out = L.depths.back();
+          if (L.axis < 0 && !clip_to_box(o, L.d, box, t_in, t_out)) continue;
+          hits.clear();
+          fibres.intersect(o, L.d, t_in, t_out, hits);
+          ++sum.n;
+          if (opaque) {
+            // T_i(t) = 1 up to the first entry, 0 after: counted by the first depth past it.
+            double first = 1e300;
+            for (const Interval& h : hits) first = std::min(first, h[0] - t_in);
+            const auto k =
+                static_cast<std::size_t>(std::upper_bound(L.depths.begin(), L.depths.end(), first) - L.depths.begin());
+            ++blocked[k];
+            continue;
+          }
+          // The union of the intervals (sorted by entry, overlaps merged), then τ at each depth.
+          std::sort(hits.begin(), hits.end());
+          double covered = 0.0;  // length of the union before the current interval
+          std::size_t h = 0;
+          Interval cur{0.0, -1.0};
+          const auto next_union = [&]() {
+            if (h >= hits.size()) return false;
+            cur = hits[h++];
+            while (h < hits.size() && hits[h][0] <= cur[1]) cur[1] = std::max(cur[1], hits[h++][1]);
+            cur[0] -= t_in;
+            cur[1] -= t_in;
+            return true;
+          };
+          bool more = next_union();
+          double tau_prev = -1.0;
+          double e_prev = 1.0;
+          for (std::size_t k = 0; k < K; ++k) {
+            const double t = L.depths[k];
+            while (more && cur[1] <= t) {
+              covered += cur[1] - cur[0];
+              more = next_union();
+            }
+            const double inside = more && cur[0] < t ? t - cur[0] : 0.0;
+            const double tau = extinction * (covered + inside);
+            if (tau != tau_prev) {
+              e_prev = std::exp(-tau);
+              tau_prev = tau;
+            }
+            sum.s1[k] += e_prev;
+            sum.s2[k] += e_prev * e_prev;
+          }
+        }
+      }
+      task.step();
+    }
+    if (opaque) {
+      // Rays whose first entry is at depth ≥ t_k (upper_bound index > k) still see T = 1 there.
+      std::uint64_t through = sum.n;
+      for (std::size_t k = 0; k < K; ++k) {
+        through -= blocked[k];
+        sum.s1[k] = static_cast<double>(through);
+        sum.s2[k] = static_cast<double>(through);
+      }
+    }
+  });
+  Sums total;
+  total.s1.assign(K, 0.0);
+  total.s2.assign(K, 0.0);
+  for (const Sums& p : parts) {
+    if (p.n == 0) continue;
+    for (std::size_t k = 0; k < K; ++k) {
+      total.s1[k] += p.s1[k];
+      total.s2[k] += p.s2[k];
+    }
+    total.n += p.n;
+  }
+  if (total.n == 0) fail("fibre beam {}: no ray entered the box", volume::direction_label(L.d));
+  volume::TransmittanceCurve c;
+  c.depth = L.depths;
+  c.direction = L.d;
+  c.rays = total.n;
+  c.distinct_rays = total.n;
+  c.method = opaque ? "fibres (opaque)" : fmt::format("fibres (extinction {:.6g})", extinction);
+  c.log_t.assign(K, 0.0);
+  c.rel_stderr.assign(K, 0.0);
+  const auto n = static_cast<double>(total.n);
+  for (std::size_t k = 0; k < K; ++k) {
+    if (!(total.s1[k] > 0.0)) {
+      c.log_t[k] = -std::numeric_limits<double>::infinity();
+      continue;
+    }
+    c.log_t[k] = std::log(total.s1[k] / n);
+    const double rel_var = std::max(0.0, n * total.s2[k] / (total.s1[k] * total.s1[k]) - 1.0);
+    c.rel_stderr[k] = total.n > 1 ? std::sqrt(rel_var / (n - 1.0)) : 0.0;
+  }
+  return c;
+}
+
+}  // namespace weft::fibres
+
+namespace weft::fibres {
+
+CurveDifference curve_difference(const volume::TransmittanceCurve& a, const volume::TransmittanceCurve& b) {
+  if (a.size() != b.size() || a.size() == 0) fail("curve difference: {} depths against {}", a.size(), b.size());
+  CurveDifference d;
+  double sq = 0.0;
+  double se_a = 0.0;
+  double se_b = 0.0;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    if (std::abs(a.depth[k] - b.depth[k]) > 1e-9 * std::max(1.0, std::abs(a.depth[k])))
+      fail("curve difference: depth {} is {} against {}", k, a.depth[k], b.depth[k]);
+    const double ta = a.transmittance(k);
+    const double tb = b.transmittance(k);
+    sq += (ta - tb) * (ta - tb);
+    d.max_abs = std::max(d.max_abs, std::abs(ta - tb));
+    se_a += a.stderr_abs(k) * a.stderr_abs(k);
+    se_b += b.stderr_abs(k) * b.stderr_abs(k);
+  }
+  const auto n = static_cast<double>(a.size());
+  d.rms = std::sqrt(sq / n);
+  d.rms_stderr_a = std::sqrt(se_a / n);
+  d.rms_stderr_b = std::sqrt(se_b / n);
+  d.end_a = a.transmittance(a.size() - 1);
+  d.end_b = b.transmittance(b.size() - 1);
+  return d;
+}
+
+}  // namespace weft::fibres

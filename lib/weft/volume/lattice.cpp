@@ -1,0 +1,148 @@
+#include "weft/volume/lattice.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "weft/core/error.h"
+#include "weft/core/rng.h"
+
+namespace weft::volume {
+namespace {
+
+using Vec3 = std::array<double, 3>;
+
+Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/// Whole cells covering `span` (a box edge that is a whole number of cells up to rounding
+/// gets exactly that many).
+std::int64_t cells_over(double span, double h) {
+  return std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(span / h - 1e-6)));
+}
+
+}  // namespace
+
+WorldBox active_world_box(const Grid& grid) {
+  const IndexBox box = grid.active_bbox();
+  if (box.empty()) fail("beam: grid '{}' has no active voxels", grid.name());
+  const auto o = grid.origin();
+  const double h = grid.voxel_size();
+  WorldBox w;
+  for (int a = 0; a < 3; ++a) {
+    w.lo[a] = o[a] + h * box.min[a];
+    w.hi[a] = o[a] + h * (box.max[a] + 1);
+  }
+  return w;
+}
+
+std::array<double, 3> unit_direction(const std::array<double, 3>& d, const char* what) {
+  for (double c : d) {
+    if (!std::isfinite(c)) fail("{}: direction ({}, {}, {}) is not finite", what, d[0], d[1], d[2]);
+  }
+  const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  if (!(len > 0.0)) fail("{}: direction ({}, {}, {}) has no length", what, d[0], d[1], d[2]);
+  return {d[0] / len, d[1] / len, d[2] / len};
+}
+
+std::vector<double> beam_depth_grid(double length, double step) {
+  const double n = std::ceil(length / step - 1e-9);
+  const auto count = static_cast<std::size_t>(std::max(1.0, n));
+  if (count > 50'000'000) fail("beam: depth grid of {} points is too fine", count);
+  std::vector<double> d(count + 1);
+  for (std::size_t k = 0; k <= count; ++k) d[k] = std::min(static_cast<double>(k) * step, length);
+  return d;
+}
+
+std::array<double, 3> BeamLattice::ray_origin(std::int64_t i, std::int64_t j, double ja, double jb) const {
+  const double a = (static_cast<double>(i) + ja) * h;
+  const double b = (static_cast<double>(j) + jb) * h;
+  std::array<double, 3> p{};
+  for (int c = 0; c < 3; ++c) p[c] = origin[c] + a * e1[c] + b * e2[c];
+  return p;
+}
+
+bool BeamLattice::keeps(std::int64_t i, std::int64_t j) const {
+  // One cell per stride×stride block, at an offset drawn from the block's own stream, so the
+  // subset does not depend on the method or the thread.
+  if (stride <= 1) return true;
+  const std::int64_t s = stride;
+  const std::int64_t bi = i / s;
+  const std::int64_t bj = j / s;
+  const std::int64_t blocks_b = (nb + s - 1) / s;
+  Pcg32 rng = stream_for(seed ^ 0x636f6c756d6e73ULL, static_cast<std::uint64_t>(bi * blocks_b + bj));
+  const auto pick = static_cast<std::int64_t>(rng.uniform_below(static_cast<std::uint32_t>(s * s)));
+  return i - bi * s == pick / s && j - bj * s == pick % s;
+}
+
+void BeamLattice::offsets(std::int64_t i, std::int64_t j, std::vector<std::array<double, 2>>& out) const {
+  out.resize(static_cast<std::size_t>(per_cell));
+  Pcg32 rng =
+      stream_for(seed, static_cast<std::uint64_t>(i) * static_cast<std::uint64_t>(nb) + static_cast<std::uint64_t>(j));
+  for (auto& o : out) {
+    o[0] = jitter ? rng.uniform() : 0.5;
+    o[1] = jitter ? rng.uniform() : 0.5;
+  }
+}
+
+BeamLattice make_beam_lattice(const WorldBox& box, double h, const BeamSpec& spec) {
+  require_positive("beam: cell width", h);
+  BeamLattice L;
+  L.d = unit_direction(spec.direction, "beam");
+  L.axis = beam_axis(spec.direction);
+  L.h = h;
+  L.per_cell = spec.rays_per_column;
+  L.jitter = spec.jitter || spec.rays_per_column > 1;
+  L.seed = spec.seed;
+  L.stride = spec.column_stride;
+  const Vec3& lo = box.lo;
+  const Vec3& hi = box.hi;
+  const double step = spec.depth_step > 0.0 ? spec.depth_step : L.h;
+  if (L.axis >= 0) {
+    const int a = L.axis;
+    const int ua = (a + 1) % 3;
+    const int va = (a + 2) % 3;
+    L.e1 = {0, 0, 0};
+    L.e2 = {0, 0, 0};
+    L.e1[ua] = 1.0;
+    L.e2[va] = 1.0;
+    L.origin = lo;
+    if (L.d[a] < 0.0) L.origin[a] = hi[a];
+    L.na = cells_over(hi[ua] - lo[ua], h);
+    L.nb = cells_over(hi[va] - lo[va], h);
+    L.depths = beam_depth_grid(hi[a] - lo[a], step);
+    return L;
+  }
+  // A general direction: project the box's corners on the plane ⊥ d.
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const Vec3 helper = std::abs(L.d[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  L.e1 = unit_direction(cross(L.d, helper), "beam");
+  L.e2 = cross(L.d, L.e1);
+  double amin = kInf;
+  double amax = -kInf;
+  double bmin = kInf;
+  double bmax = -kInf;
+  double cmin = kInf;
+  for (int c = 0; c < 8; ++c) {
+    const Vec3 p{(c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1], (c & 4) ? hi[2] : lo[2]};
+    amin = std::min(amin, dot(p, L.e1));
+    amax = std::max(amax, dot(p, L.e1));
+    bmin = std::min(bmin, dot(p, L.e2));
+    bmax = std::max(bmax, dot(p, L.e2));
+    cmin = std::min(cmin, dot(p, L.d));
+  }
+  const double upstream = cmin - L.h;
+  for (int a = 0; a < 3; ++a) L.origin[a] = amin * L.e1[a] + bmin * L.e2[a] + upstream * L.d[a];
+  L.na = static_cast<std::int64_t>(std::ceil((amax - amin) / L.h - 1e-9));
+  L.nb = static_cast<std::int64_t>(std::ceil((bmax - bmin) / L.h - 1e-9));
+  double chord = kInf;
+  for (int a = 0; a < 3; ++a) {
+    if (L.d[a] != 0.0) chord = std::min(chord, (hi[a] - lo[a]) / std::abs(L.d[a]));
+  }
+  L.depths = beam_depth_grid(chord, step);
+  return L;
+}
+
+}  // namespace weft::volume
