@@ -10,9 +10,32 @@ See docs/python.md.
 
 import json as _json
 import os as _os
+import sys as _sys
 
-from ._weft import *  # noqa: F401,F403  (the compiled bindings)
-from ._weft import Error, Grid, _gen_json, _render, _validate_json
+from . import _build_info
+
+
+def _check_interpreter():
+    """One line saying what to install or which Python to use, instead of a bare import error."""
+    built = _build_info.python
+    if tuple(_sys.version_info[:2]) != tuple(built):
+        raise ImportError("weft was built for Python %d.%d (%s), this is Python %d.%d (%s): run it with that "
+                          "interpreter, or build weft for this one (`%s -m pip install <weft checkout>`)"
+                          % (built[0], built[1], _build_info.python_executable, _sys.version_info[0],
+                             _sys.version_info[1], _sys.executable, _sys.executable))
+    try:
+        import numpy  # noqa: F401  (the bindings return numpy arrays)
+    except ImportError:
+        raise ImportError("weft needs numpy 1.x, which %s cannot import: install it (Debian: apt install "
+                          "python3-numpy; in a venv: pip install 'numpy<2')" % _sys.executable) from None
+
+
+_check_interpreter()
+
+from ._weft import *  # noqa: E402,F401,F403  (the compiled bindings)
+from ._weft import Error, Grid, _gen_json, _render, _validate_json  # noqa: E402
+
+__version__ = _build_info.version
 
 
 def validate(grid, sigma=None, window="yarn", axes="x,y,z", rays_per_column=1, seed=1, progress=None):
