@@ -9,6 +9,7 @@
 #include "weft/fit/scale.h"
 #include "weft/fit/validation.h"
 #include "weft/volume/beam.h"
+#include "weft/volume/beam_checks.h"
 #include "weft/volume/provenance.h"
 
 namespace weft::python {
@@ -67,7 +68,10 @@ void init_measure(py::module_& m) {
       .def_property_readonly("log_T", [](const vol::TransmittanceCurve& c) { return to_array(c.log_t); })
       .def_property_readonly("stderr", &stderr_abs, "Standard error of T over the rays.")
       .def_property_readonly("rel_stderr", [](const vol::TransmittanceCurve& c) { return to_array(c.rel_stderr); })
-      .def_readonly("rays", &vol::TransmittanceCurve::rays, "Rays that entered the box (the samples).")
+      .def_readonly("rays", &vol::TransmittanceCurve::distinct_rays,
+                    "Rays with distinct optical depths that entered the box (the samples behind the standard\n"
+                    "error; measure.json's \"rays\").")
+      .def_readonly("rays_traced", &vol::TransmittanceCurve::rays, "Rays traced that entered the box.")
       .def_readonly("direction", &vol::TransmittanceCurve::direction, "Unit direction of travel.")
       .def_readonly("method", &vol::TransmittanceCurve::method)
       .def("__len__", &vol::TransmittanceCurve::size)
@@ -84,7 +88,8 @@ void init_measure(py::module_& m) {
         vol::BeamSpec spec;
         spec.direction = direction_of(axis, direction);
         spec.scale = require_positive("measure_beam: sigma", sigma);
-        if (rays_per_column < 1) fail("measure_beam: rays_per_column must be >= 1, got {}", rays_per_column);
+        // The CLI's rule (weft measure), in Python's words.
+        vol::check_rays_per_column({spec.direction}, rays_per_column, jitter, FrontEnd::python);
         if (column_stride < 1) fail("measure_beam: column_stride must be >= 1, got {}", column_stride);
         spec.rays_per_column = rays_per_column;
         spec.jitter = jitter;  // rays_per_column > 1 jitters anyway (beam.h)
@@ -221,12 +226,14 @@ void init_measure(py::module_& m) {
         } else {
           fail("validate: concentration grid without sigma in its metadata (not written by weft gen); pass sigma=S");
         }
-        if (rays_per_column < 1) fail("validate: rays_per_column must be >= 1, got {}", rays_per_column);
+        // The checks of `weft validate`, in Python's words.
+        fit::check_scale_text(window);
         spec.directions = fit::parse_axes(axes);
+        vol::check_rays_per_column(spec.directions, rays_per_column, false, FrontEnd::python);
         spec.rays_per_column = rays_per_column;
         spec.seed = seed;
         return run_released(progress, [&](ProgressSink& p) {
-          spec.scale = fit::resolve_scale(window, grid, prov, p).length;
+          spec.scale = fit::resolve_scale(window, grid, prov, p, FrontEnd::python).length;
           return fit::validation_json(fit::validate(grid, spec, p));
         });
       },

@@ -9,6 +9,7 @@ See docs/python.md.
 """
 
 import json as _json
+import numbers as _numbers
 import os as _os
 import sys as _sys
 
@@ -38,14 +39,60 @@ from ._weft import Error, Grid, _gen_json, _render, _validate_json  # noqa: E402
 __version__ = _build_info.version
 
 
-def validate(grid, sigma=None, window="yarn", axes="x,y,z", rays_per_column=1, seed=1, progress=None):
-    """The main job on a grid, as ``weft validate --grid`` computes it: sigma from the grid's
-    provenance unless given, the statistics scale ``window`` (yarn, yarn-measured, corr, extent or a
-    length), ground truth per axis, the paper's gamma law and every predictive model. Returns the
-    science part of report.json as Python objects: ``["axes"][i]["errors"][model]["rms_abs_T"]``,
-    ``["axes"][i]["models"][model]["uses_ground_truth"]``, ``["axes"][i]["best_predictive"]``, ..."""
-    return _json.loads(_validate_json(grid, sigma=sigma, window=window, axes=axes,
-                                      rays_per_column=rays_per_column, seed=seed, progress=progress))
+def validate(grid, sigma=None, window="yarn", axes=("x", "y", "z"), rays_per_column=1, seed=1, progress=None):
+    """The main job on a grid, as ``weft validate --grid`` computes it and with its checks: sigma
+    from the grid's provenance unless given, the statistics scale ``window`` ("yarn",
+    "yarn-measured", "corr", "extent" or a length such as ``window=0.3``), ground truth along
+    ``axes`` (``("x", "z")``, ``"x,z"`` or ``(0, 2)``), the paper's gamma law and every predictive
+    model. Returns the science part of report.json as Python objects:
+    ``["axes"][i]["errors"][model]["rms_abs_T"]``, ``["axes"][i]["models"][model]["uses_ground_truth"]``,
+    ``["axes"][i]["best_predictive"]``, ..."""
+    if not isinstance(grid, Grid):
+        raise TypeError("validate: grid must be a weft.Grid, got %s" % type(grid).__name__)
+    if sigma is not None:
+        sigma = _number("validate: sigma", sigma)
+    return _json.loads(_validate_json(grid, sigma=sigma, window=_window_text(window), axes=_axes_text(axes),
+                                      rays_per_column=_integer("validate: rays_per_column", rays_per_column),
+                                      seed=_integer("validate: seed", seed), progress=progress))
+
+
+def _window_text(window):
+    """A window as the library parses it (fit::check_scale_text): a name or a length."""
+    if isinstance(window, str):
+        return window
+    return repr(_number("validate: window", window))
+
+
+def _axes_text(axes):
+    """("x", "z"), "x,z", (0, 2) or "x" -> "x,z" (fit::parse_axes checks the names)."""
+    if isinstance(axes, str):
+        return axes
+    try:
+        parts = list(axes)
+    except TypeError:
+        raise TypeError("validate: axes must be names like ('x', 'z') or indices (0, 2), got %s"
+                        % type(axes).__name__) from None
+    out = []
+    for a in parts:
+        if isinstance(a, bool) or not isinstance(a, (str, int)):
+            raise TypeError("validate: axes must be names like ('x', 'z') or indices (0, 2), got %r" % (a,))
+        out.append(a if isinstance(a, str) else ("x", "y", "z")[a] if 0 <= a <= 2 else str(a))
+    return ",".join(out)
+
+
+def _number(what, value):
+    if isinstance(value, bool) or not isinstance(value, _numbers.Real):
+        raise TypeError("%s must be a number, got %s" % (what, type(value).__name__))
+    return float(value)
+
+
+def _integer(what, value):
+    if isinstance(value, bool) or not isinstance(value, _numbers.Integral):
+        raise TypeError("%s must be an integer, got %s" % (what, type(value).__name__))
+    if value < 0:
+        raise Error("%s must be >= 0, got %d" % (what, value))
+    return int(value)
+
 
 def load_grid(path, name=""):
     """Reads the float grid ``name`` (default: the first) of a .vdb file (same as ``Grid.load``)."""
