@@ -117,18 +117,39 @@ class Cloth:
             self.spec.get("pattern"), len(self.fibers["radius"]), self.grid.active_voxel_count)
 
 
-def gen(spec=None, progress=None):
-    """gen(spec=None, progress=None) -> Cloth
+def gen(spec=None, progress=None, *, pattern=None, yarns=None, yarn=None, warp_yarn=None, weft_yarn=None,
+        **fields):
+    """gen(spec=None, progress=None, *, pattern=None, yarns=None, yarn=None, voxel_size=..., ...) -> Cloth
 
-    Generates procedural cloth and voxelizes it, exactly as ``weft gen --config spec.json``:
-    ``spec`` is a dict of the cloth.json fields (docs/cloth.md; missing fields take their
-    defaults, e.g. ``{"pattern": "twill22", "warp_count": 6, "seed": 3}``), or None for the
-    default cloth of ``weft gen``. Same seed, same grid as the CLI."""
+    Generates procedural cloth and voxelizes it, exactly as ``weft gen``: ``spec`` is a dict of
+    the cloth.json fields (docs/cloth.md; missing fields take their defaults), or None for the
+    default cloth. Keywords say the same as ``weft gen``'s options and override ``spec``:
+    ``pattern="twill22"``, ``yarns=(3, 3)`` (warp x weft counts), ``yarn="wool"`` (the preset of
+    both directions, replacing their yarn entirely, as ``--yarn``), ``warp_yarn``/``weft_yarn``
+    (a preset name or a dict of yarn fields), and any other cloth.json field by name
+    (``voxel_size=0.01``, ``seed=3``, ``crimp=...``):
+    ``weft.gen(pattern="twill22", yarns=(3, 3), yarn="wool", voxel_size=0.02)``.
+    Same seed, same grid as the CLI."""
     if spec is not None and not isinstance(spec, dict):
         raise TypeError("gen: spec must be a dict (the fields of cloth.json) or None, got %s"
                         % type(spec).__name__)
-    text = None if spec is None else _dumps(spec, "gen")
-    return Cloth(_gen_json(text, progress))
+    given = {"pattern": pattern, "yarns": yarns, "yarn": yarn, "warp_yarn": warp_yarn, "weft_yarn": weft_yarn}
+    if all(v is None for v in given.values()) and not fields:
+        text = None if spec is None else _dumps(spec, "gen")
+        return Cloth(_gen_json(text, progress))
+    merged = dict(spec or {})  # missing fields: the defaults, those that follow the yarn resolved after it
+    merged.update(fields)  # unknown names are refused by the spec parser, with its suggestions
+    if pattern is not None:
+        merged["pattern"] = pattern
+    if yarns is not None:
+        try:
+            merged["warp_count"], merged["weft_count"] = yarns
+        except (TypeError, ValueError):
+            raise TypeError("gen: yarns must be two counts (warp, weft), got %r" % (yarns,)) from None
+    for key, value in (("warp_yarn", yarn), ("weft_yarn", yarn), ("warp_yarn", warp_yarn), ("weft_yarn", weft_yarn)):
+        if value is not None:
+            merged[key] = {"preset": value} if isinstance(value, str) else value
+    return Cloth(_gen_json(_dumps(merged, "gen"), progress))
 
 
 def render(scene, spp=None, seed=None, integrator="auto", time_budget=0.0, stats=False,
