@@ -1,5 +1,6 @@
 // The main job's stages: ground truth by DDA (weft/volume/beam.h), window statistics and the
 // gamma model they predict, least-squares fits and curve errors (weft/fit/fit.h).
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -215,14 +216,18 @@ void init_measure(py::module_& m) {
       "_validate_json",
       [](const vol::Grid& grid, const py::object& sigma, const std::string& window, const std::string& axes,
          int rays_per_column, std::uint64_t seed, const py::object& progress) {
-        // The same rules as `weft validate --grid`: σ from --sigma or the provenance, the scale from
-        // fit::resolve_scale, the report's science part from fit::validation_json.
+        // The same rules as `weft validate --grid`: σ from sigma= or the provenance, the scale from
+        // fit::resolve_scale, the report's science part from fit::validation_json; and the curves
+        // behind it (the report's figure) as arrays.
         const vol::Provenance prov = vol::read_provenance(grid);
         fit::ValidationSpec spec;
+        std::string sigma_source;
         if (!sigma.is_none()) {
           spec.sigma = require_positive("validate: sigma", sigma.cast<double>());
+          sigma_source = "sigma=";
         } else if (prov.sigma) {
           spec.sigma = *prov.sigma;
+          sigma_source = "grid provenance: " + prov.sigma_rule;
         } else {
           fail("validate: concentration grid without sigma in its metadata (not written by weft gen); pass sigma=S");
         }
@@ -232,14 +237,36 @@ void init_measure(py::module_& m) {
         vol::check_rays_per_column(spec.directions, rays_per_column, false, FrontEnd::python);
         spec.rays_per_column = rays_per_column;
         spec.seed = seed;
-        return run_released(progress, [&](ProgressSink& p) {
-          spec.scale = fit::resolve_scale(window, grid, prov, p, FrontEnd::python).length;
-          return fit::validation_json(fit::validate(grid, spec, p));
+        fit::StatisticsScale scale;
+        const fit::Validation v = run_released(progress, [&](ProgressSink& p) {
+          scale = fit::resolve_scale(window, grid, prov, p, FrontEnd::python);
+          spec.scale = scale.length;
+          return fit::validate(grid, spec, p);
         });
+        py::list curves;
+        for (const fit::AxisValidation& a : v.axes) {
+          py::dict c;
+          c["depth"] = to_array(a.ground_truth.depth);
+          c["T_gt"] = transmittance(a.ground_truth);
+          c["stderr"] = stderr_abs(a.ground_truth);
+          py::dict models;
+          for (const fit::ModelCurve& m : a.models) {
+            std::vector<double> t(m.log_t.size());
+            std::transform(m.log_t.begin(), m.log_t.end(), t.begin(), [](double l) { return std::exp(l); });
+            models[py::str(m.name)] = move_to_array(std::move(t));
+          }
+          c["T"] = models;
+          curves.append(c);
+        }
+        py::dict window_info;
+        window_info["rule"] = scale.rule;
+        window_info["source"] = scale.source;
+        window_info["length"] = py::make_tuple(scale.length[0], scale.length[1], scale.length[2]);
+        return py::make_tuple(fit::validation_json(v), curves, sigma_source, window_info);
       },
       py::arg("grid"), py::kw_only(), py::arg("sigma") = py::none(), py::arg("window") = "yarn",
       py::arg("axes") = "x,y,z", py::arg("rays_per_column") = 1, py::arg("seed") = 1, py::arg("progress") = py::none(),
-      "The validation's report (JSON text); use weft.validate.");
+      "The validation's report (JSON text), its curves, sigma's and the window's source; use weft.validate.");
 }
 
 }  // namespace weft::python

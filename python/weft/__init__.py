@@ -51,9 +51,51 @@ def validate(grid, sigma=None, window="yarn", axes=("x", "y", "z"), rays_per_col
         raise TypeError("validate: grid must be a weft.Grid, got %s" % type(grid).__name__)
     if sigma is not None:
         sigma = _number("validate: sigma", sigma)
-    return _json.loads(_validate_json(grid, sigma=sigma, window=_window_text(window), axes=_axes_text(axes),
-                                      rays_per_column=_integer("validate: rays_per_column", rays_per_column),
-                                      seed=_integer("validate: seed", seed), progress=progress))
+    text, curves, sigma_source, window_used = _validate_json(
+        grid, sigma=sigma, window=_window_text(window), axes=_axes_text(axes),
+        rays_per_column=_integer("validate: rays_per_column", rays_per_column),
+        seed=_integer("validate: seed", seed), progress=progress)
+    report = _json.loads(text)
+    report["sigma_source"] = sigma_source
+    report["window"] = window_used
+    report["version"] = __version__
+    for axis, curve in zip(report["axes"], curves):
+        axis.update(curve)  # depth, T_gt, stderr (numpy) and T[model] (numpy, on the same depths)
+    return report
+
+
+def plot_validation(result, path=None, log=False):
+    """Draws the validation's figure (as ``weft validate`` does) from what ``weft.validate``
+    returned: per axis, the ground truth T_gt(t) with a band of 2 standard errors and every
+    model's T(t). Needs matplotlib; returns the matplotlib Figure, saved to ``path`` if given."""
+    try:
+        import matplotlib
+        if path is not None:
+            matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        raise ImportError("weft.plot_validation needs matplotlib: install it (Debian: apt install "
+                          "python3-matplotlib; in a venv: pip install matplotlib)") from None
+    axes = result["axes"]
+    fig, panels = plt.subplots(1, len(axes), figsize=(4.5 * len(axes), 4), squeeze=False)
+    for panel, axis in zip(panels[0], axes):
+        t, gt, se = axis["depth"], axis["T_gt"], axis["stderr"]
+        panel.fill_between(t, gt - 2 * se, gt + 2 * se, color="0.8", label="ground truth ± 2 s.e.")
+        panel.plot(t, gt, "k", lw=2, label="ground truth (DDA)")
+        for name, model in axis["T"].items():
+            style = ":" if axis["models"].get(name, {}).get("uses_ground_truth") else "-"
+            panel.plot(t, model, style, lw=1, label=name)
+        panel.set_title("%s (window %s)" % (axis["axis"], result["window"]["rule"]))
+        panel.set_xlabel("depth t")
+        panel.set_ylabel("T(t)")
+        if log:
+            panel.set_yscale("log")
+    panels[0][-1].legend(fontsize="small")
+    fig.suptitle("weft %s, sigma %.4g (%s)" % (result["version"], result["sigma"], result["sigma_source"]))
+    fig.tight_layout()
+    if path is not None:
+        fig.savefig(_os.fspath(path))
+    return fig
 
 
 def _window_text(window):
