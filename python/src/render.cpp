@@ -7,6 +7,7 @@
 #include "weft/render/builtin_scenes.h"
 #include "weft/render/render.h"
 #include "weft/render/scene.h"
+#include "weft/render/scene_checks.h"
 
 namespace weft::python {
 namespace {
@@ -43,6 +44,10 @@ void init_render(py::module_& m) {
           scene = rd::parse_scene(rd::builtin_scene(text), "built-in scene '" + text + "'", fs::current_path());
         } else {
           scene = rd::parse_scene(text, "scene dict", base_dir.empty() ? fs::current_path() : fs::path(base_dir));
+        }
+        // The CLI's scene warnings, as Python warnings (an error under warnings.simplefilter("error")).
+        for (const std::string& w : rd::scene_warnings(scene)) {
+          if (PyErr_WarnEx(PyExc_UserWarning, ("weft.render: " + w).c_str(), 2) != 0) throw py::error_already_set();
         }
         rd::RenderOptions options;
         if (spp) {

@@ -1,8 +1,10 @@
 """One set of checks: Python refuses what the CLI refuses, through the same library code, and says
 so in Python's words (docs/python.md "One set of checks")."""
 
+import json
 import re
 import subprocess
+import warnings
 
 import numpy as np
 import pytest
@@ -98,3 +100,29 @@ def test_a_grid_without_yarn_diameter_is_told_the_window_keyword():
     with pytest.raises(weft.Error) as e:
         weft.validate(g, sigma=2.0)
     assert "window=LENGTH" in str(e.value) and no_cli_flag(str(e.value)), str(e.value)
+
+
+def scene_with_spare_medium():
+    scene = json.loads(weft.builtin_scene("cloth_patch"))
+    scene["camera"].update(width=8, height=6)
+    scene["media"]["spare"] = dict(scene["media"]["cloth"])  # named by no shape
+    return scene
+
+
+def test_an_unused_medium_is_a_warning_in_python():
+    with pytest.warns(UserWarning, match="weft.render: medium 'spare' is not the interior or exterior of any shape"):
+        weft.render(scene_with_spare_medium(), spp=1)
+    scene = scene_with_spare_medium()
+    del scene["media"]["spare"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the same scene without it: no warning
+        weft.render(scene, spp=1)
+
+
+def test_an_unused_medium_is_a_warning_in_the_cli(tmp_path, weft_bin):
+    path = tmp_path / "scene.json"
+    path.write_text(json.dumps(scene_with_spare_medium()))
+    r = subprocess.run([weft_bin, "render", str(path), "--spp", "1", "-o", str(tmp_path / "img.exr")],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert "warning: medium 'spare' is not the interior or exterior of any shape" in r.stdout + r.stderr
