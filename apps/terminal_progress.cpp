@@ -33,10 +33,16 @@ void TerminalProgress::advance(std::uint64_t done_so_far) {
   draw(last_done_, false);
 }
 
-void TerminalProgress::end() {
+void TerminalProgress::end() noexcept {
   if (!enabled_) return;
-  const std::lock_guard lock(mutex_);
-  draw(total_, true);
+  // end() must not throw (it runs in destructors, docs/python.md "Interrupting a call"): a
+  // final redraw that fails is dropped.
+  try {
+    const std::lock_guard lock(mutex_);
+    draw(total_, true);
+  } catch (...) {
+    return;
+  }
 }
 
 void TerminalProgress::draw(std::uint64_t done, bool final) {

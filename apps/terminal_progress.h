@@ -17,7 +17,7 @@ class TerminalProgress final : public ProgressSink {
   explicit TerminalProgress(bool enabled);
   void begin(std::string_view label, std::uint64_t total) override;
   void advance(std::uint64_t done_so_far) override;
-  void end() override;
+  void end() noexcept override;
 
  private:
   void draw(std::uint64_t done, bool final);

@@ -15,6 +15,7 @@
 #include "weft/core/error.h"
 #include "weft/fibres/fibre_beam.h"
 #include "weft/volume/beam.h"
+#include "weft/volume/beam_checks.h"
 #include "weft/volume/grid.h"
 #include "weft/volume/voxel_rule.h"
 #include "written_files.h"
@@ -87,21 +88,12 @@ const Registrar kMeasure{Command{
       return [o](const Context& ctx) -> int {
         const auto t_start = std::chrono::steady_clock::now();
         check_grid_input(o->input);
-        if (o->rays < 1) usage_fail("--rays must be >= 1, got {}", o->rays);
         std::vector<std::array<double, 3>> dirs;
         for (const auto& d : o->directions) dirs.push_back(as_usage([&] { return volume::parse_direction(d); }));
         const auto method = as_usage([&] { return volume::parse_beam_method(o->method); });
-        // Axis rays of one column cross the same voxels: more rays per column or jitter cannot
-        // change an axis beam (same T, same standard error). Refused when every beam is an axis
-        // beam (the request cannot mean what it says), noted per axis beam otherwise.
-        const bool more_rays = o->rays > 1 || o->jitter;
-        const bool all_axis =
-            std::all_of(dirs.begin(), dirs.end(), [](const auto& d) { return volume::beam_axis(d) >= 0; });
-        if (more_rays && all_axis)
-          usage_fail(
-              "{}: axis beams' rays in one voxel column cross the same voxels, so more rays per column and "
-              "jitter cannot change T or its error; drop them, or add an oblique --direction (e.g. 1,1,1)",
-              o->rays > 1 ? fmt::format("--rays {}", o->rays) : std::string("--jitter"));
+        // More rays per column or jitter are refused when every beam is an axis beam (the rule
+        // Python shares) and noted per axis beam otherwise.
+        as_usage([&] { volume::check_rays_per_column(dirs, o->rays, o->jitter, FrontEnd::cli); });
         const auto rule = as_usage([&] { return volume::parse_voxel_rule(o->voxel_rule); });
         if (rule != volume::VoxelRule::linear && o->input.extinction())
           usage_fail("--voxel-rule {} needs concentration values, not --values extinction", o->voxel_rule);

@@ -25,6 +25,7 @@
 #include "weft/render/contact_sheet.h"
 #include "weft/render/convergence.h"
 #include "weft/render/render.h"
+#include "weft/render/scene_checks.h"
 #include "weft/transmittance/gamma_hazard.h"
 #include "weft/viz/chart.h"
 #include "written_files.h"
@@ -135,6 +136,7 @@ int run(const RenderCliOptions& o, const Context& ctx) {
   } else {
     scene = resolve_scene(o.scene, label);
   }
+  for (const std::string& w : render::scene_warnings(scene)) ctx.say("warning: " + w);
   if (o.quick) {
     // Same view, a small film: the longest side kQuickSide pixels.
     const double f = static_cast<double>(kQuickSide) / std::max(scene.camera.width, scene.camera.height);

@@ -27,6 +27,7 @@
 #include "weft/viz/display.h"
 #include "weft/viz/volume_view.h"
 #include "weft/viz/vtk_files.h"
+#include "weft/volume/beam_checks.h"
 #include "written_files.h"
 
 namespace weft::app {
@@ -116,16 +117,10 @@ const Registrar kValidate{Command{
           usage_fail("--scenes goes with a validation, not --sweep or --corpus");
         if (o->scenes && o->input.extinction()) usage_fail("--scenes needs a concentration grid (a cloth)");
         json timings = json::object();
-        // Everything is checked and computed before the output folder is touched.
-        if (o->rays < 1) usage_fail("--rays must be >= 1, got {}", o->rays);
-        // Every beam of validate is an axis beam: N jittered rays in one column cross the same
-        // voxels, so N > 1 would cost N times the time for the same T (the same rule as measure).
-        if (o->rays > 1)
-          usage_fail(
-              "--rays {}: validate's beams run along axes, where every ray of a voxel column crosses the same "
-              "voxels, so more rays per column cannot change T or its error; drop --rays (jittered oblique "
-              "beams: weft measure --direction 1,1,1 --rays N)",
-              o->rays);
+        // Everything is checked and computed before the output folder is touched. Every beam of
+        // validate (also of --sweep and --corpus) runs along an axis: --rays N > 1 is refused, the
+        // rule Python shares.
+        as_usage([&] { volume::check_rays_per_column({{0.0, 0.0, 1.0}}, o->rays, false, FrontEnd::cli); });
         check_grid_input(o->input);
         as_usage([&] { fit::check_scale_text(o->window); });
         if (o->input.extinction() && o->input.grid.empty())

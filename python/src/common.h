@@ -6,11 +6,13 @@
 #include <pybind11/stl.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <exception>
 #include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -29,20 +31,19 @@ void init_cloth(py::module_& m);
 void init_render(py::module_& m);
 void init_fibres(py::module_& m);
 
-/// Thrown through library code (from a progress callback) to stop a long call when the Python
-/// callback raised or the user pressed Ctrl-C; `run_released` re-raises the Python error.
-struct CallbackAbort : std::exception {
-  [[nodiscard]] const char* what() const noexcept override { return "weft: stopped by the progress callback"; }
-};
-
-/// @brief A ProgressSink that calls a Python callable `callback(label, done, total)`.
+/// @brief A ProgressSink that calls a Python callable `callback(label, done, total)` and stops the
+/// computation (weft::Cancelled, docs/python.md "Interrupting a call") when the callback raised or
+/// Ctrl-C was pressed.
 ///
-/// Library code reports from TBB worker threads; each report takes the GIL, and reports are
-/// thinned to at most ~200 per stage so that progress does not slow the computation. A callback
-/// that raises (and a pending KeyboardInterrupt) stops the computation at the next report.
+/// Library code reports from TBB workers and from the calling thread; a report takes the GIL, and
+/// reports are thinned to at most ~200 per stage so that progress does not slow the computation.
+/// Python runs signal handlers only in the main thread, so the calling thread also looks for a
+/// pending Ctrl-C every ~50 ms of its own reports. The Python error is kept and re-raised by
+/// run_released once the GIL is held again; `end` never throws (it runs in destructors).
 class PyProgress final : public ProgressSink {
  public:
-  explicit PyProgress(py::object callback) : callback_(std::move(callback)) {}
+  explicit PyProgress(py::object callback)
+      : callback_(std::move(callback)), caller_(std::this_thread::get_id()), last_signal_check_(Clock::now()) {}
   ~PyProgress() override {
     py::gil_scoped_acquire gil;
     callback_ = py::object();
@@ -51,29 +52,41 @@ class PyProgress final : public ProgressSink {
   PyProgress& operator=(const PyProgress&) = delete;
 
   void begin(std::string_view label, std::uint64_t total) override {
+    throw_if_stopped();
     std::lock_guard lock(mutex_);
     label_ = std::string(label);
     total_ = total;
     last_ = 0;
-    call(0);
+    report(0);
   }
   void advance(std::uint64_t done) override {
+    throw_if_stopped();
     const std::uint64_t step = total_ / 200 + 1;
     if (done < last_.load(std::memory_order_relaxed) + step && done != total_) {
-      check_stop();
+      if (std::this_thread::get_id() == caller_ && Clock::now() - last_signal_check_ > std::chrono::milliseconds(50)) {
+        std::lock_guard lock(mutex_);
+        last_signal_check_ = Clock::now();
+        report(std::nullopt);
+      }
       return;
     }
     std::lock_guard lock(mutex_);
     if (done <= last_ && done != total_) return;
     last_ = done;
-    call(done);
+    report(done);
   }
-  void end() override {
-    std::lock_guard lock(mutex_);
-    call(total_);
+  void end() noexcept override {
+    if (stopped_.load()) return;
+    try {
+      std::lock_guard lock(mutex_);
+      report(total_.load());
+    } catch (...) {
+      // report() kept the callback's error (or Ctrl-C) for rethrow_if_failed; the stage is over.
+      return;
+    }
   }
 
-  /// Re-raises a stored Python error (after the GIL is held again).
+  /// Re-raises a kept Python error (call with the GIL held).
   void rethrow_if_failed() {
     std::lock_guard lock(mutex_);
     if (error_) {
@@ -84,41 +97,52 @@ class PyProgress final : public ProgressSink {
   }
 
  private:
-  void check_stop() const {
-    if (stopped_.load(std::memory_order_relaxed)) throw CallbackAbort();
+  using Clock = std::chrono::steady_clock;
+
+  void throw_if_stopped() const {
+    if (stopped_.load(std::memory_order_relaxed)) throw Cancelled();
   }
-  void call(std::uint64_t done) {
-    if (stopped_.load()) throw CallbackAbort();
+  /// Runs pending signal handlers (Ctrl-C raises KeyboardInterrupt there) and, for a `done`
+  /// count, the callback; a Python error is kept and stops the computation. Holds mutex_.
+  void report(std::optional<std::uint64_t> done) {
+    throw_if_stopped();
     py::gil_scoped_acquire gil;
     try {
       if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-      if (!callback_.is_none()) callback_(label_, done, total_.load());
+      if (done && !callback_.is_none()) callback_(label_, *done, total_.load());
     } catch (py::error_already_set& e) {
       error_.emplace(std::move(e));
       stopped_ = true;
-      throw CallbackAbort();
+      throw Cancelled();
     }
   }
 
   py::object callback_;
+  std::thread::id caller_;
   std::mutex mutex_;
   std::string label_;
   std::atomic<std::uint64_t> total_{0};
   std::atomic<std::uint64_t> last_{0};
   std::atomic<bool> stopped_{false};
+  Clock::time_point last_signal_check_;  // only the calling thread touches it
   std::optional<py::error_already_set> error_;
 };
 
 /// @brief Runs `fn(progress_sink)` with the GIL released; a progress callback (or None) gets
-/// reports. Errors of the callback are re-raised as themselves, weft::Error as weft.Error.
+/// reports. The callback's exception (or KeyboardInterrupt) is re-raised as itself, also when it
+/// came from the last report of a computation that had finished; weft::Error as weft.Error.
 template <typename Fn>
 auto run_released(const py::object& progress, Fn&& fn) {
   PyProgress sink(progress);
   try {
-    py::gil_scoped_release release;
-    return fn(static_cast<ProgressSink&>(sink));
+    auto result = [&] {
+      py::gil_scoped_release release;
+      return fn(static_cast<ProgressSink&>(sink));
+    }();
+    sink.rethrow_if_failed();
+    return result;
   } catch (...) {
-    // Library code may have wrapped the abort in its own error: the callback's error wins.
+    // Library code may have wrapped the stop in its own error: the callback's error wins.
     sink.rethrow_if_failed();
     throw;
   }

@@ -1,5 +1,6 @@
 // The main job's stages: ground truth by DDA (weft/volume/beam.h), window statistics and the
 // gamma model they predict, least-squares fits and curve errors (weft/fit/fit.h).
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -9,6 +10,7 @@
 #include "weft/fit/scale.h"
 #include "weft/fit/validation.h"
 #include "weft/volume/beam.h"
+#include "weft/volume/beam_checks.h"
 #include "weft/volume/provenance.h"
 
 namespace weft::python {
@@ -67,7 +69,10 @@ void init_measure(py::module_& m) {
       .def_property_readonly("log_T", [](const vol::TransmittanceCurve& c) { return to_array(c.log_t); })
       .def_property_readonly("stderr", &stderr_abs, "Standard error of T over the rays.")
       .def_property_readonly("rel_stderr", [](const vol::TransmittanceCurve& c) { return to_array(c.rel_stderr); })
-      .def_readonly("rays", &vol::TransmittanceCurve::rays, "Rays that entered the box (the samples).")
+      .def_readonly("rays", &vol::TransmittanceCurve::distinct_rays,
+                    "Rays with distinct optical depths that entered the box (the samples behind the standard\n"
+                    "error; measure.json's \"rays\").")
+      .def_readonly("rays_traced", &vol::TransmittanceCurve::rays, "Rays traced that entered the box.")
       .def_readonly("direction", &vol::TransmittanceCurve::direction, "Unit direction of travel.")
       .def_readonly("method", &vol::TransmittanceCurve::method)
       .def("__len__", &vol::TransmittanceCurve::size)
@@ -84,7 +89,8 @@ void init_measure(py::module_& m) {
         vol::BeamSpec spec;
         spec.direction = direction_of(axis, direction);
         spec.scale = require_positive("measure_beam: sigma", sigma);
-        if (rays_per_column < 1) fail("measure_beam: rays_per_column must be >= 1, got {}", rays_per_column);
+        // The CLI's rule (weft measure), in Python's words.
+        vol::check_rays_per_column({spec.direction}, rays_per_column, jitter, FrontEnd::python);
         if (column_stride < 1) fail("measure_beam: column_stride must be >= 1, got {}", column_stride);
         spec.rays_per_column = rays_per_column;
         spec.jitter = jitter;  // rays_per_column > 1 jitters anyway (beam.h)
@@ -210,29 +216,57 @@ void init_measure(py::module_& m) {
       "_validate_json",
       [](const vol::Grid& grid, const py::object& sigma, const std::string& window, const std::string& axes,
          int rays_per_column, std::uint64_t seed, const py::object& progress) {
-        // The same rules as `weft validate --grid`: σ from --sigma or the provenance, the scale from
-        // fit::resolve_scale, the report's science part from fit::validation_json.
+        // The same rules as `weft validate --grid`: σ from sigma= or the provenance, the scale from
+        // fit::resolve_scale, the report's science part from fit::validation_json; and the curves
+        // behind it (the report's figure) as arrays.
         const vol::Provenance prov = vol::read_provenance(grid);
         fit::ValidationSpec spec;
+        std::string sigma_source;
         if (!sigma.is_none()) {
           spec.sigma = require_positive("validate: sigma", sigma.cast<double>());
+          sigma_source = "sigma=";
         } else if (prov.sigma) {
           spec.sigma = *prov.sigma;
+          sigma_source = "grid provenance: " + prov.sigma_rule;
         } else {
           fail("validate: concentration grid without sigma in its metadata (not written by weft gen); pass sigma=S");
         }
-        if (rays_per_column < 1) fail("validate: rays_per_column must be >= 1, got {}", rays_per_column);
+        // The checks of `weft validate`, in Python's words.
+        fit::check_scale_text(window);
         spec.directions = fit::parse_axes(axes);
+        vol::check_rays_per_column(spec.directions, rays_per_column, false, FrontEnd::python);
         spec.rays_per_column = rays_per_column;
         spec.seed = seed;
-        return run_released(progress, [&](ProgressSink& p) {
-          spec.scale = fit::resolve_scale(window, grid, prov, p).length;
-          return fit::validation_json(fit::validate(grid, spec, p));
+        fit::StatisticsScale scale;
+        const fit::Validation v = run_released(progress, [&](ProgressSink& p) {
+          scale = fit::resolve_scale(window, grid, prov, p, FrontEnd::python);
+          spec.scale = scale.length;
+          return fit::validate(grid, spec, p);
         });
+        py::list curves;
+        for (const fit::AxisValidation& a : v.axes) {
+          py::dict c;
+          c["depth"] = to_array(a.ground_truth.depth);
+          c["T_gt"] = transmittance(a.ground_truth);
+          c["stderr"] = stderr_abs(a.ground_truth);
+          py::dict models;
+          for (const fit::ModelCurve& m : a.models) {
+            std::vector<double> t(m.log_t.size());
+            std::transform(m.log_t.begin(), m.log_t.end(), t.begin(), [](double l) { return std::exp(l); });
+            models[py::str(m.name)] = move_to_array(std::move(t));
+          }
+          c["T"] = models;
+          curves.append(c);
+        }
+        py::dict window_info;
+        window_info["rule"] = scale.rule;
+        window_info["source"] = scale.source;
+        window_info["length"] = py::make_tuple(scale.length[0], scale.length[1], scale.length[2]);
+        return py::make_tuple(fit::validation_json(v), curves, sigma_source, window_info);
       },
       py::arg("grid"), py::kw_only(), py::arg("sigma") = py::none(), py::arg("window") = "yarn",
       py::arg("axes") = "x,y,z", py::arg("rays_per_column") = 1, py::arg("seed") = 1, py::arg("progress") = py::none(),
-      "The validation's report (JSON text); use weft.validate.");
+      "The validation's report (JSON text), its curves, sigma's and the window's source; use weft.validate.");
 }
 
 }  // namespace weft::python

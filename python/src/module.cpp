@@ -42,7 +42,8 @@ PYBIND11_MODULE(_weft, m) {
       if (p) std::rethrow_exception(p);
     } catch (const weft::Error& e) {
       error(e.what());
-    } catch (const weft::python::CallbackAbort& e) {
+    } catch (const weft::Cancelled& e) {
+      // Only reached when the stop had no Python error behind it (run_released re-raises that).
       PyErr_SetString(PyExc_KeyboardInterrupt, e.what());
     }
   });

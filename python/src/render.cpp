@@ -1,4 +1,5 @@
 // The volumetric path tracer (weft/render): a scene file, built-in name or JSON text -> image.
+#include <algorithm>
 #include <filesystem>
 #include <string>
 
@@ -6,6 +7,7 @@
 #include "weft/render/builtin_scenes.h"
 #include "weft/render/render.h"
 #include "weft/render/scene.h"
+#include "weft/render/scene_checks.h"
 
 namespace weft::python {
 namespace {
@@ -43,6 +45,10 @@ void init_render(py::module_& m) {
         } else {
           scene = rd::parse_scene(text, "scene dict", base_dir.empty() ? fs::current_path() : fs::path(base_dir));
         }
+        // The CLI's scene warnings, as Python warnings (an error under warnings.simplefilter("error")).
+        for (const std::string& w : rd::scene_warnings(scene)) {
+          if (PyErr_WarnEx(PyExc_UserWarning, ("weft.render: " + w).c_str(), 2) != 0) throw py::error_already_set();
+        }
         rd::RenderOptions options;
         if (spp) {
           if (*spp < 1) fail("render: spp must be >= 1, got {}", *spp);
@@ -51,6 +57,15 @@ void init_render(py::module_& m) {
         options.seed = seed;
         options.integrator = integrator_choice(integrator);
         options.time_budget_seconds = require_non_negative("render: time_budget", time_budget);
+        // Progress is reported per tile and pass: at least 32 sample passes (a time budget already
+        // gives passes of 1 spp) keep Ctrl-C and a raising callback prompt (docs/python.md
+        // "Interrupting a call"); the image does not depend on the passes (render.h: sample s of
+        // pixel p always draws from the same stream).
+        if (options.time_budget_seconds == 0.0) {
+          constexpr int kPasses = 32;
+          options.spp_per_pass = std::max(1, (options.spp.value_or(scene.integrator.spp) + kPasses - 1) / kPasses);
+          options.on_pass = [](int /*spp_done*/, double /*seconds*/, const rd::Image& /*image*/) {};
+        }
         auto result = run_released(progress, [&](ProgressSink& p) { return rd::render(scene, options, p); });
         py::array_t<float> image = image_array(result.image, result.image.rgb);
         if (!stats) return image;

@@ -9,20 +9,132 @@ See docs/python.md.
 """
 
 import json as _json
+import numbers as _numbers
 import os as _os
+import sys as _sys
 
-from ._weft import *  # noqa: F401,F403  (the compiled bindings)
-from ._weft import Error, Grid, _gen_json, _render, _validate_json
+from . import _build_info
 
 
-def validate(grid, sigma=None, window="yarn", axes="x,y,z", rays_per_column=1, seed=1, progress=None):
-    """The main job on a grid, as ``weft validate --grid`` computes it: sigma from the grid's
-    provenance unless given, the statistics scale ``window`` (yarn, yarn-measured, corr, extent or a
-    length), ground truth per axis, the paper's gamma law and every predictive model. Returns the
-    science part of report.json as Python objects: ``["axes"][i]["errors"][model]["rms_abs_T"]``,
-    ``["axes"][i]["models"][model]["uses_ground_truth"]``, ``["axes"][i]["best_predictive"]``, ..."""
-    return _json.loads(_validate_json(grid, sigma=sigma, window=window, axes=axes,
-                                      rays_per_column=rays_per_column, seed=seed, progress=progress))
+def _check_interpreter():
+    """One line saying what to install or which Python to use, instead of a bare import error."""
+    built = _build_info.python
+    if tuple(_sys.version_info[:2]) != tuple(built):
+        raise ImportError("weft was built for Python %d.%d (%s), this is Python %d.%d (%s): run it with that "
+                          "interpreter, or build weft for this one (`%s -m pip install <weft checkout>`)"
+                          % (built[0], built[1], _build_info.python_executable, _sys.version_info[0],
+                             _sys.version_info[1], _sys.executable, _sys.executable))
+    try:
+        import numpy  # noqa: F401  (the bindings return numpy arrays)
+    except ImportError:
+        raise ImportError("weft needs numpy 1.x, which %s cannot import: install it (Debian: apt install "
+                          "python3-numpy; in a venv: pip install 'numpy<2')" % _sys.executable) from None
+
+
+_check_interpreter()
+
+from ._weft import *  # noqa: E402,F401,F403  (the compiled bindings)
+from ._weft import Error, Grid, _gen_json, _render, _validate_json  # noqa: E402
+
+__version__ = _build_info.version
+
+
+def validate(grid, sigma=None, window="yarn", axes=("x", "y", "z"), rays_per_column=1, seed=1, progress=None):
+    """The main job on a grid, as ``weft validate --grid`` computes it and with its checks: sigma
+    from the grid's provenance unless given, the statistics scale ``window`` ("yarn",
+    "yarn-measured", "corr", "extent" or a length such as ``window=0.3``), ground truth along
+    ``axes`` (``("x", "z")``, ``"x,z"`` or ``(0, 2)``), the paper's gamma law and every predictive
+    model. Returns the science part of report.json as Python objects:
+    ``["axes"][i]["errors"][model]["rms_abs_T"]``, ``["axes"][i]["models"][model]["uses_ground_truth"]``,
+    ``["axes"][i]["best_predictive"]``, ..."""
+    if not isinstance(grid, Grid):
+        raise TypeError("validate: grid must be a weft.Grid, got %s" % type(grid).__name__)
+    if sigma is not None:
+        sigma = _number("validate: sigma", sigma)
+    text, curves, sigma_source, window_used = _validate_json(
+        grid, sigma=sigma, window=_window_text(window), axes=_axes_text(axes),
+        rays_per_column=_integer("validate: rays_per_column", rays_per_column),
+        seed=_integer("validate: seed", seed), progress=progress)
+    report = _json.loads(text)
+    report["sigma_source"] = sigma_source
+    report["window"] = window_used
+    report["version"] = __version__
+    for axis, curve in zip(report["axes"], curves):
+        axis.update(curve)  # depth, T_gt, stderr (numpy) and T[model] (numpy, on the same depths)
+    return report
+
+
+def plot_validation(result, path=None, log=False):
+    """Draws the validation's figure (as ``weft validate`` does) from what ``weft.validate``
+    returned: per axis, the ground truth T_gt(t) with a band of 2 standard errors and every
+    model's T(t). Needs matplotlib; returns the matplotlib Figure, saved to ``path`` if given."""
+    try:
+        import matplotlib
+        if path is not None:
+            matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        raise ImportError("weft.plot_validation needs matplotlib: install it (Debian: apt install "
+                          "python3-matplotlib; in a venv: pip install matplotlib)") from None
+    axes = result["axes"]
+    fig, panels = plt.subplots(1, len(axes), figsize=(4.5 * len(axes), 4), squeeze=False)
+    for panel, axis in zip(panels[0], axes):
+        t, gt, se = axis["depth"], axis["T_gt"], axis["stderr"]
+        panel.fill_between(t, gt - 2 * se, gt + 2 * se, color="0.8", label="ground truth ± 2 s.e.")
+        panel.plot(t, gt, "k", lw=2, label="ground truth (DDA)")
+        for name, model in axis["T"].items():
+            style = ":" if axis["models"].get(name, {}).get("uses_ground_truth") else "-"
+            panel.plot(t, model, style, lw=1, label=name)
+        panel.set_title("%s (window %s)" % (axis["axis"], result["window"]["rule"]))
+        panel.set_xlabel("depth t")
+        panel.set_ylabel("T(t)")
+        if log:
+            panel.set_yscale("log")
+    panels[0][-1].legend(fontsize="small")
+    fig.suptitle("weft %s, sigma %.4g (%s)" % (result["version"], result["sigma"], result["sigma_source"]))
+    fig.tight_layout()
+    if path is not None:
+        fig.savefig(_os.fspath(path))
+    return fig
+
+
+def _window_text(window):
+    """A window as the library parses it (fit::check_scale_text): a name or a length."""
+    if isinstance(window, str):
+        return window
+    return repr(_number("validate: window", window))
+
+
+def _axes_text(axes):
+    """("x", "z"), "x,z", (0, 2) or "x" -> "x,z" (fit::parse_axes checks the names)."""
+    if isinstance(axes, str):
+        return axes
+    try:
+        parts = list(axes)
+    except TypeError:
+        raise TypeError("validate: axes must be names like ('x', 'z') or indices (0, 2), got %s"
+                        % type(axes).__name__) from None
+    out = []
+    for a in parts:
+        if isinstance(a, bool) or not isinstance(a, (str, int)):
+            raise TypeError("validate: axes must be names like ('x', 'z') or indices (0, 2), got %r" % (a,))
+        out.append(a if isinstance(a, str) else ("x", "y", "z")[a] if 0 <= a <= 2 else str(a))
+    return ",".join(out)
+
+
+def _number(what, value):
+    if isinstance(value, bool) or not isinstance(value, _numbers.Real):
+        raise TypeError("%s must be a number, got %s" % (what, type(value).__name__))
+    return float(value)
+
+
+def _integer(what, value):
+    if isinstance(value, bool) or not isinstance(value, _numbers.Integral):
+        raise TypeError("%s must be an integer, got %s" % (what, type(value).__name__))
+    if value < 0:
+        raise Error("%s must be >= 0, got %d" % (what, value))
+    return int(value)
+
 
 def load_grid(path, name=""):
     """Reads the float grid ``name`` (default: the first) of a .vdb file (same as ``Grid.load``)."""
@@ -47,18 +159,39 @@ class Cloth:
             self.spec.get("pattern"), len(self.fibers["radius"]), self.grid.active_voxel_count)
 
 
-def gen(spec=None, progress=None):
-    """gen(spec=None, progress=None) -> Cloth
+def gen(spec=None, progress=None, *, pattern=None, yarns=None, yarn=None, warp_yarn=None, weft_yarn=None,
+        **fields):
+    """gen(spec=None, progress=None, *, pattern=None, yarns=None, yarn=None, voxel_size=..., ...) -> Cloth
 
-    Generates procedural cloth and voxelizes it, exactly as ``weft gen --config spec.json``:
-    ``spec`` is a dict of the cloth.json fields (docs/cloth.md; missing fields take their
-    defaults, e.g. ``{"pattern": "twill22", "warp_count": 6, "seed": 3}``), or None for the
-    default cloth of ``weft gen``. Same seed, same grid as the CLI."""
+    Generates procedural cloth and voxelizes it, exactly as ``weft gen``: ``spec`` is a dict of
+    the cloth.json fields (docs/cloth.md; missing fields take their defaults), or None for the
+    default cloth. Keywords say the same as ``weft gen``'s options and override ``spec``:
+    ``pattern="twill22"``, ``yarns=(3, 3)`` (warp x weft counts), ``yarn="wool"`` (the preset of
+    both directions, replacing their yarn entirely, as ``--yarn``), ``warp_yarn``/``weft_yarn``
+    (a preset name or a dict of yarn fields), and any other cloth.json field by name
+    (``voxel_size=0.01``, ``seed=3``, ``crimp=...``):
+    ``weft.gen(pattern="twill22", yarns=(3, 3), yarn="wool", voxel_size=0.02)``.
+    Same seed, same grid as the CLI."""
     if spec is not None and not isinstance(spec, dict):
         raise TypeError("gen: spec must be a dict (the fields of cloth.json) or None, got %s"
                         % type(spec).__name__)
-    text = None if spec is None else _dumps(spec, "gen")
-    return Cloth(_gen_json(text, progress))
+    given = {"pattern": pattern, "yarns": yarns, "yarn": yarn, "warp_yarn": warp_yarn, "weft_yarn": weft_yarn}
+    if all(v is None for v in given.values()) and not fields:
+        text = None if spec is None else _dumps(spec, "gen")
+        return Cloth(_gen_json(text, progress))
+    merged = dict(spec or {})  # missing fields: the defaults, those that follow the yarn resolved after it
+    merged.update(fields)  # unknown names are refused by the spec parser, with its suggestions
+    if pattern is not None:
+        merged["pattern"] = pattern
+    if yarns is not None:
+        try:
+            merged["warp_count"], merged["weft_count"] = yarns
+        except (TypeError, ValueError):
+            raise TypeError("gen: yarns must be two counts (warp, weft), got %r" % (yarns,)) from None
+    for key, value in (("warp_yarn", yarn), ("weft_yarn", yarn), ("warp_yarn", warp_yarn), ("weft_yarn", weft_yarn)):
+        if value is not None:
+            merged[key] = {"preset": value} if isinstance(value, str) else value
+    return Cloth(_gen_json(_dumps(merged, "gen"), progress))
 
 
 def render(scene, spp=None, seed=None, integrator="auto", time_budget=0.0, stats=False,

@@ -6,7 +6,7 @@ class NullProgress final : public ProgressSink {
  public:
   void begin(std::string_view /*label*/, std::uint64_t /*total*/) override {}
   void advance(std::uint64_t /*done_so_far*/) override {}
-  void end() override {}
+  void end() noexcept override {}
 };
 }  // namespace
 
@@ -19,6 +19,8 @@ ProgressTask::ProgressTask(ProgressSink& sink, std::string_view label, std::uint
   sink_.begin(label, total);
 }
 
+// end() is noexcept (ProgressSink's contract), so closing a stage while a Cancelled unwinds
+// cannot terminate the process.
 ProgressTask::~ProgressTask() { sink_.end(); }
 
 void ProgressTask::step(std::uint64_t units) { sink_.advance(done_.fetch_add(units) + units); }

@@ -1,24 +1,44 @@
 #pragma once
 /// @file
-/// @brief How library code reports progress without printing: the app supplies the sink.
+/// @brief How library code reports progress without printing (the app supplies the sink), and
+/// how a caller stops a long computation at its next progress report (docs/python.md
+/// "Interrupting a call").
 
 #include <atomic>
 #include <cstdint>
+#include <exception>
 #include <string>
 #include <string_view>
 
 namespace weft {
 
+/// @brief Thrown by a ProgressSink (from `begin` or `advance`, never from `end`) to stop the
+/// computation that reports to it: the user pressed Ctrl-C, or a callback failed.
+///
+/// It is not a weft::Error (nothing is wrong with the input) and library code must let it pass:
+/// code that catches exceptions to add context catches weft::Error only, or rethrows Cancelled
+/// unchanged. Work done in `tbb::parallel_for` bodies reaches the caller, because TBB cancels
+/// the remaining iterations and rethrows the first exception in the calling thread. Nothing the
+/// computation would have returned or written is produced.
+class Cancelled : public std::exception {
+ public:
+  [[nodiscard]] const char* what() const noexcept override { return "weft: the computation was cancelled"; }
+};
+
 /// @brief Receives progress of long computations; the `weft` app renders it as a terminal bar.
 ///
-/// Calls to `advance` may come from several threads at once; implementations must be
-/// thread-safe and cheap (a sink is free to throttle its own redraws).
+/// Calls to `advance` may come from several threads at once (TBB workers and the caller's
+/// thread); implementations must be thread-safe and cheap (a sink is free to throttle its own
+/// redraws). `begin` and `advance` may throw Cancelled to stop the computation; once one call
+/// has thrown, every later `advance` should throw too, so that all threads stop promptly. `end`
+/// runs from a destructor (ProgressTask), also while a Cancelled unwinds the stack: it must not
+/// throw.
 class ProgressSink {
  public:
   virtual ~ProgressSink() = default;
   virtual void begin(std::string_view label, std::uint64_t total) = 0;
   virtual void advance(std::uint64_t done_so_far) = 0;
-  virtual void end() = 0;
+  virtual void end() noexcept = 0;
 };
 
 /// @brief A sink that ignores everything (the default for library callers and tests).
@@ -26,7 +46,9 @@ ProgressSink& null_progress();
 
 /// @brief One stage of work with a known number of units, reported to a sink.
 ///
-/// RAII: the destructor closes the stage. Thread-safe `step`.
+/// RAII: the destructor closes the stage (and never throws). Thread-safe `step`, which throws
+/// Cancelled when the sink asks to stop: call it where an exception may leave the computation
+/// (in a TBB body, never in a destructor, a noexcept function or a thread of your own).
 class ProgressTask {
  public:
   ProgressTask(ProgressSink& sink, std::string_view label, std::uint64_t total);

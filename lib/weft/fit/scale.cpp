@@ -162,17 +162,18 @@ void check_scale_text(const std::string& text) {
 }
 
 StatisticsScale resolve_scale(const std::string& text, const volume::Grid& grid, const volume::Provenance& provenance,
-                              ProgressSink& progress) {
+                              ProgressSink& progress, FrontEnd asker) {
   StatisticsScale s;
   if (text == "yarn") {
     // No silent voxel-dependent default: the measured scale drifts with the voxel size
     // (docs/validate.md), so a grid without a recorded yarn diameter must say its scale.
     if (!provenance.yarn_diameter) {
+      const Spelling length{"--window LENGTH", "window=LENGTH"};
+      const Spelling measured{"--window yarn-measured", "window=\"yarn-measured\""};
       fail(
-          "grid '{}' records no yarn diameter (not written by weft gen): pass --window LENGTH (about the yarn "
-          "diameter, in the grid's units) or --window yarn-measured (estimated from the voxels; it depends on the "
-          "voxel size)",
-          grid.name());
+          "grid '{}' records no yarn diameter (not written by weft gen): pass {} (about the yarn diameter, in the "
+          "grid's units) or {} (estimated from the voxels; it depends on the voxel size)",
+          grid.name(), length.in(asker), measured.in(asker));
     }
     s.rule = "yarn";
     s.length.fill(*provenance.yarn_diameter);

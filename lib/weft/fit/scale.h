@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "weft/core/front_end.h"
 #include "weft/core/progress.h"
 #include "weft/volume/grid.h"
 #include "weft/volume/provenance.h"
@@ -41,10 +42,11 @@ struct StatisticsScale {
 };
 
 /// Parses `text` (one of the names above or a positive length) and resolves it for `grid`.
-/// Throws weft::Error for an unknown name or a non-positive length.
+/// Throws weft::Error for an unknown name or a non-positive length (naming the option as `asker`
+/// writes it).
 [[nodiscard]] StatisticsScale resolve_scale(const std::string& text, const volume::Grid& grid,
                                             const volume::Provenance& provenance,
-                                            ProgressSink& progress = null_progress());
+                                            ProgressSink& progress = null_progress(), FrontEnd asker = FrontEnd::cli);
 
 /// Checks `text` as resolve_scale would (a known name or a positive length) without a grid, so
 /// a bad --window is refused before anything is loaded.

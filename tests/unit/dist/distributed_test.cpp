@@ -80,7 +80,7 @@ TEST(RunUnits, ProgressCountsEveryUnit) {
     std::atomic<std::uint64_t> last{0};
     void begin(std::string_view, std::uint64_t) override {}
     void advance(std::uint64_t done) override { last = std::max<std::uint64_t>(last, done); }
-    void end() override {}
+    void end() noexcept override {}
   } sink;
   {
     ProgressTask task(sink, "units", 20);

@@ -1,0 +1,24 @@
+#include "weft/render/scene_checks.h"
+
+#include <set>
+
+#include <fmt/format.h>
+
+namespace weft::render {
+
+std::vector<std::string> scene_warnings(const SceneDesc& scene) {
+  std::set<std::string> used;
+  for (const ShapeDesc& s : scene.shapes) {
+    if (!s.interior.empty()) used.insert(s.interior);
+    if (!s.exterior.empty()) used.insert(s.exterior);
+  }
+  std::vector<std::string> out;
+  for (const auto& [name, medium] : scene.media) {
+    if (!used.contains(name))
+      out.push_back(fmt::format(
+          "medium '{}' is not the interior or exterior of any shape, so it does not affect the image", name));
+  }
+  return out;
+}
+
+}  // namespace weft::render

@@ -1,0 +1,30 @@
+#include "weft/volume/beam_checks.h"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#include "weft/core/error.h"
+#include "weft/volume/beam.h"
+
+namespace weft::volume {
+
+void check_rays_per_column(const std::vector<std::array<double, 3>>& directions, int rays_per_column, bool jitter,
+                           FrontEnd asker) {
+  const Spelling rays{"--rays", "rays_per_column"};
+  if (rays_per_column < 1) fail("{} must be >= 1, got {}", rays.in(asker), rays_per_column);
+  const bool all_axis =
+      std::all_of(directions.begin(), directions.end(), [](const auto& d) { return beam_axis(d) >= 0; });
+  if (!all_axis || (rays_per_column == 1 && !jitter)) return;
+  const Spelling what = rays_per_column > 1 ? Spelling{fmt::format("--rays {}", rays_per_column),
+                                                       fmt::format("rays_per_column={}", rays_per_column)}
+                                            : Spelling{"--jitter", "jitter=True"};
+  const Spelling oblique{"weft measure --direction 1,1,1 --rays N",
+                         "weft.measure_beam(grid, direction=(1, 1, 1), rays_per_column=N)"};
+  fail(
+      "{}: axis beams' rays in one voxel column cross the same voxels, so more rays per column and jitter cannot "
+      "change T or its error; drop them, or trace an oblique beam ({})",
+      what.in(asker), oblique.in(asker));
+}
+
+}  // namespace weft::volume

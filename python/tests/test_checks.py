@@ -1,0 +1,128 @@
+"""One set of checks: Python refuses what the CLI refuses, through the same library code, and says
+so in Python's words (docs/python.md "One set of checks")."""
+
+import json
+import re
+import subprocess
+import warnings
+
+import numpy as np
+import pytest
+
+import weft
+from conftest import random_grid
+
+# The rule's own words, written once in weft/volume/beam_checks.cpp and said by both front ends.
+AXIS_RULE = "axis beams' rays in one voxel column cross the same voxels"
+
+
+def no_cli_flag(message):
+    return re.search(r"(^|\s)--[a-z]", message) is None
+
+
+@pytest.mark.parametrize("kwargs, said", [
+    ({"rays_per_column": 4}, "rays_per_column=4"),
+    ({"jitter": True}, "jitter=True"),
+    ({"rays_per_column": 0}, "rays_per_column must be >= 1, got 0"),
+])
+def test_axis_beam_rays_and_jitter_refused_as_the_cli_does(kwargs, said):
+    g, _ = random_grid()
+    with pytest.raises(weft.Error) as e:
+        weft.measure_beam(g, "x", **kwargs)
+    assert said in str(e.value) and no_cli_flag(str(e.value)), str(e.value)
+    if "must be" not in said:
+        assert AXIS_RULE in str(e.value)
+
+
+def test_the_cli_refuses_the_same_with_its_flag(tmp_path, weft_bin):
+    g, _ = random_grid()
+    g.save(tmp_path / "g.vdb")
+    r = subprocess.run([weft_bin, "measure", "--grid", str(tmp_path / "g.vdb"), "--sigma", "1", "--direction", "x",
+                        "--rays", "4", "--out", str(tmp_path / "m")], capture_output=True, text=True)
+    assert r.returncode == 2 and "--rays 4: " + AXIS_RULE in r.stderr, r.stderr
+    assert not (tmp_path / "m").exists()
+
+
+def test_oblique_beams_take_more_rays_and_count_distinct_rays():
+    g, _ = random_grid()
+    one = weft.measure_beam(g, direction=(1, 1, 1))
+    four = weft.measure_beam(g, direction=(1, 1, 1), rays_per_column=4, jitter=True)
+    # Oblique: every ray counts (jittered origins enter or miss the box: about 4x, not exactly).
+    assert four.rays == four.rays_traced > 3 * one.rays > 0
+    axis = weft.measure_beam(g, "z")
+    assert axis.rays == axis.rays_traced == g.to_numpy().shape[0] * g.to_numpy().shape[1]
+
+
+def test_validate_refuses_more_rays_in_python_words(small_cloth):
+    with pytest.raises(weft.Error) as e:
+        weft.validate(small_cloth.grid, rays_per_column=2)
+    assert "rays_per_column=2: " + AXIS_RULE in str(e.value) and no_cli_flag(str(e.value))
+
+
+def without_timings(report):
+    """The report without its timings, its curves (numpy arrays) as lists."""
+    for axis in report["axes"]:
+        axis.pop("timings", None)
+        for key in ("depth", "T_gt", "stderr"):
+            axis[key] = axis[key].tolist()
+        axis["T"] = {name: t.tolist() for name, t in axis["T"].items()}
+    return report
+
+
+def test_validate_takes_a_number_and_axes_as_a_tuple(small_cloth):
+    g = small_cloth.grid
+    by_text = without_timings(weft.validate(g, window="0.3", axes="x,z"))
+    by_value = without_timings(weft.validate(g, window=0.3, axes=("x", "z")))
+    assert by_value == by_text
+    assert without_timings(weft.validate(g, window=0.3, axes=(0, 2))) == by_text
+    assert [a["axis"] for a in by_value["axes"]] == ["+x", "+z"]
+
+
+@pytest.mark.parametrize("kwargs, exc, said", [
+    ({"window": 0}, weft.Error, "window must be"),
+    ({"window": -0.3}, weft.Error, "window must be"),
+    ({"window": "yran"}, weft.Error, "is not yarn"),
+    ({"window": [0.3]}, TypeError, "validate: window must be a number"),
+    ({"axes": ("x", "w")}, weft.Error, "'w' is not x, y or z"),
+    ({"axes": ("x", "x")}, weft.Error, "given twice"),
+    ({"axes": 3}, TypeError, "validate: axes must be"),
+    ({"seed": "one"}, TypeError, "validate: seed must be an integer"),
+    ({"sigma": "2"}, TypeError, "validate: sigma must be a number"),
+])
+def test_validate_bad_arguments_in_python_words(small_cloth, kwargs, exc, said):
+    with pytest.raises(exc) as e:
+        weft.validate(small_cloth.grid, **kwargs)
+    assert said in str(e.value) and "_validate_json" not in str(e.value) and no_cli_flag(str(e.value)), str(e.value)
+
+
+def test_a_grid_without_yarn_diameter_is_told_the_window_keyword():
+    g = weft.Grid.from_numpy(np.full((4, 4, 4), 0.5, dtype=np.float32), voxel_size=0.1)
+    with pytest.raises(weft.Error) as e:
+        weft.validate(g, sigma=2.0)
+    assert "window=LENGTH" in str(e.value) and no_cli_flag(str(e.value)), str(e.value)
+
+
+def scene_with_spare_medium():
+    scene = json.loads(weft.builtin_scene("cloth_patch"))
+    scene["camera"].update(width=8, height=6)
+    scene["media"]["spare"] = dict(scene["media"]["cloth"])  # named by no shape
+    return scene
+
+
+def test_an_unused_medium_is_a_warning_in_python():
+    with pytest.warns(UserWarning, match="weft.render: medium 'spare' is not the interior or exterior of any shape"):
+        weft.render(scene_with_spare_medium(), spp=1)
+    scene = scene_with_spare_medium()
+    del scene["media"]["spare"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the same scene without it: no warning
+        weft.render(scene, spp=1)
+
+
+def test_an_unused_medium_is_a_warning_in_the_cli(tmp_path, weft_bin):
+    path = tmp_path / "scene.json"
+    path.write_text(json.dumps(scene_with_spare_medium()))
+    r = subprocess.run([weft_bin, "render", str(path), "--spp", "1", "-o", str(tmp_path / "img.exr")],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert "warning: medium 'spare' is not the interior or exterior of any shape" in r.stdout + r.stderr

@@ -1,0 +1,161 @@
+"""Stopping a long call: Ctrl-C (SIGINT) or a raising progress callback stops the computation at
+the next progress report, raises KeyboardInterrupt / the callback's exception, and the interpreter
+stays usable (docs/python.md "Interrupting a call"). The CLI still stops on Ctrl-C without
+writing a half-made file."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+
+import pytest
+
+import weft
+
+# A cloth that takes well over a minute to generate on one core, so that an interrupted call
+# that stops within seconds cannot have finished on its own.
+BIG_CLOTH = {"pattern": "twill22", "warp_count": 24, "weft_count": 24, "voxel_size": 0.004, "seed": 2}
+MEDIUM_CLOTH = {"pattern": "plain", "warp_count": 6, "weft_count": 6, "voxel_size": 0.01, "seed": 2}
+SMALL_CLOTH = {"pattern": "plain", "warp_count": 2, "weft_count": 2, "voxel_size": 0.02, "seed": 5,
+               "warp_yarn": {"fiber_count": 12}, "weft_yarn": {"fiber_count": 12}}
+
+# The long calls, as the child runs them after `import weft` with `small` a small cloth and
+# `scene` a small scene; each takes well over 5 s uninterrupted on this machine.
+LONG_CALLS = {
+    "gen": "weft.gen(%r, progress=cb)" % BIG_CLOTH,
+    "render": "weft.render(scene, spp=1 << 16, progress=cb)",
+    "validate": "weft.validate(weft.gen(%r).grid, window='0.3', progress=cb)" % MEDIUM_CLOTH,
+    "measure_beam": "weft.measure_beam(small.grid, direction=(1, 1, 1), sigma=100, rays_per_column=1 << 12, "
+                    "progress=cb)",
+}
+
+CHILD = textwrap.dedent("""
+    import json, sys, time, weft
+    small = weft.gen(%r)
+    scene = json.loads(weft.builtin_scene("cloth_patch"))
+    scene["camera"].update(width=64, height=48)
+    def cb(label, done, total):
+        if not getattr(cb, "said", False):
+            cb.said = True
+            print("started", flush=True)
+    t0 = time.monotonic()
+    try:
+        %s
+        print("finished uninterrupted", flush=True)
+        sys.exit(3)
+    except KeyboardInterrupt:
+        print("interrupted after %%.1f s" %% (time.monotonic() - t0), flush=True)
+    again = weft.gen(%r)  # the interpreter and the library still work
+    assert again.grid.active_voxel_count == small.grid.active_voxel_count > 0
+    print("usable", flush=True)
+""")
+
+
+def child_env():
+    """The environment with this weft first on the path (the child runs in another folder)."""
+    here = os.path.dirname(os.path.dirname(os.path.abspath(weft.__file__)))
+    return dict(os.environ, PYTHONPATH=os.pathsep.join([here, os.environ.get("PYTHONPATH", "")]))
+
+
+def interrupt_child(call, tmp_path):
+    """Runs `call` in a child Python, sends SIGINT once its progress callback ran, and returns
+    (exit code, stdout, stderr, seconds from SIGINT to exit)."""
+    script = tmp_path / "child.py"
+    script.write_text(CHILD % (SMALL_CLOTH, call, SMALL_CLOTH))
+    child = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                             text=True, env=child_env(), cwd=tmp_path)
+    try:
+        first = child.stdout.readline()
+        assert first == "started\n", first + child.stderr.read()
+        time.sleep(0.1)  # inside the computation: its first stage has begun
+        child.send_signal(signal.SIGINT)
+        sent = time.monotonic()
+        out, err = child.communicate(timeout=120)
+        return child.returncode, first + out, err, time.monotonic() - sent
+    finally:
+        if child.poll() is None:
+            child.kill()
+            child.wait()
+
+
+@pytest.mark.parametrize("name", sorted(LONG_CALLS))
+def test_ctrl_c_raises_keyboard_interrupt_and_the_interpreter_lives_on(name, tmp_path):
+    code, out, err, seconds = interrupt_child(LONG_CALLS[name], tmp_path)
+    assert code == 0, "exit %d (SIGABRT is -6)\n%s\n%s" % (code, out, err)
+    assert "interrupted after" in out and out.rstrip().endswith("usable"), out
+    assert "terminate called" not in err, err
+    assert seconds < 30, "took %.1f s to stop" % seconds
+
+
+class Third(Exception):
+    pass
+
+
+def raise_on_third_call():
+    calls = []
+
+    def cb(label, done, total):
+        calls.append((label, done, total))
+        if len(calls) == 3:
+            raise Third("stop at call 3")
+    return cb, calls
+
+
+def small_scene():
+    scene = json.loads(weft.builtin_scene("cloth_patch"))
+    scene["camera"].update(width=64, height=48)
+    return scene
+
+
+@pytest.fixture(scope="module")
+def small():
+    return weft.gen(SMALL_CLOTH)
+
+
+CALLBACK_CALLS = {
+    "gen": lambda small, cb: weft.gen(SMALL_CLOTH, progress=cb),
+    "render": lambda small, cb: weft.render(small_scene(), spp=4, progress=cb),
+    "validate": lambda small, cb: weft.validate(small.grid, axes="x", window="0.05", progress=cb),
+    "measure_beam": lambda small, cb: weft.measure_beam(small.grid, "x", sigma=100, progress=cb),
+    "window_stats": lambda small, cb: weft.window_stats(small.grid, "x", window=0.05, progress=cb),
+    "correlation_length": lambda small, cb: weft.correlation_length(small.grid, "x", progress=cb),
+}
+
+
+@pytest.mark.parametrize("name", sorted(CALLBACK_CALLS))
+def test_callback_raising_on_its_third_call_stops_the_call(name, small):
+    cb, calls = raise_on_third_call()
+    with pytest.raises(Third, match="stop at call 3"):
+        CALLBACK_CALLS[name](small, cb)
+    assert len(calls) == 3  # no report after the one that raised
+    # The same call runs to the end afterwards, reporting as usual.
+    seen = []
+    CALLBACK_CALLS[name](small, lambda label, done, total: seen.append(done))
+    assert len(seen) >= 3
+
+
+def test_callback_raising_on_the_final_report_is_raised_too(small):
+    def cb(label, done, total):
+        if done == total and total > 0:
+            raise Third("at the end")
+    with pytest.raises(Third, match="at the end"):
+        weft.window_stats(small.grid, "x", window=0.05, progress=cb)
+    assert weft.window_stats(small.grid, "x", window=0.05).mean > 0
+
+
+def test_cli_ctrl_c_stops_without_a_half_written_file(tmp_path, weft_bin):
+    spec = tmp_path / "big.json"
+    spec.write_text(repr(BIG_CLOTH).replace("'", '"'))
+    out = tmp_path / "out"
+    child = subprocess.Popen([weft_bin, "gen", "--config", str(spec), "--out", str(out)],
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    time.sleep(2.0)  # inside the generation: the big cloth takes over a minute
+    assert child.poll() is None, "the big cloth finished in under 2 s: make it bigger"
+    child.send_signal(signal.SIGINT)
+    _, err = child.communicate(timeout=60)
+    assert child.returncode in (-signal.SIGINT, 128 + signal.SIGINT, 130), (child.returncode, err)
+    left = sorted(p.name for p in out.rglob("*")) if out.exists() else []
+    assert not any(name.endswith((".vdb", ".json")) or ".tmp" in name for name in left), left

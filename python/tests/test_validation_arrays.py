@@ -1,0 +1,53 @@
+"""weft.validate returns the whole answer: the report plus, per axis, the curves behind it as
+numpy arrays, sigma's and the window's source and the version (docs/python.md "validate")."""
+
+import sys
+
+import numpy as np
+import pytest
+
+import weft
+
+
+@pytest.fixture(scope="module")
+def report(small_cloth):
+    return weft.validate(small_cloth.grid)
+
+
+def test_ground_truth_arrays_are_the_beams(report, small_cloth):
+    for axis in report["axes"]:
+        assert axis["depth"].shape == axis["T_gt"].shape == axis["stderr"].shape
+        beam = weft.measure_beam(small_cloth.grid, axis["axis"], sigma=report["sigma"])
+        np.testing.assert_array_equal(axis["depth"], beam.depth)
+        np.testing.assert_array_equal(axis["T_gt"], beam.T)
+        np.testing.assert_array_equal(axis["stderr"], beam.stderr)
+
+
+def test_every_model_curve_gives_its_reported_errors(report):
+    for axis in report["axes"]:
+        assert set(axis["T"]) == set(axis["errors"]) == set(axis["models"]) and len(axis["T"]) >= 5
+        for name, T in axis["T"].items():
+            d = np.abs(T - axis["T_gt"])
+            assert np.sqrt(np.mean(d ** 2)) == pytest.approx(axis["errors"][name]["rms_abs_T"], rel=1e-9, abs=1e-15)
+            assert d.max() == pytest.approx(axis["errors"][name]["max_abs_T"], rel=1e-9, abs=1e-15)
+
+
+def test_sources_and_version(report, small_cloth):
+    assert report["version"] == weft.__version__
+    assert report["sigma_source"].startswith("grid provenance: ")
+    assert report["window"]["rule"] == "yarn" and "provenance" in report["window"]["source"]
+    given = weft.validate(small_cloth.grid, sigma=2.0, window=0.3, axes="z")
+    assert given["sigma_source"] == "sigma=" and given["sigma"] == 2.0
+    assert given["window"]["rule"] == "length" and given["window"]["length"] == (0.3, 0.3, 0.3)
+
+
+def test_plot_validation_says_what_to_install_without_matplotlib(report, monkeypatch):
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    with pytest.raises(ImportError, match="plot_validation needs matplotlib: install it"):
+        weft.plot_validation(report)
+
+
+def test_plot_validation_draws_the_figure(report, tmp_path):
+    pytest.importorskip("matplotlib")
+    fig = weft.plot_validation(report, tmp_path / "validation.png")
+    assert len(fig.axes) == len(report["axes"]) and (tmp_path / "validation.png").stat().st_size > 0
