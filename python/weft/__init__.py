@@ -20,7 +20,8 @@ def validate(grid, sigma=None, window="yarn", axes="x,y,z", rays_per_column=1, s
     provenance unless given, the statistics scale ``window`` (yarn, yarn-measured, corr, extent or a
     length), ground truth per axis, the paper's gamma law and every predictive model. Returns the
     science part of report.json as Python objects: ``["axes"][i]["errors"][model]["rms_abs_T"]``,
-    ``["axes"][i]["models"][model]["uses_ground_truth"]``, ``["axes"][i]["best_predictive"]``, ..."""
+    ``["axes"][i]["models"][model]["uses_ground_truth"]``, ``["axes"][i]["predicted"]`` (the one
+    prediction), ``["axes"][i]["best_by_ground_truth"]`` (a diagnostic chosen with T_gt), ..."""
     return _json.loads(_validate_json(grid, sigma=sigma, window=window, axes=axes,
                                       rays_per_column=rays_per_column, seed=seed, progress=progress))
 

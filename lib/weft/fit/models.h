@@ -28,6 +28,10 @@
 ///                      block by block; T the mean over rays.
 ///   local-gamma-renewal the same blocks, memory restarting at every block boundary (block means
 ///                      along a ray taken as independent).
+///   local-gamma-two-scale the same blocks; a ray's concentration is the block mean times a
+///                      persistent gamma factor (memory from the entry; its variance the measured
+///                      covariance of adjacent blocks' column means) times an independent gamma
+///                      factor per block (the renewal): both regimes in one model. THE prediction.
 
 #include <array>
 #include <string>
@@ -39,6 +43,15 @@
 #include "weft/volume/grid.h"
 
 namespace weft::fit {
+
+/// The prediction: one model, fixed before anything is measured, that holds both regimes of the
+/// hazard's memory (long correlation along the beam: memory from the entry; short: renewal) by
+/// splitting the variance of each block's column means into the part adjacent blocks share
+/// (persistent) and the rest (docs/validate.md "The prediction"). No choice is made per grid.
+inline constexpr const char* kPredictedModel = "local-gamma-two-scale";
+inline constexpr const char* kPredictionRule =
+    "one model fixed before measuring: local gamma fields of blocks of side L, a persistent gamma factor per ray "
+    "(variance: the covariance of adjacent blocks' column means) times an independent one per block";
 
 /// One model's prediction on the requested depths.
 struct PredictedModel {
