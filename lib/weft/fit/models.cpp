@@ -12,6 +12,7 @@
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
 #include "weft/fit/fit.h"
+#include "weft/fit/moments.h"
 #include "weft/transmittance/gamma_mixture.h"
 #include "weft/transmittance/gap_gamma.h"
 #include "weft/transmittance/registry.h"
@@ -57,6 +58,7 @@ struct Group {
 /// Everything one pass over the windows of length w along the columns gives.
 struct WindowSummary {
   Sums all;
+  Moments moments;  ///< the same windows, Welford: the window statistics validate reports
   Sums nonzero;
   double zeros = 0.0;
   double max_mean = 0.0;
@@ -118,10 +120,15 @@ WindowSummary summarize(const volume::ColumnReader& reader, int w, int cell, Pro
               g = &part.groups[key];
               g->rays += 1.0;
             }
+            auto mean_at = [&](int s) {
+              return (prefix[static_cast<std::size_t>(s + w)] - prefix[static_cast<std::size_t>(s)]) / w;
+            };
+            double column_sum = 0.0;
             for (int s = 0; s < positions; ++s) {
-              const double m = (prefix[static_cast<std::size_t>(s + w)] - prefix[static_cast<std::size_t>(s)]) / w;
+              const double m = mean_at(s);
               if (pass == 0) {
                 part.all.add(m);
+                column_sum += m;
                 g->windows.add(m);
                 part.max_mean = std::max(part.max_mean, m);
                 if (m > 0.0)
@@ -134,6 +141,18 @@ WindowSummary summarize(const volume::ColumnReader& reader, int w, int cell, Pro
                 part.bin_sum[static_cast<std::size_t>(b)] += m;
               }
             }
+            if (pass == 0 && positions > 0) {
+              // The column's moments about its own mean (two passes over its windows, no
+              // division per window), merged pairwise into the shard's (moments.h).
+              Moments column;
+              column.n = static_cast<std::uint64_t>(positions);
+              column.mean = column_sum / positions;
+              for (int s = 0; s < positions; ++s) {
+                const double dev = mean_at(s) - column.mean;
+                column.m2 += dev * dev;
+              }
+              part.moments.merge(column);
+            }
           }
         }
         task.step();
@@ -145,6 +164,7 @@ WindowSummary summarize(const volume::ColumnReader& reader, int w, int cell, Pro
   out.bin_sum.assign(kBins, 0.0);
   for (const auto& p : parts) {
     out.all.merge(p.all);
+    out.moments.merge(p.moments);
     out.nonzero.merge(p.nonzero);
     out.zeros += p.zeros;
     out.max_mean = std::max(out.max_mean, p.max_mean);
@@ -302,11 +322,12 @@ std::vector<double> block_field_curve(int n, int B, double h, double sigma, cons
         mean = b.mean();
         var = memory == Memory::none ? 0.0 : b.var();
       }
+      const double inc = block_hazard(sigma, mean, var, s0 - origin, s0 + h - origin);
       while (d < depths.size() && depths[d] <= s0 + h) {
         const double t = std::max(depths[d], s0);
-        log_terms[d++][c] = -(H + block_hazard(sigma, mean, var, s0 - origin, t - origin));
+        log_terms[d++][c] = -(H + (t == s0 + h ? inc : block_hazard(sigma, mean, var, s0 - origin, t - origin)));
       }
-      H += block_hazard(sigma, mean, var, s0 - origin, s0 + h - origin);
+      H += inc;
     }
   });
   std::vector<double> out(depths.size());
@@ -358,6 +379,7 @@ std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const 
     const std::vector<double> ones(p.size(), 1.0);
     std::vector<double> H(p.size(), 0.0);
     std::vector<double> at(p.size(), 0.0);
+    std::vector<double> inc(p.size(), 0.0);
     std::size_t d = 0;
     double mean = 0.0;
     double vb = 0.0;
@@ -389,12 +411,14 @@ std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const 
         vb = std::max(0.0, (1.0 + rel) / (1.0 + vp) - 1.0);
         entry = s0;
       }
+      // The slice's hazard once per node (the beam's depths are the slice ends, k·h).
+      for (std::size_t j = 0; j < p.size(); ++j) inc[j] = hazard(j, s0, s0 + h);
       while (d < depths.size() && depths[d] <= s0 + h) {
         const double t = std::max(depths[d], s0);
-        for (std::size_t j = 0; j < p.size(); ++j) at[j] = -(H[j] + hazard(j, s0, t));
+        for (std::size_t j = 0; j < p.size(); ++j) at[j] = -(H[j] + (t == s0 + h ? inc[j] : hazard(j, s0, t)));
         log_terms[d++][c] = with_open(log_sum_exp_mean(at, ones));
       }
-      for (std::size_t j = 0; j < p.size(); ++j) H[j] += hazard(j, s0, s0 + h);
+      for (std::size_t j = 0; j < p.size(); ++j) H[j] += inc[j];
     }
   });
   std::vector<double> out(depths.size());
@@ -429,7 +453,8 @@ double gamma_log_t(double sigma, double mean, double var, double t) {
 }
 
 std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const PredictionSpec& spec,
-                                         const std::vector<double>& depths, ProgressSink& progress) {
+                                         const std::vector<double>& depths, ProgressSink& progress,
+                                         ConcentrationStats* moments_out) {
   require_positive("predict: sigma", spec.sigma);
   if (!std::isfinite(spec.scale) || spec.scale < 0.0) fail("predict: scale must be >= 0, got {}", spec.scale);
   const int axis = volume::beam_axis(spec.direction);
@@ -443,6 +468,13 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
   const int w = spec.scale > 0.0 ? static_cast<int>(std::clamp<double>(std::round(spec.scale / h), 1.0, n)) : n;
   const double sigma = spec.sigma;
   const WindowSummary ws = summarize(reader, w, w, progress);
+  if (moments_out != nullptr) {
+    moments_out->mean = ws.moments.mean;
+    moments_out->variance = ws.moments.variance();
+    moments_out->samples = ws.moments.n;
+    moments_out->window_voxels = w;
+    moments_out->window = w * h;
+  }
   std::vector<PredictedModel> out;
   auto add = [&](std::string name, std::string description, std::vector<std::pair<std::string, double>> params,
                  auto&& log_t_of, transmittance::LawPtr law = nullptr) {

@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "weft/core/progress.h"
+#include "weft/fit/fit.h"
 #include "weft/transmittance/law.h"
 #include "weft/volume/grid.h"
 
@@ -73,10 +74,14 @@ struct PredictionSpec {
 };
 
 /// Every predictive model above, in that order, on `depths` (distances from the entry face).
-/// Throws weft::Error for an empty grid, a non-axis direction or σ ≤ 0.
+/// Throws weft::Error for an empty grid, a non-axis direction or σ ≤ 0. When `moments_out` is
+/// given it receives the moments of the windows of length L the models were built from (what
+/// fit::window_stats(grid, axis, L) computes, from the same pass: validate reads the voxels once
+/// per axis).
 [[nodiscard]] std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const PredictionSpec& spec,
                                                        const std::vector<double>& depths,
-                                                       ProgressSink& progress = null_progress());
+                                                       ProgressSink& progress = null_progress(),
+                                                       ConcentrationStats* moments_out = nullptr);
 
 /// log T of the gamma law with window moments (mean, var) at σ: −α log1p(σ t/β), exactly the
 /// exponential when var = 0 and 0 when mean = 0.
