@@ -7,11 +7,10 @@
 #include <map>
 #include <memory>
 
-#include <boost/math/special_functions/gamma.hpp>
-
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
 #include "weft/fit/fit.h"
+#include "weft/fit/local_models.h"
 #include "weft/fit/moments.h"
 #include "weft/transmittance/gamma_mixture.h"
 #include "weft/transmittance/gap_gamma.h"
@@ -22,31 +21,13 @@
 namespace weft::fit {
 namespace {
 
-constexpr std::size_t kShards = 64;  // fixed: results do not depend on the thread count
-constexpr int kBins = 4096;          // histogram of window means for Eq. 16
+using detail::BlockStats;
+using detail::kShards;
+using detail::log_sum_exp_mean;
+using detail::Memory;
+using detail::Sums;
 
-/// Plain sums (Σ1, Σx, Σx²) of window means: exact to merge in any fixed order.
-struct Sums {
-  double n = 0.0;
-  double s = 0.0;
-  double s2 = 0.0;
-  void add(double x) {
-    n += 1.0;
-    s += x;
-    s2 += x * x;
-  }
-  void merge(const Sums& o) {
-    n += o.n;
-    s += o.s;
-    s2 += o.s2;
-  }
-  [[nodiscard]] double mean() const { return n > 0.0 ? s / n : 0.0; }
-  [[nodiscard]] double var() const {
-    if (!(n > 0.0)) return 0.0;
-    const double m = s / n;
-    return std::max(0.0, s2 / n - m * m);
-  }
-};
+constexpr int kBins = 4096;  // histogram of window means for Eq. 16
 
 using GroupKey = std::pair<std::int64_t, std::int64_t>;
 
@@ -66,21 +47,6 @@ struct WindowSummary {
   std::vector<double> bin_count;
   std::vector<double> bin_sum;
 };
-
-double log_sum_exp_mean(const std::vector<double>& log_terms, const std::vector<double>& weights) {
-  double hi = -std::numeric_limits<double>::infinity();
-  double wsum = 0.0;
-  for (std::size_t i = 0; i < log_terms.size(); ++i) {
-    if (weights[i] > 0.0) hi = std::max(hi, log_terms[i]);
-    wsum += weights[i];
-  }
-  if (!(wsum > 0.0) || !std::isfinite(hi)) return hi;
-  double s = 0.0;
-  for (std::size_t i = 0; i < log_terms.size(); ++i) {
-    if (weights[i] > 0.0) s += weights[i] * std::exp(log_terms[i] - hi);
-  }
-  return hi + std::log(s / wsum);
-}
 
 /// One pass (twice: the histogram needs the largest window mean first) over every window of
 /// w voxels of every column along the reader's axis; groups are transverse cells of `cell`
@@ -178,251 +144,6 @@ WindowSummary summarize(const volume::ColumnReader& reader, int w, int cell, Pro
       out.bin_sum[static_cast<std::size_t>(b)] += p.bin_sum[static_cast<std::size_t>(b)];
     }
   }
-  return out;
-}
-
-/// Hazard integral of one block over [s0, s1) of memory (exact for the gamma hazard
-/// Σ(s) = μ̄/(1 + κ s)): α [log1p(κ s1) − log1p(κ s0)], or μ̄ (s1 − s0) without variance.
-double block_hazard(double sigma, double mean, double var, double s0, double s1) {
-  if (!(mean > 0.0)) return 0.0;
-  const double mu = sigma * mean;
-  if (!(var > 0.0)) return mu * (s1 - s0);
-  const double kappa = sigma * var / mean;
-  const double alpha = mean * mean / var;
-  return alpha * (std::log1p(kappa * s1) - std::log1p(kappa * s0));
-}
-
-enum class Memory { none, from_entry, per_block };
-
-/// Block statistics of the beam's columns: blocks of B voxels anchored to the cloth, not to the
-/// index lattice (docs/validate.md "Blocks anchored to the cloth"): across the beam at the active
-/// box's lower corner, along it at the face where the beam enters (block 0 holds the first B
-/// voxels every ray crosses, as the memory of the hazard starts there), clipped to the box, so
-/// that a block holds exactly the columns (rays) of the beam that cross it and a translated copy
-/// of the voxels gives the same blocks. Per block: the mean of C and the variance of the column
-/// means over the block's length across its columns (Eq. 19 per block).
-struct BlockStats {
-  std::int64_t nu = 0, nv = 0, nb = 0;
-  /// [(cu·nv + cv)·nb + cb], cb counted from the entry face: over the columns that hold some
-  /// concentration along the beam (an open column, empty over the whole depth, adds only zeros)
-  std::vector<Sums> sums;
-  std::vector<double> rays;  ///< per coarse column (cu, cv): beam columns in it
-  std::vector<double> open;  ///< per coarse column: its columns empty over the whole depth
-  /// [(cu·nv + cv)·nb + cb]: Σ over the columns of (mean in block cb) × (mean in block cb + 1)
-  std::vector<double> cross;
-  [[nodiscard]] std::size_t index(std::int64_t u, std::int64_t v, std::int64_t b) const {
-    return static_cast<std::size_t>((u * nv + v) * nb + b);
-  }
-  /// Over the columns that hold concentration.
-  [[nodiscard]] const Sums& closed(std::int64_t u, std::int64_t v, std::int64_t b) const {
-    return sums[index(u, v, b)];
-  }
-  /// Over every column of the block (open ones add n only: x + 0.0 is x, so the sums are those
-  /// of all columns bit for bit).
-  [[nodiscard]] Sums at(std::int64_t u, std::int64_t v, std::int64_t b) const {
-    Sums all = sums[index(u, v, b)];
-    all.n += open[static_cast<std::size_t>(u * nv + v)];
-    return all;
-  }
-};
-
-BlockStats block_stats(const volume::ColumnReader& reader, bool reverse, int B, ProgressSink& progress) {
-  const int axis = reader.axis();
-  const auto box = reader.box();
-  const auto au = static_cast<std::size_t>((axis + 1) % 3);
-  const auto av = static_cast<std::size_t>((axis + 2) % 3);
-  const auto ext = box.extent();
-  BlockStats st;
-  st.nu = (ext[au] + B - 1) / B;
-  st.nv = (ext[av] + B - 1) / B;
-  st.nb = (ext[static_cast<std::size_t>(axis)] + B - 1) / B;
-  const std::size_t cells = static_cast<std::size_t>(st.nu * st.nv * st.nb);
-  if (cells > 50'000'000) fail("local fields: {} blocks of {} voxels is too many", cells, B);
-  const std::size_t units = reader.tile_count();
-  const std::size_t shards = std::min(kShards, units);
-  std::vector<std::vector<Sums>> parts(shards, std::vector<Sums>(cells));
-  std::vector<std::vector<double>> rays(shards, std::vector<double>(static_cast<std::size_t>(st.nu * st.nv), 0.0));
-  std::vector<std::vector<double>> cross(shards, std::vector<double>(cells, 0.0));
-  std::vector<std::vector<double>> open(shards, std::vector<double>(static_cast<std::size_t>(st.nu * st.nv), 0.0));
-  ProgressTask task(progress, fmt::format("local fields {}", "xyz"[axis]), units);
-  parallel_units(shards, [&](std::size_t shard) {
-    volume::ColumnTile tile;
-    for (std::size_t unit = shard * units / shards; unit < (shard + 1) * units / shards; ++unit) {
-      reader.read(unit, tile);
-      const int n = tile.depth;
-      for (int iu = 0; iu < tile.nu; ++iu) {
-        for (int iv = 0; iv < tile.nv; ++iv) {
-          const std::int64_t cu = (tile.u0 + iu - box.min[au]) / B;
-          const std::int64_t cv = (tile.v0 + iv - box.min[av]) / B;
-          rays[shard][static_cast<std::size_t>(cu * st.nv + cv)] += 1.0;
-          const float* col = tile.column(iu, iv);
-          if (std::all_of(col, col + n, [](float x) { return x == 0.0f; })) {
-            open[shard][static_cast<std::size_t>(cu * st.nv + cv)] += 1.0;
-            continue;
-          }
-          Sums* block = &parts[shard][st.index(cu, cv, 0)];
-          double* pair = &cross[shard][st.index(cu, cv, 0)];
-          // Depth e from the entry face; block e / B.
-          double prev = 0.0;
-          for (int e0 = 0; e0 < n; e0 += B) {
-            const int e1 = std::min(n, e0 + B);
-            double sum = 0.0;
-            for (int e = e0; e < e1; ++e) sum += static_cast<double>(col[reverse ? n - 1 - e : e]);
-            const double m = sum / (e1 - e0);
-            block[e0 / B].add(m);
-            if (e0 > 0) pair[e0 / B - 1] += prev * m;
-            prev = m;
-          }
-        }
-      }
-      task.step();
-    }
-  });
-  st.sums.assign(cells, Sums{});
-  st.rays.assign(static_cast<std::size_t>(st.nu * st.nv), 0.0);
-  st.open.assign(st.rays.size(), 0.0);
-  st.cross.assign(cells, 0.0);
-  for (std::size_t sh = 0; sh < shards; ++sh) {
-    for (std::size_t c = 0; c < cells; ++c) {
-      st.sums[c].merge(parts[sh][c]);
-      st.cross[c] += cross[sh][c];
-    }
-    for (std::size_t c = 0; c < st.rays.size(); ++c) {
-      st.rays[c] += rays[sh][c];
-      st.open[c] += open[sh][c];
-    }
-  }
-  return st;
-}
-
-/// log T on `depths` of the beam through block fields: per coarse column the hazard of each
-/// block integrated exactly, T the ray-weighted mean over coarse columns.
-std::vector<double> block_field_curve(int n, int B, double h, double sigma, const BlockStats& st, Memory memory,
-                                      const std::vector<double>& depths) {
-  const std::size_t columns = static_cast<std::size_t>(st.nu * st.nv);
-  std::vector<std::vector<double>> log_terms(depths.size(), std::vector<double>(columns, 0.0));
-  parallel_units(columns, [&](std::size_t c) {
-    const auto cu = static_cast<std::int64_t>(c) / st.nv;
-    const auto cv = static_cast<std::int64_t>(c) % st.nv;
-    // Walk the fine slices from the entry face; H at the start of slice k is `H`.
-    double H = 0.0;
-    std::size_t d = 0;
-    double mean = 0.0;
-    double var = 0.0;
-    double origin = 0.0;  // where the current block's memory s = 0 lies (from_entry: the entry)
-    for (int k = 0; k <= n && d < depths.size(); ++k) {
-      const double s0 = k * h;
-      if (k == n) {
-        while (d < depths.size()) log_terms[d++][c] = -H;  // past the box: nothing more
-        break;
-      }
-      if (k % B == 0) {
-        const Sums b = st.at(cu, cv, k / B);
-        if (memory == Memory::per_block) origin = s0;
-        mean = b.mean();
-        var = memory == Memory::none ? 0.0 : b.var();
-      }
-      const double inc = block_hazard(sigma, mean, var, s0 - origin, s0 + h - origin);
-      while (d < depths.size() && depths[d] <= s0 + h) {
-        const double t = std::max(depths[d], s0);
-        log_terms[d++][c] = -(H + (t == s0 + h ? inc : block_hazard(sigma, mean, var, s0 - origin, t - origin)));
-      }
-      H += inc;
-    }
-  });
-  std::vector<double> out(depths.size());
-  for (std::size_t d = 0; d < depths.size(); ++d) out[d] = log_sum_exp_mean(log_terms[d], st.rays);
-  return out;
-}
-
-/// The relative variance of the part of a ray's concentration that persists along the whole
-/// coarse column: the mean over adjacent non-empty block pairs of Cov(m_b, m_b+1)/(C̄_b C̄_b+1),
-/// the column means' covariance across a block boundary in units of the blocks' means; ≥ 0.
-double persistent_relative_variance(const BlockStats& st, std::int64_t cu, std::int64_t cv) {
-  double sum = 0.0;
-  double pairs = 0.0;
-  for (std::int64_t b = 0; b + 1 < st.nb; ++b) {
-    const Sums& x = st.closed(cu, cv, b);
-    const Sums& y = st.closed(cu, cv, b + 1);
-    const double mx = x.mean();
-    const double my = y.mean();
-    if (!(mx > 0.0) || !(my > 0.0) || !(x.n > 0.0)) continue;
-    sum += (st.cross[st.index(cu, cv, b)] / x.n - mx * my) / (mx * my);
-    pairs += 1.0;
-  }
-  return pairs > 0.0 ? std::max(0.0, sum / pairs) : 0.0;
-}
-
-/// The prediction (docs/validate.md "The prediction"): a ray's concentration in block b is
-/// C̄_b · P · Q_b, P ~ Gamma(mean 1, relative variance v_p) one per ray for its whole path (the
-/// part that persists from block to block: which yarn or gap the ray runs in), Q_b ~ Gamma(mean
-/// 1, v_b) one per ray and block (the part that does not), with (1 + v_p)(1 + v_b) = 1 + the
-/// block's relative variance of column means. Given P, blocks are independent gamma laws
-/// (the renewal); over P the memory runs from the entry. T(t) = E_P Π_b (1 + σC̄_b P s_b v_b)^(−1/v_b)
-/// per coarse column, E_P by kNodes equal-probability quantiles of P.
-std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const BlockStats& st,
-                                    const std::vector<double>& depths) {
-  constexpr int kNodes = 32;
-  const std::size_t columns = static_cast<std::size_t>(st.nu * st.nv);
-  std::vector<std::vector<double>> log_terms(depths.size(), std::vector<double>(columns, 0.0));
-  parallel_units(columns, [&](std::size_t c) {
-    const auto cu = static_cast<std::int64_t>(c) / st.nv;
-    const auto cv = static_cast<std::int64_t>(c) % st.nv;
-    const double vp = persistent_relative_variance(st, cu, cv);
-    std::vector<double> p{1.0};
-    if (vp > 0.0) {
-      p.resize(kNodes);
-      const double shape = 1.0 / vp;
-      for (int j = 0; j < kNodes; ++j)
-        p[static_cast<std::size_t>(j)] = boost::math::gamma_p_inv(shape, (j + 0.5) / kNodes) / shape;
-    }
-    const std::vector<double> ones(p.size(), 1.0);
-    std::vector<double> H(p.size(), 0.0);
-    std::vector<double> at(p.size(), 0.0);
-    std::vector<double> inc(p.size(), 0.0);
-    std::size_t d = 0;
-    double mean = 0.0;
-    double vb = 0.0;
-    double entry = 0.0;
-    // Hazard of node j over [a, b) of the current block (memory of Q_b from the block's entry).
-    auto hazard = [&](std::size_t j, double a, double b) {
-      const double mu = sigma * mean * p[j];
-      if (!(vb > 0.0)) return mu * (b - a);
-      return (std::log1p(mu * vb * (b - entry)) - std::log1p(mu * vb * (a - entry))) / vb;
-    };
-    // Open columns (no concentration along the whole beam) transmit everything, exactly.
-    const double f_open = st.rays[c] > 0.0 ? st.open[c] / st.rays[c] : 0.0;
-    auto with_open = [&](double log_closed) {
-      if (!(f_open > 0.0)) return log_closed;
-      return std::log(f_open + (1.0 - f_open) * std::exp(log_closed));
-    };
-    for (int k = 0; k <= n && d < depths.size(); ++k) {
-      const double s0 = k * h;
-      if (k == n) {
-        for (std::size_t j = 0; j < p.size(); ++j) at[j] = -H[j];
-        const double past = with_open(log_sum_exp_mean(at, ones));  // past the box: nothing more
-        while (d < depths.size()) log_terms[d++][c] = past;
-        break;
-      }
-      if (k % B == 0) {
-        const Sums& b = st.closed(cu, cv, k / B);
-        mean = b.mean();
-        const double rel = mean > 0.0 ? b.var() / (mean * mean) : 0.0;
-        vb = std::max(0.0, (1.0 + rel) / (1.0 + vp) - 1.0);
-        entry = s0;
-      }
-      // The slice's hazard once per node (the beam's depths are the slice ends, k·h).
-      for (std::size_t j = 0; j < p.size(); ++j) inc[j] = hazard(j, s0, s0 + h);
-      while (d < depths.size() && depths[d] <= s0 + h) {
-        const double t = std::max(depths[d], s0);
-        for (std::size_t j = 0; j < p.size(); ++j) at[j] = -(H[j] + (t == s0 + h ? inc[j] : hazard(j, s0, t)));
-        log_terms[d++][c] = with_open(log_sum_exp_mean(at, ones));
-      }
-      for (std::size_t j = 0; j < p.size(); ++j) H[j] += inc[j];
-    }
-  });
-  std::vector<double> out(depths.size());
-  for (std::size_t d = 0; d < depths.size(); ++d) out[d] = log_sum_exp_mean(log_terms[d], st.rays);
   return out;
 }
 
@@ -570,7 +291,7 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
   // Local fields of blocks L³ (the statistics `weft fit --block` writes for rendering), clipped
   // to the active box so that each block holds exactly the beam's columns that cross it.
   {
-    const BlockStats st = block_stats(reader, reverse, w, progress);
+    const BlockStats st = detail::block_stats(reader, reverse, w, progress);
     double blocks = 0.0;
     for (const auto& b : st.sums) blocks += b.n > 0.0 && b.s > 0.0 ? 1.0 : 0.0;
     const std::vector<std::tuple<std::string, std::string, Memory>> kinds{
@@ -583,10 +304,10 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
          Memory::per_block},
     };
     for (const auto& [name, description, memory] : kinds) {
-      auto curve = block_field_curve(n, w, h, sigma, st, memory, depths);
+      auto curve = detail::block_field_curve(n, w, h, sigma, st, memory, depths);
       add(name, description, {{"block", L}, {"blocks", blocks}}, [&](std::size_t d, double) { return curve[d]; });
     }
-    auto curve = two_scale_curve(n, w, h, sigma, st, depths);
+    auto curve = detail::two_scale_curve(n, w, h, sigma, st, depths);
     add(kPredictedModel,
         "blocks of side L; per ray a persistent gamma factor (its memory from the entry, variance from the measured "
         "covariance of adjacent blocks) times an independent gamma factor per block (the prediction)",
