@@ -27,7 +27,12 @@ using detail::log_sum_exp_mean;
 using detail::Memory;
 using detail::Sums;
 
-constexpr int kBins = 4096;  // histogram of window means for Eq. 16
+// Histogram of window means for Eq. 16: kSub bins per octave over kOctaves octaves of m (2^-41
+// to 2^23; mean concentrations and extinctions in 1/mm lie far inside).
+constexpr int kSub = 128;
+constexpr int kOctaves = 64;
+constexpr int kMinExponent = -40;
+constexpr int kBins = kSub * kOctaves;
 
 using GroupKey = std::pair<std::int64_t, std::int64_t>;
 
@@ -42,16 +47,26 @@ struct WindowSummary {
   Moments moments;  ///< the same windows, Welford: the window statistics validate reports
   Sums nonzero;
   double zeros = 0.0;
-  double max_mean = 0.0;
   std::map<GroupKey, Group> groups;
   std::vector<double> bin_count;
   std::vector<double> bin_sum;
 };
 
-/// One pass (twice: the histogram needs the largest window mean first) over every window of
-/// w voxels of every column along the reader's axis; groups are transverse cells of `cell`
-/// voxels anchored at the active box's lower corner (docs/validate.md "Blocks anchored to the
-/// cloth"), so the same voxels at another index origin give the same groups.
+/// The histogram bin of a window mean m > 0 for Eq. 16: kSub bins per octave of m (the octave
+/// from frexp's exponent), so no range has to be known before the pass; means below the lowest
+/// octave share bin 0, above the highest the last bin (each bin is evaluated at its own mean).
+int bin_of(double m) {
+  int e = 0;
+  const double f = std::frexp(m, &e);  // m = f·2^e, f in [0.5, 1)
+  if (e < kMinExponent) return 0;
+  if (e >= kMinExponent + kOctaves) return kBins - 1;
+  return (e - kMinExponent) * kSub + std::min(kSub - 1, static_cast<int>((f - 0.5) * 2.0 * kSub));
+}
+
+/// One pass over every window of w voxels of every column along the reader's axis; groups are
+/// transverse cells of `cell` voxels anchored at the active box's lower corner (docs/validate.md
+/// "Blocks anchored to the cloth"), so the same voxels at another index origin give the same
+/// groups.
 WindowSummary summarize(const volume::ColumnReader& reader, int w, int cell, ProgressSink& progress) {
   const int n = static_cast<int>(reader.box().extent()[reader.axis()]);
   const std::int64_t u_lo = reader.box().min[static_cast<std::size_t>((reader.axis() + 1) % 3)];
@@ -60,71 +75,59 @@ WindowSummary summarize(const volume::ColumnReader& reader, int w, int cell, Pro
   const std::size_t shards = std::min(kShards, units);
   const int positions = n - w + 1;
   std::vector<WindowSummary> parts(shards);
-  for (int pass = 0; pass < 2; ++pass) {
-    double top = 0.0;
-    for (const auto& p : parts) top = std::max(top, p.max_mean);
-    ProgressTask task(progress, fmt::format("window statistics {}", "xyz"[reader.axis()]), units);
-    parallel_units(shards, [&](std::size_t shard) {
-      volume::ColumnTile tile;
-      std::vector<double> prefix(static_cast<std::size_t>(n) + 1);
-      auto& part = parts[shard];
-      if (pass == 1) {
-        part.bin_count.assign(kBins, 0.0);
-        part.bin_sum.assign(kBins, 0.0);
-      }
-      for (std::size_t unit = shard * units / shards; unit < (shard + 1) * units / shards; ++unit) {
-        reader.read(unit, tile);
-        for (int iu = 0; iu < tile.nu; ++iu) {
-          for (int iv = 0; iv < tile.nv; ++iv) {
-            const float* col = tile.column(iu, iv);
-            prefix[0] = 0.0;
-            for (int k = 0; k < n; ++k)
-              prefix[static_cast<std::size_t>(k) + 1] = prefix[static_cast<std::size_t>(k)] + col[k];
-            Group* g = nullptr;
-            if (pass == 0) {
-              const GroupKey key{(tile.u0 + iu - u_lo) / cell, (tile.v0 + iv - v_lo) / cell};
-              g = &part.groups[key];
-              g->rays += 1.0;
-            }
-            auto mean_at = [&](int s) {
-              return (prefix[static_cast<std::size_t>(s + w)] - prefix[static_cast<std::size_t>(s)]) / w;
-            };
-            double column_sum = 0.0;
-            for (int s = 0; s < positions; ++s) {
-              const double m = mean_at(s);
-              if (pass == 0) {
-                part.all.add(m);
-                column_sum += m;
-                g->windows.add(m);
-                part.max_mean = std::max(part.max_mean, m);
-                if (m > 0.0)
-                  part.nonzero.add(m);
-                else
-                  part.zeros += 1.0;
-              } else if (m > 0.0) {
-                const int b = std::min(kBins - 1, static_cast<int>(m / top * kBins));
-                part.bin_count[static_cast<std::size_t>(b)] += 1.0;
-                part.bin_sum[static_cast<std::size_t>(b)] += m;
-              }
-            }
-            if (pass == 0 && positions > 0) {
-              // The column's moments about its own mean (two passes over its windows, no
-              // division per window), merged pairwise into the shard's (moments.h).
-              Moments column;
-              column.n = static_cast<std::uint64_t>(positions);
-              column.mean = column_sum / positions;
-              for (int s = 0; s < positions; ++s) {
-                const double dev = mean_at(s) - column.mean;
-                column.m2 += dev * dev;
-              }
-              part.moments.merge(column);
+  ProgressTask task(progress, fmt::format("window statistics {}", "xyz"[reader.axis()]), units);
+  parallel_units(shards, [&](std::size_t shard) {
+    volume::ColumnTile tile;
+    std::vector<double> prefix(static_cast<std::size_t>(n) + 1);
+    auto& part = parts[shard];
+    part.bin_count.assign(kBins, 0.0);
+    part.bin_sum.assign(kBins, 0.0);
+    for (std::size_t unit = shard * units / shards; unit < (shard + 1) * units / shards; ++unit) {
+      reader.read(unit, tile);
+      for (int iu = 0; iu < tile.nu; ++iu) {
+        for (int iv = 0; iv < tile.nv; ++iv) {
+          const float* col = tile.column(iu, iv);
+          prefix[0] = 0.0;
+          for (int k = 0; k < n; ++k)
+            prefix[static_cast<std::size_t>(k) + 1] = prefix[static_cast<std::size_t>(k)] + col[k];
+          const GroupKey key{(tile.u0 + iu - u_lo) / cell, (tile.v0 + iv - v_lo) / cell};
+          Group& g = part.groups[key];
+          g.rays += 1.0;
+          auto mean_at = [&](int s) {
+            return (prefix[static_cast<std::size_t>(s + w)] - prefix[static_cast<std::size_t>(s)]) / w;
+          };
+          double column_sum = 0.0;
+          for (int s = 0; s < positions; ++s) {
+            const double m = mean_at(s);
+            part.all.add(m);
+            column_sum += m;
+            g.windows.add(m);
+            if (m > 0.0) {
+              part.nonzero.add(m);
+              const auto b = static_cast<std::size_t>(bin_of(m));
+              part.bin_count[b] += 1.0;
+              part.bin_sum[b] += m;
+            } else {
+              part.zeros += 1.0;
             }
           }
+          if (positions > 0) {
+            // The column's moments about its own mean (two passes over its windows, no
+            // division per window), merged pairwise into the shard's (moments.h).
+            Moments column;
+            column.n = static_cast<std::uint64_t>(positions);
+            column.mean = column_sum / positions;
+            for (int s = 0; s < positions; ++s) {
+              const double dev = mean_at(s) - column.mean;
+              column.m2 += dev * dev;
+            }
+            part.moments.merge(column);
+          }
         }
-        task.step();
       }
-    });
-  }
+      task.step();
+    }
+  });
   WindowSummary out;
   out.bin_count.assign(kBins, 0.0);
   out.bin_sum.assign(kBins, 0.0);
@@ -133,7 +136,6 @@ WindowSummary summarize(const volume::ColumnReader& reader, int w, int cell, Pro
     out.moments.merge(p.moments);
     out.nonzero.merge(p.nonzero);
     out.zeros += p.zeros;
-    out.max_mean = std::max(out.max_mean, p.max_mean);
     for (const auto& [k, g] : p.groups) {
       auto& dst = out.groups[k];
       dst.windows.merge(g.windows);
