@@ -76,8 +76,8 @@ struct PredictionSpec {
 /// Every predictive model above, in that order, on `depths` (distances from the entry face).
 /// Throws weft::Error for an empty grid, a non-axis direction or σ ≤ 0. When `moments_out` is
 /// given it receives the moments of the windows of length L the models were built from (what
-/// fit::window_stats(grid, axis, L) computes, from the same pass: validate reads the voxels once
-/// per axis).
+/// fit::window_stats(grid, axis, L) computes, equal up to rounding: window sums here come from
+/// prefix sums), from the same pass, so validate reads the voxels once per beam for both.
 [[nodiscard]] std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const PredictionSpec& spec,
                                                        const std::vector<double>& depths,
                                                        ProgressSink& progress = null_progress(),
