@@ -188,7 +188,7 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
   const volume::ColumnReader reader(grid, axis);
   const auto box = reader.box();
   const int n = static_cast<int>(box.extent()[static_cast<std::size_t>(axis)]);
-  const int w = spec.scale > 0.0 ? static_cast<int>(std::clamp<double>(std::round(spec.scale / h), 1.0, n)) : n;
+  const int w = window_voxels(spec.scale, h, n);
   const double sigma = spec.sigma;
   const WindowSummary ws = summarize(reader, w, w, progress);
   if (moments_out != nullptr) {

@@ -15,6 +15,11 @@ constexpr std::size_t kShards = 64;  // fixed: results do not depend on the thre
 
 }  // namespace
 
+int window_voxels(double window, double h, int n) {
+  if (!(window > 0.0)) return n;
+  return static_cast<int>(std::clamp<double>(std::round(window / h), 1.0, static_cast<double>(n)));
+}
+
 ConcentrationStats window_stats(const volume::Grid& grid, int axis, double window, ProgressSink& progress) {
   if (axis < 0 || axis > 2) fail("window statistics: axis must be 0, 1 or 2, got {}", axis);
   if (!std::isfinite(window) || !(window >= 0.0)) fail("window statistics: window must be >= 0, got {}", window);
@@ -22,8 +27,7 @@ ConcentrationStats window_stats(const volume::Grid& grid, int axis, double windo
   const volume::ColumnReader reader(grid, axis);
   const int n = static_cast<int>(reader.box().extent()[axis]);
   const double h = grid.voxel_size();
-  int w = n;
-  if (window > 0.0) w = static_cast<int>(std::clamp<double>(std::round(window / h), 1.0, static_cast<double>(n)));
+  const int w = window_voxels(window, h, n);
   const std::size_t units = reader.tile_count();
   const std::size_t shards = std::min(kShards, units);
   std::vector<Moments> parts(shards);
