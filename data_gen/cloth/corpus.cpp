@@ -39,7 +39,11 @@ dist::Bytes encode(const CorpusResult& r) {
   for (const auto& a : r.axes) {
     json models = json::array();
     for (const auto& m : a.models) models.push_back(ratio_json(m));
-    axes.push_back({{"axis", a.axis}, {"scale", a.scale}, {"models", models}, {"best", ratio_json(a.best)}});
+    axes.push_back({{"axis", a.axis},
+                    {"scale", a.scale},
+                    {"models", models},
+                    {"predicted", ratio_json(a.predicted)},
+                    {"best", ratio_json(a.best)}});
   }
   const json j = {{"sigma", r.sigma}, {"active_voxels", r.active_voxels}, {"seconds", r.seconds}, {"axes", axes}};
   return json::to_msgpack(j);
@@ -57,6 +61,7 @@ CorpusResult decode(const CorpusCase& c, const dist::Bytes& b) {
     a.axis = ja.at("axis").get<std::string>();
     a.scale = ja.at("scale").get<double>();
     for (const auto& m : ja.at("models")) a.models.push_back(ratio_from(m));
+    a.predicted = ratio_from(ja.at("predicted"));
     a.best = ratio_from(ja.at("best"));
     r.axes.push_back(std::move(a));
   }
@@ -129,7 +134,8 @@ CorpusResult run_corpus_case(const CorpusCase& c, std::uint64_t seed, const std:
     ca.axis = a.label;
     ca.scale = a.scale;
     ca.models = fit::model_ratios(a);
-    ca.best = fit::best_predictive(a);
+    ca.predicted = fit::predicted(a);
+    ca.best = fit::best_by_ground_truth(a);
     r.axes.push_back(std::move(ca));
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

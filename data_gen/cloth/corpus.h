@@ -38,7 +38,8 @@ struct CorpusAxis {
   std::string axis;
   double scale = 0.0;
   std::vector<fit::ModelRatio> models;
-  fit::ModelRatio best;
+  fit::ModelRatio predicted;  ///< fit::predicted: the one model fixed before measuring
+  fit::ModelRatio best;       ///< fit::best_by_ground_truth: a diagnostic chosen with T_gt
 };
 
 struct CorpusResult {

@@ -46,7 +46,7 @@ def validate(grid, sigma=None, window="yarn", axes=("x", "y", "z"), rays_per_col
     ``axes`` (``("x", "z")``, ``"x,z"`` or ``(0, 2)``), the paper's gamma law and every predictive
     model. Returns the science part of report.json as Python objects:
     ``["axes"][i]["errors"][model]["rms_abs_T"]``, ``["axes"][i]["models"][model]["uses_ground_truth"]``,
-    ``["axes"][i]["best_predictive"]``, ..."""
+    ``["axes"][i]["predicted"]`` (the one prediction), ``["axes"][i]["best_by_ground_truth"]`` (a diagnostic chosen with T_gt), ..."""
     if not isinstance(grid, Grid):
         raise TypeError("validate: grid must be a weft.Grid, got %s" % type(grid).__name__)
     if sigma is not None:

@@ -17,7 +17,7 @@ add_test(NAME cli.validate.user_grid
          COMMAND weft validate --grid ${WEFT_CLI_GRIDS}/good.vdb --grid-name density --axes x,-z --sigma 20 --window extent --no-plot
                  --out ${CMAKE_CURRENT_BINARY_DIR}/validate_grid)
 set_tests_properties(cli.validate.user_grid PROPERTIES LABELS cli FIXTURES_REQUIRED weft_grids
-                     PASS_REGULAR_EXPRESSION "best predictive: [+]x .* -z ")
+                     PASS_REGULAR_EXPRESSION "predicted [(]local-gamma-two-scale, fixed before measuring[)]: [+]x .* -z ")
 
 # Bad input: one line, non-zero exit, no output folder.
 function(weft_bad_input name expect)

@@ -58,6 +58,11 @@ struct GammaFit {
 /// The exponential baseline with the same mean extinction σC̄.
 [[nodiscard]] transmittance::LawPtr exponential_law(const GammaFit& fit);
 
+/// The window (or block) of length `window` in voxels of edge h along an extent of n voxels:
+/// round(window / h) clamped to 1..n; a window ≤ 0 is the whole extent. The one conversion every
+/// statistic and model uses, so they agree on L.
+[[nodiscard]] int window_voxels(double window, double h, int n);
+
 /// Window statistics along `axis` (0, 1, 2; direction sense does not matter) for window length
 /// `window` (world units; 0 = the grid's extent along the axis). Values are concentrations (or
 /// extinctions, then use σ = 1). Throws weft::Error for an empty grid or a negative window.

@@ -10,7 +10,8 @@
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
 #include "weft/fit/fit.h"
-#include "weft/transmittance/gamma_hazard.h"
+#include "weft/fit/local_models.h"
+#include "weft/fit/moments.h"
 #include "weft/transmittance/gamma_mixture.h"
 #include "weft/transmittance/gap_gamma.h"
 #include "weft/transmittance/registry.h"
@@ -20,31 +21,18 @@
 namespace weft::fit {
 namespace {
 
-constexpr std::size_t kShards = 64;  // fixed: results do not depend on the thread count
-constexpr int kBins = 4096;          // histogram of window means for Eq. 16
+using detail::BlockStats;
+using detail::kShards;
+using detail::log_sum_exp_mean;
+using detail::Memory;
+using detail::Sums;
 
-/// Plain sums (Σ1, Σx, Σx²) of window means: exact to merge in any fixed order.
-struct Sums {
-  double n = 0.0;
-  double s = 0.0;
-  double s2 = 0.0;
-  void add(double x) {
-    n += 1.0;
-    s += x;
-    s2 += x * x;
-  }
-  void merge(const Sums& o) {
-    n += o.n;
-    s += o.s;
-    s2 += o.s2;
-  }
-  [[nodiscard]] double mean() const { return n > 0.0 ? s / n : 0.0; }
-  [[nodiscard]] double var() const {
-    if (!(n > 0.0)) return 0.0;
-    const double m = s / n;
-    return std::max(0.0, s2 / n - m * m);
-  }
-};
+// Histogram of window means for Eq. 16: kSub bins per octave over kOctaves octaves of m (2^-41
+// to 2^23; mean concentrations and extinctions in 1/mm lie far inside).
+constexpr int kSub = 128;
+constexpr int kOctaves = 64;
+constexpr int kMinExponent = -40;
+constexpr int kBins = kSub * kOctaves;
 
 using GroupKey = std::pair<std::int64_t, std::int64_t>;
 
@@ -56,33 +44,29 @@ struct Group {
 /// Everything one pass over the windows of length w along the columns gives.
 struct WindowSummary {
   Sums all;
+  Moments moments;  ///< the same windows, Welford: the window statistics validate reports
   Sums nonzero;
   double zeros = 0.0;
-  double max_mean = 0.0;
   std::map<GroupKey, Group> groups;
   std::vector<double> bin_count;
   std::vector<double> bin_sum;
 };
 
-double log_sum_exp_mean(const std::vector<double>& log_terms, const std::vector<double>& weights) {
-  double hi = -std::numeric_limits<double>::infinity();
-  double wsum = 0.0;
-  for (std::size_t i = 0; i < log_terms.size(); ++i) {
-    if (weights[i] > 0.0) hi = std::max(hi, log_terms[i]);
-    wsum += weights[i];
-  }
-  if (!(wsum > 0.0) || !std::isfinite(hi)) return hi;
-  double s = 0.0;
-  for (std::size_t i = 0; i < log_terms.size(); ++i) {
-    if (weights[i] > 0.0) s += weights[i] * std::exp(log_terms[i] - hi);
-  }
-  return hi + std::log(s / wsum);
+/// The histogram bin of a window mean m > 0 for Eq. 16: kSub bins per octave of m (the octave
+/// from frexp's exponent), so no range has to be known before the pass; means below the lowest
+/// octave share bin 0, above the highest the last bin (each bin is evaluated at its own mean).
+int bin_of(double m) {
+  int e = 0;
+  const double f = std::frexp(m, &e);  // m = f·2^e, f in [0.5, 1)
+  if (e < kMinExponent) return 0;
+  if (e >= kMinExponent + kOctaves) return kBins - 1;
+  return (e - kMinExponent) * kSub + std::min(kSub - 1, static_cast<int>((f - 0.5) * 2.0 * kSub));
 }
 
-/// One pass (twice: the histogram needs the largest window mean first) over every window of
-/// w voxels of every column along the reader's axis; groups are transverse cells of `cell`
-/// voxels anchored at the active box's lower corner (docs/validate.md "Blocks anchored to the
-/// cloth"), so the same voxels at another index origin give the same groups.
+/// One pass over every window of w voxels of every column along the reader's axis; groups are
+/// transverse cells of `cell` voxels anchored at the active box's lower corner (docs/validate.md
+/// "Blocks anchored to the cloth"), so the same voxels at another index origin give the same
+/// groups.
 WindowSummary summarize(const volume::ColumnReader& reader, int w, int cell, ProgressSink& progress) {
   const int n = static_cast<int>(reader.box().extent()[reader.axis()]);
   const std::int64_t u_lo = reader.box().min[static_cast<std::size_t>((reader.axis() + 1) % 3)];
@@ -91,62 +75,67 @@ WindowSummary summarize(const volume::ColumnReader& reader, int w, int cell, Pro
   const std::size_t shards = std::min(kShards, units);
   const int positions = n - w + 1;
   std::vector<WindowSummary> parts(shards);
-  for (int pass = 0; pass < 2; ++pass) {
-    double top = 0.0;
-    for (const auto& p : parts) top = std::max(top, p.max_mean);
-    ProgressTask task(progress, fmt::format("window statistics {}", "xyz"[reader.axis()]), units);
-    parallel_units(shards, [&](std::size_t shard) {
-      volume::ColumnTile tile;
-      std::vector<double> prefix(static_cast<std::size_t>(n) + 1);
-      auto& part = parts[shard];
-      if (pass == 1) {
-        part.bin_count.assign(kBins, 0.0);
-        part.bin_sum.assign(kBins, 0.0);
-      }
-      for (std::size_t unit = shard * units / shards; unit < (shard + 1) * units / shards; ++unit) {
-        reader.read(unit, tile);
-        for (int iu = 0; iu < tile.nu; ++iu) {
-          for (int iv = 0; iv < tile.nv; ++iv) {
-            const float* col = tile.column(iu, iv);
-            prefix[0] = 0.0;
-            for (int k = 0; k < n; ++k)
-              prefix[static_cast<std::size_t>(k) + 1] = prefix[static_cast<std::size_t>(k)] + col[k];
-            Group* g = nullptr;
-            if (pass == 0) {
-              const GroupKey key{(tile.u0 + iu - u_lo) / cell, (tile.v0 + iv - v_lo) / cell};
-              g = &part.groups[key];
-              g->rays += 1.0;
-            }
-            for (int s = 0; s < positions; ++s) {
-              const double m = (prefix[static_cast<std::size_t>(s + w)] - prefix[static_cast<std::size_t>(s)]) / w;
-              if (pass == 0) {
-                part.all.add(m);
-                g->windows.add(m);
-                part.max_mean = std::max(part.max_mean, m);
-                if (m > 0.0)
-                  part.nonzero.add(m);
-                else
-                  part.zeros += 1.0;
-              } else if (m > 0.0) {
-                const int b = std::min(kBins - 1, static_cast<int>(m / top * kBins));
-                part.bin_count[static_cast<std::size_t>(b)] += 1.0;
-                part.bin_sum[static_cast<std::size_t>(b)] += m;
-              }
+  ProgressTask task(progress, fmt::format("window statistics {}", "xyz"[reader.axis()]), units);
+  parallel_units(shards, [&](std::size_t shard) {
+    volume::ColumnTile tile;
+    std::vector<double> prefix(static_cast<std::size_t>(n) + 1);
+    auto& part = parts[shard];
+    part.bin_count.assign(kBins, 0.0);
+    part.bin_sum.assign(kBins, 0.0);
+    for (std::size_t unit = shard * units / shards; unit < (shard + 1) * units / shards; ++unit) {
+      reader.read(unit, tile);
+      for (int iu = 0; iu < tile.nu; ++iu) {
+        for (int iv = 0; iv < tile.nv; ++iv) {
+          const float* col = tile.column(iu, iv);
+          prefix[0] = 0.0;
+          for (int k = 0; k < n; ++k)
+            prefix[static_cast<std::size_t>(k) + 1] = prefix[static_cast<std::size_t>(k)] + col[k];
+          const GroupKey key{(tile.u0 + iu - u_lo) / cell, (tile.v0 + iv - v_lo) / cell};
+          Group& g = part.groups[key];
+          g.rays += 1.0;
+          auto mean_at = [&](int s) {
+            return (prefix[static_cast<std::size_t>(s + w)] - prefix[static_cast<std::size_t>(s)]) / w;
+          };
+          double column_sum = 0.0;
+          for (int s = 0; s < positions; ++s) {
+            const double m = mean_at(s);
+            part.all.add(m);
+            column_sum += m;
+            g.windows.add(m);
+            if (m > 0.0) {
+              part.nonzero.add(m);
+              const auto b = static_cast<std::size_t>(bin_of(m));
+              part.bin_count[b] += 1.0;
+              part.bin_sum[b] += m;
+            } else {
+              part.zeros += 1.0;
             }
           }
+          if (positions > 0) {
+            // The column's moments about its own mean (two passes over its windows, no
+            // division per window), merged pairwise into the shard's (moments.h).
+            Moments column;
+            column.n = static_cast<std::uint64_t>(positions);
+            column.mean = column_sum / positions;
+            for (int s = 0; s < positions; ++s) {
+              const double dev = mean_at(s) - column.mean;
+              column.m2 += dev * dev;
+            }
+            part.moments.merge(column);
+          }
         }
-        task.step();
       }
-    });
-  }
+      task.step();
+    }
+  });
   WindowSummary out;
   out.bin_count.assign(kBins, 0.0);
   out.bin_sum.assign(kBins, 0.0);
   for (const auto& p : parts) {
     out.all.merge(p.all);
+    out.moments.merge(p.moments);
     out.nonzero.merge(p.nonzero);
     out.zeros += p.zeros;
-    out.max_mean = std::max(out.max_mean, p.max_mean);
     for (const auto& [k, g] : p.groups) {
       auto& dst = out.groups[k];
       dst.windows.merge(g.windows);
@@ -157,112 +146,6 @@ WindowSummary summarize(const volume::ColumnReader& reader, int w, int cell, Pro
       out.bin_sum[static_cast<std::size_t>(b)] += p.bin_sum[static_cast<std::size_t>(b)];
     }
   }
-  return out;
-}
-
-enum class Memory { none, from_entry, per_block };
-
-/// Block statistics of the beam's columns: blocks of B voxels anchored to the cloth, not to the
-/// index lattice (docs/validate.md "Blocks anchored to the cloth"): across the beam at the active
-/// box's lower corner, along it at the face where the beam enters (block 0 holds the first B
-/// voxels every ray crosses, as the memory of the hazard starts there), clipped to the box, so
-/// that a block holds exactly the columns (rays) of the beam that cross it and a translated copy
-/// of the voxels gives the same blocks. Per block: the mean of C and the variance of the column
-/// means over the block's length across its columns (Eq. 19 per block).
-struct BlockStats {
-  std::int64_t nu = 0, nv = 0, nb = 0;
-  std::vector<Sums> sums;    ///< [(cu·nv + cv)·nb + cb], cb counted from the entry face
-  std::vector<double> rays;  ///< per coarse column (cu, cv): beam columns in it
-  [[nodiscard]] const Sums& at(std::int64_t u, std::int64_t v, std::int64_t b) const {
-    return sums[static_cast<std::size_t>((u * nv + v) * nb + b)];
-  }
-};
-
-BlockStats block_stats(const volume::ColumnReader& reader, bool reverse, int B, ProgressSink& progress) {
-  const int axis = reader.axis();
-  const auto box = reader.box();
-  const auto au = static_cast<std::size_t>((axis + 1) % 3);
-  const auto av = static_cast<std::size_t>((axis + 2) % 3);
-  const auto ext = box.extent();
-  BlockStats st;
-  st.nu = (ext[au] + B - 1) / B;
-  st.nv = (ext[av] + B - 1) / B;
-  st.nb = (ext[static_cast<std::size_t>(axis)] + B - 1) / B;
-  const std::size_t cells = static_cast<std::size_t>(st.nu * st.nv * st.nb);
-  if (cells > 50'000'000) fail("local fields: {} blocks of {} voxels is too many", cells, B);
-  const std::size_t units = reader.tile_count();
-  const std::size_t shards = std::min(kShards, units);
-  std::vector<std::vector<Sums>> parts(shards, std::vector<Sums>(cells));
-  std::vector<std::vector<double>> rays(shards, std::vector<double>(static_cast<std::size_t>(st.nu * st.nv), 0.0));
-  ProgressTask task(progress, fmt::format("local fields {}", "xyz"[axis]), units);
-  parallel_units(shards, [&](std::size_t shard) {
-    volume::ColumnTile tile;
-    for (std::size_t unit = shard * units / shards; unit < (shard + 1) * units / shards; ++unit) {
-      reader.read(unit, tile);
-      const int n = tile.depth;
-      for (int iu = 0; iu < tile.nu; ++iu) {
-        for (int iv = 0; iv < tile.nv; ++iv) {
-          const std::int64_t cu = (tile.u0 + iu - box.min[au]) / B;
-          const std::int64_t cv = (tile.v0 + iv - box.min[av]) / B;
-          rays[shard][static_cast<std::size_t>(cu * st.nv + cv)] += 1.0;
-          const float* col = tile.column(iu, iv);
-          Sums* block = &parts[shard][static_cast<std::size_t>((cu * st.nv + cv) * st.nb)];
-          // Depth e from the entry face; block e / B.
-          for (int e0 = 0; e0 < n; e0 += B) {
-            const int e1 = std::min(n, e0 + B);
-            double sum = 0.0;
-            for (int e = e0; e < e1; ++e) sum += static_cast<double>(col[reverse ? n - 1 - e : e]);
-            block[e0 / B].add(sum / (e1 - e0));
-          }
-        }
-      }
-      task.step();
-    }
-  });
-  st.sums.assign(cells, Sums{});
-  st.rays.assign(static_cast<std::size_t>(st.nu * st.nv), 0.0);
-  for (std::size_t sh = 0; sh < shards; ++sh) {
-    for (std::size_t c = 0; c < cells; ++c) st.sums[c].merge(parts[sh][c]);
-    for (std::size_t c = 0; c < st.rays.size(); ++c) st.rays[c] += rays[sh][c];
-  }
-  return st;
-}
-
-/// log T on `depths` of the beam through block fields: per coarse column the hazard of each
-/// block integrated exactly, T the ray-weighted mean over coarse columns.
-std::vector<double> block_field_curve(int n, int B, double h, double sigma, const BlockStats& st, Memory memory,
-                                      const std::vector<double>& depths) {
-  const std::size_t columns = static_cast<std::size_t>(st.nu * st.nv);
-  std::vector<std::vector<double>> log_terms(depths.size(), std::vector<double>(columns, 0.0));
-  parallel_units(columns, [&](std::size_t c) {
-    const auto cu = static_cast<std::int64_t>(c) / st.nv;
-    const auto cv = static_cast<std::int64_t>(c) % st.nv;
-    // Walk the fine slices from the entry face, the block hazard (transmittance::GammaHazard,
-    // the render medium's) entered at each block face; a block without variance is exponential.
-    transmittance::GammaHazard hazard(
-        memory == Memory::per_block ? transmittance::MemoryRule::renewal : transmittance::MemoryRule::segment,
-        transmittance::Origin::source);
-    std::size_t d = 0;
-    for (int k = 0; k <= n && d < depths.size(); ++k) {
-      const double s0 = k * h;
-      if (k == n) {
-        while (d < depths.size()) log_terms[d++][c] = -hazard.hazard();  // past the box: nothing more
-        break;
-      }
-      if (k % B == 0) {
-        // Blocks are anchored at the entry face (docs/validate.md "Blocks anchored to the cloth").
-        const Sums& b = st.at(cu, cv, k / B);
-        hazard.enter(sigma, b.mean(), memory == Memory::none ? 0.0 : b.var(), s0);
-      }
-      while (d < depths.size() && depths[d] <= s0 + h) {
-        const double t = std::max(depths[d], s0);
-        log_terms[d++][c] = -(hazard.hazard() + hazard.piece(s0, t));
-      }
-      hazard.advance(s0, s0 + h);
-    }
-  });
-  std::vector<double> out(depths.size());
-  for (std::size_t d = 0; d < depths.size(); ++d) out[d] = log_sum_exp_mean(log_terms[d], st.rays);
   return out;
 }
 
@@ -293,7 +176,8 @@ double gamma_log_t(double sigma, double mean, double var, double t) {
 }
 
 std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const PredictionSpec& spec,
-                                         const std::vector<double>& depths, ProgressSink& progress) {
+                                         const std::vector<double>& depths, ProgressSink& progress,
+                                         ConcentrationStats* moments_out) {
   require_positive("predict: sigma", spec.sigma);
   if (!std::isfinite(spec.scale) || spec.scale < 0.0) fail("predict: scale must be >= 0, got {}", spec.scale);
   const int axis = volume::beam_axis(spec.direction);
@@ -304,9 +188,16 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
   const volume::ColumnReader reader(grid, axis);
   const auto box = reader.box();
   const int n = static_cast<int>(box.extent()[static_cast<std::size_t>(axis)]);
-  const int w = spec.scale > 0.0 ? static_cast<int>(std::clamp<double>(std::round(spec.scale / h), 1.0, n)) : n;
+  const int w = window_voxels(spec.scale, h, n);
   const double sigma = spec.sigma;
   const WindowSummary ws = summarize(reader, w, w, progress);
+  if (moments_out != nullptr) {
+    moments_out->mean = ws.moments.mean;
+    moments_out->variance = ws.moments.variance();
+    moments_out->samples = ws.moments.n;
+    moments_out->window_voxels = w;
+    moments_out->window = w * h;
+  }
   std::vector<PredictedModel> out;
   auto add = [&](std::string name, std::string description, std::vector<std::pair<std::string, double>> params,
                  auto&& log_t_of, transmittance::LawPtr law = nullptr) {
@@ -402,7 +293,7 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
   // Local fields of blocks L³ (the statistics `weft fit --block` writes for rendering), clipped
   // to the active box so that each block holds exactly the beam's columns that cross it.
   {
-    const BlockStats st = block_stats(reader, reverse, w, progress);
+    const BlockStats st = detail::block_stats(reader, reverse, w, progress);
     double blocks = 0.0;
     for (const auto& b : st.sums) blocks += b.n > 0.0 && b.s > 0.0 ? 1.0 : 0.0;
     const std::vector<std::tuple<std::string, std::string, Memory>> kinds{
@@ -412,11 +303,17 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
          "blocks of side L with C and Var of column means, gamma hazard with memory from the ray's entry",
          Memory::from_entry},
         {"local-gamma-renewal", "blocks of side L, gamma hazard with memory restarting at every block",
-         Memory::per_block}};
+         Memory::per_block},
+    };
     for (const auto& [name, description, memory] : kinds) {
-      auto curve = block_field_curve(n, w, h, sigma, st, memory, depths);
+      auto curve = detail::block_field_curve(n, w, h, sigma, st, memory, depths);
       add(name, description, {{"block", L}, {"blocks", blocks}}, [&](std::size_t d, double) { return curve[d]; });
     }
+    auto curve = detail::two_scale_curve(n, w, h, sigma, st, depths);
+    add(kPredictedModel,
+        "blocks of side L; per ray a persistent gamma factor (its memory from the entry, variance from the measured "
+        "covariance of adjacent blocks) times an independent gamma factor per block (the prediction)",
+        {{"block", L}, {"blocks", blocks}}, [&](std::size_t d, double) { return curve[d]; });
   }
   return out;
 }

@@ -28,6 +28,10 @@
 ///                      block by block; T the mean over rays.
 ///   local-gamma-renewal the same blocks, memory restarting at every block boundary (block means
 ///                      along a ray taken as independent).
+///   local-gamma-two-scale the same blocks; a ray's concentration is the block mean times a
+///                      persistent gamma factor (memory from the entry; its variance the measured
+///                      covariance of adjacent blocks' column means) times an independent gamma
+///                      factor per block (the renewal): both regimes in one model. THE prediction.
 
 #include <array>
 #include <string>
@@ -35,10 +39,20 @@
 #include <vector>
 
 #include "weft/core/progress.h"
+#include "weft/fit/fit.h"
 #include "weft/transmittance/law.h"
 #include "weft/volume/grid.h"
 
 namespace weft::fit {
+
+/// The prediction: one model, fixed before anything is measured, that holds both regimes of the
+/// hazard's memory (long correlation along the beam: memory from the entry; short: renewal) by
+/// splitting the variance of each block's column means into the part adjacent blocks share
+/// (persistent) and the rest (docs/validate.md "The prediction"). No choice is made per grid.
+inline constexpr const char* kPredictedModel = "local-gamma-two-scale";
+inline constexpr const char* kPredictionRule =
+    "one model fixed before measuring: local gamma fields of blocks of side L, a persistent gamma factor per ray "
+    "(variance: the covariance of adjacent blocks' column means) times an independent one per block";
 
 /// One model's prediction on the requested depths.
 struct PredictedModel {
@@ -60,10 +74,14 @@ struct PredictionSpec {
 };
 
 /// Every predictive model above, in that order, on `depths` (distances from the entry face).
-/// Throws weft::Error for an empty grid, a non-axis direction or σ ≤ 0.
+/// Throws weft::Error for an empty grid, a non-axis direction or σ ≤ 0. When `moments_out` is
+/// given it receives the moments of the windows of length L the models were built from (what
+/// fit::window_stats(grid, axis, L) computes, equal up to rounding: window sums here come from
+/// prefix sums), from the same pass, so validate reads the voxels once per beam for both.
 [[nodiscard]] std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const PredictionSpec& spec,
                                                        const std::vector<double>& depths,
-                                                       ProgressSink& progress = null_progress());
+                                                       ProgressSink& progress = null_progress(),
+                                                       ConcentrationStats* moments_out = nullptr);
 
 /// log T of the gamma law with window moments (mean, var) at σ: −α log1p(σ t/β), exactly the
 /// exponential when var = 0 and 0 when mean = 0.

@@ -2,7 +2,8 @@
 /// @file
 /// @brief The science part of `weft validate`'s report.json as JSON text: per axis, every model
 /// with its parameters and `uses_ground_truth`, its errors, its ratio to the exponential
-/// baseline and the best predictive model. The CLI and the Python module emit the same text.
+/// baseline, the prediction and the best model chosen with the ground truth. The CLI and the Python module emit the
+/// same text.
 
 #include <string>
 
@@ -18,9 +19,15 @@ struct ModelRatio {
   bool uses_ground_truth = false;
 };
 [[nodiscard]] std::vector<ModelRatio> model_ratios(const AxisValidation& axis);
-/// The predictive model (uses_ground_truth false, not the exponential baseline) with the
-/// smallest RMS error on T.
-[[nodiscard]] ModelRatio best_predictive(const AxisValidation& axis);
+/// The prediction of the axis: the one model fixed before measuring (fit::kPredictedModel,
+/// docs/validate.md "The prediction"); uses_ground_truth false.
+[[nodiscard]] ModelRatio predicted(const AxisValidation& axis);
+/// Diagnostic, chosen WITH the ground truth: the model (among those that do not see T_gt, the
+/// exponential baseline excluded) with the smallest RMS error on T against T_gt. Its
+/// uses_ground_truth is true: which model wins is known only after measuring.
+[[nodiscard]] ModelRatio best_by_ground_truth(const AxisValidation& axis);
+/// The former name of best_by_ground_truth (render's study still reads it).
+[[nodiscard]] inline ModelRatio best_predictive(const AxisValidation& axis) { return best_by_ground_truth(axis); }
 
 /// {"sigma": …, "exponential": …, "isotropic": …, "axes": [ … ]} as pretty-printed JSON.
 [[nodiscard]] std::string validation_json(const Validation& v);

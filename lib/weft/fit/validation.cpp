@@ -66,9 +66,44 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
   const auto exp_law = exponential_law(v.exponential);
 
   // Window statistics per axis at its scale (sense does not matter); all three for isotropic.
+  // The predictive models of a beam are computed first, from the voxels alone, and their pass
+  // over the columns gives the axis's window statistics too (one read of the voxels per beam);
+  // window_stats reads an axis only when no beam's models did.
   std::array<ConcentrationStats, 3> stats{};
   std::array<double, 3> stats_seconds{};
   std::array<bool, 3> have{};
+  std::vector<std::vector<PredictedModel>> predictions(spec.directions.size());
+  std::vector<double> prediction_seconds(spec.directions.size(), 0.0);
+  std::vector<std::vector<double>> beam_depths(spec.directions.size());
+  auto beam_spec = [&](const std::array<double, 3>& d) {
+    volume::BeamSpec beam;
+    beam.direction = d;
+    beam.scale = spec.sigma;
+    beam.rays_per_column = spec.rays_per_column;
+    beam.seed = spec.seed;
+    beam.method = spec.method;
+    return beam;
+  };
+  if (spec.predictive_models) {
+    for (std::size_t i = 0; i < spec.directions.size(); ++i) {
+      const auto& d = spec.directions[i];
+      const auto a = static_cast<std::size_t>(volume::beam_axis(d));
+      // The depths of the beam follow from the grid alone (one voxel apart from the entry face).
+      beam_depths[i] = volume::beam_depths(grid, beam_spec(d));
+      PredictionSpec ps;
+      ps.direction = d;
+      ps.sigma = spec.sigma;
+      ps.scale = spec.scale[a];
+      const auto t0 = std::chrono::steady_clock::now();
+      ConcentrationStats moments;
+      predictions[i] = predict_axis(grid, ps, beam_depths[i], progress, &moments);
+      prediction_seconds[i] = seconds_since(t0);
+      if (!have[a]) {
+        stats[a] = moments;
+        have[a] = true;
+      }
+    }
+  }
   auto stats_for = [&](int axis) {
     const auto a = static_cast<std::size_t>(axis);
     if (have[a]) return;
@@ -87,20 +122,15 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
   }
   const auto iso_law = spec.isotropic ? model_law(v.isotropic_fit) : nullptr;
 
-  for (const auto& d : spec.directions) {
+  for (std::size_t i = 0; i < spec.directions.size(); ++i) {
+    const auto& d = spec.directions[i];
     AxisValidation av;
     av.direction = d;
     av.label = volume::direction_label(d);
     const int axis = volume::beam_axis(d);
     const auto a = static_cast<std::size_t>(axis);
-    volume::BeamSpec beam;
-    beam.direction = d;
-    beam.scale = spec.sigma;
-    beam.rays_per_column = spec.rays_per_column;
-    beam.seed = spec.seed;
-    beam.method = spec.method;
-    // The depths of the beam follow from the grid alone (one voxel apart from the entry face).
-    const std::vector<double> depths = volume::beam_depths(grid, beam);
+    const volume::BeamSpec beam = beam_spec(d);
+    const std::vector<double> depths = spec.predictive_models ? beam_depths[i] : volume::beam_depths(grid, beam);
     stats_for(axis);
     av.stats = stats[a];
     av.scale = av.stats.window;
@@ -122,11 +152,7 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
       add_model(std::move(m));
     }
     if (spec.predictive_models) {
-      PredictionSpec ps;
-      ps.direction = d;
-      ps.sigma = spec.sigma;
-      ps.scale = spec.scale[a];
-      for (auto& p : predict_axis(grid, ps, depths, progress)) {
+      for (auto& p : predictions[i]) {
         if (p.name == "gamma") continue;  // the same law as above (one row per model)
         ModelCurve m;
         m.name = p.name;
@@ -155,7 +181,7 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
       m.law = exp_law;
       add_model(std::move(m));
     }
-    av.fit_seconds = seconds_since(t0);
+    av.fit_seconds = seconds_since(t0) + prediction_seconds[i];
     // Only now the ground truth; every prediction above is already fixed.
     t0 = std::chrono::steady_clock::now();
     av.ground_truth = volume::measure_beam(grid, beam, progress);

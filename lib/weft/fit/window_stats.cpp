@@ -5,6 +5,7 @@
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
 #include "weft/fit/fit.h"
+#include "weft/fit/moments.h"
 #include "weft/volume/columns.h"
 
 namespace weft::fit {
@@ -12,34 +13,12 @@ namespace {
 
 constexpr std::size_t kShards = 64;  // fixed: results do not depend on the thread count
 
-/// Welford running moments; Chan et al.'s pairwise merge, in shard order.
-struct Moments {
-  std::uint64_t n = 0;
-  double mean = 0.0;
-  double m2 = 0.0;
-  void add(double x) {
-    ++n;
-    const double delta = x - mean;
-    mean += delta / static_cast<double>(n);
-    m2 += delta * (x - mean);
-  }
-  void merge(const Moments& o) {
-    if (o.n == 0) return;
-    if (n == 0) {
-      *this = o;
-      return;
-    }
-    const double na = static_cast<double>(n);
-    const double nb = static_cast<double>(o.n);
-    const double delta = o.mean - mean;
-    const double total = na + nb;
-    mean += delta * nb / total;
-    m2 += o.m2 + delta * delta * na * nb / total;
-    n += o.n;
-  }
-};
-
 }  // namespace
+
+int window_voxels(double window, double h, int n) {
+  if (!(window > 0.0)) return n;
+  return static_cast<int>(std::clamp<double>(std::round(window / h), 1.0, static_cast<double>(n)));
+}
 
 ConcentrationStats window_stats(const volume::Grid& grid, int axis, double window, ProgressSink& progress) {
   if (axis < 0 || axis > 2) fail("window statistics: axis must be 0, 1 or 2, got {}", axis);
@@ -48,8 +27,7 @@ ConcentrationStats window_stats(const volume::Grid& grid, int axis, double windo
   const volume::ColumnReader reader(grid, axis);
   const int n = static_cast<int>(reader.box().extent()[axis]);
   const double h = grid.voxel_size();
-  int w = n;
-  if (window > 0.0) w = static_cast<int>(std::clamp<double>(std::round(window / h), 1.0, static_cast<double>(n)));
+  const int w = window_voxels(window, h, n);
   const std::size_t units = reader.tile_count();
   const std::size_t shards = std::min(kShards, units);
   std::vector<Moments> parts(shards);
@@ -89,7 +67,7 @@ ConcentrationStats window_stats(const volume::Grid& grid, int axis, double windo
   for (const auto& p : parts) total.merge(p);
   ConcentrationStats out;
   out.mean = total.mean;
-  out.variance = total.n > 0 ? std::max(0.0, total.m2 / static_cast<double>(total.n)) : 0.0;
+  out.variance = total.variance();
   out.samples = total.n;
   out.window_voxels = w;
   out.window = w * h;

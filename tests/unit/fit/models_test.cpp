@@ -112,21 +112,12 @@ TEST(Models, LocalGammaIntegratesTheBlockHazardExactly) {
 TEST(Models, PredictionsNeverSeeTheGroundTruth) {
   // validate() measures the beam only after predicting; its models equal predict_axis() on the
   // beam's depths bit for bit, and predict_axis has no parameter a curve could come through.
-  Grid g(0.05);
-  g.set_origin({0, 0, 0});
-  for (int i = 0; i < 16; ++i) {
-    for (int j = 0; j < 12; ++j) {
-      for (int k = 0; k < 6; ++k) g.set_value(i, j, k, static_cast<float>(((i * 7 + j * 3 + k * 5) % 11) / 20.0));
-    }
-  }
-  ValidationSpec vs;
-  vs.sigma = 4.0;
-  vs.scale.fill(0.2);
-  const Validation v = validate(g, vs);
+  const Grid g = test::patterned_grid();
+  const Validation v = test::validate_patterned(g);
   for (const auto& a : v.axes) {
     PredictionSpec ps;
     ps.direction = a.direction;
-    ps.sigma = vs.sigma;
+    ps.sigma = 4.0;  // as validate_patterned
     ps.scale = 0.2;
     const auto predicted = predict_axis(g, ps, a.ground_truth.depth);
     for (const auto& m : a.models) {

@@ -1,0 +1,234 @@
+// The local models of fit/models.h: block statistics anchored to the cloth and the beam through
+// them (fit/local_models.h).
+#include "weft/fit/local_models.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <boost/math/special_functions/gamma.hpp>
+
+#include "weft/core/error.h"
+#include "weft/core/parallel.h"
+#include "weft/transmittance/gamma_hazard.h"
+
+namespace weft::fit::detail {
+namespace {
+
+/// The relative variance of the part of a ray's concentration that persists along the whole
+/// coarse column: the mean over adjacent non-empty block pairs of Cov(m_b, m_b+1)/(C̄_b C̄_b+1),
+/// the column means' covariance across a block boundary in units of the blocks' means; ≥ 0.
+double persistent_relative_variance(const BlockStats& st, std::int64_t cu, std::int64_t cv) {
+  double sum = 0.0;
+  double pairs = 0.0;
+  for (std::int64_t b = 0; b + 1 < st.nb; ++b) {
+    const Sums& x = st.closed(cu, cv, b);
+    const Sums& y = st.closed(cu, cv, b + 1);
+    const double mx = x.mean();
+    const double my = y.mean();
+    if (!(mx > 0.0) || !(my > 0.0) || !(x.n > 0.0)) continue;
+    sum += (st.cross[st.index(cu, cv, b)] / x.n - mx * my) / (mx * my);
+    pairs += 1.0;
+  }
+  return pairs > 0.0 ? std::max(0.0, sum / pairs) : 0.0;
+}
+
+}  // namespace
+
+double log_sum_exp_mean(const std::vector<double>& log_terms, const std::vector<double>& weights) {
+  double hi = -std::numeric_limits<double>::infinity();
+  double wsum = 0.0;
+  for (std::size_t i = 0; i < log_terms.size(); ++i) {
+    if (weights[i] > 0.0) hi = std::max(hi, log_terms[i]);
+    wsum += weights[i];
+  }
+  if (!(wsum > 0.0) || !std::isfinite(hi)) return hi;
+  double s = 0.0;
+  for (std::size_t i = 0; i < log_terms.size(); ++i) {
+    if (weights[i] > 0.0) s += weights[i] * std::exp(log_terms[i] - hi);
+  }
+  return hi + std::log(s / wsum);
+}
+
+BlockStats block_stats(const volume::ColumnReader& reader, bool reverse, int B, ProgressSink& progress) {
+  const int axis = reader.axis();
+  const auto box = reader.box();
+  const auto au = static_cast<std::size_t>((axis + 1) % 3);
+  const auto av = static_cast<std::size_t>((axis + 2) % 3);
+  const auto ext = box.extent();
+  BlockStats st;
+  st.nu = (ext[au] + B - 1) / B;
+  st.nv = (ext[av] + B - 1) / B;
+  st.nb = (ext[static_cast<std::size_t>(axis)] + B - 1) / B;
+  const std::size_t cells = static_cast<std::size_t>(st.nu * st.nv * st.nb);
+  if (cells > 50'000'000) fail("local fields: {} blocks of {} voxels is too many", cells, B);
+  const std::size_t units = reader.tile_count();
+  const std::size_t shards = std::min(kShards, units);
+  std::vector<std::vector<Sums>> parts(shards, std::vector<Sums>(cells));
+  std::vector<std::vector<double>> rays(shards, std::vector<double>(static_cast<std::size_t>(st.nu * st.nv), 0.0));
+  std::vector<std::vector<double>> cross(shards, std::vector<double>(cells, 0.0));
+  std::vector<std::vector<double>> open(shards, std::vector<double>(static_cast<std::size_t>(st.nu * st.nv), 0.0));
+  ProgressTask task(progress, fmt::format("local fields {}", "xyz"[axis]), units);
+  parallel_units(shards, [&](std::size_t shard) {
+    volume::ColumnTile tile;
+    for (std::size_t unit = shard * units / shards; unit < (shard + 1) * units / shards; ++unit) {
+      reader.read(unit, tile);
+      const int n = tile.depth;
+      for (int iu = 0; iu < tile.nu; ++iu) {
+        for (int iv = 0; iv < tile.nv; ++iv) {
+          const std::int64_t cu = (tile.u0 + iu - box.min[au]) / B;
+          const std::int64_t cv = (tile.v0 + iv - box.min[av]) / B;
+          rays[shard][static_cast<std::size_t>(cu * st.nv + cv)] += 1.0;
+          const float* col = tile.column(iu, iv);
+          if (std::all_of(col, col + n, [](float x) { return x == 0.0f; })) {
+            open[shard][static_cast<std::size_t>(cu * st.nv + cv)] += 1.0;
+            continue;
+          }
+          Sums* block = &parts[shard][st.index(cu, cv, 0)];
+          double* pair = &cross[shard][st.index(cu, cv, 0)];
+          // Depth e from the entry face; block e / B.
+          double prev = 0.0;
+          for (int e0 = 0; e0 < n; e0 += B) {
+            const int e1 = std::min(n, e0 + B);
+            double sum = 0.0;
+            for (int e = e0; e < e1; ++e) sum += static_cast<double>(col[reverse ? n - 1 - e : e]);
+            const double m = sum / (e1 - e0);
+            block[e0 / B].add(m);
+            if (e0 > 0) pair[e0 / B - 1] += prev * m;
+            prev = m;
+          }
+        }
+      }
+      task.step();
+    }
+  });
+  st.sums.assign(cells, Sums{});
+  st.rays.assign(static_cast<std::size_t>(st.nu * st.nv), 0.0);
+  st.open.assign(st.rays.size(), 0.0);
+  st.cross.assign(cells, 0.0);
+  for (std::size_t sh = 0; sh < shards; ++sh) {
+    for (std::size_t c = 0; c < cells; ++c) {
+      st.sums[c].merge(parts[sh][c]);
+      st.cross[c] += cross[sh][c];
+    }
+    for (std::size_t c = 0; c < st.rays.size(); ++c) {
+      st.rays[c] += rays[sh][c];
+      st.open[c] += open[sh][c];
+    }
+  }
+  return st;
+}
+
+/// log T on `depths` of the beam through block fields: per coarse column the hazard of each
+/// block integrated exactly, T the ray-weighted mean over coarse columns.
+std::vector<double> block_field_curve(int n, int B, double h, double sigma, const BlockStats& st, Memory memory,
+                                      const std::vector<double>& depths) {
+  const std::size_t columns = static_cast<std::size_t>(st.nu * st.nv);
+  std::vector<std::vector<double>> log_terms(depths.size(), std::vector<double>(columns, 0.0));
+  parallel_units(columns, [&](std::size_t c) {
+    const auto cu = static_cast<std::int64_t>(c) / st.nv;
+    const auto cv = static_cast<std::int64_t>(c) % st.nv;
+    // Walk the fine slices from the entry face, the block hazard (transmittance::GammaHazard,
+    // the render medium's) entered at each block face; a block without variance is exponential.
+    transmittance::GammaHazard hazard(
+        memory == Memory::per_block ? transmittance::MemoryRule::renewal : transmittance::MemoryRule::segment,
+        transmittance::Origin::source);
+    std::size_t d = 0;
+    for (int k = 0; k <= n && d < depths.size(); ++k) {
+      const double s0 = k * h;
+      if (k == n) {
+        while (d < depths.size()) log_terms[d++][c] = -hazard.hazard();  // past the box: nothing more
+        break;
+      }
+      if (k % B == 0) {
+        // Blocks are anchored at the entry face (docs/validate.md "Blocks anchored to the cloth").
+        const Sums b = st.at(cu, cv, k / B);
+        hazard.enter(sigma, b.mean(), memory == Memory::none ? 0.0 : b.var(), s0);
+      }
+      while (d < depths.size() && depths[d] <= s0 + h) {
+        const double t = std::max(depths[d], s0);
+        log_terms[d++][c] = -(hazard.hazard() + hazard.piece(s0, t));
+      }
+      hazard.advance(s0, s0 + h);
+    }
+  });
+  std::vector<double> out(depths.size());
+  for (std::size_t d = 0; d < depths.size(); ++d) out[d] = log_sum_exp_mean(log_terms[d], st.rays);
+  return out;
+}
+
+/// The prediction (docs/validate.md "The prediction"): a ray's concentration in block b is
+/// C̄_b · P · Q_b, P ~ Gamma(mean 1, relative variance v_p) one per ray for its whole path (the
+/// part that persists from block to block: which yarn or gap the ray runs in), Q_b ~ Gamma(mean
+/// 1, v_b) one per ray and block (the part that does not), with (1 + v_p)(1 + v_b) = 1 + the
+/// block's relative variance of column means. Given P, blocks are independent gamma laws
+/// (the renewal); over P the memory runs from the entry. T(t) = E_P Π_b (1 + σC̄_b P s_b v_b)^(−1/v_b)
+/// per coarse column, E_P by kNodes equal-probability quantiles of P.
+std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const BlockStats& st,
+                                    const std::vector<double>& depths) {
+  constexpr int kNodes = 32;
+  const std::size_t columns = static_cast<std::size_t>(st.nu * st.nv);
+  std::vector<std::vector<double>> log_terms(depths.size(), std::vector<double>(columns, 0.0));
+  parallel_units(columns, [&](std::size_t c) {
+    const auto cu = static_cast<std::int64_t>(c) / st.nv;
+    const auto cv = static_cast<std::int64_t>(c) % st.nv;
+    const double vp = persistent_relative_variance(st, cu, cv);
+    std::vector<double> p{1.0};
+    if (vp > 0.0) {
+      p.resize(kNodes);
+      const double shape = 1.0 / vp;
+      for (int j = 0; j < kNodes; ++j)
+        p[static_cast<std::size_t>(j)] = boost::math::gamma_p_inv(shape, (j + 0.5) / kNodes) / shape;
+    }
+    const std::vector<double> ones(p.size(), 1.0);
+    std::vector<double> H(p.size(), 0.0);
+    std::vector<double> at(p.size(), 0.0);
+    std::vector<double> inc(p.size(), 0.0);
+    std::size_t d = 0;
+    double mean = 0.0;
+    double vb = 0.0;
+    double entry = 0.0;
+    // Hazard of node j over [a, b) of the current block: the gamma hazard of Q_b (α = 1/v_b,
+    // κ = μ v_b) with memory from the block's entry (transmittance::GammaCell, the one rule).
+    auto hazard = [&](std::size_t j, double a, double b) {
+      const double mu = sigma * mean * p[j];
+      const transmittance::GammaCell cell{mu, vb > 0.0 ? mu * vb : 0.0, mu};
+      return mean > 0.0 ? cell.integral(a - entry, b - a) : 0.0;
+    };
+    // Open columns (no concentration along the whole beam) transmit everything, exactly.
+    const double f_open = st.rays[c] > 0.0 ? st.open[c] / st.rays[c] : 0.0;
+    auto with_open = [&](double log_closed) {
+      if (!(f_open > 0.0)) return log_closed;
+      return std::log(f_open + (1.0 - f_open) * std::exp(log_closed));
+    };
+    for (int k = 0; k <= n && d < depths.size(); ++k) {
+      const double s0 = k * h;
+      if (k == n) {
+        for (std::size_t j = 0; j < p.size(); ++j) at[j] = -H[j];
+        const double past = with_open(log_sum_exp_mean(at, ones));  // past the box: nothing more
+        while (d < depths.size()) log_terms[d++][c] = past;
+        break;
+      }
+      if (k % B == 0) {
+        const Sums& b = st.closed(cu, cv, k / B);
+        mean = b.mean();
+        const double rel = mean > 0.0 ? b.var() / (mean * mean) : 0.0;
+        vb = std::max(0.0, (1.0 + rel) / (1.0 + vp) - 1.0);
+        entry = s0;
+      }
+      // The slice's hazard once per node (the beam's depths are the slice ends, k·h).
+      for (std::size_t j = 0; j < p.size(); ++j) inc[j] = hazard(j, s0, s0 + h);
+      while (d < depths.size() && depths[d] <= s0 + h) {
+        const double t = std::max(depths[d], s0);
+        for (std::size_t j = 0; j < p.size(); ++j) at[j] = -(H[j] + (t == s0 + h ? inc[j] : hazard(j, s0, t)));
+        log_terms[d++][c] = with_open(log_sum_exp_mean(at, ones));
+      }
+      for (std::size_t j = 0; j < p.size(); ++j) H[j] += inc[j];
+    }
+  });
+  std::vector<double> out(depths.size());
+  for (std::size_t d = 0; d < depths.size(); ++d) out[d] = log_sum_exp_mean(log_terms[d], st.rays);
+  return out;
+}
+
+}  // namespace weft::fit::detail
