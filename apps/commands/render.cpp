@@ -166,7 +166,7 @@ int run(const RenderCliOptions& o, const Context& ctx) {
     if (!o.convergence.empty()) usage_fail("--study and --convergence are separate runs: give one");
     if (o.spp > 0 || o.time_budget > 0.0)
       usage_fail("--study renders each candidate by --study-time or --study-spp, not --spp or --time-budget");
-    render::StudySpec spec;
+    study::StudySpec spec;
     if (!o.study_factors.empty()) {
       std::vector<int> sorted = o.study_factors;
       std::sort(sorted.begin(), sorted.end());
@@ -182,7 +182,7 @@ int run(const RenderCliOptions& o, const Context& ctx) {
     spec.spp = o.study_spp;
     spec.reference_spp = o.reference_spp > 0 ? o.reference_spp : (o.quick ? 256 : kStudyReferenceSpp);
     spec.seed = o.seed.value_or(scene.integrator.seed);
-    render::check_study_scene(scene);  // refuse a scene without a grid before creating anything
+    study::check_study_scene(scene);  // refuse a scene without a grid before creating anything
     if (dist::is_root() && !o.out_dir.empty()) ensure_directory(o.out_dir);
     run_render_study(scene, spec, label, exr, o.exposure, ctx, files);
     files.say(ctx);
