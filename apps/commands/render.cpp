@@ -47,6 +47,8 @@ struct RenderCliOptions {
   int study_spp = 0;
   std::vector<int> study_factors;
   std::string study_window;
+  std::string lighting;
+  double tilt = -1.0;
   bool quick = false;
   bool list = false;
   bool print_scene = false;
@@ -127,9 +129,14 @@ int run(const RenderCliOptions& o, const Context& ctx) {
   std::string label;
   const bool default_scene = o.scene.empty();
   render::SceneDesc scene;
+  if (!default_scene && (!o.lighting.empty() || o.tilt >= 0.0))
+    usage_fail("--lighting and --tilt set up the default cloth's scene: give no scene file");
   if (default_scene) {
     label = render::kDefaultScene;
-    scene = render::cloth_scene(default_cloth_grid(ctx));
+    render::ClothView view;
+    if (!o.lighting.empty()) view.lighting = as_usage([&] { return render::cloth_lighting(o.lighting); });
+    if (o.tilt >= 0.0) view.tilt_degrees = o.tilt;
+    scene = render::cloth_scene(default_cloth_grid(ctx), view);
   } else {
     scene = resolve_scene(o.scene, label);
   }
@@ -386,6 +393,13 @@ const Registrar kRender{Command{
                      "--study: scale of the statistics behind the slab's law and the validation, as weft validate "
                      "--window (default yarn: the yarn diameter of the grid's provenance; a grid without it needs "
                      "a LENGTH or yarn-measured)");
+      sub.add_option("--lighting", o->lighting,
+                     "Default cloth only: light set-up key-and-back (default), back, front or grazing (docs/render.md "
+                     "5c), e.g. to run --study under each");
+      sub.add_option("--tilt", o->tilt,
+                     "Default cloth only: camera angle off the cloth's normal in degrees (default 30; 0 looks straight "
+                     "down)")
+          ->check(CLI::Range(0.0, 79.0));
       sub.add_flag("--quick", o->quick,
                    "Small film (longest side 48 px); with --convergence, a 128 spp series; with --study, 1 s per "
                    "candidate and a 256 spp reference");

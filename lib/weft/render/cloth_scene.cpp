@@ -266,9 +266,10 @@ std::string cloth_scene_json(const volume::Grid& grid, const std::string& file_i
   return scene_json(grid, file_in_scene, file_in_scene, medium, view);
 }
 
-SceneDesc cloth_scene(const std::filesystem::path& vdb) {
+SceneDesc cloth_scene(const std::filesystem::path& vdb, const ClothView& view) {
   const std::filesystem::path folder = vdb.has_parent_path() ? vdb.parent_path() : std::filesystem::path(".");
-  return parse_scene(cloth_scene_json(vdb, vdb.filename().string()), "cloth scene for '" + vdb.string() + "'", folder);
+  return parse_scene(cloth_scene_json(vdb, vdb.filename().string(), {}, view), "cloth scene for '" + vdb.string() + "'",
+                     folder);
 }
 
 }  // namespace weft::render

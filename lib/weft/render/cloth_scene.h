@@ -90,6 +90,6 @@ struct ClothView {
                                            const ClothSceneMedium& medium = {}, const ClothView& view = {});
 
 /// cloth_scene_json parsed with `vdb`'s folder as the scene folder.
-[[nodiscard]] SceneDesc cloth_scene(const std::filesystem::path& vdb);
+[[nodiscard]] SceneDesc cloth_scene(const std::filesystem::path& vdb, const ClothView& view = {});
 
 }  // namespace weft::render
