@@ -51,7 +51,7 @@ viz::Marker factor_marker(int factor) {
 /// falls as t^{-1/2}, a biased candidate levels off at its bias. Right: bias (solid) and noise
 /// at equal time (dashed) against the coarsening factor per model; the fine grid at factor 1,
 /// the slab as flat dotted lines.
-viz::RenderOutcome write_chart(const render::StudyResult& r, const fs::path& path, const std::string& label) {
+viz::RenderOutcome write_chart(const study::StudyResult& r, const fs::path& path, const std::string& label) {
   viz::Chart curves;
   curves.title = "RMSE against the reference vs render time";
   curves.x_label = "seconds";
@@ -84,7 +84,7 @@ viz::RenderOutcome write_chart(const render::StudyResult& r, const fs::path& pat
   std::map<std::string, viz::Series> bias;
   std::map<std::string, viz::Series> noise;
   std::vector<double> factors;
-  const render::StudyCandidate* slab = nullptr;
+  const study::StudyCandidate* slab = nullptr;
   for (const auto& c : r.candidates) {
     if (c.factor == 0) {
       slab = &c;
@@ -135,7 +135,7 @@ viz::RenderOutcome write_chart(const render::StudyResult& r, const fs::path& pat
 
 }  // namespace
 
-void run_render_study(const render::SceneDesc& scene, render::StudySpec spec, const std::string& label,
+void run_render_study(const render::SceneDesc& scene, study::StudySpec spec, const std::string& label,
                       const fs::path& exr, double exposure, const Context& ctx, WrittenFiles& files) {
   spec.work_dir = beside(exr, ".study");
   spec.log = [&ctx](const std::string& line) { ctx.say(line); };
@@ -147,7 +147,7 @@ void run_render_study(const render::SceneDesc& scene, render::StudySpec spec, co
   else
     ctx.say(fmt::format("study: {} candidates x 2 images at {} spp plus the reference at {} spp", candidates, spec.spp,
                         spec.reference_spp));
-  const render::StudyResult r = render::run_study(scene, spec, ctx.progress);
+  const study::StudyResult r = study::run_study(scene, spec, ctx.progress);
   if (!dist::is_root()) return;
 
   render::write_exr(exr, r.reference);
@@ -163,20 +163,20 @@ void run_render_study(const render::SceneDesc& scene, render::StudySpec spec, co
   }
 
   const fs::path csv = beside(exr, ".study.csv");
-  write_text_atomically(csv, render::study_csv(r));
+  write_text_atomically(csv, study::study_csv(r));
   files.add(csv, "RMSE, bias, noise, spp and time per candidate");
   const fs::path curves = beside(exr, ".study.curves.csv");
-  write_text_atomically(curves, render::study_curves_csv(r));
+  write_text_atomically(curves, study::study_curves_csv(r));
   files.add(curves, "RMSE vs spp and time per candidate");
   const fs::path json = beside(exr, ".study.json");
-  write_text_atomically(json, render::study_json(r));
+  write_text_atomically(json, study::study_json(r));
   files.add(json, "study summary and headline");
 
   // Error maps: white at 4x the fine grid's RMSE at equal time (its noise shows as grey speckle).
   const double fine_rmse = r.candidates.front().rmse;
   const double white = fine_rmse > 0.0 ? 4.0 * fine_rmse : std::max(1e-6, r.reference_mean);
   const fs::path sheet = beside(exr, ".study.contact.png");
-  const render::StudySheet tiles = render::study_sheet(r, exposure, white);
+  const study::StudySheet tiles = study::study_sheet(r, exposure, white);
   render::SheetLayout layout;
   layout.columns = tiles.columns;
   render::write_contact_sheet_png(sheet, tiles.tiles, layout);

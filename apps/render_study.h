@@ -1,13 +1,13 @@
 #pragma once
 /// @file
-/// @brief `weft render --study`: runs render::run_study and writes its files (docs/render.md §6c).
+/// @brief `weft render --study`: runs study::run_study and writes its files (docs/render.md §6c).
 
 #include <filesystem>
 #include <string>
 
 #include "command.h"
 #include "weft/render/scene.h"
-#include "weft/render/study.h"
+#include "weft/study/render_study.h"
 #include "written_files.h"
 
 namespace weft::app {
@@ -15,7 +15,7 @@ namespace weft::app {
 /// Runs the study on `scene` and writes, beside `exr` (the reference image, EXR and PNG):
 /// <stem>.study.csv, .study.curves.csv, .study.json, .study.png (chart, needs a display),
 /// .study.contact.png, and the candidates' grids, fields and scenes in <stem>.study/.
-void run_render_study(const render::SceneDesc& scene, render::StudySpec spec, const std::string& label,
+void run_render_study(const render::SceneDesc& scene, study::StudySpec spec, const std::string& label,
                       const std::filesystem::path& exr, double exposure, const Context& ctx, WrittenFiles& files);
 
 }  // namespace weft::app

@@ -6,13 +6,13 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
-#include "data_gen/cloth/corpus.h"
 #include "usage.h"
 #include "validate_common.h"
 #include "validate_output.h"
 #include "weft/core/atomic_file.h"
 #include "weft/dist/distributed.h"
 #include "weft/dist/unit_store.h"
+#include "weft/study/corpus.h"
 #include "weft/viz/chart.h"
 #include "weft/viz/display.h"
 #include "written_files.h"
@@ -23,7 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 
-std::string corpus_csv(const std::vector<cloth::CorpusResult>& results) {
+std::string corpus_csv(const std::vector<study::CorpusResult>& results) {
   std::string out =
       "case,pattern,preset,voxel_size_mm,axis,scale_mm,model,rms_abs_T,ratio_to_exponential,uses_ground_truth,"
       "predicted\n";
@@ -40,7 +40,7 @@ std::string corpus_csv(const std::vector<cloth::CorpusResult>& results) {
 }
 
 /// Ratio to the exponential per case (x: case × axis index) and model; the 1/3 line dashed.
-viz::Chart corpus_chart(const std::vector<cloth::CorpusResult>& results) {
+viz::Chart corpus_chart(const std::vector<study::CorpusResult>& results) {
   viz::Chart c;
   c.title = "corpus: RMS error on T over the exponential's, per case and axis (x, y, z)";
   c.x_label = "case x 3 + axis (order of corpus.csv)";
@@ -84,7 +84,7 @@ viz::Chart corpus_chart(const std::vector<cloth::CorpusResult>& results) {
 
 int run_corpus(const CorpusOptions& o, const Context& ctx) {
   const auto t0 = std::chrono::steady_clock::now();
-  const auto cases = as_usage([&] { return cloth::select_corpus_cases(cloth::corpus_cases(o.quick), o.cases); });
+  const auto cases = as_usage([&] { return study::select_corpus_cases(study::corpus_cases(o.quick), o.cases); });
   const fs::path out = o.out;
   // Each finished case is recorded in <out>/units/ (rank 0), so a run that dies can be finished
   // with --resume; the key is everything a case's bytes depend on.
@@ -93,7 +93,7 @@ int run_corpus(const CorpusOptions& o, const Context& ctx) {
   const json key = {{"weft", "validate --corpus"}, {"cases", case_names}, {"seed", o.seed}, {"window", o.window}};
   dist::UnitStore store(out / "units", key.dump(2) + "\n", o.resume);
   if (dist::is_root()) ensure_directory(out);
-  const std::vector<cloth::CorpusResult> results = cloth::run_corpus(cases, o.seed, o.window, ctx.progress, &store);
+  const std::vector<study::CorpusResult> results = study::run_corpus(cases, o.seed, o.window, ctx.progress, &store);
   if (!dist::is_root()) return 0;  // rank 0 gathered every case and writes
   WrittenFiles files;
   write_text_atomically(out / "corpus.csv", corpus_csv(results));
@@ -169,7 +169,7 @@ int run_corpus(const CorpusOptions& o, const Context& ctx) {
                         : std::string()));
   ctx.say(fmt::format("{:<28} {:>4} {:>7} {:>7} {:>7} {:>9}   {:<20} {:>6}", "case", "axis", "L mm", "gamma", "local-g",
                       "predicted", "best with T_gt", "ratio"));
-  auto ratio_of = [](const cloth::CorpusAxis& a, const std::string& name) -> double {
+  auto ratio_of = [](const study::CorpusAxis& a, const std::string& name) -> double {
     for (const auto& m : a.models) {
       if (m.name == name) return m.ratio;
     }

@@ -20,7 +20,7 @@ struct CorpusOptions {
   std::vector<std::string> cases;  ///< name parts (--cases); empty: every case
 };
 
-/// Runs every case of cloth::corpus_cases (spread over MPI ranks; finished cases recorded in
+/// Runs every case of study::corpus_cases (spread over MPI ranks; finished cases recorded in
 /// OUT/units/ for --resume), writes corpus.csv, corpus.json and corpus.png on rank 0.
 int run_corpus(const CorpusOptions& o, const Context& ctx);
 

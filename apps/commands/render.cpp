@@ -50,6 +50,8 @@ struct RenderCliOptions {
   std::vector<int> study_factors;
   std::string study_window;
   std::vector<std::string> study_memory;
+  std::string lighting;
+  double tilt = -1.0;
   bool quick = false;
   bool list = false;
   bool print_scene = false;
@@ -130,9 +132,14 @@ int run(const RenderCliOptions& o, const Context& ctx) {
   std::string label;
   const bool default_scene = o.scene.empty();
   render::SceneDesc scene;
+  if (!default_scene && (!o.lighting.empty() || o.tilt >= 0.0))
+    usage_fail("--lighting and --tilt set up the default cloth's scene: give no scene file");
   if (default_scene) {
     label = render::kDefaultScene;
-    scene = render::cloth_scene(default_cloth_grid(ctx));
+    render::ClothView view;
+    if (!o.lighting.empty()) view.lighting = as_usage([&] { return render::cloth_lighting(o.lighting); });
+    if (o.tilt >= 0.0) view.tilt_degrees = o.tilt;
+    scene = render::cloth_scene(default_cloth_grid(ctx), view);
   } else {
     scene = resolve_scene(o.scene, label);
   }
@@ -171,7 +178,7 @@ int run(const RenderCliOptions& o, const Context& ctx) {
     if (!o.convergence.empty()) usage_fail("--study and --convergence are separate runs: give one");
     if (o.spp > 0 || o.time_budget > 0.0)
       usage_fail("--study renders each candidate by --study-time or --study-spp, not --spp or --time-budget");
-    render::StudySpec spec;
+    study::StudySpec spec;
     if (!o.study_factors.empty()) {
       std::vector<int> sorted = o.study_factors;
       std::sort(sorted.begin(), sorted.end());
@@ -196,7 +203,7 @@ int run(const RenderCliOptions& o, const Context& ctx) {
     spec.spp = o.study_spp;
     spec.reference_spp = o.reference_spp > 0 ? o.reference_spp : (o.quick ? 256 : kStudyReferenceSpp);
     spec.seed = o.seed.value_or(scene.integrator.seed);
-    render::check_study_scene(scene);  // refuse a scene without a grid before creating anything
+    study::check_study_scene(scene);  // refuse a scene without a grid before creating anything
     if (dist::is_root() && !o.out_dir.empty()) ensure_directory(o.out_dir);
     run_render_study(scene, spec, label, exr, o.exposure, ctx, files);
     files.say(ctx);
@@ -407,6 +414,13 @@ const Registrar kRender{Command{
                      "--study: memory rules of the local-gamma candidates, comma-separated (default segment; "
                      "renewal, optical-depth, carried: docs/render.md §5e)")
           ->delimiter(',');
+      sub.add_option("--lighting", o->lighting,
+                     "Default cloth only: light set-up key-and-back (default), back, front or grazing (docs/render.md "
+                     "5c), e.g. to run --study under each");
+      sub.add_option("--tilt", o->tilt,
+                     "Default cloth only: camera angle off the cloth's normal in degrees (default 30; 0 looks straight "
+                     "down)")
+          ->check(CLI::Range(0.0, 79.0));
       sub.add_flag("--quick", o->quick,
                    "Small film (longest side 48 px); with --convergence, a 128 spp series; with --study, 1 s per "
                    "candidate and a 256 spp reference");

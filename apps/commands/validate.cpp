@@ -16,7 +16,6 @@
 #include "validate_corpus.h"
 #include "validate_fibres.h"
 #include "validate_output.h"
-#include "validate_scenes.h"
 #include "validate_sweep.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
@@ -24,6 +23,7 @@
 #include "weft/fit/report.h"
 #include "weft/fit/scale.h"
 #include "weft/fit/validation.h"
+#include "weft/study/model_scenes.h"
 #include "weft/viz/display.h"
 #include "weft/viz/volume_view.h"
 #include "weft/viz/vtk_files.h"
@@ -241,8 +241,10 @@ const Registrar kValidate{Command{
           const fs::path vdb = o->input.grid.empty() ? out / "cloth.vdb" : fs::path(o->input.grid);
           const std::string in_scene =
               o->input.grid.empty() ? std::string("../cloth.vdb") : fs::absolute(o->input.grid).string();
-          for (const auto& note : write_model_scenes(v, grid, vdb, in_scene, out / "scenes", ctx.progress, outputs))
-            skipped[note.substr(0, note.find(' '))] = note;
+          const study::ModelScenes scenes =
+              study::write_model_scenes(v, grid, vdb, in_scene, out / "scenes", ctx.progress);
+          for (const auto& [path, what] : scenes.written) outputs.add(path, what);
+          for (const auto& note : scenes.notes) skipped[note.substr(0, note.find(' '))] = note;
         }
         timings["write_data"] = seconds_since(t0);
         // report.json goes out before the plots too: a renderer that dies takes nothing with it.

@@ -12,7 +12,7 @@
 #include "weft/core/atomic_file.h"
 #include "weft/dist/distributed.h"
 #include "weft/dist/unit_store.h"
-#include "weft/fit/sweep.h"
+#include "weft/study/sweep.h"
 #include "weft/viz/chart.h"
 #include "weft/viz/display.h"
 
@@ -23,7 +23,7 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 
 /// accuracy_time.csv: one row per (axis, method, factor, ray fraction).
-std::string sweep_csv(const fit::Sweep& s) {
+std::string sweep_csv(const study::Sweep& s) {
   std::string out =
       "axis,method,factor,ray_fraction,rays,error_rms_T,error_max_T,stderr_rms_T,accuracy_rms_T,prepare_seconds,"
       "transport_seconds,seconds,pareto\n";
@@ -39,7 +39,7 @@ std::string sweep_csv(const fit::Sweep& s) {
 /// Error vs time, log–log: a marker shape per method, a colour per axis, each point annotated
 /// with its coarsening factor (models) or ray fraction (ground truth); the Pareto front of each
 /// axis as a dashed line. Automatic ranges keep a margin, so no point touches the frame.
-viz::Chart sweep_chart(const fit::Sweep& s, const std::string& title) {
+viz::Chart sweep_chart(const study::Sweep& s, const std::string& title) {
   viz::Chart c;
   c.title = title + ": accuracy vs time (labels: grid coarsening / ray fraction; dashed: Pareto fronts)";
   c.x_label = "time [s] (preparation + transport, median)";
@@ -100,7 +100,7 @@ viz::Chart sweep_chart(const fit::Sweep& s, const std::string& title) {
 int run_sweep(const SweepOutputOptions& o, const Context& ctx, const volume::Grid& grid,
               const fit::ValidationSpec& vspec, const std::string& title, json input, json timings,
               std::chrono::steady_clock::time_point t_start) {
-  fit::SweepSpec spec;
+  study::SweepSpec spec;
   spec.directions = vspec.directions;
   spec.sigma = vspec.sigma;
   spec.seed = vspec.seed;
@@ -119,7 +119,7 @@ int run_sweep(const SweepOutputOptions& o, const Context& ctx, const volume::Gri
   dist::UnitStore store(out / "units", key.dump(2) + "\n", o.resume);
   if (dist::is_root()) ensure_directory(out);
   auto t0 = std::chrono::steady_clock::now();
-  const fit::Sweep s = fit::sweep(grid, spec, ctx.progress, &store);
+  const study::Sweep s = study::sweep(grid, spec, ctx.progress, &store);
   if (!dist::is_root()) return 0;  // rank 0 gathered every unit and writes
   timings["sweep"] = seconds_since(t0);
   const std::string csv = sweep_csv(s);

@@ -116,6 +116,13 @@ if(CMAKE_SCRIPT_MODE_FILE)
     if(NOT rc EQUAL 0)
       message(FATAL_ERROR "default cloth image: ${out}${err}")
     endif()
+    # The default picture (docs/render.md §5c): the cloth fills the film and almost nothing clips.
+    execute_process(COMMAND ${WEFT} render --quick --print-scene OUTPUT_FILE ${WORK}/d.json RESULT_VARIABLE rc)
+    execute_process(COMMAND ${CHECK} --picture ${WORK}/d.json ${WORK}/d.exr RESULT_VARIABLE rc OUTPUT_VARIABLE out
+                    ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0)
+      message(FATAL_ERROR "default picture: ${out}${err}")
+    endif()
   elseif(CASE STREQUAL "gen_scene")
     # `weft gen` writes scene.json beside cloth.vdb; `weft render <out>/scene.json` renders it as is.
     execute_process(COMMAND ${WEFT} --quiet gen --yarns 2x2 --out ${WORK}/cloth RESULT_VARIABLE rc ERROR_VARIABLE err)
@@ -130,6 +137,13 @@ if(CMAKE_SCRIPT_MODE_FILE)
     execute_process(COMMAND ${CHECK} ${WORK}/g.exr RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
     if(NOT rc EQUAL 0)
       message(FATAL_ERROR "gen scene image: ${out}${err}")
+    endif()
+    execute_process(COMMAND ${WEFT} render ${WORK}/cloth/scene.json --quick --print-scene OUTPUT_FILE ${WORK}/g.json
+                    RESULT_VARIABLE rc)
+    execute_process(COMMAND ${CHECK} --picture ${WORK}/g.json ${WORK}/g.exr RESULT_VARIABLE rc OUTPUT_VARIABLE out
+                    ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0)
+      message(FATAL_ERROR "gen scene picture: ${out}${err}")
     endif()
   elseif(CASE STREQUAL "model_scenes")
     # The example scenes of docs/render.md §5d: the fine grid, the local fields of `weft fit --block` and a

@@ -12,6 +12,14 @@
 //                                                also: IMAGE's centre mean exceeds OTHER's by
 //                                                more than 5 standard errors (each the pixel
 //                                                spread of its centre over sqrt(n))
+//   cloth_image_check --picture SCENE.json IMAGE.exr
+//                                                the default picture (docs/render.md §5c): the
+//                                                cloth covers >= 85 % of the film and <= 2 % of
+//                                                its pixels clip (a channel >= 1 at exposure 1).
+//                                                The cloth's pixels are those whose camera ray
+//                                                hits the box of the scene's medium: SCENE
+//                                                rendered with that box as a black emitter of
+//                                                radiance 1 and nothing else (its silhouette).
 // Exit 0 when all hold, 1 with the measured statistics otherwise, 2 for bad usage.
 #include <algorithm>
 #include <cmath>
@@ -22,6 +30,8 @@
 
 #include "weft/core/error.h"
 #include "weft/render/image.h"
+#include "weft/render/render.h"
+#include "weft/render/scene.h"
 
 namespace {
 
@@ -71,9 +81,67 @@ Stats measure(const char* path) {
   return s;
 }
 
+/// The share of the film the medium's box covers and the share of those pixels that clip.
+int check_picture(const char* scene_path, const char* image_path) {
+  weft::render::SceneDesc scene = weft::render::load_scene(scene_path);
+  std::vector<weft::render::ShapeDesc> boxes;
+  for (auto s : scene.shapes) {
+    if (s.kind != weft::render::ShapeKind::box || s.interior.empty()) continue;
+    s.interior.clear();
+    s.material = "black";
+    s.emission = weft::render::Rgb(1.0, 1.0, 1.0);
+    boxes.push_back(s);
+  }
+  if (boxes.empty()) {
+    std::fprintf(stderr, "%s: no box holding a medium\n", scene_path);
+    return 1;
+  }
+  scene.shapes = boxes;
+  scene.media.clear();
+  scene.lights.clear();
+  scene.materials = {{"black", weft::render::MaterialDesc{weft::render::MaterialKind::diffuse, {0, 0, 0}, 1.5}}};
+  weft::render::RenderOptions options;
+  options.spp = 4;
+  const weft::render::Image mask = weft::render::render(scene, options).image;
+  const weft::render::Image im = weft::render::read_exr(image_path);
+  if (im.width != mask.width || im.height != mask.height) {
+    std::fprintf(stderr, "%s is %dx%d, the scene films %dx%d\n", image_path, im.width, im.height, mask.width,
+                 mask.height);
+    return 1;
+  }
+  double cloth = 0.0;
+  int clipped = 0;
+  int inside = 0;
+  for (int y = 0; y < im.height; ++y)
+    for (int x = 0; x < im.width; ++x) {
+      cloth += mask.at(x, y, 0);
+      if (mask.at(x, y, 0) < 0.99F) continue;
+      ++inside;
+      if (std::max({im.at(x, y, 0), im.at(x, y, 1), im.at(x, y, 2)}) >= 1.0F) ++clipped;
+    }
+  const double coverage = cloth / (static_cast<double>(im.width) * im.height);
+  const double clip_share = inside > 0 ? static_cast<double>(clipped) / inside : 1.0;
+  std::printf("%s: cloth covers %.3f of the film; %d of its %d pixels clip (%.4f)\n", image_path, coverage, clipped,
+              inside, clip_share);
+  if (coverage < 0.85 || clip_share > 0.02) {
+    std::fprintf(stderr, "not the default picture: coverage %.3f (need >= 0.85), clipped share %.4f (need <= 0.02)\n",
+                 coverage, clip_share);
+    return 1;
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc == 4 && std::strcmp(argv[1], "--picture") == 0) {
+    try {
+      return check_picture(argv[2], argv[3]);
+    } catch (const weft::Error& e) {
+      std::fprintf(stderr, "cloth_image_check: %s\n", e.what());
+      return 1;
+    }
+  }
   bool slab = false;
   const char* image = nullptr;
   const char* dimmer = nullptr;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -53,11 +54,54 @@ ClothLook cloth_look(const volume::Grid& grid, const std::filesystem::path& vdb)
   return look;
 }
 
+const std::vector<std::pair<std::string, ClothLighting>>& cloth_lightings() {
+  static const std::vector<std::pair<std::string, ClothLighting>> table = {
+      {"key-and-back", ClothLighting::key_and_back},
+      {"back", ClothLighting::back},
+      {"front", ClothLighting::front},
+      {"grazing", ClothLighting::grazing}};
+  return table;
+}
+
+ClothLighting cloth_lighting(const std::string& name) {
+  std::string known;
+  for (const auto& [n, l] : cloth_lightings()) {
+    if (n == name) return l;
+    known += (known.empty() ? "" : ", ") + n;
+  }
+  fail("unknown cloth lighting '{}' (known: {})", name, known);
+}
+
+std::string cloth_lighting_name(ClothLighting lighting) {
+  for (const auto& [n, l] : cloth_lightings())
+    if (l == lighting) return n;
+  return "?";
+}
+
 namespace {
+
+/// The default picture (docs/render.md §5c): samples per pixel, the back light's radiance and
+/// the key light's irradiance.
+constexpr int kDefaultSpp = 128;
+constexpr double kDefaultPanel = 0.5;
+constexpr double kDefaultKey = 3.0;
+
+/// A directional light arriving from elevation `elevation` (degrees above the cloth's plane)
+/// and azimuth `azimuth` (degrees from the camera's side, −ev, towards −eu): its direction of
+/// travel, as the scene format wants it.
+Vec3 light_travel(const Vec3& normal, const Vec3& eu, const Vec3& ev, double elevation, double azimuth) {
+  const double el = elevation * std::numbers::pi / 180.0;
+  const double az = azimuth * std::numbers::pi / 180.0;
+  const Vec3 from = std::cos(el) * (-std::cos(az) * ev - std::sin(az) * eu) + std::sin(el) * normal;
+  return -from.normalized();
+}
 
 // The scene of `grid`, saved as `file_in_scene`; errors name `where`.
 std::string scene_json(const volume::Grid& grid, const std::string& file_in_scene, const std::filesystem::path& where,
-                       const ClothSceneMedium& medium) {
+                       const ClothSceneMedium& medium, const ClothView& view) {
+  if (view.width < 1 || view.height < 1 || !(view.tilt_degrees >= 0.0 && view.tilt_degrees < 80.0))
+    fail("cloth scene for '{}': a film of {}x{} px and a tilt of {} degrees (need >= 1 px and a tilt in [0, 80))",
+         where.string(), view.width, view.height, view.tilt_degrees);
   const volume::IndexBox box = grid.active_bbox();
   if (box.empty()) fail("cloth grid '{}' is empty", where.string());
   const ClothLook look = cloth_look(grid, where);
@@ -100,14 +144,22 @@ std::string scene_json(const volume::Grid& grid, const std::string& file_in_scen
   const Vec3 eu = Vec3::Unit(u);
   const Vec3 ev = Vec3::Unit(v);
   const double extent = std::max(size[u], size[v]);
-  // Camera 35° off the normal, framing the patch with a margin (vertical fov 35°).
+  // The camera looks at the cloth `tilt` off its normal from the −v side, so close that the
+  // smaller of the cloth's projected sides spans kFill times the film (> 1: both are cropped a
+  // little, and the active box's loose fibre ends at the border leave the frame): the weave
+  // fills the picture (docs/render.md §5c). Projected half sizes at distance d from the
+  // centre: u over d·tan(fov_u/2), v foreshortened by cos(tilt) over d·tan(fov/2).
   constexpr double kFov = 35.0;
-  const double tilt = 35.0 * std::numbers::pi / 180.0;
-  const double distance = 0.75 * extent / std::tan(0.5 * kFov * std::numbers::pi / 180.0);
-  const Vec3 view = (std::cos(tilt) * normal - std::sin(tilt) * ev).normalized();
-  const Vec3 camera = centre + distance * view;
-  // Backlight: an emitting rectangle 1.2× the patch, below it, facing it (its normal
-  // edge_u × edge_v points at the cloth).
+  constexpr double kFill = 1.25;
+  const double tilt = view.tilt_degrees * std::numbers::pi / 180.0;
+  const double tan_v = std::tan(0.5 * kFov * std::numbers::pi / 180.0);
+  const double tan_u = tan_v * static_cast<double>(view.width) / static_cast<double>(view.height);
+  const double distance =
+      std::min(0.5 * size[u] / (kFill * tan_u), 0.5 * size[v] * std::cos(tilt) / (kFill * tan_v)) + size[n];
+  const Vec3 towards_camera = (std::cos(tilt) * normal - std::sin(tilt) * ev).normalized();
+  const Vec3 camera = centre + distance * towards_camera;
+  // The back light: an emitting rectangle 1.2× the patch, half the patch below it, facing it
+  // (its normal edge_u × edge_v points at the cloth).
   const double below = 0.5 * extent;
   const Vec3 lu = 1.2 * size[u] * eu;
   const Vec3 lv = 1.2 * size[v] * ev;
@@ -115,17 +167,40 @@ std::string scene_json(const volume::Grid& grid, const std::string& file_in_scen
   Vec3 edge_u = lu;
   Vec3 edge_v = lv;
   if (edge_u.cross(edge_v).dot(normal) < 0.0) std::swap(edge_u, edge_v);
-  // Grazing light from the front: 15° above the plane, from the camera's side.
-  const double graze = 15.0 * std::numbers::pi / 180.0;
-  const Vec3 towards = (-std::sin(graze) * normal + std::cos(graze) * (0.6 * ev + 0.8 * eu)).normalized();
+  // Strengths: radiance of the panel, irradiance of the directional light, radiance of the sky.
+  // The default picture's are set so that the brightest yarns and the panel seen through the
+  // gaps stay below 1 at exposure 1 (docs/render.md §5c: measured clipped share).
+  double panel = 0.0;
+  double sky = 0.0;
+  std::optional<Vec3> key;
+  double key_irradiance = 0.0;
+  switch (view.lighting) {
+    case ClothLighting::key_and_back:
+      panel = kDefaultPanel;
+      sky = 0.02;
+      key = light_travel(normal, eu, ev, 50.0, 35.0);
+      key_irradiance = kDefaultKey;
+      break;
+    case ClothLighting::back:
+      panel = 1.0;
+      break;
+    case ClothLighting::front:
+      key = light_travel(normal, eu, ev, 60.0, 20.0);
+      key_irradiance = 3.0;
+      break;
+    case ClothLighting::grazing:
+      key = light_travel(normal, eu, ev, 12.0, 90.0);
+      key_irradiance = 3.0;
+      break;
+  }
   nlohmann::json j;
   j["camera"] = {{"position", {camera.x(), camera.y(), camera.z()}},
                  {"look_at", {centre.x(), centre.y(), centre.z()}},
                  {"up", {normal.x(), normal.y(), normal.z()}},
                  {"fov", kFov},
-                 {"width", 320},
-                 {"height", 240}};
-  j["integrator"] = {{"spp", 16}, {"max_depth", 64}, {"rr_depth", 6}, {"seed", 1}};
+                 {"width", view.width},
+                 {"height", view.height}};
+  j["integrator"] = {{"spp", kDefaultSpp}, {"max_depth", 64}, {"rr_depth", 6}, {"seed", 1}};
   j["materials"] = {{"boundary", {{"type", "null"}}}};
   const nlohmann::json albedo = {look.albedo.x(), look.albedo.y(), look.albedo.z()};
   nlohmann::json cloth;
@@ -153,33 +228,37 @@ std::string scene_json(const volume::Grid& grid, const std::string& file_in_scen
                                         {"min", {bmin.x(), bmin.y(), bmin.z()}},
                                         {"max", {bmax.x(), bmax.y(), bmax.z()}},
                                         {"material", "boundary"},
-                                        {"interior", "cloth"}},
-                                       {{"type", "rectangle"},
-                                        {"corner", {corner.x(), corner.y(), corner.z()}},
-                                        {"edge_u", {edge_u.x(), edge_u.y(), edge_u.z()}},
-                                        {"edge_v", {edge_v.x(), edge_v.y(), edge_v.z()}},
-                                        {"emission", 2.0}}});
-  j["lights"] = nlohmann::json::array(
-      {{{"type", "directional"}, {"direction", {towards.x(), towards.y(), towards.z()}}, {"irradiance", 3.0}},
-       {{"type", "environment"}, {"radiance", 0.05}}});
+                                        {"interior", "cloth"}}});
+  if (panel > 0.0)
+    j["shapes"].push_back({{"type", "rectangle"},
+                           {"corner", {corner.x(), corner.y(), corner.z()}},
+                           {"edge_u", {edge_u.x(), edge_u.y(), edge_u.z()}},
+                           {"edge_v", {edge_v.x(), edge_v.y(), edge_v.z()}},
+                           {"emission", panel}});
+  j["lights"] = nlohmann::json::array();
+  if (key)
+    j["lights"].push_back(
+        {{"type", "directional"}, {"direction", {key->x(), key->y(), key->z()}}, {"irradiance", key_irradiance}});
+  if (sky > 0.0) j["lights"].push_back({{"type", "environment"}, {"radiance", sky}});
   return j.dump(2) + "\n";
 }
 
 }  // namespace
 
 std::string cloth_scene_json(const std::filesystem::path& vdb, const std::string& file_in_scene,
-                             const ClothSceneMedium& medium) {
-  return scene_json(volume::Grid::load(vdb), file_in_scene, vdb, medium);
+                             const ClothSceneMedium& medium, const ClothView& view) {
+  return scene_json(volume::Grid::load(vdb), file_in_scene, vdb, medium, view);
 }
 
-std::string cloth_scene_json(const volume::Grid& grid, const std::string& file_in_scene,
-                             const ClothSceneMedium& medium) {
-  return scene_json(grid, file_in_scene, file_in_scene, medium);
+std::string cloth_scene_json(const volume::Grid& grid, const std::string& file_in_scene, const ClothSceneMedium& medium,
+                             const ClothView& view) {
+  return scene_json(grid, file_in_scene, file_in_scene, medium, view);
 }
 
-SceneDesc cloth_scene(const std::filesystem::path& vdb) {
+SceneDesc cloth_scene(const std::filesystem::path& vdb, const ClothView& view) {
   const std::filesystem::path folder = vdb.has_parent_path() ? vdb.parent_path() : std::filesystem::path(".");
-  return parse_scene(cloth_scene_json(vdb, vdb.filename().string()), "cloth scene for '" + vdb.string() + "'", folder);
+  return parse_scene(cloth_scene_json(vdb, vdb.filename().string(), {}, view), "cloth scene for '" + vdb.string() + "'",
+                     folder);
 }
 
 }  // namespace weft::render

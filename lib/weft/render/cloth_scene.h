@@ -1,11 +1,14 @@
 #pragma once
 /// @file
 /// @brief The scene that shows a `weft gen` cloth: its fibre-volume-fraction grid as a grid
-/// medium with physical extinction, lit from behind (transmission) and at a grazing angle from
-/// the front (the weave's relief), seen from above at an angle (docs/render.md §"Cloth scenes").
+/// medium with physical extinction, framed so that it fills most of the film, under one of a
+/// few light set-ups (by default a key light from the camera's side and a back light behind the
+/// cloth), seen from above at an angle (docs/render.md §5c).
 
 #include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "weft/render/scene.h"
 #include "weft/transmittance/law.h"
@@ -48,21 +51,45 @@ struct ClothSceneMedium {
   transmittance::LawPtr law;
 };
 
+/// How a cloth scene is lit (docs/render.md §5c). Every set-up but the default has a black
+/// background, so a pixel off the cloth is 0.
+enum class ClothLighting {
+  key_and_back,  ///< the default picture: a key light from the camera's side, a back light, a dim sky
+  back,          ///< transmission: only the emitting panel behind the cloth
+  front,         ///< reflection: only a key light beside the camera
+  grazing,       ///< relief: only a light 12° above the cloth's plane, from the side
+};
+
+/// Every set-up by name ("key-and-back", "back", "front", "grazing"), in that order: the one
+/// table names are parsed from and listed by.
+[[nodiscard]] const std::vector<std::pair<std::string, ClothLighting>>& cloth_lightings();
+/// The set-up called `name`; throws weft::Error naming the known ones otherwise.
+[[nodiscard]] ClothLighting cloth_lighting(const std::string& name);
+[[nodiscard]] std::string cloth_lighting_name(ClothLighting lighting);
+
+/// Where the camera is and what lights the cloth.
+struct ClothView {
+  ClothLighting lighting = ClothLighting::key_and_back;
+  double tilt_degrees = 30.0;  ///< the camera's angle off the cloth's normal (0: straight down)
+  int width = 320;             ///< film size in pixels
+  int height = 240;
+};
+
 /// The scene JSON for the cloth grid `vdb`, naming it as `file_in_scene` (relative to the
 /// scene file's folder, e.g. "cloth.vdb" beside scene.json): camera framing the grid's active
-/// box, the grid as a delta-tracked exponential medium with the provenance's σ per unit C, a
-/// backlight (area light below) and a grazing directional light from the front. `medium`
-/// replaces the grid by its local fields (same σ) or by a homogeneous law. Throws weft::Error
+/// box, the grid as a delta-tracked exponential medium with the provenance's σ per unit C, lit
+/// and seen as `view` says. `medium` replaces the grid by its local fields (same σ) or by a
+/// homogeneous law. Throws weft::Error
 /// for an empty grid, a homogeneous kind without a law, or a law parameter that is NaN or −∞
 /// (+∞, e.g. α of an exponential mixture component, is written as "inf").
 [[nodiscard]] std::string cloth_scene_json(const std::filesystem::path& vdb, const std::string& file_in_scene,
-                                           const ClothSceneMedium& medium = {});
+                                           const ClothSceneMedium& medium = {}, const ClothView& view = {});
 /// The same for a grid already in memory (what was just saved as `file_in_scene`): `weft gen`
 /// uses it so that writing the scene does not read the grid back (a second copy of the tree).
 [[nodiscard]] std::string cloth_scene_json(const volume::Grid& grid, const std::string& file_in_scene,
-                                           const ClothSceneMedium& medium = {});
+                                           const ClothSceneMedium& medium = {}, const ClothView& view = {});
 
 /// cloth_scene_json parsed with `vdb`'s folder as the scene folder.
-[[nodiscard]] SceneDesc cloth_scene(const std::filesystem::path& vdb);
+[[nodiscard]] SceneDesc cloth_scene(const std::filesystem::path& vdb, const ClothView& view = {});
 
 }  // namespace weft::render

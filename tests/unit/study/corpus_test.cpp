@@ -1,4 +1,4 @@
-// The corpus study as work units (issue 16): cloth::run_corpus gives, in case order, exactly
+// The corpus study as work units (issue 16): study::run_corpus gives, in case order, exactly
 // what run_corpus_case gives case by case — for any thread count (cases side by side or one
 // after the other) and after a resume from the unit store (results read back from MessagePack),
 // which is what makes the corpus's outputs the same bytes on any number of MPI ranks.
@@ -9,11 +9,11 @@
 #include <filesystem>
 #include <set>
 
-#include "data_gen/cloth/corpus.h"
 #include "weft/core/parallel.h"
 #include "weft/dist/unit_store.h"
+#include "weft/study/corpus.h"
 
-namespace weft::cloth {
+namespace weft::study {
 namespace {
 
 namespace fs = std::filesystem;
@@ -106,4 +106,4 @@ TEST(Corpus, UnitsGiveEveryCaseAloneForAnyThreadsAndAfterAResume) {
 TEST(Corpus, NoCasesIsRefused) { EXPECT_THROW((void)run_corpus({}, 1, "yarn"), Error); }
 
 }  // namespace
-}  // namespace weft::cloth
+}  // namespace weft::study

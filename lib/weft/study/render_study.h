@@ -50,7 +50,7 @@
 #include "weft/render/image.h"
 #include "weft/render/scene.h"
 
-namespace weft::render {
+namespace weft::study {
 
 struct StudySpec {
   std::vector<int> factors{2, 4, 8, 16};  ///< coarsening factors, each in [2, 4096], no repeats
@@ -78,7 +78,7 @@ void check_study_spec(const StudySpec& spec);
 
 /// Throws weft::Error unless `scene` has exactly one grid medium with an exponential law filling
 /// one box shape (what run_study needs), before anything is computed or written.
-void check_study_scene(const SceneDesc& scene);
+void check_study_scene(const render::SceneDesc& scene);
 
 /// @brief The squared bias of a candidate from two images `a`, `b` (independent seeds, same
 /// spp) and a `reference` (independent seed, with per-pixel variances): the mean over values i
@@ -91,8 +91,8 @@ struct BiasEstimate {
 };
 /// Only the pixels where `mask` (one flag per pixel, if given) is set count. Throws weft::Error
 /// for images of different sizes.
-[[nodiscard]] BiasEstimate estimate_bias(const Image& a, const Image& b, const Image& reference,
-                                         const std::vector<bool>* mask = nullptr);
+[[nodiscard]] BiasEstimate estimate_bias(const render::Image& a, const render::Image& b,
+                                         const render::Image& reference, const std::vector<bool>* mask = nullptr);
 
 /// One (spp, seconds, rmse) point of a candidate's first image on its way to its budget.
 struct StudyPoint {
@@ -127,12 +127,12 @@ struct StudyCandidate {
   double cloth_difference = 0.0;
   double speedup = 0.0;           ///< t_fine(rmse)/seconds (NaN for the fine grid itself)
   std::vector<StudyPoint> curve;  ///< at every power of two of spp, and at the end
-  Image image;                    ///< A
-  Image error_map;                ///< |A − R| per channel (no variances)
+  render::Image image;            ///< A
+  render::Image error_map;        ///< |A − R| per channel (no variances)
 };
 
 struct StudyResult {
-  Image reference;
+  render::Image reference;
   double reference_seconds = 0.0;
   double reference_mean = 0.0;  ///< mean pixel value of the reference (for relative errors)
   /// The cloth's pixels: where the reference differs from the scene without the cloth by more
@@ -162,7 +162,7 @@ struct StudyResult {
 /// rank must call it (the renders are collective); rank 0 writes the files under work_dir and
 /// holds the images and statistics. Throws weft::Error for a scene without exactly one grid
 /// medium of concentration or extinction values with an exponential law inside a box.
-[[nodiscard]] StudyResult run_study(const SceneDesc& scene, const StudySpec& spec,
+[[nodiscard]] StudyResult run_study(const render::SceneDesc& scene, const StudySpec& spec,
                                     ProgressSink& progress = null_progress());
 
 /// One row per candidate: candidate,model,factor,spp,seconds,cpu_seconds,seconds_per_spp,
@@ -179,9 +179,9 @@ struct StudyResult {
 /// maps; fine and local-gamma-Nx images; their error maps; the slab and its error map.
 /// Captions name the candidate, its spp and seconds, its RMSE and bias.
 struct StudySheet {
-  std::vector<SheetTile> tiles;
+  std::vector<render::SheetTile> tiles;
   int columns = 1;
 };
 [[nodiscard]] StudySheet study_sheet(const StudyResult& result, double exposure, double error_white);
 
-}  // namespace weft::render
+}  // namespace weft::study

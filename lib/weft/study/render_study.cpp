@@ -1,5 +1,5 @@
 // Accuracy against time in images (study.h; docs/render.md §6c).
-#include "weft/render/study.h"
+#include "weft/study/render_study.h"
 
 #include <algorithm>
 #include <cmath>
@@ -24,7 +24,9 @@
 #include "weft/volume/downsample.h"
 #include "weft/volume/provenance.h"
 
-namespace weft::render {
+namespace weft::study {
+// The study composes the renderer's scenes, images and statistics throughout.
+using namespace weft::render;  // NOLINT(google-build-using-namespace)
 namespace {
 
 namespace fs = std::filesystem;
@@ -338,7 +340,7 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
     RenderOptions ro;
     ro.spp = spec.reference_spp;
     ro.seed = result.reference_seed;
-    const RenderResult r = render(parse(target.scene, "reference"), ro, progress);
+    const RenderResult r = render::render(parse(target.scene, "reference"), ro, progress);
     result.reference = r.image;
     result.reference_seconds = r.stats.seconds;
     result.reference_mean = image_mean(r.image);
@@ -391,14 +393,14 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
     say(spec, fmt::format("rendering {} ({})", c.name,
                           spec.spp > 0 ? fmt::format("{} spp", spec.spp) : fmt::format("{:.3g} s", spec.seconds)));
     const std::clock_t cpu0 = std::clock();
-    const RenderResult a = render(s, oa, progress);
+    const RenderResult a = render::render(s, oa, progress);
     c.cpu_seconds = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
     c.spp = a.stats.spp;
     c.seconds = a.stats.seconds;
     RenderOptions ob;
     ob.seed = c.seed_b;
     ob.spp = c.spp;
-    const RenderResult b = render(s, ob, progress);
+    const RenderResult b = render::render(s, ob, progress);
     c.scene_file = fs::absolute(spec.work_dir / (c.name + ".json"));
     write_scene(p.scene, c.spp, c.seed_a, c.scene_file);
     if (!root) continue;  // images live on rank 0
@@ -580,4 +582,4 @@ StudySheet study_sheet(const StudyResult& result, double exposure, double error_
   return sheet;
 }
 
-}  // namespace weft::render
+}  // namespace weft::study

@@ -1,5 +1,5 @@
 // Accuracy against time: the reference beam, fewer rays, and coarse models (sweep.h).
-#include "weft/fit/sweep.h"
+#include "weft/study/sweep.h"
 
 #include <algorithm>
 #include <chrono>
@@ -19,7 +19,8 @@
 #include "weft/volume/downsample.h"
 #include "weft/volume/grid_openvdb.h"
 
-namespace weft::fit {
+namespace weft::study {
+using namespace weft::fit;  // NOLINT(google-build-using-namespace)
 namespace {
 
 /// One coarse voxel along a ray: [a, b) in world distance from the entry, and its statistics.
@@ -341,4 +342,4 @@ Sweep sweep(const volume::Grid& grid, const SweepSpec& spec, ProgressSink& progr
   return out;
 }
 
-}  // namespace weft::fit
+}  // namespace weft::study

@@ -1,4 +1,4 @@
-#include "validate_scenes.h"
+#include "weft/study/model_scenes.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,19 +11,19 @@
 #include "weft/render/cloth_scene.h"
 #include "weft/volume/beam.h"
 
-namespace weft::app {
+namespace weft::study {
 
 namespace fs = std::filesystem;
 
-std::vector<std::string> write_model_scenes(const fit::Validation& v, const volume::Grid& grid, const fs::path& vdb,
-                                            const std::string& vdb_in_scene, const fs::path& folder,
-                                            ProgressSink& progress, WrittenFiles& files) {
-  std::vector<std::string> notes;
+ModelScenes write_model_scenes(const fit::Validation& v, const volume::Grid& grid, const fs::path& vdb,
+                               const std::string& vdb_in_scene, const fs::path& folder, ProgressSink& progress) {
+  ModelScenes out;
+  std::vector<std::string>& notes = out.notes;
   ensure_directory(folder);
   using Kind = render::ClothSceneMedium::Kind;
   auto write = [&](const std::string& name, const std::string& text, const std::string& what) {
     write_text_atomically(folder / name, text);
-    files.add(folder / name, what);
+    out.written.emplace_back(folder / name, what);
   };
   write("grid.json", render::cloth_scene_json(vdb, vdb_in_scene, {}), "scene: the fine grid (ground truth)");
   // The cloth's normal is the thinnest axis of the active box (as cloth_scene_json frames it).
@@ -37,12 +37,12 @@ std::vector<std::string> write_model_scenes(const fit::Validation& v, const volu
   if (axis == nullptr) {
     notes.push_back(
         fmt::format("no beam along the cloth's normal ({}): no local fields or slab scenes", "xyz"[normal]));
-    return notes;
+    return out;
   }
   // The local-gamma model's fields: blocks of L³ voxels, L the scale along the normal.
   const int block = std::max(1, static_cast<int>(std::lround(axis->scale / grid.voxel_size())));
   fit::save_local_fields(fit::local_fields(grid, block, progress), folder / "local_fields.vdb");
-  files.add(folder / "local_fields.vdb", fmt::format("local fields of {}^3-voxel blocks", block));
+  out.written.emplace_back(folder / "local_fields.vdb", fmt::format("local fields of {}^3-voxel blocks", block));
   render::ClothSceneMedium fields;
   fields.kind = Kind::local_fields;
   fields.fields = folder / "local_fields.vdb";
@@ -61,7 +61,7 @@ std::vector<std::string> write_model_scenes(const fit::Validation& v, const volu
       notes.push_back(fmt::format("slab_{}.json not written: {}", m.name, e.what()));
     }
   }
-  return notes;
+  return out;
 }
 
-}  // namespace weft::app
+}  // namespace weft::study

@@ -1,4 +1,4 @@
-#include "data_gen/cloth/corpus.h"
+#include "weft/study/corpus.h"
 
 #include <algorithm>
 #include <chrono>
@@ -13,7 +13,8 @@
 #include "weft/fit/validation.h"
 #include "weft/volume/provenance.h"
 
-namespace weft::cloth {
+namespace weft::study {
+using namespace weft::cloth;  // NOLINT(google-build-using-namespace)
 namespace {
 
 using nlohmann::json;
@@ -161,4 +162,4 @@ std::vector<CorpusResult> run_corpus(const std::vector<CorpusCase>& cases, std::
   return out;
 }
 
-}  // namespace weft::cloth
+}  // namespace weft::study

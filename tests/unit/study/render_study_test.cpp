@@ -6,9 +6,10 @@
 #include <random>
 
 #include "weft/core/error.h"
-#include "weft/render/study.h"
+#include "weft/study/render_study.h"
 
-namespace weft::render {
+namespace weft::study {
+using namespace weft::render;  // NOLINT(google-build-using-namespace)
 namespace {
 
 struct Triple {
@@ -94,4 +95,4 @@ TEST(StudySpec, BadFieldsAreNamed) {
 }
 
 }  // namespace
-}  // namespace weft::render
+}  // namespace weft::study

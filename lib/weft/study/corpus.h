@@ -16,7 +16,7 @@ namespace weft::dist {
 class UnitStore;
 }
 
-namespace weft::cloth {
+namespace weft::study {
 
 struct CorpusCase {
   std::string pattern;
@@ -64,4 +64,4 @@ struct CorpusResult {
                                                    const std::string& window, ProgressSink& progress = null_progress(),
                                                    dist::UnitStore* store = nullptr);
 
-}  // namespace weft::cloth
+}  // namespace weft::study

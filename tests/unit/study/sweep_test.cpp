@@ -8,12 +8,13 @@
 #include "weft/core/error.h"
 #include "weft/core/rng.h"
 #include "weft/fit/fit.h"
-#include "weft/fit/sweep.h"
+#include "weft/study/sweep.h"
 #include "weft/volume/beam.h"
 #include "weft/volume/downsample.h"
 #include "weft/volume/grid.h"
 
-namespace weft::fit {
+namespace weft::study {
+using namespace weft::fit;  // NOLINT(google-build-using-namespace)
 namespace {
 
 using volume::Grid;
@@ -192,4 +193,4 @@ TEST(Sweep, ParetoFrontKeepsOnlyUndominatedRows) {
 }
 
 }  // namespace
-}  // namespace weft::fit
+}  // namespace weft::study

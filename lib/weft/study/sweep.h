@@ -37,7 +37,7 @@ namespace weft::dist {
 class UnitStore;
 }
 
-namespace weft::fit {
+namespace weft::study {
 
 /// How a coarse voxel's concentration composes along a ray (see the file comment).
 enum class CoarseLaw { exponential, gamma_independent, gamma_memory };
@@ -106,4 +106,4 @@ struct Sweep {
 /// fast and at least as accurate, and strictly better in one.
 void mark_pareto(std::vector<SweepRow>& rows);
 
-}  // namespace weft::fit
+}  // namespace weft::study
