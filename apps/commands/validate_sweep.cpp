@@ -1,4 +1,4 @@
-// `weft validate --sweep`: accuracy vs time of fewer rays and coarse-grid models (issue 7),
+// `weft validate --sweep`: accuracy vs time of fewer rays and coarse-grid models (docs/validate.md),
 // written as accuracy_time.csv, sweep.json and accuracy_time.png.
 #include <algorithm>
 #include <filesystem>

@@ -1,4 +1,4 @@
-# `weft render --study` (issue 15 item 5, docs/render.md §6c): accuracy vs time in images.
+# `weft render --study` (docs/render.md §6c): accuracy vs time in images.
 # Included by tests/cli/CMakeLists.txt (adds the tests) and run as a script for one case:
 #   cmake -DWEFT=... -DCHECK=... -DPROBE=... -DWORK=... -DCASE=quick|same_bytes [-DMPIEXEC=... -DMPIFLAGS=...]
 #         -P cli_render_study.cmake

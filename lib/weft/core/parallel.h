@@ -12,7 +12,7 @@ namespace weft {
 ///
 /// Callers make each unit's work depend only on its index (its RNG stream comes from
 /// stream_for(seed, unit)) and reduce unit results in index order afterwards, which is what
-/// makes outputs identical for any thread count (design §2).
+/// makes outputs identical for any thread count (docs/architecture.md §5).
 void parallel_units(std::size_t count, const std::function<void(std::size_t unit)>& body);
 
 /// @brief Limits the TBB pool to `threads` worker threads while alive (0 = all cores).

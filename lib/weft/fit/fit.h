@@ -1,7 +1,7 @@
 #pragma once
 /// @file
 /// @brief Concentration statistics of a grid and the gamma-concentration model they predict
-/// (Jarabo et al. 2018, Eq. 19–20; design §3 "Fitting").
+/// (Jarabo et al. 2018, Eq. 19–20; docs/architecture.md §6 "Predictions").
 ///
 /// What a "window" is. A beam along axis a sees, ray by ray, the concentration averaged over the
 /// depth it has crossed; the gamma model replaces that per-ray mean C_ray by a Gamma(α, β)

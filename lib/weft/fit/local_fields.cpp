@@ -1,4 +1,4 @@
-// Local gamma statistics per block of B³ voxels, as coarse grids for rendering (design §3).
+// Local gamma statistics per block of B³ voxels, as coarse grids for rendering (docs/architecture.md §6).
 //
 // Blocks are built from the grid's own leaves and tiles, never from a dense B³ copy: the cost is
 // the active voxels (each visited once per block it lies in, i.e. once) plus, per block, its

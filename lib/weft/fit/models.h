@@ -1,7 +1,7 @@
 #pragma once
 /// @file
 /// @brief Predictive transmittance models of an axis beam from the medium's voxels alone
-/// (issue 13). Every function here receives the grid, the beam direction, σ, the statistics
+/// (docs/validate.md). Every function here receives the grid, the beam direction, σ, the statistics
 /// scale and the depths at which to evaluate — never a measured curve: predictions cannot see
 /// the ground truth.
 ///

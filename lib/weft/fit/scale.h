@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// @brief The length scale of the local concentration statistics (issue 13): a property of the
+/// @brief The length scale of the local concentration statistics (docs/validate.md): a property of the
 /// cloth, not of the voxel.
 ///
 /// The autocorrelation of C along an axis has a fibre-scale part (falling within a fibre

@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// @brief The corpus study of `weft validate --corpus` (issue 13): every woven pattern and the
+/// @brief The corpus study of `weft validate --corpus` (docs/validate.md): every woven pattern and the
 /// knit × yarn presets × voxel sizes, each case an independent unit (a cloth generated from the
 /// run seed, voxelized, validated at the default σ and scale), so cases can be spread over
 /// threads or processes and reduced in case order.

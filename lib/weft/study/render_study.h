@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// @brief Accuracy against time in images (issue 15 item 5; docs/render.md §6c): a fine cloth
+/// @brief Accuracy against time in images (docs/render.md §6c): a fine cloth
 /// grid rendered to low noise is the reference, and coarse models of the same cloth are rendered
 /// at (about) equal time and compared with it, with their bias and their noise apart.
 ///
@@ -91,8 +91,8 @@ struct BiasEstimate {
 };
 /// Only the pixels where `mask` (one flag per pixel, if given) is set count. Throws weft::Error
 /// for images of different sizes.
-[[nodiscard]] BiasEstimate estimate_bias(const render::Image& a, const render::Image& b,
-                                         const render::Image& reference, const std::vector<bool>* mask = nullptr);
+[[nodiscard]] BiasEstimate estimate_bias(const render::Image& a, const render::Image& b, const render::Image& reference,
+                                         const std::vector<bool>* mask = nullptr);
 
 /// One (spp, seconds, rmse) point of a candidate's first image on its way to its budget.
 struct StudyPoint {

@@ -6,7 +6,7 @@
 /// `direction`: one ray per column (a lattice cell of one voxel's width on the plane
 /// perpendicular to the beam), at the cell centre or at `rays_per_column` jittered points.
 /// Depth t is measured from where each ray enters the box. T_gt(t) = mean over rays of
-/// exp(−τ_i(t)) (design §3), accumulated with log-sum-exp so that T far below 1e−300 is still
+/// exp(−τ_i(t)) (docs/architecture.md §6), accumulated with log-sum-exp so that T far below 1e−300 is still
 /// reported correctly as log T.
 
 #include <array>
@@ -93,7 +93,7 @@ struct BeamDepths {
 };
 [[nodiscard]] BeamDepths beam_optical_depths(const Grid& grid, const BeamSpec& spec);
 
-/// Particle-origin (scatterer) vs source-origin transmittance in the same grid (design §3):
+/// Particle-origin (scatterer) vs source-origin transmittance in the same grid (docs/architecture.md §6):
 /// S rays start at points drawn ∝ value inside the box, Q rays at points drawn uniformly in
 /// the box; both in uniformly random directions (or `direction` when set). Reciprocity predicts
 /// p_Q(t) = T_S(t)/ℓ_S = μ̄·T_S(t) with μ̄ the mean extinction at Q origins (= p_Q(0)).

@@ -1,4 +1,4 @@
-// The corpus study as work units (issue 16): study::run_corpus gives, in case order, exactly
+// The corpus study as work units (docs/scale-out.md): study::run_corpus gives, in case order, exactly
 // what run_corpus_case gives case by case — for any thread count (cases side by side or one
 // after the other) and after a resume from the unit store (results read back from MessagePack),
 // which is what makes the corpus's outputs the same bytes on any number of MPI ranks.
