@@ -74,7 +74,8 @@ def main():
         panel.plot(t, np.log(np.maximum(gt, floor)), "k", lw=2, label="ground truth (DDA)")
         for m, style in zip(MODELS, ("C0-", "C3--")):
             panel.plot(t, np.log(np.maximum(a["T"][m], floor)), style, label=m)
-        panel.set(title=a["axis"], xlabel="depth t [mm]", ylabel="ln T(t)", ylim=(math.log(floor), 0.1))
+        bottom = min(-1.0, 2.5 * math.log(max(gt.min(), floor)))  # the exponential may leave the panel
+        panel.set(title=a["axis"], xlabel="depth t [mm]", ylabel="ln T(t)", ylim=(bottom, 0.1))
     panels[0][-1].legend(fontsize="small")
     fig.tight_layout()
     fig.savefig(os.path.join(args.out, "fig_s13.png"))

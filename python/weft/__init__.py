@@ -170,8 +170,9 @@ def gen(spec=None, progress=None, *, pattern=None, yarns=None, yarn=None, warp_y
     both directions, replacing their yarn entirely, as ``--yarn``), ``warp_yarn``/``weft_yarn``
     (a preset name or a dict of yarn fields), and any other cloth.json field by name
     (``voxel_size=0.01``, ``seed=3``, ``crimp=...``):
-    ``weft.gen(pattern="twill22", yarns=(3, 3), yarn="wool", voxel_size=0.02)``.
-    Same seed, same grid as the CLI."""
+    ``weft.gen(pattern="twill22", yarns=(3, 3), yarn="wool", voxel_size=0.02)``. As with
+    ``weft gen --input``, ``input="curves.obj"`` (or .bcc) makes the pattern "import"; a woven or
+    knit pattern or ``yarns=`` with input curves is an error. Same seed, same grid as the CLI."""
     if spec is not None and not isinstance(spec, dict):
         raise TypeError("gen: spec must be a dict (the fields of cloth.json) or None, got %s"
                         % type(spec).__name__)
