@@ -30,9 +30,8 @@ def downsample(grid, factor, path):
 
 
 def scene(frame, medium, bounds, spp, seed, size):
-    """The cloth's box `bounds` filled with `medium` (None: no cloth); camera 35 degrees off the
-    normal (z), an emitting panel below and a grazing light, all placed from `frame` (the fine
-    grid's active box) so that every candidate's image compares pixel by pixel."""
+    """`bounds` filled with `medium` (None: no cloth); camera 35 degrees off z, a panel below and a
+    grazing light placed from `frame` (the fine grid's box), so that all images compare pixel by pixel."""
     lo, hi = frame
     centre, extent, panel = (lo + hi) / 2, max(hi[:2] - lo[:2]), 1.2 * (hi - lo)
     view = np.array([0.0, -math.sin(math.radians(35)), math.cos(math.radians(35))])
@@ -71,8 +70,7 @@ def main():
                     weft_yarn={"fiber_count": 16}).grid
     h, sigma = grid.voxel_size, float(grid.metadata["weft:sigma_per_concentration"])
     grid.save(os.path.join(args.out, "fine.vdb"))
-    lo = np.array(grid.origin) + h * np.array(grid.bbox[0])
-    hi = np.array(grid.origin) + h * (np.array(grid.bbox[1]) + 1)
+    lo, hi = (np.array(grid.origin) + h * (np.array(grid.bbox[k]) + k) for k in (0, 1))
     box = (lo - h, hi + 4 * h)  # one fine voxel round the grid, and room for the coarse blocks' padding
     candidates = {"fine": ({"type": "grid", "file": "fine.vdb", "sigma": sigma}, box)}
     for n in (2, 4):
@@ -88,10 +86,10 @@ def main():
     ref, ref_st = render(candidates["fine"][0], box, ref_spp, 101)
     empty, empty_st = render(None, box, max(16, ref_spp // 4), 102)
     mask = np.any(np.abs(ref - empty) > 5 * np.sqrt(ref_st["variance"] + empty_st["variance"]), axis=2)
-    print("film %dx%d, reference %d spp, candidates %d spp; %d cloth pixels, mean %.4f"
-          % (size[0], size[1], ref_spp, spp, mask.sum(), ref[mask].mean()))
     if mask.sum() < 10:
         raise SystemExit("coarse_render_study: the cloth covers fewer than 10 pixels")
+    print("film %dx%d, reference %d spp, candidates %d spp; %d cloth pixels, mean %.4f"
+          % (size[0], size[1], ref_spp, spp, mask.sum(), ref[mask].mean()))
     print("%-16s %8s %9s %9s %8s" % ("candidate", "bias", "bias/mean", "mean diff", "RMSE"))
     rows = []
     for seed, (name, (medium, bounds)) in enumerate(candidates.items(), start=201):
