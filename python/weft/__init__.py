@@ -170,13 +170,14 @@ def gen(spec=None, progress=None, *, pattern=None, yarns=None, yarn=None, warp_y
     both directions, replacing their yarn entirely, as ``--yarn``), ``warp_yarn``/``weft_yarn``
     (a preset name or a dict of yarn fields), and any other cloth.json field by name
     (``voxel_size=0.01``, ``seed=3``, ``crimp=...``):
-    ``weft.gen(pattern="twill22", yarns=(3, 3), yarn="wool", voxel_size=0.02)``.
-    Same seed, same grid as the CLI."""
+    ``weft.gen(pattern="twill22", yarns=(3, 3), yarn="wool", voxel_size=0.02)``. As with
+    ``weft gen --input``, ``input="curves.obj"`` (or .bcc) makes the pattern "import"; a woven or
+    knit pattern or ``yarns=`` with input curves is an error. Same seed, same grid as the CLI."""
     if spec is not None and not isinstance(spec, dict):
         raise TypeError("gen: spec must be a dict (the fields of cloth.json) or None, got %s"
                         % type(spec).__name__)
     given = {"pattern": pattern, "yarns": yarns, "yarn": yarn, "warp_yarn": warp_yarn, "weft_yarn": weft_yarn}
-    if all(v is None for v in given.values()) and not fields:
+    if all(v is None for v in given.values()) and not fields and not (spec or {}).get("input"):
         text = None if spec is None else _dumps(spec, "gen")
         return Cloth(_gen_json(text, progress))
     merged = dict(spec or {})  # missing fields: the defaults, those that follow the yarn resolved after it
@@ -191,7 +192,25 @@ def gen(spec=None, progress=None, *, pattern=None, yarns=None, yarn=None, warp_y
     for key, value in (("warp_yarn", yarn), ("weft_yarn", yarn), ("warp_yarn", warp_yarn), ("weft_yarn", weft_yarn)):
         if value is not None:
             merged[key] = {"preset": value} if isinstance(value, str) else value
+    if merged.get("input"):
+        _import_curves(merged, yarns)
     return Cloth(_gen_json(_dumps(merged, "gen"), progress))
+
+
+def _import_curves(merged, yarns):
+    """As ``weft gen --input`` (docs/cloth.md, Patterns): curves make the pattern "import", and a
+    woven or knit pattern, which would ignore them, or yarn counts, which an import ignores, are
+    errors rather than silently dropped."""
+    if not isinstance(merged["input"], (str, _os.PathLike)):
+        raise TypeError("gen: input must be a path, got %s" % type(merged["input"]).__name__)
+    merged["input"] = _os.path.abspath(_os.fspath(merged["input"]))
+    merged.setdefault("pattern", "import")
+    if merged["pattern"] != "import":
+        raise Error("gen: input=%r and pattern=%r conflict: a woven or knit pattern ignores input curves (give one)"
+                    % (merged["input"], merged["pattern"]))
+    if yarns is not None:
+        raise Error("gen: yarns=%r conflicts with the imported curves %r: it only shapes woven and knit patterns"
+                    % (yarns, merged["input"]))
 
 
 def render(scene, spp=None, seed=None, integrator="auto", time_budget=0.0, stats=False,
