@@ -469,6 +469,11 @@ SceneDesc parse_scene(std::string_view json_text, const std::string& source, con
   }
   if (env_images > 1 || (env_images == 1 && env_constants > 0))
     fail("{}: an image environment must be the only environment light", source);
+  // The laws of every medium are part of the description (no file is read to check them): a
+  // misspelt law, a parameter out of range or a reciprocal partner that does not exist is an
+  // error of the scene, reported here. Grids, fields and images are read by build_world.
+  for (const auto& [name, m] : scene.media)
+    if (m.kind != MediumKind::local_gamma) (void)make_medium_pair(m, source + ": media." + name);
   scene.source = source;
   return scene;
 }

@@ -261,7 +261,8 @@ TEST_F(EnvironmentScene, UpperHemisphereSkyLightsAFloorToAlbedoTimesRadiance) {
 TEST_F(EnvironmentScene, BadImageInputIsOneLineError) {
   auto error_of = [&](const std::string& light) -> std::string {
     try {
-      (void)parse_scene(fmt::format(R"({{"lights": [{}]}})", light), "s", dir_);
+      // Images are read when the world is built (render/world), still before any render.
+      (void)build_world(parse_scene(fmt::format(R"({{"lights": [{}]}})", light), "s", dir_));
     } catch (const Error& e) {
       return e.what();
     }

@@ -225,7 +225,8 @@ TEST(LocalGammaMedium, RoundTripsThroughJson) {
 /// The error message of parsing `media` (a JSON object of media), or "" when it parses.
 std::string error_of(const std::string& medium) {
   try {
-    (void)scene_from(R"({"media": {"m": )" + medium + "}}");
+    // The fields file is read when the medium is built (render/world), still before any render.
+    (void)build_medium(scene_from(R"({"media": {"m": )" + medium + "}}"), "m");
   } catch (const Error& e) {
     return e.what();
   }

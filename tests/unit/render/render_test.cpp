@@ -443,9 +443,12 @@ TEST(GridMedium, BadGridInputIsReported) {
   EXPECT_THROW((void)scene_from(R"({"media": {"m": {"type": "grid", "file": "/nonexistent/x.vdb"}}})"), Error);
   const std::string file = constant_grid_file();
   try {
-    (void)scene_from(fmt::format(
-        R"({{"media": {{"m": {{"type": "grid", "file": "{}", "law": {{"name": "gamma", "mean_extinction": 1, "alpha": 2}}}}}}}})",
-        file));
+    // The grid is read when the medium is built (render/world), still before any render.
+    (void)build_medium(
+        scene_from(fmt::format(
+            R"({{"media": {{"m": {{"type": "grid", "file": "{}", "law": {{"name": "gamma", "mean_extinction": 1, "alpha": 2}}}}}}}})",
+            file)),
+        "m");
     FAIL() << "delta tracking of a gamma law must be refused";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("optical-depth"), std::string::npos) << e.what();
