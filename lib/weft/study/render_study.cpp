@@ -356,7 +356,7 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
     RenderOptions ro;
     ro.spp = std::max(16, spec.reference_spp / 4);
     ro.seed = result.reference_seed + kSeedStep;
-    const Image bg = render(parse(bare, "background"), ro, progress).image;
+    const Image bg = render::render(parse(bare, "background"), ro, progress).image;
     const std::size_t pixels = reference.rgb.size() / 3;
     result.cloth_mask.assign(pixels, false);
     double sum = 0.0;
