@@ -11,6 +11,7 @@
 #include "weft/dist/distributed.h"
 #include "weft/render/contact_sheet.h"
 #include "weft/render/image.h"
+#include "weft/study/render_study_report.h"
 #include "weft/viz/chart.h"
 
 namespace weft::app {

@@ -23,9 +23,10 @@ install(TARGETS ${weft_modules} weft_all weft_warnings EXPORT weftTargets
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(EXPORT weftTargets NAMESPACE weft:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/weft)
 
-# Public headers; the two that include OpenVDB are the library's private business.
+# Public headers; grid_openvdb.h and the internal *_impl.h headers (OpenVDB, inlined kernels) are
+# the library's private business.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/lib/weft DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
-        FILES_MATCHING PATTERN "*.h" PATTERN "grid_openvdb.h" EXCLUDE PATTERN "dda_impl.h" EXCLUDE)
+        FILES_MATCHING PATTERN "*.h" PATTERN "grid_openvdb.h" EXCLUDE PATTERN "*_impl.h" EXCLUDE)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/data_gen DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
         FILES_MATCHING PATTERN "*.h")
 

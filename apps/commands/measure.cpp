@@ -17,6 +17,7 @@
 #include "weft/volume/beam.h"
 #include "weft/volume/beam_checks.h"
 #include "weft/volume/grid.h"
+#include "weft/volume/scatterer.h"
 #include "weft/volume/voxel_rule.h"
 #include "written_files.h"
 

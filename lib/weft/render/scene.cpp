@@ -16,6 +16,7 @@
 #include "weft/render/environment.h"
 #include "weft/render/medium.h"
 #include "weft/render/mesh.h"
+#include "weft/render/scene_choices_impl.h"
 #include "weft/transmittance/law_json.h"
 
 namespace weft::render {
@@ -149,44 +150,6 @@ Enum parse_choice(const std::string& where, const std::string& what, const std::
   fail("{}: unknown {} '{}' (did you mean '{}'? known: {})", where, what, value, closest_name(value, names),
        join(names));
 }
-
-template <typename Enum>
-std::string choice_name(Enum e, const std::vector<std::pair<std::string, Enum>>& choices) {
-  for (const auto& [name, c] : choices)
-    if (c == e) return name;
-  return "?";
-}
-
-const std::vector<std::pair<std::string, MaterialKind>> kMaterialKinds = {{"diffuse", MaterialKind::diffuse},
-                                                                          {"mirror", MaterialKind::mirror},
-                                                                          {"dielectric", MaterialKind::dielectric},
-                                                                          {"null", MaterialKind::null}};
-/// The memory rules by their names (transmittance::memory_rule_name, the one spelling).
-const std::vector<std::pair<std::string, transmittance::MemoryRule>>& memory_rules() {
-  static const auto rules = [] {
-    std::vector<std::pair<std::string, transmittance::MemoryRule>> v;
-    for (const auto r : transmittance::kMemoryRules) v.emplace_back(transmittance::memory_rule_name(r), r);
-    return v;
-  }();
-  return rules;
-}
-const std::vector<std::pair<std::string, MediumKind>> kMediumKinds = {
-    {"homogeneous", MediumKind::homogeneous}, {"grid", MediumKind::grid}, {"local-gamma", MediumKind::local_gamma}};
-const std::vector<std::pair<std::string, Tracking>> kTrackings = {{"delta", Tracking::delta},
-                                                                  {"optical-depth", Tracking::optical_depth}};
-const std::vector<std::pair<std::string, ShapeKind>> kShapeKinds = {{"sphere", ShapeKind::sphere},
-                                                                    {"box", ShapeKind::box},
-                                                                    {"rectangle", ShapeKind::rectangle},
-                                                                    {"mesh", ShapeKind::mesh},
-                                                                    {"curves", ShapeKind::curves}};
-const std::vector<std::pair<std::string, LightKind>> kLightKinds = {
-    {"point", LightKind::point}, {"directional", LightKind::directional}, {"environment", LightKind::environment}};
-const std::vector<std::pair<std::string, transmittance::PairMode>> kModes = {
-    {"reciprocal", transmittance::PairMode::reciprocal},
-    {"same", transmittance::PairMode::same},
-    {"explicit", transmittance::PairMode::explicit_}};
-const std::vector<std::pair<std::string, transmittance::Origin>> kOrigins = {
-    {"source", transmittance::Origin::source}, {"scatterer", transmittance::Origin::scatterer}};
 
 CameraDesc parse_camera(const json& j, const std::string& where) {
   Reader r(j, where);
@@ -402,9 +365,6 @@ LightDesc parse_light(const json& j, const std::string& where, const std::filesy
   return l;
 }
 
-json to_json(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
-json to_json(const Rgb& c) { return json::array({c[0], c[1], c[2]}); }
-
 }  // namespace
 
 SceneDesc parse_scene(std::string_view json_text, const std::string& source, const std::filesystem::path& base_dir) {
@@ -484,120 +444,6 @@ SceneDesc load_scene(const std::filesystem::path& path) {
   std::ostringstream text;
   text << in.rdbuf();
   return parse_scene(text.str(), path.string(), path.parent_path());
-}
-
-std::string scene_to_json(const SceneDesc& scene) {
-  json root;
-  const CameraDesc& c = scene.camera;
-  root["camera"] = {{"type", "perspective"},
-                    {"position", to_json(c.position)},
-                    {"look_at", to_json(c.look_at)},
-                    {"up", to_json(c.up)},
-                    {"fov", c.fov_deg},
-                    {"aperture_radius", c.aperture_radius},
-                    {"focus_distance", c.focus_distance},
-                    {"width", c.width},
-                    {"height", c.height}};
-  const IntegratorDesc& d = scene.integrator;
-  root["integrator"] = {
-      {"type", "volpath"}, {"spp", d.spp}, {"max_depth", d.max_depth}, {"rr_depth", d.rr_depth}, {"seed", d.seed}};
-  json materials = json::object();
-  for (const auto& [name, m] : scene.materials) {
-    json j = {{"type", choice_name(m.kind, kMaterialKinds)}};
-    if (m.kind != MaterialKind::null) j["albedo"] = to_json(m.albedo);
-    if (m.kind == MaterialKind::dielectric) j["ior"] = m.ior;
-    materials[name] = j;
-  }
-  root["materials"] = materials;
-  json media = json::object();
-  for (const auto& [name, m] : scene.media) {
-    if (m.kind == MediumKind::local_gamma) {
-      media[name] = {{"type", choice_name(m.kind, kMediumKinds)},
-                     {"fields", m.file},
-                     {"sigma", m.sigma},
-                     {"memory", choice_name(m.memory, memory_rules())},
-                     {"albedo", to_json(m.albedo)},
-                     {"g", m.g}};
-      continue;
-    }
-    json j = {{"type", choice_name(m.kind, kMediumKinds)},
-              {"law", transmittance::law_to_json(m.law)},
-              {"mode", choice_name(m.mode, kModes)},
-              {"given", choice_name(m.given, kOrigins)},
-              {"albedo", to_json(m.albedo)},
-              {"g", m.g}};
-    if (m.mode == transmittance::PairMode::explicit_) j["scatterer_law"] = transmittance::law_to_json(m.scatterer_law);
-    if (m.kind == MediumKind::grid) {
-      j["file"] = m.file;
-      j["grid"] = m.grid_name;
-      j["values"] = m.concentration ? "concentration" : "extinction";
-      if (m.concentration) j["sigma"] = m.sigma;
-      j["tracking"] = choice_name(m.tracking, kTrackings);
-    }
-    media[name] = j;
-  }
-  root["media"] = media;
-  json shapes = json::array();
-  for (const auto& s : scene.shapes) {
-    json j = {{"type", choice_name(s.kind, kShapeKinds)}};
-    switch (s.kind) {
-      case ShapeKind::sphere:
-        j["center"] = to_json(s.center);
-        j["radius"] = s.radius;
-        break;
-      case ShapeKind::box:
-        j["min"] = to_json(s.min);
-        j["max"] = to_json(s.max);
-        break;
-      case ShapeKind::rectangle:
-        j["corner"] = to_json(s.corner);
-        j["edge_u"] = to_json(s.edge_u);
-        j["edge_v"] = to_json(s.edge_v);
-        break;
-      case ShapeKind::mesh:
-        j["file"] = s.file;
-        j["scale"] = s.scale;
-        j["translate"] = to_json(s.translate);
-        break;
-      case ShapeKind::curves:
-        j["file"] = s.file;
-        j["radius"] = s.radius;
-        j["scale"] = s.scale;
-        j["translate"] = to_json(s.translate);
-        break;
-    }
-    if (!s.material.empty()) j["material"] = s.material;
-    if (!s.interior.empty()) j["interior"] = s.interior;
-    if (!s.exterior.empty()) j["exterior"] = s.exterior;
-    if ((s.emission != 0.0).any()) j["emission"] = to_json(s.emission);
-    shapes.push_back(j);
-  }
-  root["shapes"] = shapes;
-  json lights = json::array();
-  for (const auto& l : scene.lights) {
-    json j = {{"type", choice_name(l.kind, kLightKinds)}};
-    switch (l.kind) {
-      case LightKind::point:
-        j["position"] = to_json(l.position);
-        j["intensity"] = to_json(l.intensity);
-        break;
-      case LightKind::directional:
-        j["direction"] = to_json(l.direction);
-        j["irradiance"] = to_json(l.intensity);
-        break;
-      case LightKind::environment:
-        if (l.image.empty()) {
-          j["radiance"] = to_json(l.intensity);
-        } else {
-          j["image"] = l.image;
-          j["scale"] = l.scale;
-        }
-        break;
-    }
-    lights.push_back(j);
-  }
-  root["lights"] = lights;
-  return root.dump(2) + "\n";
 }
 
 }  // namespace weft::render

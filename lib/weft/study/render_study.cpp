@@ -21,6 +21,7 @@
 #include "weft/render/convergence.h"
 #include "weft/render/medium.h"
 #include "weft/render/render.h"
+#include "weft/study/bias_estimate.h"
 #include "weft/volume/downsample.h"
 #include "weft/volume/provenance.h"
 
@@ -150,31 +151,6 @@ void check_study_spec(const StudySpec& spec) {
   if (spec.max_spp < 1) fail("study: max spp must be >= 1, got {}", spec.max_spp);
   if (spec.reference_spp < 1) fail("study: reference spp must be >= 1, got {}", spec.reference_spp);
   if (spec.work_dir.empty()) fail("study: no folder for the candidates' files");
-}
-
-BiasEstimate estimate_bias(const Image& a, const Image& b, const Image& r, const std::vector<bool>* mask) {
-  if (a.width != r.width || a.height != r.height || b.width != r.width || b.height != r.height ||
-      a.rgb.size() != r.rgb.size() || b.rgb.size() != r.rgb.size())
-    fail("bias estimate: images differ in size ({}x{}, {}x{}, reference {}x{})", a.width, a.height, b.width, b.height,
-         r.width, r.height);
-  std::size_t n = 0;
-  double sum = 0.0;
-  double sum2 = 0.0;
-  for (std::size_t i = 0; i < r.rgb.size(); ++i) {
-    if (mask != nullptr && !(*mask)[i / 3]) continue;
-    ++n;
-    const double m = 0.5 * (static_cast<double>(a.rgb[i]) + b.rgb[i]) - r.rgb[i];
-    const double d = static_cast<double>(a.rgb[i]) - b.rgb[i];
-    const double x = m * m - d * d / 4.0 - (r.variance.empty() ? 0.0 : static_cast<double>(r.variance[i]));
-    sum += x;
-    sum2 += x * x;
-  }
-  BiasEstimate e;
-  if (n == 0) return e;
-  const auto nn = static_cast<double>(n);
-  e.bias_sq = sum / nn;
-  e.stderr_sq = n > 1 ? std::sqrt(std::max(0.0, (sum2 - nn * e.bias_sq * e.bias_sq) / (nn - 1.0)) / nn) : 0.0;
-  return e;
 }
 
 void check_study_scene(const SceneDesc& scene) { (void)find_target(scene); }
@@ -455,131 +431,6 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
         f.seconds, f.rmse, relative(f.rmse), best->name, coarser(*best), best->rmse, best->bias, best->seconds);
   }
   return result;
-}
-
-std::string study_csv(const StudyResult& result) {
-  std::string csv =
-      "candidate,model,factor,spp,seconds,cpu_seconds,seconds_per_spp,rmse,rmse_raw,bias,bias_sq,bias_sq_stderr,"
-      "bias_z,noise,relative_rmse,speedup,seed,scene,cloth_bias,cloth_bias_sq_stderr,cloth_relative_bias,cloth_"
-      "difference\n";
-  for (const auto& c : result.candidates) {
-    csv += fmt::format(
-        "{},{},{},{},{:.6g},{:.6g},{:.6g},{:.8g},{:.8g},{:.8g},{:.8g},{:.8g},{:.4g},{:.8g},{:.6g},{:.6g},{},{},{:.8g},"
-        "{:.8g},{:.6g},{:.6g}\n",
-        c.name, c.model, c.factor, c.spp, c.seconds, c.cpu_seconds, c.seconds / std::max(1, c.spp), c.rmse, c.rmse_raw,
-        c.bias, c.bias_sq, c.bias_sq_stderr, c.bias_z(), c.noise,
-        result.reference_mean > 0.0 ? c.rmse / result.reference_mean : 0.0, c.speedup, c.seed_a, c.scene_file.string(),
-        c.cloth_bias, c.cloth_bias_sq_stderr, result.cloth_mean > 0.0 ? c.cloth_bias / result.cloth_mean : 0.0,
-        c.cloth_difference);
-  }
-  return csv;
-}
-
-std::string study_curves_csv(const StudyResult& result) {
-  std::string csv = "candidate,spp,seconds,rmse\n";
-  for (const auto& c : result.candidates)
-    for (const auto& p : c.curve) csv += fmt::format("{},{},{:.6g},{:.8g}\n", c.name, p.spp, p.seconds, p.rmse);
-  return csv;
-}
-
-std::string study_json(const StudyResult& result) {
-  const auto num = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
-  json j;
-  j["mode"] = result.mode;
-  j["headline"] = result.headline;
-  j["reference"] = {{"spp", result.reference.spp},
-                    {"seconds", result.reference_seconds},
-                    {"seed", result.reference_seed},
-                    {"mean_pixel", result.reference_mean},
-                    {"mean_variance", mean_variance(result.reference)},
-                    {"cloth_pixels", result.cloth_pixels},
-                    {"cloth_mean_pixel", result.cloth_mean},
-                    {"scene", result.reference_scene.string()},
-                    {"width", result.reference.width},
-                    {"height", result.reference.height}};
-  json axes = json::object();
-  for (const auto& [axis, name] : result.best_predictive_per_axis) axes[axis] = name;
-  j["best_predictive"] = {{"model", result.best_predictive}, {"per_axis", axes}, {"note", result.best_predictive_note}};
-  j["slab_law"] = {{"sigma", result.sigma},
-                   {"mean_concentration", result.slab_mean_concentration},
-                   {"var_concentration", result.slab_var_concentration},
-                   {"alpha", num(result.slab_alpha)},
-                   {"scale", result.scale}};
-  j["notes"] = result.notes;
-  j["candidates"] = json::array();
-  for (const auto& c : result.candidates) {
-    json curve = json::array();
-    for (const auto& p : c.curve) curve.push_back({{"spp", p.spp}, {"seconds", p.seconds}, {"rmse", p.rmse}});
-    j["candidates"].push_back({{"name", c.name},
-                               {"model", c.model},
-                               {"factor", c.factor},
-                               {"spp", c.spp},
-                               {"seconds", c.seconds},
-                               {"cpu_seconds", c.cpu_seconds},
-                               {"rmse", c.rmse},
-                               {"rmse_raw", c.rmse_raw},
-                               {"bias", c.bias},
-                               {"bias_sq", c.bias_sq},
-                               {"bias_sq_stderr", c.bias_sq_stderr},
-                               {"bias_z", c.bias_z()},
-                               {"cloth_bias", c.cloth_bias},
-                               {"cloth_bias_sq", c.cloth_bias_sq},
-                               {"cloth_bias_sq_stderr", c.cloth_bias_sq_stderr},
-                               {"cloth_difference", c.cloth_difference},
-                               {"noise", c.noise},
-                               {"speedup", num(c.speedup)},
-                               {"seed", c.seed_a},
-                               {"second_seed", c.seed_b},
-                               {"scene", c.scene_file.string()},
-                               {"curve", curve}});
-  }
-  return j.dump(2) + "\n";
-}
-
-StudySheet study_sheet(const StudyResult& result, double exposure, double error_white) {
-  if (!(error_white > 0.0) || !std::isfinite(error_white))
-    fail("study contact sheet: error scale must be finite and > 0, got {}", error_white);
-  std::vector<const StudyCandidate*> exp_row;
-  std::vector<const StudyCandidate*> gamma_row;
-  const StudyCandidate* fine = nullptr;
-  const StudyCandidate* slab = nullptr;
-  for (const auto& c : result.candidates) {
-    if (c.model == "exponential") exp_row.push_back(&c);
-    if (c.model == "local-gamma") gamma_row.push_back(&c);
-    if (c.factor == 1) fine = &c;
-    if (c.factor == 0) slab = &c;
-  }
-  // Both rows hold one candidate per factor, so every row is full.
-  StudySheet sheet;
-  sheet.columns = 1 + static_cast<int>(std::max(exp_row.size(), gamma_row.size()));
-  const auto gain = 1.0 / error_white;
-  const auto image_tile = [&](const StudyCandidate& c) {
-    return SheetTile{c.image, fmt::format("{}: {} spp, {:.3g} s", c.name, c.spp, c.seconds), exposure};
-  };
-  const auto error_tile = [&](const StudyCandidate& c) {
-    return SheetTile{c.error_map, fmt::format("|A-R|: RMSE {:.3g}, bias {:.3g}", c.rmse, c.bias), gain};
-  };
-  // The reference's own per-pixel standard error on the error maps' scale: the noise floor
-  // every RMSE is corrected for.
-  Image sd = result.reference;
-  for (std::size_t j = 0; j < sd.rgb.size(); ++j)
-    sd.rgb[j] = sd.variance.empty() ? 0.0F : std::sqrt(std::max(0.0F, sd.variance[j]));
-  sd.variance.clear();
-  const auto rows = [&](const SheetTile& first_image, const SheetTile& first_error,
-                        const std::vector<const StudyCandidate*>& rest) {
-    sheet.tiles.push_back(first_image);
-    for (const auto* c : rest) sheet.tiles.push_back(image_tile(*c));
-    sheet.tiles.push_back(first_error);
-    for (const auto* c : rest) sheet.tiles.push_back(error_tile(*c));
-  };
-  rows(SheetTile{result.reference, fmt::format("reference (fine grid): {} spp", result.reference.spp), exposure},
-       SheetTile{sd, "reference: standard error", gain}, exp_row);
-  if (fine != nullptr) rows(image_tile(*fine), error_tile(*fine), gamma_row);
-  if (slab != nullptr) {
-    sheet.tiles.push_back(image_tile(*slab));
-    sheet.tiles.push_back(error_tile(*slab));
-  }
-  return sheet;
 }
 
 }  // namespace weft::study

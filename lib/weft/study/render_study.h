@@ -46,7 +46,6 @@
 #include <vector>
 
 #include "weft/core/progress.h"
-#include "weft/render/contact_sheet.h"
 #include "weft/render/image.h"
 #include "weft/render/scene.h"
 
@@ -79,20 +78,6 @@ void check_study_spec(const StudySpec& spec);
 /// Throws weft::Error unless `scene` has exactly one grid medium with an exponential law filling
 /// one box shape (what run_study needs), before anything is computed or written.
 void check_study_scene(const render::SceneDesc& scene);
-
-/// @brief The squared bias of a candidate from two images `a`, `b` (independent seeds, same
-/// spp) and a `reference` (independent seed, with per-pixel variances): the mean over values i
-/// of x_i = ((a+b)/2 − r)² − (a − b)²/4 − var r_i, whose expectation is the squared bias of
-/// value i (E(X − r)² = bias² + var X + var r; E(a − b)²/4 = var of (a+b)/2). The standard
-/// error is the spread of the x_i over √n (values independent: every pixel has its own streams).
-struct BiasEstimate {
-  double bias_sq = 0.0;    ///< may be < 0 by noise
-  double stderr_sq = 0.0;  ///< standard error of bias_sq
-};
-/// Only the pixels where `mask` (one flag per pixel, if given) is set count. Throws weft::Error
-/// for images of different sizes.
-[[nodiscard]] BiasEstimate estimate_bias(const render::Image& a, const render::Image& b, const render::Image& reference,
-                                         const std::vector<bool>* mask = nullptr);
 
 /// One (spp, seconds, rmse) point of a candidate's first image on its way to its budget.
 struct StudyPoint {
@@ -164,24 +149,5 @@ struct StudyResult {
 /// medium of concentration or extinction values with an exponential law inside a box.
 [[nodiscard]] StudyResult run_study(const render::SceneDesc& scene, const StudySpec& spec,
                                     ProgressSink& progress = null_progress());
-
-/// One row per candidate: candidate,model,factor,spp,seconds,cpu_seconds,seconds_per_spp,
-/// rmse,rmse_raw,bias,bias_sq,bias_sq_stderr,bias_z,noise,relative_rmse,speedup,seed,scene.
-[[nodiscard]] std::string study_csv(const StudyResult& result);
-/// Long form of the curves: candidate,spp,seconds,rmse.
-[[nodiscard]] std::string study_curves_csv(const StudyResult& result);
-/// Everything above as pretty-printed JSON (images excluded).
-[[nodiscard]] std::string study_json(const StudyResult& result);
-
-/// @brief The contact sheet's tiles (write_contact_sheet_png, in `columns` columns): each
-/// image with its error map |A − R| (channel mean, grey, linear scale 1/error_white) under it.
-/// Rows: reference and exponential-Nx images; the reference's standard error and their error
-/// maps; fine and local-gamma-Nx images; their error maps; the slab and its error map.
-/// Captions name the candidate, its spp and seconds, its RMSE and bias.
-struct StudySheet {
-  std::vector<render::SheetTile> tiles;
-  int columns = 1;
-};
-[[nodiscard]] StudySheet study_sheet(const StudyResult& result, double exposure, double error_white);
 
 }  // namespace weft::study

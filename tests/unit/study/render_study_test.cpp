@@ -1,4 +1,4 @@
-// The study's bias estimator (study.h: estimate_bias) on synthetic images whose truth is known:
+// The study's bias estimator (bias_estimate.h: estimate_bias) on synthetic images whose truth is known:
 // a, b = truth + shift + noise (σ_c), reference = truth + noise (σ_r) carrying its variance.
 #include <gtest/gtest.h>
 
@@ -6,6 +6,7 @@
 #include <random>
 
 #include "weft/core/error.h"
+#include "weft/study/bias_estimate.h"
 #include "weft/study/render_study.h"
 
 namespace weft::study {

@@ -12,6 +12,7 @@
 #include "weft/volume/beam.h"
 #include "weft/volume/grid.h"
 #include "weft/volume/grid_openvdb.h"
+#include "weft/volume/scatterer.h"
 
 namespace weft::volume {
 namespace {

@@ -1,0 +1,33 @@
+#pragma once
+/// @file
+/// @brief The image study's reports (docs/render.md §6c): its table, its curves and its JSON,
+/// and the tiles of its contact sheet, from a StudyResult (render_study.h).
+
+#include <string>
+#include <vector>
+
+#include "weft/render/contact_sheet.h"
+#include "weft/study/render_study.h"
+
+namespace weft::study {
+
+/// One row per candidate: candidate,model,factor,spp,seconds,cpu_seconds,seconds_per_spp,
+/// rmse,rmse_raw,bias,bias_sq,bias_sq_stderr,bias_z,noise,relative_rmse,speedup,seed,scene.
+[[nodiscard]] std::string study_csv(const StudyResult& result);
+/// Long form of the curves: candidate,spp,seconds,rmse.
+[[nodiscard]] std::string study_curves_csv(const StudyResult& result);
+/// Everything above as pretty-printed JSON (images excluded).
+[[nodiscard]] std::string study_json(const StudyResult& result);
+
+/// @brief The contact sheet's tiles (write_contact_sheet_png, in `columns` columns): each
+/// image with its error map |A − R| (channel mean, grey, linear scale 1/error_white) under it.
+/// Rows: reference and exponential-Nx images; the reference's standard error and their error
+/// maps; fine and local-gamma-Nx images; their error maps; the slab and its error map.
+/// Captions name the candidate, its spp and seconds, its RMSE and bias.
+struct StudySheet {
+  std::vector<render::SheetTile> tiles;
+  int columns = 1;
+};
+[[nodiscard]] StudySheet study_sheet(const StudyResult& result, double exposure, double error_white);
+
+}  // namespace weft::study

@@ -1,0 +1,129 @@
+#include "weft/volume/scatterer.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "weft/core/error.h"
+#include "weft/core/parallel.h"
+#include "weft/core/rng.h"
+#include "weft/volume/beam_accumulate_impl.h"
+#include "weft/volume/dda.h"
+#include "weft/volume/grid_openvdb.h"
+#include "weft/volume/lattice.h"
+
+namespace weft::volume {
+namespace {
+
+using Vec3 = std::array<double, 3>;
+using detail::kMaxShards;
+using detail::LseAccumulator;
+
+}  // namespace
+
+ScattererCurves measure_scatterer(const Grid& grid, const ScattererSpec& spec, ProgressSink& progress) {
+  require_positive("scatterer rays: scale (sigma)", spec.scale);
+  if (spec.rays < 2) fail("scatterer rays: need at least 2 rays, got {}", spec.rays);
+  if (grid.active_voxel_count() == 0) fail("scatterer rays: grid '{}' has no active voxels", grid.name());
+  const double total = grid.sum();
+  if (!(total > 0.0)) fail("scatterer rays: grid '{}' holds no particles (all values 0)", grid.name());
+  const Vec3 fixed = spec.fixed_direction ? unit_direction(spec.direction, "scatterer rays") : Vec3{0, 0, 1};
+  const auto& vdb = *grid.impl().grid;
+  const double h = grid.voxel_size();
+  const IndexBox box = grid.active_bbox();
+  const auto ext = box.extent();
+  const auto o = grid.origin();
+  // Cumulative weights over active voxels and tiles: origins ∝ C.
+  std::vector<openvdb::CoordBBox> cells;
+  std::vector<double> cdf;
+  double run = 0.0;
+  for (auto it = vdb.cbeginValueOn(); it; ++it) {
+    if (!(*it > 0.0f)) continue;
+    openvdb::CoordBBox b;
+    it.getBoundingBox(b);
+    run += static_cast<double>(*it) * static_cast<double>(it.getVoxelCount());
+    cells.push_back(b);
+    cdf.push_back(run);
+  }
+  double diag = 0.0;
+  for (int a = 0; a < 3; ++a) diag += std::pow(h * static_cast<double>(ext[a]), 2);
+  diag = std::sqrt(diag);
+  const double max_depth = spec.max_depth > 0.0 ? spec.max_depth : diag;
+  const std::vector<double> depths = beam_depth_grid(max_depth, spec.depth_step > 0.0 ? spec.depth_step : h);
+  constexpr std::uint64_t kChunk = 1024;
+  const std::uint64_t units = (spec.rays + kChunk - 1) / kChunk;
+  const std::size_t shards = static_cast<std::size_t>(std::min<std::uint64_t>(kMaxShards, units));
+  std::vector<LseAccumulator> s_parts(shards, LseAccumulator(depths.size()));
+  std::vector<LseAccumulator> q_parts(shards, LseAccumulator(depths.size()));
+  ProgressTask task(progress, "scatterer/source rays", units);
+  parallel_units(shards, [&](std::size_t shard) {
+    Tracer tracer(grid);
+    std::vector<double> tau(depths.size());
+    const std::uint64_t begin = shard * units / shards;
+    const std::uint64_t end = (shard + 1) * units / shards;
+    for (std::uint64_t u = begin; u < end; ++u) {
+      Pcg32 rng = stream_for(spec.seed, u);
+      const std::uint64_t n = std::min(kChunk, spec.rays - u * kChunk);
+      for (std::uint64_t r = 0; r < n; ++r) {
+        Vec3 dir = fixed;
+        if (!spec.fixed_direction) {
+          const double z = 1.0 - 2.0 * rng.uniform();
+          const double phi = 2.0 * M_PI * rng.uniform();
+          const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
+          dir = {s * std::cos(phi), s * std::sin(phi), z};
+        }
+        // Particle origin: a cell ∝ its weight, then uniform inside it.
+        const double pick = rng.uniform() * run;
+        const auto idx = static_cast<std::size_t>(std::upper_bound(cdf.begin(), cdf.end(), pick) - cdf.begin());
+        const auto& b = cells[std::min(idx, cells.size() - 1)];
+        Ray sray;
+        for (int a = 0; a < 3; ++a) {
+          const double lo = o[a] + h * b.min()[a];
+          const double span = h * static_cast<double>(b.max()[a] - b.min()[a] + 1);
+          sray.origin[a] = lo + span * rng.uniform();
+        }
+        sray.direction = dir;
+        Ray qray;
+        for (int a = 0; a < 3; ++a)
+          qray.origin[a] = o[a] + h * (box.min[a] + static_cast<double>(ext[a]) * rng.uniform());
+        qray.direction = dir;
+        tau = tracer.optical_depth_profile(sray, depths, spec.scale);
+        s_parts[shard].add(tau.data());
+        tau = tracer.optical_depth_profile(qray, depths, spec.scale);
+        q_parts[shard].add(tau.data());
+      }
+      task.step();
+    }
+  });
+  LseAccumulator s_total(depths.size());
+  LseAccumulator q_total(depths.size());
+  for (std::size_t i = 0; i < shards; ++i) {
+    s_total.merge(s_parts[i]);
+    q_total.merge(q_parts[i]);
+  }
+  ScattererCurves out;
+  for (auto* c : {&out.t_s, &out.t_q}) {
+    c->depth = depths;
+    c->rays = spec.rays;
+    c->distinct_rays = spec.rays;
+    c->direction = fixed;
+    c->method = spec.fixed_direction ? "fixed direction" : "isotropic directions";
+  }
+  s_total.finish(out.t_s, s_total.n);
+  q_total.finish(out.t_q, q_total.n);
+  out.mean_extinction =
+      spec.scale * total / (static_cast<double>(ext[0]) * static_cast<double>(ext[1]) * static_cast<double>(ext[2]));
+  const std::size_t K = depths.size();
+  out.p_q.assign(K, 0.0);
+  out.mu_t_s.assign(K, 0.0);
+  for (std::size_t k = 0; k < K; ++k) {
+    const std::size_t a = k == 0 ? 0 : k - 1;
+    const std::size_t b = k + 1 < K ? k + 1 : K - 1;
+    if (b > a) out.p_q[k] = -(out.t_q.transmittance(b) - out.t_q.transmittance(a)) / (depths[b] - depths[a]);
+    out.mu_t_s[k] = out.mean_extinction * out.t_s.transmittance(k);
+  }
+  return out;
+}
+
+}  // namespace weft::volume
