@@ -169,8 +169,10 @@ Geometry::Geometry(const SceneDesc& scene, const std::map<std::string, int>& mat
           double total = 0.0;
           for (const auto& tri : s.mesh.triangles) {
             const Vec3& a = s.mesh.vertices[tri[0]];
-            total += 0.5 * (s.mesh.vertices[tri[1]] - a).cross(s.mesh.vertices[tri[2]] - a).norm();
+            const Vec3 cross = (s.mesh.vertices[tri[1]] - a).cross(s.mesh.vertices[tri[2]] - a);
+            total += 0.5 * cross.norm();
             s.area_cdf.push_back(total);
+            s.normals.push_back(cross.normalized());
           }
           for (auto& c : s.area_cdf) c /= total;
           s.area = total;
@@ -227,9 +229,7 @@ std::optional<SurfaceHit> Geometry::intersect(const Vec3& o, const Vec3& d, doub
     // Embree's geometric normal of the round curve's surface at the hit (not normalised).
     hit.n = Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();
   } else {
-    const auto& tri = s.mesh.triangles[rh.hit.primID];
-    const Vec3& a = s.mesh.vertices[tri[0]];
-    hit.n = (s.mesh.vertices[tri[1]] - a).cross(s.mesh.vertices[tri[2]] - a).normalized();
+    hit.n = s.normals[rh.hit.primID];  // as computed per hit before, once per triangle
   }
   return hit;
 }
@@ -266,7 +266,7 @@ AreaSample Geometry::sample_area(int shape, Pcg32& rng) const {
   const double su = std::sqrt(rng.uniform());
   const double b1 = 1.0 - su;
   const double b2 = rng.uniform() * su;
-  return {a + b1 * (b - a) + b2 * (c - a), (b - a).cross(c - a).normalized()};
+  return {a + b1 * (b - a) + b2 * (c - a), s.normals[index]};
 }
 
 }  // namespace weft::render

@@ -24,6 +24,7 @@ struct ShapeInfo {
   Vec3 center{0, 0, 0};
   double radius = 0.0;
   TriangleMesh mesh;             ///< world-space triangles (not for spheres)
+  std::vector<Vec3> normals;     ///< unit normal of each triangle by winding (computed once, not per hit)
   std::vector<double> area_cdf;  ///< triangle area CDF for sampling (normalised)
   double area = 0.0;
   std::size_t curve_segments = 0;  ///< curves: round linear segments in the BVH

@@ -102,19 +102,6 @@ double PairWeights::shadow_factor(Origin origin, double t) const {
 
 // ---- homogeneous media -----------------------------------------------------------------------
 
-Flight ExponentialMedium::sample_flight(const Vec3&, const Vec3&, double t_max, Origin, Pcg32& rng,
-                                        MediumScratch*) const {
-  Flight f;
-  f.t = mu_ > 0.0 ? -std::log(rng.uniform_open()) / mu_ : kInf;
-  f.collided = f.t < t_max;
-  if (!f.collided) f.t = t_max;
-  return f;
-}
-
-double ExponentialMedium::transmittance(const Vec3&, const Vec3&, double t, Origin, Pcg32&, MediumScratch*) const {
-  return mu_ == 0.0 ? 1.0 : std::exp(-mu_ * t);
-}
-
 MediumTraits ExponentialMedium::traits() const {
   MediumTraits t;
   t.kind = "homogeneous";

@@ -6,7 +6,9 @@
 /// The integrator calls `sample_flight` once per flight and `transmittance` once per shadow
 /// segment and never asks which kind it holds (docs/render.md §2).
 
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -128,10 +130,21 @@ class PairWeights {
 class ExponentialMedium final : public Medium {
  public:
   ExponentialMedium(double mu, Rgb albedo, double g) : Medium(std::move(albedo), g), mu_(mu) {}
-  [[nodiscard]] Flight sample_flight(const Vec3& o, const Vec3& d, double t_max, transmittance::Origin origin,
-                                     Pcg32& rng, MediumScratch* scratch) const override;
-  [[nodiscard]] double transmittance(const Vec3& o, const Vec3& d, double t, transmittance::Origin origin, Pcg32& rng,
-                                     MediumScratch* scratch) const override;
+  // Defined here so that the exponential specialisation inlines them (a call per flight and
+  // per shadow segment otherwise).
+  [[nodiscard]] Flight sample_flight(const Vec3& /*o*/, const Vec3& /*d*/, double t_max,
+                                     transmittance::Origin /*origin*/, Pcg32& rng,
+                                     MediumScratch* /*scratch*/) const override {
+    Flight f;
+    f.t = mu_ > 0.0 ? -std::log(rng.uniform_open()) / mu_ : std::numeric_limits<double>::infinity();
+    f.collided = f.t < t_max;
+    if (!f.collided) f.t = t_max;
+    return f;
+  }
+  [[nodiscard]] double transmittance(const Vec3& /*o*/, const Vec3& /*d*/, double t, transmittance::Origin /*origin*/,
+                                     Pcg32& /*rng*/, MediumScratch* /*scratch*/) const override {
+    return mu_ == 0.0 ? 1.0 : std::exp(-mu_ * t);
+  }
   [[nodiscard]] MediumTraits traits() const override;
   [[nodiscard]] double mu() const { return mu_; }
 
