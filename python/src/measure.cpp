@@ -2,6 +2,7 @@
 // gamma model they predict, least-squares fits and curve errors (weft/fit/fit.h).
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "common.h"
@@ -221,16 +222,13 @@ void init_measure(py::module_& m) {
         // behind it (the report's figure) as arrays.
         const vol::Provenance prov = vol::read_provenance(grid);
         fit::ValidationSpec spec;
-        std::string sigma_source;
-        if (!sigma.is_none()) {
-          spec.sigma = require_positive("validate: sigma", sigma.cast<double>());
-          sigma_source = "sigma=";
-        } else if (prov.sigma) {
-          spec.sigma = *prov.sigma;
-          sigma_source = "grid provenance: " + prov.sigma_rule;
-        } else {
-          fail("validate: concentration grid without sigma in its metadata (not written by weft gen); pass sigma=S");
-        }
+        const vol::SigmaChoice chosen = vol::resolve_sigma(
+            prov,
+            sigma.is_none() ? std::nullopt
+                            : std::optional<double>(require_positive("validate: sigma", sigma.cast<double>())),
+            false, "validate", FrontEnd::python);
+        spec.sigma = chosen.sigma;
+        const std::string& sigma_source = chosen.source;
         // The checks of `weft validate`, in Python's words.
         fit::check_scale_text(window);
         spec.directions = fit::parse_axes(axes);
