@@ -1,10 +1,12 @@
 // Moment matching (Eq. 19), the model and baseline laws, pooling and curve errors.
+#include "weft/fit/gamma_moments.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "weft/core/error.h"
-#include "weft/fit/fit.h"
+#include "weft/fit/window_stats.h"
 #include "weft/transmittance/registry.h"
 #include "weft/transmittance/shape_rate.h"
 

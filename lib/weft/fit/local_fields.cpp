@@ -18,7 +18,6 @@
 #include "weft/core/floor_div.h"
 #include "weft/core/memory.h"
 #include "weft/core/parallel.h"
-#include "weft/fit/fit.h"
 #include "weft/transmittance/shape_rate.h"
 #include "weft/volume/grid_io.h"
 #include "weft/volume/grid_openvdb.h"

@@ -9,9 +9,9 @@
 
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
-#include "weft/fit/fit.h"
 #include "weft/fit/local_models.h"
 #include "weft/fit/moments.h"
+#include "weft/fit/window_stats.h"
 #include "weft/transmittance/gamma_mixture.h"
 #include "weft/transmittance/gap_gamma.h"
 #include "weft/transmittance/registry.h"
