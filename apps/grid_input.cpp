@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <optional>
 
 #include <fmt/core.h>
 
@@ -32,14 +33,9 @@ void check_grid_input(const GridInputOptions& o) {
   if (o.extinction() && o.sigma_given()) usage_fail("--sigma applies to concentration values, not --values extinction");
 }
 
-SigmaChoice resolve_sigma(const GridInputOptions& o, const volume::Provenance& p, const std::string& what) {
-  if (o.extinction()) return {1.0, "values are extinction (mu), sigma = 1"};
-  if (o.sigma_given()) return {o.sigma, "--sigma"};
-  if (p.sigma) return {*p.sigma, fmt::format("{} provenance: {}", what, p.sigma_rule)};
-  fail(
-      "{}: concentration grid without sigma in its metadata (not written by weft gen); pass --sigma S "
-      "(extinction per unit concentration, 1/length) or --values extinction",
-      what);
+volume::SigmaChoice resolve_sigma(const GridInputOptions& o, const volume::Provenance& p, const std::string& what) {
+  return volume::resolve_sigma(p, o.sigma_given() ? std::optional<double>(o.sigma) : std::nullopt, o.extinction(),
+                               what);
 }
 
 LoadedGrid load_grid_input(const GridInputOptions& o) {

@@ -28,12 +28,6 @@ struct GridInputOptions {
 /// Declares the four options on `sub`; `required` makes --grid mandatory.
 void add_grid_input(CLI::App& sub, GridInputOptions& o, bool required);
 
-/// σ used for μ = σ·value, and why.
-struct SigmaChoice {
-  double sigma = 1.0;
-  std::string source;  ///< "--sigma", "grid provenance: …", "values are extinction", "cloth: …"
-};
-
 /// Checks the options themselves (σ > 0 when given; no --sigma with --values extinction).
 void check_grid_input(const GridInputOptions& o);
 /// Loads the grid (refusing an empty one) and resolves σ: --values extinction → 1; --sigma;
@@ -41,12 +35,12 @@ void check_grid_input(const GridInputOptions& o);
 struct LoadedGrid {
   volume::Grid grid;
   volume::Provenance provenance;
-  SigmaChoice sigma;
+  volume::SigmaChoice sigma;
 };
 [[nodiscard]] LoadedGrid load_grid_input(const GridInputOptions& o);
-/// σ for a grid whose provenance is known (a generated cloth): --sigma or the provenance.
-[[nodiscard]] SigmaChoice resolve_sigma(const GridInputOptions& o, const volume::Provenance& p,
-                                        const std::string& what);
+/// σ from the options and a grid's provenance (volume::resolve_sigma); `what` names the grid.
+[[nodiscard]] volume::SigmaChoice resolve_sigma(const GridInputOptions& o, const volume::Provenance& p,
+                                                const std::string& what);
 
 /// The chart/summary title of a grid input: the file name, and the grid name when it is not the default.
 [[nodiscard]] std::string grid_title(const GridInputOptions& o, const volume::Grid& grid);

@@ -137,7 +137,7 @@ const Registrar kValidate{Command{
         json input;
         volume::Grid grid;
         volume::Provenance provenance;
-        SigmaChoice sigma;
+        volume::SigmaChoice sigma;
         std::string title;
         if (!o->input.grid.empty()) {
           const auto t0 = std::chrono::steady_clock::now();

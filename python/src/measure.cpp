@@ -1,14 +1,17 @@
 // The main job's stages: ground truth by DDA (weft/volume/beam.h), window statistics and the
-// gamma model they predict, least-squares fits and curve errors (weft/fit/fit.h).
+// gamma model they predict, least-squares fits and curve errors (weft/fit/gamma_moments.h, least_squares.h).
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "common.h"
-#include "weft/fit/fit.h"
+#include "weft/fit/gamma_moments.h"
+#include "weft/fit/least_squares.h"
 #include "weft/fit/report.h"
 #include "weft/fit/scale.h"
 #include "weft/fit/validation.h"
+#include "weft/fit/window_stats.h"
 #include "weft/volume/beam.h"
 #include "weft/volume/beam_checks.h"
 #include "weft/volume/provenance.h"
@@ -170,7 +173,7 @@ void init_measure(py::module_& m) {
       },
       py::arg("grid"), py::arg("axis"), py::arg("window") = 0.0, py::arg("progress") = py::none(),
       "Mean and variance of the concentration averaged over windows of `window` (0 = the grid's extent)\n"
-      "along `axis`, every window position of every column a sample (weft/fit/fit.h).");
+      "along `axis`, every window position of every column a sample (weft/fit/window_stats.h).");
   m.def(
       "correlation_length",
       [](const vol::Grid& grid, const py::object& axis, const py::object& progress) {
@@ -221,16 +224,13 @@ void init_measure(py::module_& m) {
         // behind it (the report's figure) as arrays.
         const vol::Provenance prov = vol::read_provenance(grid);
         fit::ValidationSpec spec;
-        std::string sigma_source;
-        if (!sigma.is_none()) {
-          spec.sigma = require_positive("validate: sigma", sigma.cast<double>());
-          sigma_source = "sigma=";
-        } else if (prov.sigma) {
-          spec.sigma = *prov.sigma;
-          sigma_source = "grid provenance: " + prov.sigma_rule;
-        } else {
-          fail("validate: concentration grid without sigma in its metadata (not written by weft gen); pass sigma=S");
-        }
+        const vol::SigmaChoice chosen = vol::resolve_sigma(
+            prov,
+            sigma.is_none() ? std::nullopt
+                            : std::optional<double>(require_positive("validate: sigma", sigma.cast<double>())),
+            false, "validate", FrontEnd::python);
+        spec.sigma = chosen.sigma;
+        const std::string& sigma_source = chosen.source;
         // The checks of `weft validate`, in Python's words.
         fit::check_scale_text(window);
         spec.directions = fit::parse_axes(axes);

@@ -1,12 +1,14 @@
 // Moment matching (Eq. 19), the model and baseline laws, pooling and curve errors.
+#include "weft/fit/gamma_moments.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "weft/core/error.h"
-#include "weft/fit/fit.h"
-#include "weft/transmittance/overflow.h"
+#include "weft/fit/window_stats.h"
 #include "weft/transmittance/registry.h"
+#include "weft/transmittance/shape_rate.h"
 
 namespace weft::fit {
 
@@ -31,10 +33,10 @@ GammaFit gamma_from_moments(double mean, double variance, double sigma) {
     g.beta = inf;
     return g;
   }
-  // β = C̄/Var C, α = C̄·β: C̄² alone would overflow for C̄ > 1e154 although α is representable.
   // β beyond the doubles is refused below; α beyond them is the exponential limit (α = ∞).
-  g.beta = transmittance::quotient_or_infinity(mean, variance);
-  g.alpha = transmittance::product_or_infinity(mean, g.beta);
+  const transmittance::ShapeRate s = transmittance::gamma_shape_rate(mean, variance);
+  g.alpha = s.alpha;
+  g.beta = s.beta;
   if (!(g.alpha > 0.0) || !std::isfinite(g.beta)) {
     fail("gamma fit: moments C = {}, Var C = {} give alpha = {}, beta = {}", mean, variance, g.alpha, g.beta);
   }

@@ -1,5 +1,7 @@
 // Levenberg–Marquardt fit of the gamma law (Eq. 20) to a measured T(t): the best any gamma
 // law can do, as a reference for the moment-matched (predicted) model.
+#include "weft/fit/least_squares.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -7,7 +9,7 @@
 #include <unsupported/Eigen/LevenbergMarquardt>
 
 #include "weft/core/error.h"
-#include "weft/fit/fit.h"
+#include "weft/fit/gamma_moments.h"
 #include "weft/transmittance/overflow.h"
 
 namespace weft::fit {

@@ -18,7 +18,7 @@
 #include "weft/core/floor_div.h"
 #include "weft/core/memory.h"
 #include "weft/core/parallel.h"
-#include "weft/fit/fit.h"
+#include "weft/transmittance/shape_rate.h"
 #include "weft/volume/grid_io.h"
 #include "weft/volume/grid_openvdb.h"
 
@@ -297,7 +297,6 @@ LocalFields local_fields(const volume::Grid& grid, int block, ProgressSink& prog
     out.alpha[static_cast<std::size_t>(a)] = make(fmt::format("alpha_{}", axis));
     out.beta[static_cast<std::size_t>(a)] = make(fmt::format("beta_{}", axis));
   }
-  constexpr float inf = std::numeric_limits<float>::infinity();
   for (const auto& r : results) {
     if (!(r.mean > 0.0)) continue;
     const int i = static_cast<int>(r.key[0]);
@@ -307,8 +306,9 @@ LocalFields local_fields(const volume::Grid& grid, int block, ProgressSink& prog
     for (std::size_t a = 0; a < 3; ++a) {
       const double var = r.variance[a];
       out.variance[a].set_value(i, j, k, static_cast<float>(var));
-      out.alpha[a].set_value(i, j, k, var > 0.0 ? static_cast<float>(r.mean * r.mean / var) : inf);
-      out.beta[a].set_value(i, j, k, var > 0.0 ? static_cast<float>(r.mean / var) : inf);
+      const transmittance::ShapeRate s = transmittance::gamma_shape_rate(r.mean, var);
+      out.alpha[a].set_value(i, j, k, static_cast<float>(s.alpha));
+      out.beta[a].set_value(i, j, k, static_cast<float>(s.beta));
     }
     ++out.blocks;
   }

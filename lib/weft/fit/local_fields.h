@@ -1,11 +1,14 @@
 #pragma once
 /// @file
-/// @brief What local statistic fields (fit.h: local_fields) will cost, known before they are
-/// computed: `weft fit --block` checks its block size and refuses an estimate over the budget
+/// @brief Local statistic fields per block of voxels, and what they will cost, known before they
+/// are computed: `weft fit --block` checks its block size and refuses an estimate over the budget
 /// before it spends anything.
 
+#include <array>
 #include <cstdint>
+#include <filesystem>
 
+#include "weft/core/progress.h"
 #include "weft/volume/grid.h"
 
 namespace weft::fit {
@@ -30,5 +33,21 @@ struct LocalFieldsEstimate {
   std::uint64_t bytes = 0;         ///< upper bound of the peak memory beyond the input grid
 };
 [[nodiscard]] LocalFieldsEstimate estimate_local_fields(const volume::Grid& grid, int block);
+
+/// Local statistic fields: per block of B³ voxels (aligned to multiples of B in index space),
+/// the block mean C̄ and, per axis, the variance of the B² column means across the block and
+/// the (α, β) they give. Blocks without any concentration are left inactive. α = β = +∞ mark
+/// blocks with zero variance (exponential).
+struct LocalFields {
+  int block = 8;
+  volume::Grid mean;                     ///< "mean_concentration"
+  std::array<volume::Grid, 3> variance;  ///< "var_concentration_{x,y,z}"
+  std::array<volume::Grid, 3> alpha;     ///< "alpha_{x,y,z}"
+  std::array<volume::Grid, 3> beta;      ///< "beta_{x,y,z}"
+  std::uint64_t blocks = 0;
+};
+[[nodiscard]] LocalFields local_fields(const volume::Grid& grid, int block, ProgressSink& progress = null_progress());
+/// Writes every grid of `fields` into one .vdb file, atomically.
+void save_local_fields(const LocalFields& fields, const std::filesystem::path& path);
 
 }  // namespace weft::fit

@@ -9,12 +9,13 @@
 
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
-#include "weft/fit/fit.h"
 #include "weft/fit/local_models.h"
 #include "weft/fit/moments.h"
+#include "weft/fit/window_stats.h"
 #include "weft/transmittance/gamma_mixture.h"
 #include "weft/transmittance/gap_gamma.h"
 #include "weft/transmittance/registry.h"
+#include "weft/transmittance/shape_rate.h"
 #include "weft/volume/beam.h"
 #include "weft/volume/columns.h"
 
@@ -158,7 +159,7 @@ transmittance::LawPtr gamma_or_exponential(double sigma, double mean, double var
   transmittance::LawSpec spec;
   if (mean > 0.0 && var > 0.0) {
     spec.name = "gamma";
-    spec.params = {{"mean_extinction", sigma * mean}, {"alpha", mean * mean / var}};
+    spec.params = {{"mean_extinction", sigma * mean}, {"alpha", transmittance::gamma_shape_rate(mean, var).alpha}};
   } else {
     spec.name = "exponential";
     spec.params = {{"mu", sigma * std::max(0.0, mean)}};
@@ -170,8 +171,7 @@ transmittance::LawPtr gamma_or_exponential(double sigma, double mean, double var
 double gamma_log_t(double sigma, double mean, double var, double t) {
   if (!(mean > 0.0) || t == 0.0) return 0.0;
   if (!(var > 0.0)) return -sigma * mean * t;
-  const double beta = mean / var;
-  const double alpha = mean * beta;
+  const auto [alpha, beta] = transmittance::gamma_shape_rate(mean, var);
   return -alpha * std::log1p(sigma * t / beta);
 }
 
@@ -220,8 +220,8 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
         {{"window", L},
          {"mean_concentration", mean},
          {"var_concentration", var},
-         {"alpha", var > 0.0 ? mean * mean / var : INFINITY},
-         {"beta", var > 0.0 ? mean / var : INFINITY}},
+         {"alpha", transmittance::gamma_shape_rate(mean, var).alpha},
+         {"beta", transmittance::gamma_shape_rate(mean, var).beta}},
         [&](std::size_t, double t) { return gamma_log_t(sigma, mean, var, t); },
         gamma_or_exponential(sigma, mean, var));
   }
@@ -260,7 +260,7 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
     // The registry's gap-gamma law (one implementation of its stable log T); α = ∞ without variance.
     const std::shared_ptr<const transmittance::Law> gap_law =
         mean > 0.0 && f0 < 1.0 ? std::unique_ptr<transmittance::Law>(std::make_unique<transmittance::GapGamma>(
-                                     f0, sigma * mean, var > 0.0 ? mean * mean / var : INFINITY))
+                                     f0, sigma * mean, transmittance::gamma_shape_rate(mean, var).alpha))
                                : std::unique_ptr<transmittance::Law>(std::make_unique<transmittance::GammaMixture>(
                                      std::vector<transmittance::GammaComponent>{{1.0, 0.0, INFINITY}}));
     add(
@@ -269,8 +269,8 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
          {"gap_fraction", f0},
          {"mean_concentration", mean},
          {"var_concentration", var},
-         {"alpha", var > 0.0 ? mean * mean / var : INFINITY},
-         {"beta", var > 0.0 ? mean / var : INFINITY}},
+         {"alpha", transmittance::gamma_shape_rate(mean, var).alpha},
+         {"beta", transmittance::gamma_shape_rate(mean, var).beta}},
         [&](std::size_t, double t) { return gap_law->log_transmittance(t); }, gap_law);
   }
   // Across the beam: a gamma law per transverse cell of side L, mixed by rays.
@@ -282,7 +282,8 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
     for (const auto& [k, g] : ws.groups) {
       const double m = g.windows.mean();
       const double v = g.windows.var();
-      components.push_back({g.rays / rays, sigma * m, v > 0.0 && m > 0.0 ? m * m / v : INFINITY});
+      components.push_back(
+          {g.rays / rays, sigma * m, m > 0.0 ? transmittance::gamma_shape_rate(m, v).alpha : INFINITY});
     }
     const auto mixture = std::make_shared<const transmittance::GammaMixture>(std::move(components));
     add(

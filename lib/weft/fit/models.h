@@ -39,7 +39,7 @@
 #include <vector>
 
 #include "weft/core/progress.h"
-#include "weft/fit/fit.h"
+#include "weft/fit/window_stats.h"
 #include "weft/transmittance/law.h"
 #include "weft/volume/grid.h"
 

@@ -1,7 +1,7 @@
 #pragma once
 /// @file
 /// @brief Running mean and variance of window means (Welford), merged pairwise (Chan et al.) in a
-/// fixed shard order: the one accumulator of the window statistics (fit.h: window_stats, and the
+/// fixed shard order: the one accumulator of the window statistics (window_stats.h: window_stats, and the
 /// models' pass of models.h, which hands its moments to validate).
 
 #include <algorithm>

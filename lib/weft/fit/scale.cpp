@@ -7,7 +7,6 @@
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
 #include "weft/core/parse_number.h"
-#include "weft/fit/fit.h"
 #include "weft/volume/columns.h"
 
 namespace weft::fit {

@@ -52,6 +52,14 @@ struct StatisticsScale {
 /// a bad --window is refused before anything is loaded.
 void check_scale_text(const std::string& text);
 
+/// Correlation length of C along `axis`: the lag at which the autocorrelation of C along the
+/// columns of the active box (about the box mean) first falls to 1/e, linearly interpolated, in
+/// world units. The scale over which a ray sees one concentration: the natural window of
+/// Eq. 19–20 ("local" statistics), measured from the voxels alone. Lags are searched up to
+/// min(extent − 1, 128) voxels; if the autocorrelation stays above 1/e (or C is uniform) the
+/// result is the extent itself.
+[[nodiscard]] double correlation_length(const volume::Grid& grid, int axis, ProgressSink& progress = null_progress());
+
 /// Autocorrelation of C along `axis` about the box mean, lags 0..max_lag (R(0) = 1; all zeros
 /// for a uniform grid), summed per column and merged in a fixed order.
 [[nodiscard]] std::vector<double> autocorrelation(const volume::Grid& grid, int axis, int max_lag,

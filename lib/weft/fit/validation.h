@@ -10,8 +10,10 @@
 #include <vector>
 
 #include "weft/core/progress.h"
-#include "weft/fit/fit.h"
+#include "weft/fit/gamma_moments.h"
+#include "weft/fit/least_squares.h"
 #include "weft/fit/models.h"
+#include "weft/fit/window_stats.h"
 #include "weft/volume/beam.h"
 #include "weft/volume/grid.h"
 

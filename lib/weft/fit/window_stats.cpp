@@ -1,10 +1,11 @@
 // Window-mean concentration statistics from one streaming pass over the columns.
+#include "weft/fit/window_stats.h"
+
 #include <algorithm>
 #include <cmath>
 
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
-#include "weft/fit/fit.h"
 #include "weft/fit/moments.h"
 #include "weft/volume/columns.h"
 

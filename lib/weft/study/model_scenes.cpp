@@ -7,7 +7,7 @@
 
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
-#include "weft/fit/fit.h"
+#include "weft/fit/local_fields.h"
 #include "weft/render/cloth_scene.h"
 #include "weft/volume/beam.h"
 

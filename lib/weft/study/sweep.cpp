@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -13,11 +14,12 @@
 #include "weft/core/floor_div.h"
 #include "weft/core/parallel.h"
 #include "weft/dist/distributed.h"
-#include "weft/fit/fit.h"
+#include "weft/fit/gamma_moments.h"
+#include "weft/fit/local_fields.h"
 #include "weft/transmittance/gamma_hazard.h"
 #include "weft/volume/beam.h"
 #include "weft/volume/downsample.h"
-#include "weft/volume/grid_openvdb.h"
+#include "weft/volume/grid.h"
 
 namespace weft::study {
 using namespace weft::fit;  // NOLINT(google-build-using-namespace)
@@ -103,21 +105,20 @@ std::vector<double> coarse_beam_log_t(const volume::Grid& mean, const volume::Gr
   };
   const auto cols = static_cast<std::size_t>(nu * nv);
   std::vector<double> H(cols * K);  // H[col·K + k] = −log T of the column at t_k
-  const auto& mvdb = *mean.impl().grid;
   parallel_units(static_cast<std::size_t>(nu), [&](std::size_t iu) {
-    auto macc = mvdb.getConstAccessor();
-    std::unique_ptr<openvdb::FloatGrid::ConstAccessor> vacc;
-    if (variance != nullptr)
-      vacc = std::make_unique<openvdb::FloatGrid::ConstAccessor>(variance->impl().grid->getConstAccessor());
+    // Inactive voxels read 0, the grids' background (volume::VoxelReader).
+    volume::VoxelReader macc(mean);
+    std::optional<volume::VoxelReader> vacc;
+    if (variance != nullptr) vacc.emplace(*variance);
     std::vector<Segment> segs;
     for (std::int64_t iv = 0; iv < nv; ++iv) {
       segs.clear();
       for (std::int64_t s = 0; s <= ca1 - ca0; ++s) {
         const std::int64_t ca = reverse ? ca1 - s : ca0 + s;
-        openvdb::Coord c;
-        c[axis] = static_cast<int>(ca);
-        c[ua] = static_cast<int>(cu0 + static_cast<std::int64_t>(iu));
-        c[va] = static_cast<int>(cv0 + iv);
+        std::array<int, 3> c{};
+        c[static_cast<std::size_t>(axis)] = static_cast<int>(ca);
+        c[static_cast<std::size_t>(ua)] = static_cast<int>(cu0 + static_cast<std::int64_t>(iu));
+        c[static_cast<std::size_t>(va)] = static_cast<int>(cv0 + iv);
         Segment g;
         // Fine-index extent of the block along the ray, as distances from the entry face.
         const std::int64_t z0 = ca * f;
@@ -126,8 +127,8 @@ std::vector<double> coarse_beam_log_t(const volume::Grid& mean, const volume::Gr
         const std::int64_t d1 = reverse ? fine_box.max[axis] + 1 - z0 : z1 - fine_box.min[axis];
         g.a = fine_voxel * static_cast<double>(std::max<std::int64_t>(d0, 0));
         g.b = fine_voxel * static_cast<double>(std::min<std::int64_t>(d1, n));
-        g.mean = static_cast<double>(macc.getValue(c));
-        g.var = vacc ? static_cast<double>(vacc->getValue(c)) : 0.0;
+        g.mean = static_cast<double>(macc.value(c));
+        g.var = vacc ? static_cast<double>(vacc->value(c)) : 0.0;
         segs.push_back(g);
       }
       double* h = H.data() + (iu * static_cast<std::size_t>(nv) + static_cast<std::size_t>(iv)) * K;

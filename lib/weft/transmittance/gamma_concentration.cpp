@@ -5,6 +5,7 @@
 
 #include "weft/core/error.h"
 #include "weft/transmittance/overflow.h"
+#include "weft/transmittance/shape_rate.h"
 
 namespace weft::transmittance {
 
@@ -45,10 +46,7 @@ GammaConcentration GammaConcentration::from_concentration(double sigma, double m
     fail("gamma law: a concentration with mean 0 cannot have variance {} (C >= 0)", var_concentration);
   }
   // α = C̄²/Var C (Eq. 19); Var C = 0 is the exact exponential limit (S.46), not 0/0.
-  const double alpha =
-      var_concentration == 0.0
-          ? kInfinity
-          : product_or_infinity(mean_concentration, quotient_or_infinity(mean_concentration, var_concentration));
+  const double alpha = gamma_shape_rate(mean_concentration, var_concentration).alpha;
   if (!(alpha > 0.0)) {
     fail("gamma law: alpha = mean_concentration^2/var_concentration underflows to 0 ({}^2/{})", mean_concentration,
          var_concentration);

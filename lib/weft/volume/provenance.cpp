@@ -31,6 +31,16 @@ double envelope_radius(const nlohmann::json& y) {
 
 }  // namespace
 
+SigmaChoice resolve_sigma(const Provenance& p, std::optional<double> given, bool extinction, const std::string& what,
+                          FrontEnd asker) {
+  const bool cli = asker == FrontEnd::cli;
+  if (extinction) return {1.0, "values are extinction (mu), sigma = 1"};
+  if (given) return {*given, cli ? "--sigma" : "sigma="};
+  if (p.sigma) return {*p.sigma, fmt::format("{} provenance: {}", cli ? what : "grid", p.sigma_rule)};
+  fail("{}: concentration grid without sigma in its metadata (not written by weft gen); pass {}", what,
+       cli ? "--sigma S (extinction per unit concentration, 1/length) or --values extinction" : "sigma=S");
+}
+
 double fibre_sigma(double fiber_radius) {
   require_positive("fibre radius", fiber_radius);
   return 2.0 / (std::numbers::pi * fiber_radius);

@@ -16,6 +16,7 @@
 #include <optional>
 #include <string>
 
+#include "weft/core/front_end.h"
 #include "weft/volume/grid.h"
 
 namespace weft::volume {
@@ -37,6 +38,20 @@ struct Provenance {
 
 /// Writes the keys of `p` that are set (used by the cloth generator).
 void write_provenance(Grid& grid, const Provenance& p);
+
+/// σ used for μ = σ·value, and why (`sigma_source` in every report).
+struct SigmaChoice {
+  double sigma = 1.0;
+  std::string source;  ///< "--sigma" / "sigma=", "<grid> provenance: <rule>", "values are extinction (mu), sigma = 1"
+};
+
+/// The one rule that picks σ (docs/validate.md, "σ: physical by default"): values that are
+/// extinction → σ = 1; else the σ the user gave (`given`, checked > 0 by the front end); else the
+/// provenance's σ; else weft::Error saying what to pass, never a silent σ = 1. `what` starts the
+/// error; on the command line it names the grid (a file, "cloth") and so also the source
+/// ("<what> provenance: …"), in Python it names the call and the grid is the argument `grid`.
+[[nodiscard]] SigmaChoice resolve_sigma(const Provenance& p, std::optional<double> given, bool extinction,
+                                        const std::string& what, FrontEnd asker = FrontEnd::cli);
 
 /// σ per unit concentration of opaque cylindrical fibres of radius r crossed by a beam
 /// perpendicular to them: projected area per unit length 2r over volume per unit length π r².

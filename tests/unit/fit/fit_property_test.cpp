@@ -15,7 +15,8 @@
 
 #include "weft/core/error.h"
 #include "weft/core/rng.h"
-#include "weft/fit/fit.h"
+#include "weft/fit/gamma_moments.h"
+#include "weft/fit/least_squares.h"
 
 namespace weft::fit {
 namespace {

@@ -9,8 +9,11 @@
 
 #include "test_grids.h"
 #include "weft/core/error.h"
-#include "weft/fit/fit.h"
+#include "weft/fit/gamma_moments.h"
+#include "weft/fit/least_squares.h"
 #include "weft/fit/local_fields.h"
+#include "weft/fit/scale.h"
+#include "weft/fit/window_stats.h"
 #include "weft/volume/beam.h"
 #include "weft/volume/grid.h"
 

@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "image_mean.h"
-#include "weft/fit/fit.h"
+#include "weft/fit/local_fields.h"
 #include "weft/fit/models.h"
 #include "weft/render/render.h"
 #include "weft/render/scene.h"

@@ -20,7 +20,7 @@
 #include "image_mean.h"
 #include "weft/core/error.h"
 #include "weft/core/rng.h"
-#include "weft/fit/fit.h"
+#include "weft/fit/local_fields.h"
 #include "weft/render/local_gamma.h"
 #include "weft/render/render.h"
 #include "weft/render/scene.h"

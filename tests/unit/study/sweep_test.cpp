@@ -7,7 +7,7 @@
 
 #include "weft/core/error.h"
 #include "weft/core/rng.h"
-#include "weft/fit/fit.h"
+#include "weft/fit/local_fields.h"
 #include "weft/study/sweep.h"
 #include "weft/volume/beam.h"
 #include "weft/volume/downsample.h"
