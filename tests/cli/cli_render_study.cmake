@@ -4,8 +4,9 @@
 #         -P cli_render_study.cmake
 #
 # quick: the default cloth at 48 px, factors 2 and 4, 8 spp per candidate, a 256 spp reference.
-#   Every file exists; the CSV has one row per candidate (fine, exponential and local-gamma at
-#   2x and 4x, the slab); the bias estimates are statistical statements with standard errors:
+#   Every file exists; the CSV has one row per candidate (fine, exponential, local-gamma and
+#   shadow-corrected at 2x and 4x, the slab); the bias estimates are statistical statements with
+#   standard errors:
 #   the fine grid (the reference's own model) is consistent with no bias (bias² within 5
 #   standard errors of 0) and a smaller bias than every candidate whose bias is detectable
 #   (z > 5), and the slab (one homogeneous gamma law for a woven cloth) is biased beyond 5
@@ -24,7 +25,8 @@ if(CMAKE_SCRIPT_MODE_FILE)
       message(FATAL_ERROR "study failed (${rc}): ${err}")
     endif()
     message(STATUS "${out}")
-    set(candidates fine exponential-2x local-gamma-2x exponential-4x local-gamma-4x slab-gamma)
+    set(candidates fine exponential-2x local-gamma-2x shadow-corrected-2x exponential-4x local-gamma-4x shadow-corrected-4x
+        slab-gamma)
     set(d ${WORK}/run)
     foreach(f default_cloth.exr default_cloth.png default_cloth.study.csv default_cloth.study.curves.csv
               default_cloth.study.json default_cloth.study.contact.png default_cloth.study/reference.json

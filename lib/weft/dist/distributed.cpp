@@ -285,6 +285,14 @@ bool root_decides(bool value) {
   return b.at(0) != 0;
 }
 
+double root_value(double value) {
+  Bytes b(sizeof value);
+  std::memcpy(b.data(), &value, sizeof value);
+  broadcast(b);
+  std::memcpy(&value, b.data(), sizeof value);
+  return value;
+}
+
 int rank() { return g_rank; }
 int size() { return g_size; }
 std::string describe() { return g_describe; }

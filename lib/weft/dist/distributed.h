@@ -72,6 +72,9 @@ class Session {
 /// @brief Rank 0's `value` on every rank (a collective: every rank calls it), for decisions that
 /// must not differ between ranks, such as a time budget measured on rank 0's clock.
 [[nodiscard]] bool root_decides(bool value);
+/// @brief Rank 0's `value` on every rank, bit for bit (a collective), for numbers computed from
+/// images that only rank 0 holds (e.g. the next step of a fit).
+[[nodiscard]] double root_value(double value);
 
 /// @brief Thrown on every rank when a unit failed on some rank: the message names the unit.
 class UnitFailure : public Error {

@@ -23,9 +23,11 @@
 #include "weft/render/convergence.h"
 #include "weft/render/medium.h"
 #include "weft/render/render.h"
+#include "weft/study/albedo_fit.h"
 #include "weft/study/bias_estimate.h"
 #include "weft/volume/downsample.h"
 #include "weft/volume/provenance.h"
+#include "weft/volume/shadowed_downsample.h"
 
 namespace weft::study {
 // The study composes the renderer's scenes, images and statistics throughout.
@@ -153,6 +155,12 @@ void check_study_spec(const StudySpec& spec) {
   if (spec.max_spp < 1) fail("study: max spp must be >= 1, got {}", spec.max_spp);
   if (spec.reference_spp < 1) fail("study: reference spp must be >= 1, got {}", spec.reference_spp);
   if (spec.work_dir.empty()) fail("study: no folder for the candidates' files");
+  std::set<int> fitted;
+  for (const auto& [f, k] : spec.albedo_factors) {
+    if (!seen.contains(f)) fail("study: albedo factor for {}x, which is not a coarsening factor of the study", f);
+    if (!fitted.insert(f).second) fail("study: albedo factor for {}x given twice", f);
+    if (!(std::isfinite(k) && k > 0.0)) fail("study: albedo factor k for {}x must be finite and > 0, got {}", f, k);
+  }
 }
 
 void check_study_scene(const SceneDesc& scene) { (void)find_target(scene); }
@@ -242,22 +250,33 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
     p.c.name = "fine";
     p.c.model = "fine grid";
     p.c.factor = 1;
+    p.c.memory_bytes = fine.memory_bytes();
+    p.c.memory_channels = 1;
     p.scene = target.scene;
     plans.push_back(std::move(p));
   }
   for (const int f : spec.factors) {
     const fs::path grid_file = fs::absolute(spec.work_dir / fmt::format("grid_{}x.vdb", f));
     const fs::path fields_file = fs::absolute(spec.work_dir / fmt::format("fields_{}x.vdb", f));
+    const fs::path shadow_file = fs::absolute(spec.work_dir / fmt::format("shadow_{}x.vdb", f));
     const volume::Grid coarse = volume::downsample(fine, f);
+    const volume::Grid shadowed = volume::shadowed_downsample(fine, f, target.sigma_stats).isotropic;
+    std::uint64_t fields_bytes = 0;  // what the local-gamma medium loads: the mean and 3 variances
     if (root) {
       coarse.save(grid_file);
-      fit::save_local_fields(fit::local_fields(fine, f, progress), fields_file);
+      shadowed.save(shadow_file);
+      const fit::LocalFields fields = fit::local_fields(fine, f, progress);
+      fields_bytes = fields.mean.memory_bytes();
+      for (const volume::Grid& v : fields.variance) fields_bytes += v.memory_bytes();
+      fit::save_local_fields(fields, fields_file);
     }
     const Box box = union_box(target.box, world_box(coarse));
     Plan e;
     e.c.name = fmt::format("exponential-{}x", f);
     e.c.model = "exponential";
     e.c.factor = f;
+    e.c.memory_bytes = coarse.memory_bytes();
+    e.c.memory_channels = 1;
     json em = base_medium;
     em["file"] = grid_file.string();
     em.erase("grid");
@@ -267,6 +286,8 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
     g.c.name = fmt::format("local-gamma-{}x", f);
     g.c.model = "local-gamma";
     g.c.factor = f;
+    g.c.memory_bytes = fields_bytes;
+    g.c.memory_channels = 4;
     json gm = {{"type", "local-gamma"},
                {"fields", fields_file.string()},
                {"sigma", target.sigma_stats},
@@ -281,6 +302,30 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
       gm["memory"] = rule_name;
       gr.scene = candidate_scene(target, gm, box);
       plans.push_back(std::move(gr));
+    }
+    // The baselines of docs/render.md §6d: exponential-Nx's medium with another grid or albedo.
+    const auto baseline = [&](const std::string& model, const json& medium, std::uint64_t bytes) {
+      Plan b;
+      b.c.name = fmt::format("{}-{}x", model, f);
+      b.c.model = model;
+      b.c.factor = f;
+      b.c.memory_bytes = bytes;
+      b.c.memory_channels = 1;
+      b.scene = candidate_scene(target, medium, box);  // the same blocks as exponential-Nx
+      return b;
+    };
+    json shadow_medium = em;
+    shadow_medium["file"] = shadow_file.string();
+    plans.push_back(baseline("shadow-corrected", shadow_medium, shadowed.memory_bytes()));
+    for (const auto& [fa, k] : spec.albedo_factors) {
+      if (fa != f) continue;
+      json albedo_medium = em;
+      const Rgb albedo = corrected_albedo(fine_desc.albedo, k);
+      albedo_medium["albedo"] = json::array({albedo[0], albedo[1], albedo[2]});
+      Plan al = baseline("albedo-corrected", albedo_medium, coarse.memory_bytes());
+      al.c.albedo_factor = k;
+      al.c.fitted_to_images = true;
+      plans.push_back(std::move(al));
     }
   }
   {

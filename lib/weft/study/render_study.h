@@ -11,6 +11,11 @@
 ///                     per coarse voxel: what a coarse render grid without statistics carries
 ///   local-gamma-Nx    the local statistic fields of N³ blocks (fit::local_fields, what
 ///                     `weft fit --block N` writes) as a local-gamma medium (§5b)
+///   shadow-corrected-Nx  the grid downsampled N× with each coarse voxel's extinction corrected
+///                     for self-shadowing in its block (volume::shadowed_downsample, isotropic;
+///                     docs/render.md §6d), exponential per coarse voxel
+///   albedo-corrected-Nx  exponential-Nx with the albedo × k_N of StudySpec::albedo_factors
+///                     (fitted to images of another scene; only when given)
 ///   slab-gamma        one homogeneous box of the grid's active box with the gamma law of the
 ///                     grid's pooled window statistics at the yarn scale (predicted from the
 ///                     voxels, never fitted to the rendered reference)
@@ -43,6 +48,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "weft/core/progress.h"
@@ -65,6 +71,10 @@ struct StudySpec {
   /// The local-gamma candidates' memory rules (docs/render.md §5e), one candidate per rule and
   /// factor: `local-gamma-Nx` (segment), `local-gamma-<rule>-Nx` (the others).
   std::vector<transmittance::MemoryRule> memory_rules{transmittance::MemoryRule::segment};
+  /// (factor N, k_N): one `albedo-corrected-Nx` candidate per pair, exponential-N× with the
+  /// albedo × k_N clamped to [0, 1] (fitted on another scene by fit_albedo_factors, albedo_fit.h;
+  /// docs/render.md §6d). Each N must be one of `factors`, each k_N finite and > 0. Empty: none.
+  std::vector<std::pair<int, double>> albedo_factors;
   /// Folder for the candidates' grids, fields and scene files (created; rank 0 writes).
   std::filesystem::path work_dir;
   /// Receives one line per stage ("rendering local-gamma-4x ..."); may be null.
@@ -110,7 +120,15 @@ struct StudyCandidate {
   double cloth_bias_sq_stderr = 0.0;
   /// Mean of (A + B)/2 − R over the cloth's values: the sign of the bias (> 0: too bright).
   double cloth_difference = 0.0;
-  double speedup = 0.0;           ///< t_fine(rmse)/seconds (NaN for the fine grid itself)
+  double speedup = 0.0;  ///< t_fine(rmse)/seconds (NaN for the fine grid itself)
+  /// Bytes of the grids the candidate's medium holds in memory (Grid::memory_bytes), every
+  /// channel counted, and the number of channels (grids); 0 and 0 for the slab (a law only).
+  std::uint64_t memory_bytes = 0;
+  int memory_channels = 0;
+  /// albedo-corrected candidates: the albedo multiplier k_N, fitted to images elsewhere (so
+  /// `fitted_to_images`, and chosen against the fine grid: it uses the ground truth).
+  double albedo_factor = 0.0;
+  bool fitted_to_images = false;
   std::vector<StudyPoint> curve;  ///< at every power of two of spp, and at the end
   render::Image image;            ///< A
   render::Image error_map;        ///< |A − R| per channel (no variances)

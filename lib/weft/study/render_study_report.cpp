@@ -21,16 +21,16 @@ std::string study_csv(const StudyResult& result) {
   std::string csv =
       "candidate,model,factor,spp,seconds,cpu_seconds,seconds_per_spp,rmse,rmse_raw,bias,bias_sq,bias_sq_stderr,"
       "bias_z,noise,relative_rmse,speedup,seed,scene,cloth_bias,cloth_bias_sq_stderr,cloth_relative_bias,cloth_"
-      "difference\n";
+      "difference,memory_bytes,memory_channels,albedo_factor,fitted_to_images\n";
   for (const auto& c : result.candidates) {
     csv += fmt::format(
         "{},{},{},{},{:.6g},{:.6g},{:.6g},{:.8g},{:.8g},{:.8g},{:.8g},{:.8g},{:.4g},{:.8g},{:.6g},{:.6g},{},{},{:.8g},"
-        "{:.8g},{:.6g},{:.6g}\n",
+        "{:.8g},{:.6g},{:.6g},{},{},{:.8g},{}\n",
         c.name, c.model, c.factor, c.spp, c.seconds, c.cpu_seconds, c.seconds / std::max(1, c.spp), c.rmse, c.rmse_raw,
         c.bias, c.bias_sq, c.bias_sq_stderr, c.bias_z(), c.noise,
         result.reference_mean > 0.0 ? c.rmse / result.reference_mean : 0.0, c.speedup, c.seed_a, c.scene_file.string(),
         c.cloth_bias, c.cloth_bias_sq_stderr, result.cloth_mean > 0.0 ? c.cloth_bias / result.cloth_mean : 0.0,
-        c.cloth_difference);
+        c.cloth_difference, c.memory_bytes, c.memory_channels, c.albedo_factor, c.fitted_to_images ? 1 : 0);
   }
   return csv;
 }
@@ -91,6 +91,11 @@ std::string study_json(const StudyResult& result) {
                                {"seed", c.seed_a},
                                {"second_seed", c.seed_b},
                                {"scene", c.scene_file.string()},
+                               {"memory_bytes", c.memory_bytes},
+                               {"memory_channels", c.memory_channels},
+                               {"albedo_factor", c.albedo_factor},
+                               {"fitted_to_images", c.fitted_to_images},
+                               {"uses_ground_truth", c.fitted_to_images},
                                {"curve", curve}});
   }
   return j.dump(2) + "\n";

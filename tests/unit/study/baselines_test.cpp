@@ -1,0 +1,173 @@
+// The study's baselines (docs/render.md §6d) on a small cube of grid medium: the new candidates
+// appear with their memory and labels, the self-shadowing correction changes nothing where no
+// block shadows itself (a uniform grid renders the exponential-Nx image bit for bit), and the
+// albedo fit reaches its target within its tolerance on the scene it is fitted on.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "weft/core/error.h"
+#include "weft/render/scene.h"
+#include "weft/study/albedo_fit.h"
+#include "weft/study/render_study.h"
+#include "weft/study/render_study_report.h"
+#include "weft/volume/grid.h"
+
+namespace weft::study {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("weft_baselines_test_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+/// The cube [−0.5, 0.5]³ as 16³ voxels of concentration `c(i, j, k)`, in a lit scene.
+render::SceneDesc cube_scene(const fs::path& dir, const std::function<float(int, int, int)>& c) {
+  volume::Grid g(1.0 / 16.0);
+  g.set_origin({-0.5, -0.5, -0.5});
+  for (int i = 0; i < 16; ++i)
+    for (int j = 0; j < 16; ++j)
+      for (int k = 0; k < 16; ++k)
+        if (const float v = c(i, j, k); v > 0.0F) g.set_value(i, j, k, v);
+  const fs::path file = dir / "cube.vdb";
+  g.save(file);
+  const std::string text = fmt::format(R"({{
+    "camera": {{"position": [0.9, 1.1, 2.4], "look_at": [0, 0, 0], "fov": 40, "width": 20, "height": 20}},
+    "integrator": {{"spp": 8, "max_depth": 64, "rr_depth": 5, "seed": 3}},
+    "materials": {{"boundary": {{"type": "null"}}}},
+    "media": {{"cloth": {{"type": "grid", "file": "{}", "sigma": 8, "albedo": [0.8, 0.7, 0.6], "g": 0.3}}}},
+    "shapes": [{{"type": "box", "min": [-0.5, -0.5, -0.5], "max": [0.5, 0.5, 0.5], "material": "boundary",
+                 "interior": "cloth"}}],
+    "lights": [{{"type": "environment", "radiance": 0.3}}, {{"type": "point", "position": [1, 2, 1], "intensity": 3}}]
+  }})",
+                                       file.string());
+  return render::parse_scene(text, "baselines test", dir);
+}
+
+StudySpec small_spec(const fs::path& dir) {
+  StudySpec s;
+  s.factors = {2, 4};
+  s.spp = 8;
+  s.reference_spp = 64;
+  s.scale = "extent";
+  s.work_dir = dir / "study";
+  return s;
+}
+
+const StudyCandidate& candidate(const StudyResult& r, const std::string& name) {
+  for (const auto& c : r.candidates)
+    if (c.name == name) return c;
+  throw Error("no candidate " + name);
+}
+
+/// Yarn-like columns along z (2×2 voxels dense, 2 voxels of gap), offset by one voxel from the
+/// blocks so that blocks of 2 and 4 both hold dense and empty columns and shadow themselves.
+float columns(int i, int j, int /*k*/) { return ((i + 1) % 4 < 2 && (j + 1) % 4 < 2) ? 1.0F : 0.0F; }
+
+TEST(StudyBaselines, NewCandidatesAppearWithMemoryAndLabels) {
+  const fs::path dir = fresh_dir("appear");
+  const render::SceneDesc scene = cube_scene(dir, columns);
+  StudySpec spec = small_spec(dir);
+  spec.albedo_factors = {{4, 1.2}};
+  const StudyResult r = run_study(scene, spec);
+  for (const int f : {2, 4}) {
+    const StudyCandidate& sc = candidate(r, fmt::format("shadow-corrected-{}x", f));
+    const StudyCandidate& ex = candidate(r, fmt::format("exponential-{}x", f));
+    EXPECT_EQ(sc.model, "shadow-corrected");
+    EXPECT_EQ(sc.memory_channels, 1);
+    EXPECT_GT(sc.memory_bytes, 0U);
+    EXPECT_FALSE(sc.fitted_to_images);
+    // Gaps through the blocks: the corrected grid lets more light through, a different image.
+    EXPECT_NE(sc.image.rgb, ex.image.rgb);
+    EXPECT_EQ(candidate(r, fmt::format("local-gamma-{}x", f)).memory_channels, 4);
+  }
+  EXPECT_THROW((void)candidate(r, "albedo-corrected-2x"), Error);  // no k for 2x
+  const StudyCandidate& al = candidate(r, "albedo-corrected-4x");
+  EXPECT_TRUE(al.fitted_to_images);
+  EXPECT_DOUBLE_EQ(al.albedo_factor, 1.2);
+  EXPECT_EQ(al.memory_bytes, candidate(r, "exponential-4x").memory_bytes);
+  // The corrected albedo is in the candidate's scene, clamped to 1 (0.8 × 1.2 = 0.96, …).
+  const render::SceneDesc s = render::load_scene(al.scene_file);
+  EXPECT_NEAR(s.media.at("cloth").albedo[0], 0.96, 1e-12);
+  EXPECT_NEAR(s.media.at("cloth").albedo[2], 0.72, 1e-12);
+  EXPECT_EQ(candidate(r, "fine").memory_channels, 1);
+  EXPECT_EQ(candidate(r, "slab-gamma").memory_bytes, 0U);
+  // The reports carry the new fields.
+  const nlohmann::json j = nlohmann::json::parse(study_json(r));
+  bool seen = false;
+  for (const auto& c : j["candidates"]) {
+    if (c["name"] != "albedo-corrected-4x") continue;
+    seen = true;
+    EXPECT_EQ(c["fitted_to_images"], true);
+    EXPECT_EQ(c["uses_ground_truth"], true);
+    EXPECT_DOUBLE_EQ(c["albedo_factor"].get<double>(), 1.2);
+  }
+  EXPECT_TRUE(seen);
+  EXPECT_NE(study_csv(r).find(",memory_bytes,memory_channels,albedo_factor,fitted_to_images\n"), std::string::npos);
+}
+
+TEST(StudyBaselines, ShadowCorrectedEqualsExponentialOnAUniformGrid) {
+  // No block shadows itself (every column equally deep): the same coarse grid, the same image.
+  const fs::path dir = fresh_dir("uniform");
+  const render::SceneDesc scene = cube_scene(dir, [](int, int, int) { return 0.4F; });
+  const StudyResult r = run_study(scene, small_spec(dir));
+  for (const int f : {2, 4}) {
+    const StudyCandidate& sc = candidate(r, fmt::format("shadow-corrected-{}x", f));
+    const StudyCandidate& ex = candidate(r, fmt::format("exponential-{}x", f));
+    ASSERT_FALSE(sc.image.rgb.empty());
+    EXPECT_EQ(sc.image.rgb, ex.image.rgb) << f << "x";
+    EXPECT_EQ(sc.memory_bytes, ex.memory_bytes);
+  }
+}
+
+TEST(StudyBaselines, AlbedoFitReachesItsTargetOnTheFittedScene) {
+  const fs::path dir = fresh_dir("fit");
+  const render::SceneDesc scene = cube_scene(dir, columns);
+  const StudySpec spec = small_spec(dir);
+  const std::vector<AlbedoFit> fits = fit_albedo(scene, spec);
+  ASSERT_EQ(fits.size(), 2U);
+  for (const AlbedoFit& f : fits) {
+    EXPECT_TRUE(f.converged) << f.factor << "x: k " << f.k << ", " << f.fitted << " vs " << f.target;
+    EXPECT_LE(std::abs(f.fitted - f.target), f.tolerance);
+    EXPECT_GT(f.tolerance, 0.0);
+    EXPECT_LE(f.renders, 10);
+    EXPECT_GT(f.k, 0.0);
+  }
+  const auto pairs = fit_albedo_factors(scene, spec, null_progress());
+  ASSERT_EQ(pairs.size(), 2U);
+  EXPECT_EQ(pairs[0].first, 2);
+  EXPECT_DOUBLE_EQ(pairs[0].second, fits[0].k);  // deterministic: same seeds, same steps
+}
+
+TEST(StudyBaselines, CorrectedAlbedoIsClampedPerChannel) {
+  const render::Rgb a = corrected_albedo(render::Rgb(0.5, 0.9, 0.0), 1.5);
+  EXPECT_DOUBLE_EQ(a[0], 0.75);
+  EXPECT_DOUBLE_EQ(a[1], 1.0);
+  EXPECT_DOUBLE_EQ(a[2], 0.0);
+}
+
+TEST(StudyBaselines, BadAlbedoFactorsAreRefused) {
+  StudySpec s;
+  s.work_dir = "x";
+  s.factors = {2, 4};
+  s.albedo_factors = {{8, 1.1}};  // not a factor of the study
+  EXPECT_THROW(check_study_spec(s), Error);
+  s.albedo_factors = {{2, 0.0}};
+  EXPECT_THROW(check_study_spec(s), Error);
+  s.albedo_factors = {{2, 1.1}, {2, 1.2}};
+  EXPECT_THROW(check_study_spec(s), Error);
+  s.albedo_factors = {{2, 1.1}, {4, 0.9}};
+  EXPECT_NO_THROW(check_study_spec(s));
+}
+
+}  // namespace
+}  // namespace weft::study
