@@ -11,6 +11,7 @@
 #include "weft/dist/distributed.h"
 #include "weft/render/contact_sheet.h"
 #include "weft/render/image.h"
+#include "weft/study/albedo_fit.h"
 #include "weft/study/render_study_report.h"
 #include "weft/viz/chart.h"
 
@@ -30,6 +31,8 @@ viz::Rgb model_colour(const std::string& model) {
   if (model == "exponential") return {31, 119, 180};
   if (model == "local-gamma") return {214, 39, 40};
   if (model == "homogeneous gamma") return {44, 160, 44};
+  if (model == "shadow-corrected") return {148, 103, 189};
+  if (model == "albedo-corrected") return {255, 127, 14};
   return {0, 0, 0};  // the fine grid
 }
 
@@ -137,11 +140,20 @@ viz::RenderOutcome write_chart(const study::StudyResult& r, const fs::path& path
 }  // namespace
 
 void run_render_study(const render::SceneDesc& scene, study::StudySpec spec, const std::string& label,
-                      const fs::path& exr, double exposure, const Context& ctx, WrittenFiles& files) {
+                      const fs::path& exr, double exposure, const Context& ctx, WrittenFiles& files, bool fit_albedo) {
   spec.work_dir = beside(exr, ".study");
   spec.log = [&ctx](const std::string& line) { ctx.say(line); };
+  if (fit_albedo) {
+    spec.albedo_factors = study::fit_albedo_factors(scene, spec, ctx.progress);
+    std::vector<std::string> pairs;
+    for (const auto& [f, k] : spec.albedo_factors) pairs.push_back(fmt::format("{}:{:.6g}", f, k));
+    ctx.say(
+        fmt::format("albedo factors fitted on this set-up (in-sample here; pass to other set-ups as "
+                    "--study-albedo {})",
+                    fmt::join(pairs, ",")));
+  }
   // Say the cost before spending it: two images per candidate (the second at the first's spp).
-  const std::size_t candidates = 2 + 2 * spec.factors.size();
+  const std::size_t candidates = 2 + (2 + spec.memory_rules.size()) * spec.factors.size() + spec.albedo_factors.size();
   if (spec.spp == 0)
     ctx.say(fmt::format("study: {} candidates x 2 images, about {:.3g} s of rendering plus the reference at {} spp",
                         candidates, 2.0 * static_cast<double>(candidates) * spec.seconds, spec.reference_spp));

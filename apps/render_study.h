@@ -15,7 +15,11 @@ namespace weft::app {
 /// Runs the study on `scene` and writes, beside `exr` (the reference image, EXR and PNG):
 /// <stem>.study.csv, .study.curves.csv, .study.json, .study.png (chart, needs a display),
 /// .study.contact.png, and the candidates' grids, fields and scenes in <stem>.study/.
+/// `fit_albedo`: first fit the albedo factors k_N on this scene (study::fit_albedo_factors) and
+/// run the albedo-corrected candidates with them (in-sample; the factors are printed, to be
+/// passed to other set-ups as --study-albedo).
 void run_render_study(const render::SceneDesc& scene, study::StudySpec spec, const std::string& label,
-                      const std::filesystem::path& exr, double exposure, const Context& ctx, WrittenFiles& files);
+                      const std::filesystem::path& exr, double exposure, const Context& ctx, WrittenFiles& files,
+                      bool fit_albedo = false);
 
 }  // namespace weft::app

@@ -18,6 +18,7 @@
 #include "usage.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
+#include "weft/core/parse_number.h"
 #include "weft/dist/distributed.h"
 #include "weft/fit/scale.h"
 #include "weft/render/builtin_scenes.h"
@@ -50,6 +51,7 @@ struct RenderCliOptions {
   std::vector<int> study_factors;
   std::string study_window;
   std::vector<std::string> study_memory;
+  std::vector<std::string> study_albedo;  ///< {"fit"} or {"N:k", …}
   std::string lighting;
   double tilt = -1.0;
   bool quick = false;
@@ -172,8 +174,9 @@ int run(const RenderCliOptions& o, const Context& ctx) {
   if (!std::isfinite(o.study_time))
     usage_fail("--study-time: must be a finite number of seconds, got {}", o.study_time);
   if (!o.study && (o.study_time > 0.0 || o.study_spp > 0 || !o.study_factors.empty() || !o.study_window.empty() ||
-                   !o.study_memory.empty()))
-    usage_fail("--study-time, --study-spp, --study-factors, --study-window and --study-memory need --study");
+                   !o.study_memory.empty() || !o.study_albedo.empty()))
+    usage_fail(
+        "--study-time, --study-spp, --study-factors, --study-window, --study-memory and --study-albedo need --study");
   if (o.study) {
     if (!o.convergence.empty()) usage_fail("--study and --convergence are separate runs: give one");
     if (o.spp > 0 || o.time_budget > 0.0)
@@ -199,13 +202,26 @@ int run(const RenderCliOptions& o, const Context& ctx) {
         spec.memory_rules.push_back(*rule);
       }
     }
+    const bool fit_albedo = o.study_albedo == std::vector<std::string>{"fit"};
+    if (!o.study_albedo.empty() && !fit_albedo) {
+      for (const std::string& item : o.study_albedo) {
+        const auto colon = item.find(':');
+        const auto f = colon == std::string::npos ? std::nullopt : parse_number(item.substr(0, colon));
+        const auto k = colon == std::string::npos ? std::nullopt : parse_number(item.substr(colon + 1));
+        if (!f || !k || *f != std::floor(*f))
+          usage_fail("--study-albedo: '{}' is not FACTOR:K (e.g. 4:1.08), nor 'fit'", item);
+        spec.albedo_factors.emplace_back(static_cast<int>(*f), *k);
+      }
+    }
     spec.seconds = o.study_time > 0.0 ? o.study_time : (o.quick ? 1.0 : kStudySeconds);
     spec.spp = o.study_spp;
     spec.reference_spp = o.reference_spp > 0 ? o.reference_spp : (o.quick ? 256 : kStudyReferenceSpp);
     spec.seed = o.seed.value_or(scene.integrator.seed);
+    spec.work_dir = "(beside the output)";  // the app sets it; checked here for the other fields
+    as_usage([&] { study::check_study_spec(spec); });
     study::check_study_scene(scene);  // refuse a scene without a grid before creating anything
     if (dist::is_root() && !o.out_dir.empty()) ensure_directory(o.out_dir);
-    run_render_study(scene, spec, label, exr, o.exposure, ctx, files);
+    run_render_study(scene, spec, label, exr, o.exposure, ctx, files, fit_albedo);
     files.say(ctx);
     return 0;
   }
@@ -413,6 +429,10 @@ const Registrar kRender{Command{
       sub.add_option("--study-memory", o->study_memory,
                      "--study: memory rules of the local-gamma candidates, comma-separated (default segment; "
                      "renewal, optical-depth, carried: docs/render.md §5e)")
+          ->delimiter(',');
+      sub.add_option("--study-albedo", o->study_albedo,
+                     "--study: albedo-corrected candidates (docs/render.md 6d): FACTOR:K,... (k_N fitted on another "
+                     "set-up) or 'fit' (fit k_N on this scene first and print them; in-sample)")
           ->delimiter(',');
       sub.add_option("--lighting", o->lighting,
                      "Default cloth only: light set-up key-and-back (default), back, front or grazing (docs/render.md "
