@@ -202,11 +202,12 @@ void run_render_study(const render::SceneDesc& scene, study::StudySpec spec, con
     ctx.say(fmt::format("no chart {}: {}", chart.string(), outcome.reason));
 
   ctx.say(fmt::format("study ({}): reference {} spp in {:.3g} s", r.mode, r.reference.spp, r.reference_seconds));
-  ctx.say(fmt::format("{:<18} {:>7} {:>9} {:>11} {:>11} {:>9} {:>11} {:>9}", "candidate", "spp", "seconds", "RMSE",
-                      "bias", "bias z", "noise", "speedup"));
+  ctx.say(fmt::format("{:<21} {:>7} {:>9} {:>11} {:>11} {:>9} {:>11} {:>9} {:>13}", "candidate", "spp", "seconds",
+                      "RMSE", "bias", "bias z", "noise", "speedup", "cloth bias %"));
   for (const auto& c : r.candidates)
-    ctx.say(fmt::format("{:<18} {:>7} {:>9.3g} {:>11.4g} {:>11.4g} {:>9.3g} {:>11.4g} {:>9.3g}", c.name, c.spp,
-                        c.seconds, c.rmse, c.bias, c.bias_z(), c.noise, c.speedup));
+    ctx.say(fmt::format("{:<21} {:>7} {:>9.3g} {:>11.4g} {:>11.4g} {:>9.3g} {:>11.4g} {:>9.3g} {:>13.3g}", c.name,
+                        c.spp, c.seconds, c.rmse, c.bias, c.bias_z(), c.noise, c.speedup,
+                        r.cloth_mean > 0.0 ? 100.0 * c.cloth_bias / r.cloth_mean : 0.0));
   ctx.say(r.best_predictive_note);
   for (const auto& n : r.notes) ctx.say("note: " + n);
   ctx.say("headline: " + r.headline);
