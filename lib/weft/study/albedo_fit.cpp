@@ -72,7 +72,11 @@ render::Rgb corrected_albedo(const render::Rgb& albedo, double k) { return (albe
 std::vector<AlbedoFit> fit_albedo(const SceneDesc& scene, const StudySpec& spec, ProgressSink& progress) {
   check_study_spec(spec);
   check_study_scene(scene);
-  const auto [medium, shape] = study_medium(scene);
+  // Named copies, not a structured binding: lambdas below capture them (clang < 16 refuses
+  // to capture bindings).
+  const std::pair<std::string, std::size_t> where = study_medium(scene);
+  const std::string medium = where.first;
+  const std::size_t shape = where.second;
   const render::MediumDesc& fine_desc = scene.media.at(medium);
   const volume::Grid fine = volume::Grid::load(fine_desc.file, fine_desc.grid_name);
   const bool root = dist::is_root();

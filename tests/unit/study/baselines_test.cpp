@@ -24,7 +24,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("weft_baselines_test_" + name);
+  fs::path d = fs::temp_directory_path() / ("weft_baselines_test_" + name);
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
