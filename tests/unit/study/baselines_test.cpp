@@ -8,6 +8,8 @@
 #include <functional>
 #include <string>
 
+#include <unistd.h>
+
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
@@ -23,12 +25,22 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path fresh_dir(const std::string& name) {
-  fs::path d = fs::temp_directory_path() / ("weft_baselines_test_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+/// A fresh folder, removed with everything in it when the test ends.
+struct TempDir {
+  fs::path path;
+  explicit TempDir(const std::string& name)
+      // The process id keeps concurrent runs (another build tree, ctest -j) apart.
+      : path(fs::temp_directory_path() / fmt::format("weft_baselines_test_{}_{}", name, ::getpid())) {
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+};
 
 /// The cube [−0.5, 0.5]³ as 16³ voxels of concentration `c(i, j, k)`, in a lit scene.
 render::SceneDesc cube_scene(const fs::path& dir, const std::function<float(int, int, int)>& c) {
@@ -74,7 +86,8 @@ const StudyCandidate& candidate(const StudyResult& r, const std::string& name) {
 float columns(int i, int j, int /*k*/) { return ((i + 1) % 4 < 2 && (j + 1) % 4 < 2) ? 1.0F : 0.0F; }
 
 TEST(StudyBaselines, NewCandidatesAppearWithMemoryAndLabels) {
-  const fs::path dir = fresh_dir("appear");
+  const TempDir tmp("appear");
+  const fs::path& dir = tmp.path;
   const render::SceneDesc scene = cube_scene(dir, columns);
   StudySpec spec = small_spec(dir);
   spec.albedo_factors = {{4, 1.2}};
@@ -117,7 +130,8 @@ TEST(StudyBaselines, NewCandidatesAppearWithMemoryAndLabels) {
 
 TEST(StudyBaselines, ShadowCorrectedEqualsExponentialOnAUniformGrid) {
   // No block shadows itself (every column equally deep): the same coarse grid, the same image.
-  const fs::path dir = fresh_dir("uniform");
+  const TempDir tmp("uniform");
+  const fs::path& dir = tmp.path;
   const render::SceneDesc scene = cube_scene(dir, [](int, int, int) { return 0.4F; });
   const StudyResult r = run_study(scene, small_spec(dir));
   for (const int f : {2, 4}) {
@@ -130,7 +144,8 @@ TEST(StudyBaselines, ShadowCorrectedEqualsExponentialOnAUniformGrid) {
 }
 
 TEST(StudyBaselines, AlbedoFitReachesItsTargetOnTheFittedScene) {
-  const fs::path dir = fresh_dir("fit");
+  const TempDir tmp("fit");
+  const fs::path& dir = tmp.path;
   const render::SceneDesc scene = cube_scene(dir, columns);
   const StudySpec spec = small_spec(dir);
   const std::vector<AlbedoFit> fits = fit_albedo(scene, spec);
