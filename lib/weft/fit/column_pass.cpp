@@ -135,15 +135,19 @@ void add_windows(const int* k, const float* value, std::size_t count, int n, int
   group.n += empty;
   part.all = all;
   g.windows = group;
-  // The histogram as (count, sum) pairs, one cache line for both, with a spare bin kBins for
-  // the windows of mean 0 inside the span; the bin is chosen without a branch.
+  // The histogram as (count, sum) pairs, one cache line for both; windows of mean 0 inside the
+  // span (gaps between yarns come in runs, so the branch is predictable) are counted.
   double* hist = part.histogram.data();
+  std::size_t positive = 0;
   for (const double m : means) {
-    const std::size_t b = 2 * static_cast<std::size_t>(m > 0.0 ? bin_of_positive(m) : kBins);
-    hist[b] += 1.0;
-    hist[b + 1] += m;
+    if (m > 0.0) {
+      const auto b = 2 * static_cast<std::size_t>(bin_of_positive(m));
+      hist[b] += 1.0;
+      hist[b + 1] += m;
+      ++positive;
+    }
   }
-  part.zeros += empty;
+  part.zeros += empty + static_cast<double>(means.size() - positive);
   // The column's moments about its own mean, merged pairwise into the shard's (moments.h); four
   // partial sums of the squared deviations, and the empty windows' (0 − mean)² at once.
   Moments column;
@@ -236,7 +240,7 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
     std::vector<double> prefix;
     std::vector<double> means;
     auto& part = parts[shard];
-    part.histogram.assign(2 * (kBins + 1), 0.0);
+    part.histogram.assign(2 * static_cast<std::size_t>(kBins), 0.0);
     auto& sb = blocks[shard];
     sb.slot.assign(coarse, -1);
     Group* group = nullptr;
@@ -280,8 +284,7 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
     const auto& p = parts[sh];
     ws.all.merge(p.all);
     ws.moments.merge(p.moments);
-    // The spare bin's windows (mean 0 inside a column's span) are zeros too.
-    const double zeros = p.zeros + p.histogram[2 * kBins];
+    const double zeros = p.zeros;
     ws.zeros += zeros;
     // The non-zero windows' sums are the sums of all windows (a zero window adds exactly 0).
     ws.nonzero.merge(Sums{p.all.n - zeros, p.all.s, p.all.s2});

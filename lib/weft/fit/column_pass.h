@@ -46,7 +46,7 @@ struct WindowSummary {
   std::map<GroupKey, Group> groups;  ///< transverse cells of w × w columns
   std::vector<double> bin_count;     ///< per bin of bin_of
   std::vector<double> bin_sum;
-  std::vector<double> histogram;  ///< a shard's: (count, sum) per bin, then the spare bin of the zeros
+  std::vector<double> histogram;  ///< a shard's: (count, sum) per bin
 };
 
 /// The histogram bin of a window mean m > 0: kSub bins per octave of m (the octave from the
