@@ -10,7 +10,7 @@
 
 namespace weft::app {
 
-std::string curves_csv(const fit::Validation& v) {
+std::string curves_csv(const fit::Validation& v, const std::vector<volume::TransmittanceCurve>* fibre) {
   std::size_t rows = 0;
   const fit::AxisValidation* longest = nullptr;
   for (const auto& a : v.axes) {
@@ -22,18 +22,23 @@ std::string curves_csv(const fit::Validation& v) {
   std::string out = "t";
   for (const auto& a : v.axes) {
     out += fmt::format(",T_gt_{0},stderr_{0},logT_gt_{0}", a.label);
+    if (fibre != nullptr) out += fmt::format(",T_fibre_{0},stderr_fibre_{0}", a.label);
     for (const auto& m : a.models) out += fmt::format(",{}_{}", m.name, a.label);
   }
   out += "\n";
   for (std::size_t k = 0; k < rows; ++k) {
     out += fmt_csv(longest->ground_truth.depth[k]);
-    for (const auto& a : v.axes) {
+    for (std::size_t i = 0; i < v.axes.size(); ++i) {
+      const auto& a = v.axes[i];
       const auto& gt = a.ground_truth;
       if (k < gt.size()) {
         out += fmt::format(",{},{},{}", fmt_csv(gt.transmittance(k)), fmt_csv(gt.stderr_abs(k)), fmt_csv(gt.log_t[k]));
+        // The fibre beam runs on the voxel beam's rays and depths (docs/validate.md "Fibre ground truth").
+        if (fibre != nullptr)
+          out += fmt::format(",{},{}", fmt_csv((*fibre)[i].transmittance(k)), fmt_csv((*fibre)[i].stderr_abs(k)));
         for (const auto& m : a.models) out += fmt::format(",{}", fmt_csv(std::exp(m.log_t[k])));
       } else {
-        out += ",,,";
+        out += fibre != nullptr ? ",,,,," : ",,,";
         for (std::size_t i = 0; i < a.models.size(); ++i) out += ",";
       }
     }

@@ -14,7 +14,10 @@ namespace weft::app {
 
 /// curves.csv: one row per depth of the longest axis; per axis T_gt, its standard error,
 /// log T_gt and T of every model (`<model>_<axis>`); shorter axes leave blanks.
-[[nodiscard]] std::string curves_csv(const fit::Validation& v);
+/// `fibre`: T_fibre per axis of `v` (validate --fibres), written after each axis's ground truth
+/// as `T_fibre_<ax>, stderr_fibre_<ax>`.
+[[nodiscard]] std::string curves_csv(const fit::Validation& v,
+                                     const std::vector<volume::TransmittanceCurve>* fibre = nullptr);
 
 /// The colour and line style of each model in every figure (ground truth is the axis colour).
 struct ModelStyle {

@@ -216,7 +216,7 @@ const Registrar kValidate{Command{
         report["seed"] = spec.seed;
         if (v.has_isotropic) timings["isotropic_stats"] = v.isotropic_seconds;
         for (const auto& a : v.axes) timings[fmt::format("beam_{}", a.label)] = a.beam_seconds;
-        const std::string csv = curves_csv(v);
+        const std::string csv = curves_csv(v, fibre_check ? &fibre_check->curves : nullptr);
 
         const fs::path out = o->out;
         ensure_directory(out);

@@ -60,7 +60,9 @@ def test_validate_refuses_more_rays_in_python_words(small_cloth):
 
 
 def without_timings(report):
-    """The report without its timings, its curves (numpy arrays) as lists."""
+    """The report without its timings (per axis, and the cost per stage), its curves (numpy
+    arrays) as lists."""
+    report.pop("cost_seconds", None)
     for axis in report["axes"]:
         axis.pop("timings", None)
         for key in ("depth", "T_gt", "stderr"):

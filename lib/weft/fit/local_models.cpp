@@ -33,6 +33,15 @@ double persistent_relative_variance(const BlockStats& st, std::int64_t cu, std::
   return pairs > 0.0 ? std::max(0.0, sum / pairs) : 0.0;
 }
 
+/// log T per depth: the ray-weighted mean of the coarse columns' T, depth by depth in parallel
+/// (each depth's sum in column order: the same bits for any thread count).
+std::vector<double> mean_over_columns(const std::vector<std::vector<double>>& log_terms,
+                                      const std::vector<double>& rays) {
+  std::vector<double> out(log_terms.size());
+  parallel_units(log_terms.size(), [&](std::size_t d) { out[d] = log_sum_exp_mean(log_terms[d], rays); });
+  return out;
+}
+
 }  // namespace
 
 double log_sum_exp_mean(const std::vector<double>& log_terms, const std::vector<double>& weights) {
@@ -48,75 +57,6 @@ double log_sum_exp_mean(const std::vector<double>& log_terms, const std::vector<
     if (weights[i] > 0.0) s += weights[i] * std::exp(log_terms[i] - hi);
   }
   return hi + std::log(s / wsum);
-}
-
-BlockStats block_stats(const volume::ColumnReader& reader, bool reverse, int B, ProgressSink& progress) {
-  const int axis = reader.axis();
-  const auto box = reader.box();
-  const auto au = static_cast<std::size_t>((axis + 1) % 3);
-  const auto av = static_cast<std::size_t>((axis + 2) % 3);
-  const auto ext = box.extent();
-  BlockStats st;
-  st.nu = (ext[au] + B - 1) / B;
-  st.nv = (ext[av] + B - 1) / B;
-  st.nb = (ext[static_cast<std::size_t>(axis)] + B - 1) / B;
-  const std::size_t cells = static_cast<std::size_t>(st.nu * st.nv * st.nb);
-  if (cells > 50'000'000) fail("local fields: {} blocks of {} voxels is too many", cells, B);
-  const std::size_t units = reader.tile_count();
-  const std::size_t shards = std::min(kShards, units);
-  std::vector<std::vector<Sums>> parts(shards, std::vector<Sums>(cells));
-  std::vector<std::vector<double>> rays(shards, std::vector<double>(static_cast<std::size_t>(st.nu * st.nv), 0.0));
-  std::vector<std::vector<double>> cross(shards, std::vector<double>(cells, 0.0));
-  std::vector<std::vector<double>> open(shards, std::vector<double>(static_cast<std::size_t>(st.nu * st.nv), 0.0));
-  ProgressTask task(progress, fmt::format("local fields {}", "xyz"[axis]), units);
-  parallel_units(shards, [&](std::size_t shard) {
-    volume::ColumnTile tile;
-    for (std::size_t unit = shard * units / shards; unit < (shard + 1) * units / shards; ++unit) {
-      reader.read(unit, tile);
-      const int n = tile.depth;
-      for (int iu = 0; iu < tile.nu; ++iu) {
-        for (int iv = 0; iv < tile.nv; ++iv) {
-          const std::int64_t cu = (tile.u0 + iu - box.min[au]) / B;
-          const std::int64_t cv = (tile.v0 + iv - box.min[av]) / B;
-          rays[shard][static_cast<std::size_t>(cu * st.nv + cv)] += 1.0;
-          const float* col = tile.column(iu, iv);
-          if (std::all_of(col, col + n, [](float x) { return x == 0.0f; })) {
-            open[shard][static_cast<std::size_t>(cu * st.nv + cv)] += 1.0;
-            continue;
-          }
-          Sums* block = &parts[shard][st.index(cu, cv, 0)];
-          double* pair = &cross[shard][st.index(cu, cv, 0)];
-          // Depth e from the entry face; block e / B.
-          double prev = 0.0;
-          for (int e0 = 0; e0 < n; e0 += B) {
-            const int e1 = std::min(n, e0 + B);
-            double sum = 0.0;
-            for (int e = e0; e < e1; ++e) sum += static_cast<double>(col[reverse ? n - 1 - e : e]);
-            const double m = sum / (e1 - e0);
-            block[e0 / B].add(m);
-            if (e0 > 0) pair[e0 / B - 1] += prev * m;
-            prev = m;
-          }
-        }
-      }
-      task.step();
-    }
-  });
-  st.sums.assign(cells, Sums{});
-  st.rays.assign(static_cast<std::size_t>(st.nu * st.nv), 0.0);
-  st.open.assign(st.rays.size(), 0.0);
-  st.cross.assign(cells, 0.0);
-  for (std::size_t sh = 0; sh < shards; ++sh) {
-    for (std::size_t c = 0; c < cells; ++c) {
-      st.sums[c].merge(parts[sh][c]);
-      st.cross[c] += cross[sh][c];
-    }
-    for (std::size_t c = 0; c < st.rays.size(); ++c) {
-      st.rays[c] += rays[sh][c];
-      st.open[c] += open[sh][c];
-    }
-  }
-  return st;
 }
 
 /// log T on `depths` of the beam through block fields: per coarse column the hazard of each
@@ -152,9 +92,7 @@ std::vector<double> block_field_curve(int n, int B, double h, double sigma, cons
       hazard.advance(s0, s0 + h);
     }
   });
-  std::vector<double> out(depths.size());
-  for (std::size_t d = 0; d < depths.size(); ++d) out[d] = log_sum_exp_mean(log_terms[d], st.rays);
-  return out;
+  return mean_over_columns(log_terms, st.rays);
 }
 
 /// The prediction (docs/validate.md "The prediction"): a ray's concentration in block b is
@@ -177,8 +115,11 @@ std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const 
     if (vp > 0.0) {
       p.resize(kNodes);
       const double shape = 1.0 / vp;
+      // In double precision (Boost's default promotes to long double, 5x the cost for the last
+      // bit of a node: docs/benchmarks.md "Validate: predictions against the truth").
+      using Double = boost::math::policies::policy<boost::math::policies::promote_double<false>>;
       for (int j = 0; j < kNodes; ++j)
-        p[static_cast<std::size_t>(j)] = boost::math::gamma_p_inv(shape, (j + 0.5) / kNodes) / shape;
+        p[static_cast<std::size_t>(j)] = boost::math::gamma_p_inv(shape, (j + 0.5) / kNodes, Double()) / shape;
     }
     const std::vector<double> ones(p.size(), 1.0);
     std::vector<double> H(p.size(), 0.0);
@@ -188,6 +129,8 @@ std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const 
     double mean = 0.0;
     double vb = 0.0;
     double entry = 0.0;
+    double last = 0.0;  // log T at the last slice end evaluated, if no hazard was added since
+    bool have_last = false;
     // Hazard of node j over [a, b) of the current block: the gamma hazard of Q_b (α = 1/v_b,
     // κ = μ v_b) with memory from the block's entry (transmittance::GammaCell, the one rule).
     auto hazard = [&](std::size_t j, double a, double b) {
@@ -216,19 +159,33 @@ std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const 
         vb = std::max(0.0, (1.0 + rel) / (1.0 + vp) - 1.0);
         entry = s0;
       }
+      // A block without concentration adds exactly 0 to every node's hazard: at the slice's end
+      // T is the value at the previous slice's end (H there was H + inc, the same additions).
+      const bool still = !(mean > 0.0);
       // The slice's hazard once per node (the beam's depths are the slice ends, k·h).
-      for (std::size_t j = 0; j < p.size(); ++j) inc[j] = hazard(j, s0, s0 + h);
+      if (!still)
+        for (std::size_t j = 0; j < p.size(); ++j) inc[j] = hazard(j, s0, s0 + h);
+      bool ended = false;
       while (d < depths.size() && depths[d] <= s0 + h) {
         const double t = std::max(depths[d], s0);
-        for (std::size_t j = 0; j < p.size(); ++j) at[j] = -(H[j] + (t == s0 + h ? inc[j] : hazard(j, s0, t)));
+        if (t == s0 + h) {
+          if (!(still && have_last)) {
+            for (std::size_t j = 0; j < p.size(); ++j) at[j] = -(H[j] + (still ? 0.0 : inc[j]));
+            last = with_open(log_sum_exp_mean(at, ones));
+          }
+          ended = true;
+          log_terms[d++][c] = last;
+          continue;
+        }
+        for (std::size_t j = 0; j < p.size(); ++j) at[j] = -(H[j] + (still ? 0.0 : hazard(j, s0, t)));
         log_terms[d++][c] = with_open(log_sum_exp_mean(at, ones));
       }
+      have_last = ended;
+      if (still) continue;
       for (std::size_t j = 0; j < p.size(); ++j) H[j] += inc[j];
     }
   });
-  std::vector<double> out(depths.size());
-  for (std::size_t d = 0; d < depths.size(); ++d) out[d] = log_sum_exp_mean(log_terms[d], st.rays);
-  return out;
+  return mean_over_columns(log_terms, st.rays);
 }
 
 }  // namespace weft::fit::detail

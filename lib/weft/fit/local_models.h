@@ -75,8 +75,6 @@ struct BlockStats {
   }
 };
 
-[[nodiscard]] BlockStats block_stats(const volume::ColumnReader& reader, bool reverse, int B, ProgressSink& progress);
-
 /// log T on `depths` of the beam through block fields: per coarse column the hazard of each
 /// block integrated exactly, T the ray-weighted mean over coarse columns.
 [[nodiscard]] std::vector<double> block_field_curve(int n, int B, double h, double sigma, const BlockStats& st,

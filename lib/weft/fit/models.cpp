@@ -4,13 +4,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <memory>
 
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
+#include "weft/core/stage_clock.h"
+#include "weft/fit/column_pass.h"
 #include "weft/fit/local_models.h"
-#include "weft/fit/moments.h"
 #include "weft/fit/window_stats.h"
 #include "weft/transmittance/gamma_mixture.h"
 #include "weft/transmittance/gap_gamma.h"
@@ -23,136 +23,10 @@ namespace weft::fit {
 namespace {
 
 using detail::BlockStats;
-using detail::kShards;
+using detail::kBins;
 using detail::log_sum_exp_mean;
 using detail::Memory;
-using detail::Sums;
 
-// Histogram of window means for Eq. 16: kSub bins per octave over kOctaves octaves of m (2^-41
-// to 2^23; mean concentrations and extinctions in 1/mm lie far inside).
-constexpr int kSub = 128;
-constexpr int kOctaves = 64;
-constexpr int kMinExponent = -40;
-constexpr int kBins = kSub * kOctaves;
-
-using GroupKey = std::pair<std::int64_t, std::int64_t>;
-
-struct Group {
-  Sums windows;
-  double rays = 0.0;
-};
-
-/// Everything one pass over the windows of length w along the columns gives.
-struct WindowSummary {
-  Sums all;
-  Moments moments;  ///< the same windows, Welford: the window statistics validate reports
-  Sums nonzero;
-  double zeros = 0.0;
-  std::map<GroupKey, Group> groups;
-  std::vector<double> bin_count;
-  std::vector<double> bin_sum;
-};
-
-/// The histogram bin of a window mean m > 0 for Eq. 16: kSub bins per octave of m (the octave
-/// from frexp's exponent), so no range has to be known before the pass; means below the lowest
-/// octave share bin 0, above the highest the last bin (each bin is evaluated at its own mean).
-int bin_of(double m) {
-  int e = 0;
-  const double f = std::frexp(m, &e);  // m = f·2^e, f in [0.5, 1)
-  if (e < kMinExponent) return 0;
-  if (e >= kMinExponent + kOctaves) return kBins - 1;
-  return (e - kMinExponent) * kSub + std::min(kSub - 1, static_cast<int>((f - 0.5) * 2.0 * kSub));
-}
-
-/// One pass over every window of w voxels of every column along the reader's axis; groups are
-/// transverse cells of `cell` voxels anchored at the active box's lower corner (docs/validate.md
-/// "Blocks anchored to the cloth"), so the same voxels at another index origin give the same
-/// groups.
-WindowSummary summarize(const volume::ColumnReader& reader, int w, int cell, ProgressSink& progress) {
-  const int n = static_cast<int>(reader.box().extent()[reader.axis()]);
-  const std::int64_t u_lo = reader.box().min[static_cast<std::size_t>((reader.axis() + 1) % 3)];
-  const std::int64_t v_lo = reader.box().min[static_cast<std::size_t>((reader.axis() + 2) % 3)];
-  const std::size_t units = reader.tile_count();
-  const std::size_t shards = std::min(kShards, units);
-  const int positions = n - w + 1;
-  std::vector<WindowSummary> parts(shards);
-  ProgressTask task(progress, fmt::format("window statistics {}", "xyz"[reader.axis()]), units);
-  parallel_units(shards, [&](std::size_t shard) {
-    volume::ColumnTile tile;
-    std::vector<double> prefix(static_cast<std::size_t>(n) + 1);
-    auto& part = parts[shard];
-    part.bin_count.assign(kBins, 0.0);
-    part.bin_sum.assign(kBins, 0.0);
-    for (std::size_t unit = shard * units / shards; unit < (shard + 1) * units / shards; ++unit) {
-      reader.read(unit, tile);
-      for (int iu = 0; iu < tile.nu; ++iu) {
-        for (int iv = 0; iv < tile.nv; ++iv) {
-          const float* col = tile.column(iu, iv);
-          prefix[0] = 0.0;
-          for (int k = 0; k < n; ++k)
-            prefix[static_cast<std::size_t>(k) + 1] = prefix[static_cast<std::size_t>(k)] + col[k];
-          const GroupKey key{(tile.u0 + iu - u_lo) / cell, (tile.v0 + iv - v_lo) / cell};
-          Group& g = part.groups[key];
-          g.rays += 1.0;
-          auto mean_at = [&](int s) {
-            return (prefix[static_cast<std::size_t>(s + w)] - prefix[static_cast<std::size_t>(s)]) / w;
-          };
-          double column_sum = 0.0;
-          for (int s = 0; s < positions; ++s) {
-            const double m = mean_at(s);
-            part.all.add(m);
-            column_sum += m;
-            g.windows.add(m);
-            if (m > 0.0) {
-              part.nonzero.add(m);
-              const auto b = static_cast<std::size_t>(bin_of(m));
-              part.bin_count[b] += 1.0;
-              part.bin_sum[b] += m;
-            } else {
-              part.zeros += 1.0;
-            }
-          }
-          if (positions > 0) {
-            // The column's moments about its own mean (two passes over its windows, no
-            // division per window), merged pairwise into the shard's (moments.h).
-            Moments column;
-            column.n = static_cast<std::uint64_t>(positions);
-            column.mean = column_sum / positions;
-            for (int s = 0; s < positions; ++s) {
-              const double dev = mean_at(s) - column.mean;
-              column.m2 += dev * dev;
-            }
-            part.moments.merge(column);
-          }
-        }
-      }
-      task.step();
-    }
-  });
-  WindowSummary out;
-  out.bin_count.assign(kBins, 0.0);
-  out.bin_sum.assign(kBins, 0.0);
-  for (const auto& p : parts) {
-    out.all.merge(p.all);
-    out.moments.merge(p.moments);
-    out.nonzero.merge(p.nonzero);
-    out.zeros += p.zeros;
-    for (const auto& [k, g] : p.groups) {
-      auto& dst = out.groups[k];
-      dst.windows.merge(g.windows);
-      dst.rays += g.rays;
-    }
-    for (int b = 0; b < kBins; ++b) {
-      out.bin_count[static_cast<std::size_t>(b)] += p.bin_count[static_cast<std::size_t>(b)];
-      out.bin_sum[static_cast<std::size_t>(b)] += p.bin_sum[static_cast<std::size_t>(b)];
-    }
-  }
-  return out;
-}
-
-}  // namespace
-
-namespace {
 /// The registry law of gamma_log_t: gamma (mean extinction σC̄, α = C̄²/Var), the exponential
 /// when Var = 0.
 transmittance::LawPtr gamma_or_exponential(double sigma, double mean, double var) {
@@ -177,7 +51,7 @@ double gamma_log_t(double sigma, double mean, double var, double t) {
 
 std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const PredictionSpec& spec,
                                          const std::vector<double>& depths, ProgressSink& progress,
-                                         ConcentrationStats* moments_out) {
+                                         ConcentrationStats* moments_out, PredictionCost* cost) {
   require_positive("predict: sigma", spec.sigma);
   if (!std::isfinite(spec.scale) || spec.scale < 0.0) fail("predict: scale must be >= 0, got {}", spec.scale);
   const int axis = volume::beam_axis(spec.direction);
@@ -190,7 +64,11 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
   const int n = static_cast<int>(box.extent()[static_cast<std::size_t>(axis)]);
   const int w = window_voxels(spec.scale, h, n);
   const double sigma = spec.sigma;
-  const WindowSummary ws = summarize(reader, w, w, progress);
+  // One pass over the columns gives the windows of every model and the blocks of the local ones.
+  StageClock clock;
+  const detail::ColumnPass pass = detail::column_pass(reader, reverse, w, progress);
+  if (cost != nullptr) clock.lap(cost->statistics_seconds, cost->statistics_cpu_seconds);
+  const detail::WindowSummary& ws = pass.windows;
   if (moments_out != nullptr) {
     moments_out->mean = ws.moments.mean;
     moments_out->variance = ws.moments.variance();
@@ -294,7 +172,7 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
   // Local fields of blocks L³ (the statistics `weft fit --block` writes for rendering), clipped
   // to the active box so that each block holds exactly the beam's columns that cross it.
   {
-    const BlockStats st = detail::block_stats(reader, reverse, w, progress);
+    const BlockStats& st = pass.blocks;
     double blocks = 0.0;
     for (const auto& b : st.sums) blocks += b.n > 0.0 && b.s > 0.0 ? 1.0 : 0.0;
     const std::vector<std::tuple<std::string, std::string, Memory>> kinds{
@@ -316,6 +194,7 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
         "covariance of adjacent blocks) times an independent gamma factor per block (the prediction)",
         {{"block", L}, {"blocks", blocks}}, [&](std::size_t d, double) { return curve[d]; });
   }
+  if (cost != nullptr) clock.lap(cost->models_seconds, cost->models_cpu_seconds);
   return out;
 }
 

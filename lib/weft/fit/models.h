@@ -73,15 +73,28 @@ struct PredictionSpec {
   double scale = 0.0;                        ///< L in world units; 0 = the extent along the beam
 };
 
+/// What predict_axis spent, per stage: the one pass over the columns (the statistics) and the
+/// curves built from it (the models). CPU seconds are the process's (every thread) over the
+/// stage, so the cost compares with the ground-truth beam's (docs/benchmarks.md "Validate:
+/// predictions against the truth").
+struct PredictionCost {
+  double statistics_seconds = 0.0;
+  double statistics_cpu_seconds = 0.0;
+  double models_seconds = 0.0;
+  double models_cpu_seconds = 0.0;
+};
+
 /// Every predictive model above, in that order, on `depths` (distances from the entry face).
 /// Throws weft::Error for an empty grid, a non-axis direction or σ ≤ 0. When `moments_out` is
 /// given it receives the moments of the windows of length L the models were built from (what
 /// fit::window_stats(grid, axis, L) computes, equal up to rounding: window sums here come from
-/// prefix sums), from the same pass, so validate reads the voxels once per beam for both.
+/// prefix sums), from the same pass, so validate reads the voxels once per beam for both; `cost`
+/// receives the time of each stage.
 [[nodiscard]] std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const PredictionSpec& spec,
                                                        const std::vector<double>& depths,
                                                        ProgressSink& progress = null_progress(),
-                                                       ConcentrationStats* moments_out = nullptr);
+                                                       ConcentrationStats* moments_out = nullptr,
+                                                       PredictionCost* cost = nullptr);
 
 /// log T of the gamma law with window moments (mean, var) at σ: −α log1p(σ t/β), exactly the
 /// exponential when var = 0 and 0 when mean = 0.

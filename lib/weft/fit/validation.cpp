@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "weft/core/error.h"
+#include "weft/core/stage_clock.h"
 
 namespace weft::fit {
 namespace {
@@ -71,9 +72,10 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
   // window_stats reads an axis only when no beam's models did.
   std::array<ConcentrationStats, 3> stats{};
   std::array<double, 3> stats_seconds{};
+  std::array<double, 3> stats_cpu_seconds{};
   std::array<bool, 3> have{};
   std::vector<std::vector<PredictedModel>> predictions(spec.directions.size());
-  std::vector<double> prediction_seconds(spec.directions.size(), 0.0);
+  std::vector<PredictionCost> prediction_cost(spec.directions.size());
   std::vector<std::vector<double>> beam_depths(spec.directions.size());
   auto beam_spec = [&](const std::array<double, 3>& d) {
     volume::BeamSpec beam;
@@ -94,10 +96,8 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
       ps.direction = d;
       ps.sigma = spec.sigma;
       ps.scale = spec.scale[a];
-      const auto t0 = std::chrono::steady_clock::now();
       ConcentrationStats moments;
-      predictions[i] = predict_axis(grid, ps, beam_depths[i], progress, &moments);
-      prediction_seconds[i] = seconds_since(t0);
+      predictions[i] = predict_axis(grid, ps, beam_depths[i], progress, &moments, &prediction_cost[i]);
       if (!have[a]) {
         stats[a] = moments;
         have[a] = true;
@@ -107,9 +107,9 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
   auto stats_for = [&](int axis) {
     const auto a = static_cast<std::size_t>(axis);
     if (have[a]) return;
-    const auto t0 = std::chrono::steady_clock::now();
+    StageClock clock;
     stats[a] = window_stats(grid, axis, spec.scale[a], progress);
-    stats_seconds[a] = seconds_since(t0);
+    clock.lap(stats_seconds[a], stats_cpu_seconds[a]);
     have[a] = true;
   };
   if (spec.isotropic) {
@@ -134,8 +134,14 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
     stats_for(axis);
     av.stats = stats[a];
     av.scale = av.stats.window;
-    av.stats_seconds = stats_seconds[a];
-    auto t0 = std::chrono::steady_clock::now();
+    if (spec.predictive_models) {
+      av.stats_seconds = prediction_cost[i].statistics_seconds;
+      av.stats_cpu_seconds = prediction_cost[i].statistics_cpu_seconds;
+    } else {
+      av.stats_seconds = stats_seconds[a];
+      av.stats_cpu_seconds = stats_cpu_seconds[a];
+    }
+    StageClock clock;
     av.moment_fit = gamma_from_moments(av.stats.mean, av.stats.variance, spec.sigma);
     auto add_model = [&](ModelCurve m) { av.models.push_back(std::move(m)); };
     {
@@ -181,15 +187,15 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
       m.law = exp_law;
       add_model(std::move(m));
     }
-    av.fit_seconds = seconds_since(t0) + prediction_seconds[i];
+    clock.lap(av.fit_seconds, av.fit_cpu_seconds);
+    av.fit_seconds += prediction_cost[i].models_seconds;
+    av.fit_cpu_seconds += prediction_cost[i].models_cpu_seconds;
     // Only now the ground truth; every prediction above is already fixed.
-    t0 = std::chrono::steady_clock::now();
     av.ground_truth = volume::measure_beam(grid, beam, progress);
-    av.beam_seconds = seconds_since(t0);
+    clock.lap(av.beam_seconds, av.beam_cpu_seconds);
     if (av.ground_truth.depth != depths) fail("validate: beam depths differ from the predicted depths (internal)");
     for (auto& m : av.models) m.error = compare(av.ground_truth, m.log_t);
     if (spec.least_squares) {
-      t0 = std::chrono::steady_clock::now();
       av.lsq_fit = fit_gamma_to_curve(av.ground_truth, spec.sigma, av.moment_fit);
       ModelCurve m;
       m.name = "least-squares";
@@ -200,7 +206,11 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
       m.log_t = log_curve(*model_law(av.lsq_fit.fit), depths);
       m.error = compare(av.ground_truth, m.log_t);
       av.models.push_back(std::move(m));
-      av.fit_seconds += seconds_since(t0);
+      double wall = 0.0;
+      double cpu = 0.0;
+      clock.lap(wall, cpu);
+      av.fit_seconds += wall;
+      av.fit_cpu_seconds += cpu;
     }
     v.axes.push_back(std::move(av));
   }

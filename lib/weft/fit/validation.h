@@ -56,10 +56,16 @@ struct AxisValidation {
   GammaFit moment_fit;
   LeastSquaresFit lsq_fit;
   std::vector<ModelCurve> models;
-  double beam_seconds = 0.0;
   double scale = 0.0;  ///< L used along this axis (world units)
+  /// Wall and process-CPU seconds (every thread) of the ground-truth beam, of the statistics
+  /// pass over the columns (the models' pass, or window_stats when no models run) and of the
+  /// models and fits built from it: the cost of the prediction against the truth's.
+  double beam_seconds = 0.0;
+  double beam_cpu_seconds = 0.0;
   double stats_seconds = 0.0;
+  double stats_cpu_seconds = 0.0;
   double fit_seconds = 0.0;
+  double fit_cpu_seconds = 0.0;
   [[nodiscard]] const ModelCurve& model(const std::string& name) const;
 };
 

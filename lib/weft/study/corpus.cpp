@@ -7,8 +7,10 @@
 #include <nlohmann/json.hpp>
 
 #include "data_gen/cloth/cloth.h"
+#include "data_gen/cloth/grid_fibres.h"
 #include "weft/core/error.h"
 #include "weft/dist/distributed.h"
+#include "weft/fibres/fibre_beam.h"
 #include "weft/fit/scale.h"
 #include "weft/fit/validation.h"
 #include "weft/volume/provenance.h"
@@ -44,7 +46,8 @@ dist::Bytes encode(const CorpusResult& r) {
                     {"scale", a.scale},
                     {"models", models},
                     {"predicted", ratio_json(a.predicted)},
-                    {"best", ratio_json(a.best)}});
+                    {"best", ratio_json(a.best)},
+                    {"fibre", {a.voxel_minus_fibre_rms, a.voxel_minus_fibre_max, a.fibre_stderr_rms}}});
   }
   const json j = {{"sigma", r.sigma}, {"active_voxels", r.active_voxels}, {"seconds", r.seconds}, {"axes", axes}};
   return json::to_msgpack(j);
@@ -64,6 +67,10 @@ CorpusResult decode(const CorpusCase& c, const dist::Bytes& b) {
     for (const auto& m : ja.at("models")) a.models.push_back(ratio_from(m));
     a.predicted = ratio_from(ja.at("predicted"));
     a.best = ratio_from(ja.at("best"));
+    const auto& f = ja.at("fibre");
+    a.voxel_minus_fibre_rms = f.at(0).get<double>();
+    a.voxel_minus_fibre_max = f.at(1).get<double>();
+    a.fibre_stderr_rms = f.at(2).get<double>();
     r.axes.push_back(std::move(a));
   }
   return r;
@@ -126,6 +133,8 @@ CorpusResult run_corpus_case(const CorpusCase& c, std::uint64_t seed, const std:
   vs.seed = seed;
   vs.scale = fit::resolve_scale(window, build.grid, provenance, progress).length;
   const fit::Validation v = fit::validate(build.grid, vs, progress);
+  // The fibres the grid was voxelized from, on the voxel beams' own rays (opaque fibres).
+  const fibres::CapsuleIndex index(fibre_geometry(build.fibers));
   CorpusResult r;
   r.c = c;
   r.sigma = vs.sigma;
@@ -137,6 +146,14 @@ CorpusResult run_corpus_case(const CorpusCase& c, std::uint64_t seed, const std:
     ca.models = fit::model_ratios(a);
     ca.predicted = fit::predicted(a);
     ca.best = fit::best_by_ground_truth(a);
+    volume::BeamSpec beam;
+    beam.direction = a.direction;
+    beam.seed = seed;
+    const auto d = fibres::curve_difference(
+        a.ground_truth, fibres::measure_fibre_beam(index, build.grid, beam, fibres::kOpaque, progress));
+    ca.voxel_minus_fibre_rms = d.rms;
+    ca.voxel_minus_fibre_max = d.max_abs;
+    ca.fibre_stderr_rms = d.rms_stderr_b;
     r.axes.push_back(std::move(ca));
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

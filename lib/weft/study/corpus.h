@@ -40,6 +40,11 @@ struct CorpusAxis {
   std::vector<fit::ModelRatio> models;
   fit::ModelRatio predicted;  ///< fit::predicted: the one model fixed before measuring
   fit::ModelRatio best;       ///< fit::best_by_ground_truth: a diagnostic chosen with T_gt
+  /// The voxel ground truth against the fibres' (T_fibre, opaque fibres, the same rays and
+  /// depths): the voxelization error of the case (docs/validate.md "Voxelization error").
+  double voxel_minus_fibre_rms = 0.0;  ///< RMS over depths of T_gt − T_fibre
+  double voxel_minus_fibre_max = 0.0;  ///< max over depths of |T_gt − T_fibre|
+  double fibre_stderr_rms = 0.0;       ///< T_fibre's RMS standard error: the noise of that difference
 };
 
 struct CorpusResult {
@@ -51,7 +56,8 @@ struct CorpusResult {
 };
 
 /// Generates, voxelizes and validates one case (beams x, y, z; `window` as `weft validate
-/// --window`). The cloth's seed is `seed` for every case (the same yarns at both voxel sizes).
+/// --window`), and measures each beam through the case's fibres (T_fibre on the same rays). The
+/// cloth's seed is `seed` for every case (the same yarns at both voxel sizes).
 [[nodiscard]] CorpusResult run_corpus_case(const CorpusCase& c, std::uint64_t seed, const std::string& window,
                                            ProgressSink& progress = null_progress());
 

@@ -6,10 +6,12 @@
 #include <cmath>
 
 #include "test_grids.h"
+#include "weft/core/parallel.h"
 #include "weft/fit/models.h"
 #include "weft/fit/report.h"
 #include "weft/fit/validation.h"
 #include "weft/volume/beam.h"
+#include "weft/volume/dense.h"
 
 namespace weft::fit {
 namespace {
@@ -87,6 +89,70 @@ TEST(Prediction, ValidateReportsThePredictionAndLabelsTheBestAsChosenWithTheGrou
   const std::string json = validation_json(v);
   EXPECT_NE(json.find("\"predicted\""), std::string::npos);
   EXPECT_NE(json.find("\"best_by_ground_truth\""), std::string::npos);
+}
+
+}  // namespace
+}  // namespace weft::fit
+
+namespace weft::fit {
+namespace {
+
+/// Yarn-like slabs with gaps, at a negative index origin: 30 to 120 face patches per axis (on
+/// z more than the pass's 64 shards), columns that are empty, closed, or hold voxels far apart.
+Grid gapped_grid() {
+  constexpr int nx = 96, ny = 80, nz = 24;
+  std::vector<float> values(static_cast<std::size_t>(nx) * ny * nz, 0.0f);
+  for (int i = 0; i < nx; ++i) {
+    for (int j = 0; j < ny; ++j) {
+      for (int k = 0; k < nz; ++k) {
+        const unsigned hash = (static_cast<unsigned>(i) * 73856093U) ^ (static_cast<unsigned>(j) * 19349663U) ^
+                              (static_cast<unsigned>(k) * 83492791U);
+        const bool yarn = (i / 12 + j / 10 + k / 6) % 3 != 0;
+        if (yarn && hash % 5 != 0)
+          values[(static_cast<std::size_t>(i) * ny + j) * nz + k] = static_cast<float>(0.05 + (hash % 97) / 100.0);
+      }
+    }
+  }
+  Grid g(0.01);
+  volume::from_dense(g, {-40, -30, -7}, {nx, ny, nz}, values.data());
+  return g;
+}
+
+// The statistics pass is sharded over face patches and reduced in shard order (docs/validate.md):
+// every model's curve and the window moments have the same bits for any thread count.
+TEST(Prediction, StatisticsPassGivesTheSameBitsForAnyThreadCount) {
+  const Grid g = gapped_grid();
+  for (const auto& dir :
+       {std::array<double, 3>{1, 0, 0}, std::array<double, 3>{0, -1, 0}, std::array<double, 3>{0, 0, -1}}) {
+    volume::BeamSpec b;
+    b.direction = dir;
+    PredictionSpec spec;
+    spec.direction = dir;
+    spec.sigma = 30.0;
+    spec.scale = 0.07;
+    const auto depths = volume::beam_depths(g, b);
+    std::vector<std::vector<PredictedModel>> runs;
+    std::vector<ConcentrationStats> moments(3);
+    for (unsigned threads : {1U, 2U, 3U}) {
+      const ThreadLimit limit(threads);
+      runs.push_back(predict_axis(g, spec, depths, null_progress(), &moments[runs.size()]));
+    }
+    for (std::size_t r = 1; r < runs.size(); ++r) {
+      EXPECT_EQ(moments[r].mean, moments[0].mean);
+      EXPECT_EQ(moments[r].variance, moments[0].variance);
+      ASSERT_EQ(runs[r].size(), runs[0].size());
+      for (std::size_t m = 0; m < runs[0].size(); ++m) {
+        EXPECT_EQ(runs[r][m].parameters, runs[0][m].parameters) << runs[0][m].name;
+        EXPECT_EQ(runs[r][m].log_t, runs[0][m].log_t) << runs[0][m].name;
+      }
+    }
+    // The pass's window moments are the dense pass's (window_stats), up to rounding.
+    const auto a = static_cast<int>(volume::beam_axis(dir));
+    const ConcentrationStats dense = window_stats(g, a, spec.scale);
+    EXPECT_EQ(moments[0].samples, dense.samples);
+    EXPECT_NEAR(moments[0].mean, dense.mean, 1e-13 * dense.mean);
+    EXPECT_NEAR(moments[0].variance, dense.variance, 1e-11 * dense.variance);
+  }
 }
 
 }  // namespace
