@@ -214,6 +214,7 @@ Geometry::~Geometry() = default;
 
 std::optional<SurfaceHit> Geometry::intersect(const Vec3& o, const Vec3& d, double tmin, double tmax) const {
   if (shapes_.empty()) return std::nullopt;
+  if (lone_convex_) return intersect_lone(o, d, tmin, tmax);
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rh{};
@@ -240,6 +241,64 @@ std::optional<SurfaceHit> Geometry::intersect(const Vec3& o, const Vec3& d, doub
   } else {
     hit.n = s.normals[rh.hit.primID];  // as computed per hit before, once per triangle
   }
+  return hit;
+}
+
+std::optional<SurfaceHit> Geometry::intersect_lone(const Vec3& o, const Vec3& d, double tmin, double tmax) const {
+  // docs/render.md §1, "Queries a path skips": one box or sphere, in closed form and in double
+  // precision (Embree's answer is the same surface in float).
+  const ShapeInfo& s = shapes_[0];
+  SurfaceHit hit;
+  hit.shape = 0;
+  if (s.kind == ShapeKind::sphere) {
+    const Vec3 oc = o - s.center;
+    const double a = d.squaredNorm();
+    const double b = oc.dot(d);
+    const double disc = b * b - a * (oc.squaredNorm() - s.radius * s.radius);
+    if (!(disc >= 0.0) || !(a > 0.0)) return std::nullopt;
+    const double root = std::sqrt(disc);
+    const double near = (-b - root) / a;
+    const double far = (-b + root) / a;
+    hit.t = near > tmin ? near : far;
+    if (!(hit.t > tmin && hit.t < tmax)) return std::nullopt;
+    hit.p = o + hit.t * d;
+    hit.n = (hit.p - s.center).normalized();
+    hit.p = s.center + s.radius * hit.n;  // as the Embree path snaps it
+    return hit;
+  }
+  // A box: the slabs. near/far faces per axis; the normal is the outward one of the face hit.
+  double t_near = -std::numeric_limits<double>::infinity();
+  double t_far = std::numeric_limits<double>::infinity();
+  int axis_near = -1;
+  int axis_far = -1;
+  for (int k = 0; k < 3; ++k) {
+    if (d[k] == 0.0) {
+      if (o[k] < s.lo[k] || o[k] > s.hi[k]) return std::nullopt;
+      continue;
+    }
+    const double a = (s.lo[k] - o[k]) / d[k];
+    const double b = (s.hi[k] - o[k]) / d[k];
+    const double lo = std::min(a, b);
+    const double hi = std::max(a, b);
+    if (lo > t_near) {
+      t_near = lo;
+      axis_near = k;
+    }
+    if (hi < t_far) {
+      t_far = hi;
+      axis_far = k;
+    }
+  }
+  if (t_near > t_far) return std::nullopt;
+  const bool front = t_near > tmin;
+  hit.t = front ? t_near : t_far;
+  const int k = front ? axis_near : axis_far;
+  if (k < 0 || !(hit.t > tmin && hit.t < tmax)) return std::nullopt;
+  hit.p = o + hit.t * d;
+  // Entering through the near face, the ray goes against its outward normal; leaving, along it.
+  Vec3 n = Vec3::Zero();
+  n[k] = (d[k] > 0.0) == front ? -1.0 : 1.0;
+  hit.n = n;
   return hit;
 }
 
@@ -293,6 +352,7 @@ double Geometry::clearance(const Vec3& p, const Vec3& d) const {
 
 bool Geometry::occluded(const Vec3& o, const Vec3& d, double tmin, double tmax) const {
   if (shapes_.empty()) return false;
+  if (lone_convex_) return intersect_lone(o, d, tmin, tmax).has_value();
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRay ray = make_ray(o, d, tmin, tmax);

@@ -63,8 +63,8 @@ class Geometry {
   /// §1, "Queries a path skips"): 0 when unknown (more than a few shapes, or `p` inside the bounds of a
   /// shape that is not a box or sphere), +inf when the ray misses every shape's bounds.
   [[nodiscard]] double clearance(const Vec3& p, const Vec3& d) const;
-  /// The scene is one convex shape (a box or a sphere): a ray that has just left it through its
-  /// surface, going outward, hits nothing more.
+  /// The scene is one convex shape (a box or a sphere): intersected in closed form, and a ray
+  /// that has just left it through its surface, going outward, hits nothing more.
   [[nodiscard]] bool lone_convex() const { return lone_convex_; }
 
   [[nodiscard]] const std::vector<ShapeInfo>& shapes() const { return shapes_; }
@@ -74,6 +74,9 @@ class Geometry {
   [[nodiscard]] double extent() const { return extent_; }
 
  private:
+  /// intersect() for a lone box or sphere, in closed form.
+  [[nodiscard]] std::optional<SurfaceHit> intersect_lone(const Vec3& o, const Vec3& d, double tmin, double tmax) const;
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
   std::vector<ShapeInfo> shapes_;
