@@ -284,7 +284,8 @@ Sweep sweep(const volume::Grid& grid, const SweepSpec& spec, ProgressSink& progr
             mean = &in.grid;
           }
           nlohmann::json beams = nlohmann::json::array();
-          for (const auto& [law, name] : laws) {
+          for (const auto& entry : laws) {
+            const CoarseLaw law = entry.first;  // a plain variable: lambdas may not capture bindings (clang)
             if ((law != CoarseLaw::exponential) != gamma) continue;
             std::vector<double> log_t;
             const double seconds =
