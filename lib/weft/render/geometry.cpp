@@ -146,6 +146,10 @@ Geometry::Geometry(const SceneDesc& scene, const std::map<std::string, int>& mat
       s.exterior = lookup(medium_index, d.exterior);
       s.emission = d.emission;
       const auto id = static_cast<unsigned>(i);
+      const Vec3 lo_before = lo;
+      const Vec3 hi_before = hi;
+      lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+      hi = -lo;
       switch (d.kind) {
         case ShapeKind::sphere:
           s.center = d.center;
@@ -187,6 +191,10 @@ Geometry::Geometry(const SceneDesc& scene, const std::map<std::string, int>& mat
           s.curve_segments = add_curves(impl_->device, impl_->scene, d, id, lo, hi);
           break;
       }
+      s.lo = lo;
+      s.hi = hi;
+      lo = lo.cwiseMin(lo_before);
+      hi = hi.cwiseMax(hi_before);
     } catch (const Error& e) {
       // The files a shape names are read here, once per render: name the shape (scene keys).
       fail("{}: shapes[{}]: {}", scene.source, i, e.what());
@@ -198,6 +206,7 @@ Geometry::Geometry(const SceneDesc& scene, const std::map<std::string, int>& mat
     rtcCommitScene(impl_->scene);
   }
   if (!shapes_.empty()) extent_ = std::max(1e-6, (hi - lo).maxCoeff());
+  lone_convex_ = shapes_.size() == 1 && (shapes_[0].kind == ShapeKind::box || shapes_[0].kind == ShapeKind::sphere);
   if (rtcGetDeviceError(impl_->device) != RTC_ERROR_NONE) fail("Embree: scene build failed");
 }
 
@@ -205,6 +214,7 @@ Geometry::~Geometry() = default;
 
 std::optional<SurfaceHit> Geometry::intersect(const Vec3& o, const Vec3& d, double tmin, double tmax) const {
   if (shapes_.empty()) return std::nullopt;
+  if (lone_convex_) return intersect_lone(o, d, tmin, tmax);
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rh{};
@@ -234,8 +244,115 @@ std::optional<SurfaceHit> Geometry::intersect(const Vec3& o, const Vec3& d, doub
   return hit;
 }
 
+std::optional<SurfaceHit> Geometry::intersect_lone(const Vec3& o, const Vec3& d, double tmin, double tmax) const {
+  // docs/render.md §1, "Queries a path skips": one box or sphere, in closed form and in double
+  // precision (Embree's answer is the same surface in float).
+  const ShapeInfo& s = shapes_[0];
+  SurfaceHit hit;
+  hit.shape = 0;
+  if (s.kind == ShapeKind::sphere) {
+    const Vec3 oc = o - s.center;
+    const double a = d.squaredNorm();
+    const double b = oc.dot(d);
+    const double disc = b * b - a * (oc.squaredNorm() - s.radius * s.radius);
+    if (!(disc >= 0.0) || !(a > 0.0)) return std::nullopt;
+    const double root = std::sqrt(disc);
+    const double near = (-b - root) / a;
+    const double far = (-b + root) / a;
+    hit.t = near > tmin ? near : far;
+    if (!(hit.t > tmin && hit.t < tmax)) return std::nullopt;
+    hit.p = o + hit.t * d;
+    hit.n = (hit.p - s.center).normalized();
+    hit.p = s.center + s.radius * hit.n;  // as the Embree path snaps it
+    return hit;
+  }
+  // A box: the slabs. near/far faces per axis; the normal is the outward one of the face hit.
+  double t_near = -std::numeric_limits<double>::infinity();
+  double t_far = std::numeric_limits<double>::infinity();
+  int axis_near = -1;
+  int axis_far = -1;
+  for (int k = 0; k < 3; ++k) {
+    if (d[k] == 0.0) {
+      if (o[k] < s.lo[k] || o[k] > s.hi[k]) return std::nullopt;
+      continue;
+    }
+    const double a = (s.lo[k] - o[k]) / d[k];
+    const double b = (s.hi[k] - o[k]) / d[k];
+    const double lo = std::min(a, b);
+    const double hi = std::max(a, b);
+    if (lo > t_near) {
+      t_near = lo;
+      axis_near = k;
+    }
+    if (hi < t_far) {
+      t_far = hi;
+      axis_far = k;
+    }
+  }
+  if (t_near > t_far) return std::nullopt;
+  const bool front = t_near > tmin;
+  hit.t = front ? t_near : t_far;
+  const int k = front ? axis_near : axis_far;
+  if (k < 0 || !(hit.t > tmin && hit.t < tmax)) return std::nullopt;
+  hit.p = o + hit.t * d;
+  // Entering through the near face, the ray goes against its outward normal; leaving, along it.
+  Vec3 n = Vec3::Zero();
+  n[k] = (d[k] > 0.0) == front ? -1.0 : 1.0;
+  hit.n = n;
+  return hit;
+}
+
+double Geometry::clearance(const Vec3& p, const Vec3& d) const {
+  // Going over every shape is only cheaper than the BVH query it saves for a few shapes.
+  constexpr std::size_t kMaxShapes = 8;
+  if (shapes_.empty() || shapes_.size() > kMaxShapes) return 0.0;
+  // Embree works in float: vertices, ray origin and direction are rounded to 6e-8 of the
+  // coordinates and its hit distances are exact to a few such units (divided by the direction
+  // component across the face hit). Every surface is moved by delta = 1e-5 of the coordinates
+  // (the ray offsets' eps) towards p, so the bound stays below Embree's distance at any angle.
+  const double delta = 1e-5 * (extent_ + p.cwiseAbs().maxCoeff());
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  double bound = kInf;
+  for (const ShapeInfo& s : shapes_) {
+    if (s.kind == ShapeKind::sphere) {
+      bound = std::min(bound, std::max(0.0, std::abs((p - s.center).norm() - s.radius) - delta));
+      continue;
+    }
+    const bool inside_shrunk = (p.array() > s.lo.array() + delta).all() && (p.array() < s.hi.array() - delta).all();
+    if (inside_shrunk && s.kind == ShapeKind::box) {
+      // Inside a box, the first surface is where the ray leaves it (of the box shrunk by delta).
+      for (int k = 0; k < 3; ++k) {
+        if (d[k] > 0.0) bound = std::min(bound, (s.hi[k] - delta - p[k]) / d[k]);
+        if (d[k] < 0.0) bound = std::min(bound, (s.lo[k] + delta - p[k]) / d[k]);
+      }
+      continue;
+    }
+    // Otherwise any surface of the shape lies in its bounds (grown by delta): the ray's entry
+    // into them, if p is outside; nothing is known from inside them.
+    double t_near = 0.0;
+    double t_far = kInf;
+    for (int k = 0; k < 3; ++k) {
+      const double lo = s.lo[k] - delta;
+      const double hi = s.hi[k] + delta;
+      if (d[k] == 0.0) {
+        if (p[k] < lo || p[k] > hi) t_far = -1.0;  // parallel to the slab and outside it: a miss
+        continue;
+      }
+      const double a = (lo - p[k]) / d[k];
+      const double b = (hi - p[k]) / d[k];
+      t_near = std::max(t_near, std::min(a, b));
+      t_far = std::min(t_far, std::max(a, b));
+    }
+    if (t_near > t_far) continue;   // the ray misses the bounds (or they lie behind it)
+    if (t_near <= 0.0) return 0.0;  // p inside the bounds of a mesh or curves
+    bound = std::min(bound, t_near);
+  }
+  return bound;
+}
+
 bool Geometry::occluded(const Vec3& o, const Vec3& d, double tmin, double tmax) const {
   if (shapes_.empty()) return false;
+  if (lone_convex_) return intersect_lone(o, d, tmin, tmax).has_value();
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRay ray = make_ray(o, d, tmin, tmax);

@@ -28,6 +28,8 @@ struct ShapeInfo {
   std::vector<double> area_cdf;  ///< triangle area CDF for sampling (normalised)
   double area = 0.0;
   std::size_t curve_segments = 0;  ///< curves: round linear segments in the BVH
+  Vec3 lo{0, 0, 0};                ///< axis-aligned bounds (a box shape is exactly its bounds)
+  Vec3 hi{0, 0, 0};
 };
 
 struct SurfaceHit {
@@ -56,6 +58,14 @@ class Geometry {
   [[nodiscard]] std::optional<SurfaceHit> intersect(const Vec3& o, const Vec3& d, double tmin, double tmax) const;
   /// Whether anything lies on the ray in (tmin, tmax).
   [[nodiscard]] bool occluded(const Vec3& o, const Vec3& d, double tmin, double tmax) const;
+  /// A distance along the ray from `p` in direction `d` (unit) below which the ray cannot hit
+  /// any surface, with room for the float arithmetic of the BVH's hit distances (docs/render.md
+  /// §1, "Queries a path skips"): 0 when unknown (more than a few shapes, or `p` inside the bounds of a
+  /// shape that is not a box or sphere), +inf when the ray misses every shape's bounds.
+  [[nodiscard]] double clearance(const Vec3& p, const Vec3& d) const;
+  /// The scene is one convex shape (a box or a sphere): intersected in closed form, and a ray
+  /// that has just left it through its surface, going outward, hits nothing more.
+  [[nodiscard]] bool lone_convex() const { return lone_convex_; }
 
   [[nodiscard]] const std::vector<ShapeInfo>& shapes() const { return shapes_; }
   /// Uniform point on a shape's surface (pdf 1/area).
@@ -64,10 +74,14 @@ class Geometry {
   [[nodiscard]] double extent() const { return extent_; }
 
  private:
+  /// intersect() for a lone box or sphere, in closed form.
+  [[nodiscard]] std::optional<SurfaceHit> intersect_lone(const Vec3& o, const Vec3& d, double tmin, double tmax) const;
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
   std::vector<ShapeInfo> shapes_;
   double extent_ = 1.0;
+  bool lone_convex_ = false;
 };
 
 }  // namespace weft::render

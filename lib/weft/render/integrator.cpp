@@ -5,6 +5,7 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <utility>
 
 #include "weft/render/environment.h"
 #include "weft/render/frame.h"
@@ -78,16 +79,44 @@ Rgb Integrator<kMedia, kNonExp>::li(Vec3 o, Vec3 d, Pcg32& rng, PathCounters& co
   int null_crossings = 0;
   const double light_select = w_.lights.empty() ? 0.0 : 1.0 / static_cast<double>(w_.lights.size());
 
+  // The ray has just left the scene's one convex shape outward: it can hit nothing more.
+  bool escaped = false;
   for (;;) {
-    ++counters.rays;
-    const std::optional<SurfaceHit> hit = w_.geometry->intersect(o, d, tmin, std::numeric_limits<double>::infinity());
-    const double t_hit = hit ? hit->t : std::numeric_limits<double>::infinity();
+    const bool skip_query = std::exchange(escaped, false);  // only the ray straight after the exit
+    std::optional<SurfaceHit> hit;
+    bool queried = false;
+    const auto query = [&] {
+      queried = true;
+      if (skip_query) return;
+      ++counters.rays;
+      hit = w_.geometry->intersect(o, d, tmin, std::numeric_limits<double>::infinity());
+    };
 
     if constexpr (kMedia) {
       if (medium >= 0) {
         const Medium& m = *w_.media[static_cast<std::size_t>(medium)];
         MediumScratch* scratch = counters.scratch[static_cast<std::size_t>(medium)].get();
-        const Flight flight = sample_flight<kNonExp>(m, o, d, t_hit, origin, rng, scratch);
+        Flight flight;
+        if constexpr (kNonExp) {
+          query();
+          flight = sample_flight<kNonExp>(m, o, d, hit ? hit->t : std::numeric_limits<double>::infinity(), origin, rng,
+                                          scratch);
+        } else {
+          // An exponential flight's distance is drawn without the boundary (one draw, as
+          // sample_flight draws it) and collides exactly when it ends before the next surface;
+          // within the geometry's clearance along the ray no surface can come first, so the
+          // closest hit is needed only beyond it (docs/render.md §1, "Queries a path skips").
+          // Same draws, same decisions, same bytes.
+          const auto& em = static_cast<const ExponentialMedium&>(m);
+          flight.t = em.sample_distance(rng);
+          flight.collided = flight.t < w_.geometry->clearance(o, d);
+          if (!flight.collided) {
+            query();
+            const double t_hit = hit ? hit->t : std::numeric_limits<double>::infinity();
+            flight.collided = flight.t < t_hit;
+            if (!flight.collided) flight.t = t_hit;
+          }
+        }
         beta *= flight.weight;
         if (dead(beta)) break;
         if (flight.collided) {
@@ -122,6 +151,7 @@ Rgb Integrator<kMedia, kNonExp>::li(Vec3 o, Vec3 d, Pcg32& rng, PathCounters& co
       }
     }
 
+    if (!queried) query();
     if (!hit) {
       if (w_.lights.environment_light >= 0) {
         const EnvironmentMap* map = w_.lights.environment_map.get();
@@ -156,6 +186,7 @@ Rgb Integrator<kMedia, kNonExp>::li(Vec3 o, Vec3 d, Pcg32& rng, PathCounters& co
         medium = entering ? shape.interior : shape.exterior;
         origin = Origin::source;
       }
+      escaped = !entering && w_.geometry->lone_convex();
       o = offset(hit->p, hit->n, d);
       tmin = 0.0;
       continue;
@@ -248,9 +279,13 @@ double Integrator<kMedia, kNonExp>::shadow(Vec3 x, const LightSample& ls, int me
   }
   double tr = 1.0;
   double remaining = dist;
+  bool escaped = false;  // as in li(): out of the scene's one convex shape, nothing more to hit
   for (int crossing = 0; crossing <= kMaxNullCrossings; ++crossing) {
-    ++counters.rays;
-    const std::optional<SurfaceHit> hit = w_.geometry->intersect(x, wi, tmin, remaining);
+    std::optional<SurfaceHit> hit;
+    if (!escaped) {
+      ++counters.rays;
+      hit = w_.geometry->intersect(x, wi, tmin, remaining);
+    }
     const double segment = hit ? hit->t : remaining;
     if constexpr (kMedia) {
       if (medium >= 0) {
@@ -262,10 +297,12 @@ double Integrator<kMedia, kNonExp>::shadow(Vec3 x, const LightSample& ls, int me
     if (!hit) return tr;
     const ShapeInfo& s = w_.geometry->shapes()[static_cast<std::size_t>(hit->shape)];
     if (!s.null_material) return 0.0;
+    const bool entering = hit->n.dot(wi) < 0.0;
     if constexpr (kMedia) {
-      medium = hit->n.dot(wi) < 0.0 ? s.interior : s.exterior;
+      medium = entering ? s.interior : s.exterior;
       origin = Origin::source;
     }
+    escaped = !entering && w_.geometry->lone_convex();
     x = offset(hit->p, hit->n, wi);
     remaining -= hit->t;
     tmin = 0.0;

@@ -136,7 +136,7 @@ class ExponentialMedium final : public Medium {
                                      transmittance::Origin /*origin*/, Pcg32& rng,
                                      MediumScratch* /*scratch*/) const override {
     Flight f;
-    f.t = mu_ > 0.0 ? -std::log(rng.uniform_open()) / mu_ : std::numeric_limits<double>::infinity();
+    f.t = sample_distance(rng);
     f.collided = f.t < t_max;
     if (!f.collided) f.t = t_max;
     return f;
@@ -147,6 +147,11 @@ class ExponentialMedium final : public Medium {
   }
   [[nodiscard]] MediumTraits traits() const override;
   [[nodiscard]] double mu() const { return mu_; }
+  /// The free-flight distance alone, one draw, before it is compared with any boundary: the
+  /// flight is collided exactly when it is below the distance to the next surface.
+  [[nodiscard]] double sample_distance(Pcg32& rng) const {
+    return mu_ > 0.0 ? -std::log(rng.uniform_open()) / mu_ : std::numeric_limits<double>::infinity();
+  }
 
  private:
   double mu_;

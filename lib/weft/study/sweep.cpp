@@ -8,6 +8,7 @@
 #include <optional>
 
 #include <fmt/core.h>
+#include <tbb/collaborative_call_once.h>
 #include <nlohmann/json.hpp>
 
 #include "weft/core/error.h"
@@ -56,6 +57,16 @@ double timed(int reps, F&& f) {
   }
   return median(t);
 }
+
+/// A factor's coarse inputs, made once per process by whichever unit needs them first.
+struct CoarseInputs {
+  tbb::collaborative_once_flag grid_once;
+  tbb::collaborative_once_flag fields_once;
+  volume::Grid grid;  ///< volume::downsample (the exponential law's C̄)
+  LocalFields fields;
+  double grid_seconds = 0.0;  ///< median time to make each
+  double fields_seconds = 0.0;
+};
 
 double rms_stderr(const volume::TransmittanceCurve& c) {
   double s = 0.0;
@@ -216,25 +227,34 @@ Sweep sweep(const volume::Grid& grid, const SweepSpec& spec, ProgressSink& progr
                                                                {CoarseLaw::gamma_memory, "gamma-memory"}}};
 
   // Work units (spread over threads and MPI ranks, dist::run_units), each independent:
-  //  - one per downsampling factor: the coarse grid (exponential) and the local fields (gamma),
-  //    each with the median time it takes to make, then every axis × law beam through them, so
-  //    the coarse inputs are made once;
+  //  - one per (downsampling factor, axis, kind of law): the exponential law's beam through the
+  //    coarse grid, or the two gamma laws' beams through the local fields. The coarse inputs of a
+  //    factor (with the median time it takes to make them) are made once per process, by the
+  //    first unit that needs them, while the other units of that factor wait and help
+  //    (tbb::collaborative_call_once joins them to the TBB loops inside); one unit per factor,
+  //    as before, made the finest factor's unit most of the run on any number of threads;
   //  - one per (axis, ray stride): the ground truth with that share of the rays; stride 1 is the
   //    reference the errors are measured against (added as a unit even when it is not a row).
   // Errors against the reference are computed afterwards, in the reduction on rank 0.
   std::vector<int> strides = spec.ray_strides;
   if (std::find(strides.begin(), strides.end(), 1) == strides.end()) strides.push_back(1);
   const std::size_t n_factors = spec.factors.size();
+  const std::size_t n_axes = spec.directions.size();
   const std::size_t n_strides = strides.size();
-  const std::size_t count = n_factors + spec.directions.size() * n_strides;
+  const std::size_t n_models = n_factors * n_axes * 2;  // unit (f, a, gamma?) = (f·n_axes + a)·2 + gamma
+  const std::size_t count = n_models + n_axes * n_strides;
+  std::vector<CoarseInputs> inputs(n_factors);
   ProgressTask task(progress, "accuracy/time sweep", count);
   dist::UnitsOptions how;
   how.progress = &task;
   how.store = store;
   how.name = [&](std::size_t u) {
-    if (u < n_factors) return fmt::format("sweep unit {} (coarse models, factor {})", u, spec.factors[u]);
-    const std::size_t a = (u - n_factors) / n_strides;
-    const int stride = strides[(u - n_factors) % n_strides];
+    if (u < n_models) {
+      return fmt::format("sweep unit {} (coarse {} models, factor {}, {})", u, u % 2 == 1 ? "gamma" : "exponential",
+                         spec.factors[u / 2 / n_axes], volume::direction_label(spec.directions[u / 2 % n_axes]));
+    }
+    const std::size_t a = (u - n_models) / n_strides;
+    const int stride = strides[(u - n_models) % n_strides];
     return fmt::format("sweep unit {} (ground truth {}, ray stride {})", u, volume::direction_label(spec.directions[a]),
                        stride);
   };
@@ -242,33 +262,44 @@ Sweep sweep(const volume::Grid& grid, const SweepSpec& spec, ProgressSink& progr
       count,
       [&](std::size_t u) {
         nlohmann::json j;
-        if (u < n_factors) {
-          const int f = spec.factors[u];
-          volume::Grid coarse;
-          LocalFields fields;
-          j["grid_seconds"] = timed(reps, [&] { coarse = volume::downsample(grid, f); });
-          j["fields_seconds"] = timed(reps, [&] { fields = local_fields(grid, f); });
+        if (u < n_models) {
+          const std::size_t fi = u / 2 / n_axes;
+          const std::array<double, 3>& d = spec.directions[u / 2 % n_axes];
+          const bool gamma = u % 2 == 1;
+          const int f = spec.factors[fi];
+          CoarseInputs& in = inputs[fi];
+          const int axis = volume::beam_axis(d);
+          const volume::Grid* mean = nullptr;
+          const volume::Grid* var = nullptr;
+          if (gamma) {
+            tbb::collaborative_call_once(
+                in.fields_once, [&] { in.fields_seconds = timed(reps, [&] { in.fields = local_fields(grid, f); }); });
+            j["prepare_seconds"] = in.fields_seconds;
+            mean = &in.fields.mean;
+            var = &in.fields.variance[static_cast<std::size_t>(axis)];
+          } else {
+            tbb::collaborative_call_once(
+                in.grid_once, [&] { in.grid_seconds = timed(reps, [&] { in.grid = volume::downsample(grid, f); }); });
+            j["prepare_seconds"] = in.grid_seconds;
+            mean = &in.grid;
+          }
           nlohmann::json beams = nlohmann::json::array();
-          for (const auto& d : spec.directions) {
-            const int axis = volume::beam_axis(d);
-            for (const auto& [law, name] : laws) {
-              const bool gamma = law != CoarseLaw::exponential;
-              const volume::Grid& mean = gamma ? fields.mean : coarse;
-              const volume::Grid* var = gamma ? &fields.variance[static_cast<std::size_t>(axis)] : nullptr;
-              std::vector<double> log_t;
-              const double seconds =
-                  timed(reps, [&] { log_t = coarse_beam_log_t(mean, var, box, h, f, d, spec.sigma, law); });
-              beams.push_back({{"log_t", log_t}, {"seconds", seconds}});
-            }
+          for (const auto& entry : laws) {
+            const CoarseLaw law = entry.first;  // a plain variable: lambdas may not capture bindings (clang)
+            if ((law != CoarseLaw::exponential) != gamma) continue;
+            std::vector<double> log_t;
+            const double seconds =
+                timed(reps, [&] { log_t = coarse_beam_log_t(*mean, var, box, h, f, d, spec.sigma, law); });
+            beams.push_back({{"log_t", log_t}, {"seconds", seconds}});
           }
           j["beams"] = std::move(beams);
         } else {
-          const std::size_t a = (u - n_factors) / n_strides;
+          const std::size_t a = (u - n_models) / n_strides;
           volume::BeamSpec beam;
           beam.direction = spec.directions[a];
           beam.scale = spec.sigma;
           beam.seed = spec.seed;
-          beam.column_stride = strides[(u - n_factors) % n_strides];
+          beam.column_stride = strides[(u - n_models) % n_strides];
           volume::TransmittanceCurve c;
           j["seconds"] = timed(reps, [&] { c = volume::measure_beam(grid, beam); });
           j["depth"] = c.depth;
@@ -290,7 +321,7 @@ Sweep sweep(const volume::Grid& grid, const SweepSpec& spec, ProgressSink& progr
     const auto curve = [&](int stride, double* seconds) {
       const std::size_t i =
           static_cast<std::size_t>(std::find(strides.begin(), strides.end(), stride) - strides.begin());
-      const nlohmann::json& j = unit[n_factors + a * n_strides + i];
+      const nlohmann::json& j = unit[n_models + a * n_strides + i];
       volume::TransmittanceCurve c;
       j.at("depth").get_to(c.depth);
       j.at("log_t").get_to(c.log_t);
@@ -318,11 +349,11 @@ Sweep sweep(const volume::Grid& grid, const SweepSpec& spec, ProgressSink& progr
       out.rows.push_back(r);
     }
     for (std::size_t fi = 0; fi < n_factors; ++fi) {
-      const nlohmann::json& j = unit[fi];
       for (std::size_t li = 0; li < laws.size(); ++li) {
-        const nlohmann::json& b = j.at("beams").at(a * laws.size() + li);
-        const std::vector<double> log_t = b.at("log_t").get<std::vector<double>>();
         const bool gamma = laws[li].first != CoarseLaw::exponential;
+        const nlohmann::json& j = unit[(fi * n_axes + a) * 2 + (gamma ? 1 : 0)];
+        const nlohmann::json& b = j.at("beams").at(gamma ? li - 1 : 0);  // laws: exponential, then the gammas
+        const std::vector<double> log_t = b.at("log_t").get<std::vector<double>>();
         SweepRow r;
         r.transport_seconds = b.at("seconds").get<double>();
         // The reference's last depth is the box length, k·h up to rounding: same grid.
@@ -334,7 +365,7 @@ Sweep sweep(const volume::Grid& grid, const SweepSpec& spec, ProgressSink& progr
         r.error_rms_t = e.rms_abs_t;
         r.error_max_t = e.max_abs_t;
         r.accuracy_rms_t = e.rms_abs_t;
-        r.prepare_seconds = j.at(gamma ? "fields_seconds" : "grid_seconds").get<double>();
+        r.prepare_seconds = j.at("prepare_seconds").get<double>();
         out.rows.push_back(r);
       }
     }

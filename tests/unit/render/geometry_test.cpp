@@ -1,0 +1,104 @@
+// Geometry::clearance and lone_convex against Embree's own answers (docs/render.md §1, "Queries a
+// path skips"): the integrator skips a closest-hit query on their word, so a bound above the
+// BVH's hit distance, or a convex exit that hits something, would change the path.
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "weft/core/rng.h"
+#include "weft/render/geometry.h"
+#include "weft/render/scene.h"
+
+namespace weft::render {
+namespace {
+
+ShapeDesc box(const Vec3& lo, const Vec3& hi) {
+  ShapeDesc s;
+  s.kind = ShapeKind::box;
+  s.min = lo;
+  s.max = hi;
+  return s;
+}
+
+Vec3 random_direction(Pcg32& rng) {
+  const double z = 1.0 - 2.0 * rng.uniform();
+  const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+  const double phi = 2.0 * 3.141592653589793 * rng.uniform();
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+/// Points in and around every shape, many of them within 1e-6 of a face, and directions both
+/// random and grazing (one component 0 or tiny): the clearance never exceeds Embree's hit.
+void expect_clearance_below_hits(const SceneDesc& scene, const Vec3& lo, const Vec3& hi, int* skipped) {
+  const Geometry g(scene, {}, {});
+  Pcg32 rng(7, 11);
+  for (int i = 0; i < 200000; ++i) {
+    Vec3 p;
+    for (int k = 0; k < 3; ++k) p[k] = lo[k] - 0.2 + (hi[k] - lo[k] + 0.4) * rng.uniform();
+    if (i % 3 == 0) {
+      const int k = static_cast<int>(rng.uniform() * 3.0) % 3;
+      p[k] = (rng.uniform() < 0.5 ? lo[k] : hi[k]) + (rng.uniform() - 0.5) * 2e-6;
+    }
+    Vec3 d = random_direction(rng);
+    if (i % 5 == 0) d[static_cast<int>(rng.uniform() * 3.0) % 3] = (i % 10 == 0) ? 0.0 : 1e-7;
+    d.normalize();
+    const double c = g.clearance(p, d);
+    ASSERT_GE(c, 0.0);
+    const auto hit = g.intersect(p, d, 0.0, std::numeric_limits<double>::infinity());
+    if (hit) {
+      ASSERT_LE(c, hit->t) << "p " << p.transpose() << " d " << d.transpose();
+    }
+    if (c > 0.0) ++*skipped;
+  }
+}
+
+TEST(Clearance, NeverBeyondTheBvhHitDistance) {
+  SceneDesc one;
+  one.shapes = {box({-0.5, 0, -0.5}, {0.5, 1, 0.5})};
+  int skipped = 0;
+  expect_clearance_below_hits(one, {-0.5, 0, -0.5}, {0.5, 1, 0.5}, &skipped);
+  EXPECT_GT(skipped, 50000);  // the bound is useful, not 0 everywhere
+
+  SceneDesc several;
+  several.shapes = {box({-0.5, 0, -0.5}, {0.5, 1, 0.5}), box({0.6, 0, 0}, {1.0, 0.3, 0.4})};
+  ShapeDesc sphere;
+  sphere.center = {0, 1.5, 0};
+  sphere.radius = 0.3;
+  ShapeDesc rect;
+  rect.kind = ShapeKind::rectangle;
+  rect.corner = {-1, -0.1, -1};
+  rect.edge_u = {2, 0, 0};
+  rect.edge_v = {0, 0, 2};
+  several.shapes.push_back(sphere);
+  several.shapes.push_back(rect);
+  skipped = 0;
+  expect_clearance_below_hits(several, {-1, -0.1, -1}, {1, 1.8, 1}, &skipped);
+  EXPECT_GT(skipped, 20000);
+}
+
+TEST(Clearance, LoneConvexShapeIsNotHitAfterLeavingIt) {
+  SceneDesc scene;
+  scene.shapes = {box({-0.5, 0, -0.5}, {0.5, 1, 0.5})};
+  const Geometry g(scene, {}, {});
+  ASSERT_TRUE(g.lone_convex());
+  Pcg32 rng(3, 5);
+  for (int i = 0; i < 100000; ++i) {
+    Vec3 p(rng.uniform() - 0.5, rng.uniform(), rng.uniform() - 0.5);
+    const Vec3 d = random_direction(rng);
+    const auto exit = g.intersect(p, d, 0.0, std::numeric_limits<double>::infinity());
+    ASSERT_TRUE(exit.has_value());
+    // The integrator's offset: 1e-5 of the coordinates along the outward normal.
+    const double scale = 1e-5 * (g.extent() + exit->p.cwiseAbs().maxCoeff());
+    const Vec3 out = exit->p + (exit->n.dot(d) > 0.0 ? scale : -scale) * exit->n;
+    ASSERT_FALSE(g.intersect(out, d, 0.0, std::numeric_limits<double>::infinity()).has_value());
+  }
+  SceneDesc two;
+  two.shapes = {box({-0.5, 0, -0.5}, {0.5, 1, 0.5}), box({1, 0, 0}, {2, 1, 1})};
+  EXPECT_FALSE(Geometry(two, {}, {}).lone_convex());
+}
+
+}  // namespace
+}  // namespace weft::render
