@@ -110,6 +110,9 @@ struct StudyCandidate {
   double cloth_bias_sq_stderr = 0.0;
   /// Mean of (A + B)/2 − R over the cloth's values: the sign of the bias (> 0: too bright).
   double cloth_difference = 0.0;
+  /// RMSE of A over the cloth's values (reference noise removed, §6b) and one image's noise there.
+  double cloth_rmse = 0.0;
+  double cloth_noise = 0.0;
   double speedup = 0.0;           ///< t_fine(rmse)/seconds (NaN for the fine grid itself)
   std::vector<StudyPoint> curve;  ///< at every power of two of spp, and at the end
   render::Image image;            ///< A
