@@ -298,6 +298,7 @@ std::vector<MatrixCase> matrix_cases(const MatrixSpec& spec) {
       for (const double tilt : spec.tilts) {
         MatrixCase c;
         c.cloth = k;
+        c.pattern = spec.cloths[k];
         c.lighting = lighting;
         c.tilt = tilt;
         c.name = fmt::format("{}-{}-{:g}deg", spec.cloths[k], render::cloth_lighting_name(lighting), tilt);

@@ -51,6 +51,7 @@ void check_matrix_spec(const MatrixSpec& spec);
 
 struct MatrixCase {
   std::size_t cloth = 0;  ///< index into MatrixSpec::cloths
+  std::string pattern;    ///< that cloth's pattern
   render::ClothLighting lighting = render::ClothLighting::back;
   double tilt = 45.0;
   std::string name;  ///< "plain-back-45deg"

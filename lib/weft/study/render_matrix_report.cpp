@@ -140,11 +140,11 @@ std::string matrix_csv(const std::vector<MatrixCaseResult>& results) {
           "{},{},{},{:g},{},{},{},{},{},{},{:.8g},{:.8g},{:.8g},{:.8g},{:.4g},{:.6g},{:.8g},{:.6g},{:.8g},{:.6g},{:.8g}"
           ","
           "{:.4g},{},{},{:.6g},{}\n",
-          r.c.name, r.c.name.substr(0, r.c.name.find('-')), render::cloth_lighting_name(r.c.lighting), r.c.tilt,
-          r.c.fitted_on ? 1 : 0, c.name, c.model, c.factor, c.spp, r.cloth_pixels, r.cloth_mean, c.cloth_bias,
-          c.cloth_bias_sq, c.cloth_bias_sq_stderr, bias_z(c), relative(c.cloth_bias, r.cloth_mean), c.cloth_rmse,
-          relative(c.cloth_rmse, r.cloth_mean), c.cloth_noise, c.cloth_difference, c.bias, c.bias_z(), mc.memory.values,
-          mc.memory.channels, ratio, mc.memory.tree);
+          r.c.name, r.c.pattern, render::cloth_lighting_name(r.c.lighting), r.c.tilt, r.c.fitted_on ? 1 : 0, c.name,
+          c.model, c.factor, c.spp, r.cloth_pixels, r.cloth_mean, c.cloth_bias, c.cloth_bias_sq, c.cloth_bias_sq_stderr,
+          bias_z(c), relative(c.cloth_bias, r.cloth_mean), c.cloth_rmse, relative(c.cloth_rmse, r.cloth_mean),
+          c.cloth_noise, c.cloth_difference, c.bias, c.bias_z(), mc.memory.values, mc.memory.channels, ratio,
+          mc.memory.tree);
     }
   }
   return csv;
@@ -213,7 +213,7 @@ std::string matrix_json(const MatrixSpec& spec, const std::vector<MatrixCaseResu
     json factors = json::array();
     for (const auto& [f, a] : r.albedo_factors) factors.push_back({{"factor", f}, {"albedo_multiplier", a}});
     j["cases"].push_back({{"case", r.c.name},
-                          {"cloth", r.c.name.substr(0, r.c.name.find('-'))},
+                          {"cloth", r.c.pattern},
                           {"lighting", render::cloth_lighting_name(r.c.lighting)},
                           {"tilt", r.c.tilt},
                           {"fitted_on", r.c.fitted_on},
