@@ -80,9 +80,13 @@ MatrixMemory memory_of(const fs::path& scene_file) {
       add(volume::Grid::load(d.file, d.grid_name));
     } else if (d.kind == render::MediumKind::local_gamma) {
       // Every grid of the fields file (fit/local_fields.h), also those the medium does not read.
+      // α and β are set on exactly the blocks of C̄ and Var C (fit/local_fields.cpp) and hold +∞
+      // for exponential blocks, which Grid::load refuses: each counts as its axis's variance grid.
       add(volume::Grid::load(d.file, "mean_concentration"));
-      for (const char* field : {"var_concentration_", "alpha_", "beta_"})
-        for (const char axis : {'x', 'y', 'z'}) add(volume::Grid::load(d.file, std::string(field) + axis));
+      for (const char axis : {'x', 'y', 'z'}) {
+        const volume::Grid var = volume::Grid::load(d.file, std::string("var_concentration_") + axis);
+        for (int copies = 0; copies < 3; ++copies) add(var);  // Var C, α, β
+      }
     } else if (d.kind == render::MediumKind::homogeneous) {
       // One value per parameter of the law, as a float.
       m.values += 4 * d.law.params.size();
