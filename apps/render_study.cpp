@@ -7,10 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "weft/core/atomic_file.h"
 #include "weft/dist/distributed.h"
-#include "weft/render/contact_sheet.h"
-#include "weft/render/image.h"
 #include "weft/study/albedo_fit.h"
 #include "weft/study/render_study_report.h"
 #include "weft/viz/chart.h"
@@ -55,7 +52,9 @@ viz::Marker factor_marker(int factor) {
 /// falls as t^{-1/2}, a biased candidate levels off at its bias. Right: bias (solid) and noise
 /// at equal time (dashed) against the coarsening factor per model; the fine grid at factor 1,
 /// the slab as flat dotted lines.
-viz::RenderOutcome write_chart(const study::StudyResult& r, const fs::path& path, const std::string& label) {
+}  // namespace
+
+viz::RenderOutcome write_study_chart(const study::StudyResult& r, const fs::path& path, const std::string& label) {
   viz::Chart curves;
   curves.title = "RMSE against the reference vs render time";
   curves.x_label = "seconds";
@@ -137,8 +136,6 @@ viz::RenderOutcome write_chart(const study::StudyResult& r, const fs::path& path
   return viz::save_chart_grid_png({curves, split}, 2, path, "Accuracy vs time: " + label);
 }
 
-}  // namespace
-
 void run_render_study(const render::SceneDesc& scene, study::StudySpec spec, const std::string& label,
                       const fs::path& exr, double exposure, const Context& ctx, WrittenFiles& files, bool fit_albedo) {
   spec.work_dir = beside(exr, ".study");
@@ -163,39 +160,9 @@ void run_render_study(const render::SceneDesc& scene, study::StudySpec spec, con
   const study::StudyResult r = study::run_study(scene, spec, ctx.progress);
   if (!dist::is_root()) return;
 
-  render::write_exr(exr, r.reference);
-  files.add(exr, "reference (fine grid), linear");
-  const fs::path png = beside(exr, ".png");
-  render::write_png(png, r.reference, exposure);
-  files.add(png, "reference, sRGB");
-  for (const auto& c : r.candidates) {
-    const fs::path p = spec.work_dir / (c.name + ".exr");
-    render::write_exr(p, c.image);
-    files.add(
-        p, fmt::format("{} at {} spp (seed {}; scene {})", c.name, c.spp, c.seed_a, c.scene_file.filename().string()));
-  }
-
-  const fs::path csv = beside(exr, ".study.csv");
-  write_text_atomically(csv, study::study_csv(r));
-  files.add(csv, "RMSE, bias, noise, spp and time per candidate");
-  const fs::path curves = beside(exr, ".study.curves.csv");
-  write_text_atomically(curves, study::study_curves_csv(r));
-  files.add(curves, "RMSE vs spp and time per candidate");
-  const fs::path json = beside(exr, ".study.json");
-  write_text_atomically(json, study::study_json(r));
-  files.add(json, "study summary and headline");
-
-  // Error maps: white at 4x the fine grid's RMSE at equal time (its noise shows as grey speckle).
-  const double fine_rmse = r.candidates.front().rmse;
-  const double white = fine_rmse > 0.0 ? 4.0 * fine_rmse : std::max(1e-6, r.reference_mean);
-  const fs::path sheet = beside(exr, ".study.contact.png");
-  const study::StudySheet tiles = study::study_sheet(r, exposure, white);
-  render::SheetLayout layout;
-  layout.columns = tiles.columns;
-  render::write_contact_sheet_png(sheet, tiles.tiles, layout);
-  files.add(sheet, fmt::format("images over their error maps |A - R| (white = {:.3g})", white));
+  for (const auto& f : study::write_study_files(r, exr, spec.work_dir, exposure)) files.add(f.path, f.what);
   const fs::path chart = beside(exr, ".study.png");
-  const viz::RenderOutcome outcome = write_chart(r, chart, label);
+  const viz::RenderOutcome outcome = write_study_chart(r, chart, label);
   if (outcome.written)
     files.add(chart, "RMSE vs time; bias and noise vs coarsening");
   else

@@ -8,9 +8,15 @@
 #include "command.h"
 #include "weft/render/scene.h"
 #include "weft/study/render_study.h"
+#include "weft/viz/chart.h"
 #include "written_files.h"
 
 namespace weft::app {
+
+/// The study's chart (VTK, needs a display): left RMSE vs seconds per candidate, right bias and
+/// noise vs the coarsening factor.
+viz::RenderOutcome write_study_chart(const study::StudyResult& r, const std::filesystem::path& path,
+                                     const std::string& label);
 
 /// Runs the study on `scene` and writes, beside `exr` (the reference image, EXR and PNG):
 /// <stem>.study.csv, .study.curves.csv, .study.json, .study.png (chart, needs a display),

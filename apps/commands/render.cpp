@@ -14,6 +14,7 @@
 
 #include "command.h"
 #include "data_gen/cloth/cloth.h"
+#include "render_matrix.h"
 #include "render_study.h"
 #include "usage.h"
 #include "weft/core/atomic_file.h"
@@ -52,6 +53,12 @@ struct RenderCliOptions {
   std::string study_window;
   std::vector<std::string> study_memory;
   std::vector<std::string> study_albedo;  ///< {"fit"} or {"N:k", …}
+  std::vector<std::string> study_cloths;  ///< the matrix (--study with no scene)
+  std::vector<std::string> study_lightings;
+  std::vector<double> study_tilts;
+  std::vector<int> study_film;
+  int study_yarns = 0;
+  bool resume = false;
   std::string lighting;
   double tilt = -1.0;
   bool quick = false;
@@ -68,6 +75,9 @@ constexpr int kQuickSpp = 128;
 /// --study defaults: seconds per candidate image and the reference's spp (--quick: 1 s, 256).
 constexpr double kStudySeconds = 10.0;
 constexpr int kStudyReferenceSpp = 1024;
+/// The study matrix's spp per candidate image (--quick: 8).
+constexpr int kMatrixSpp = 64;
+constexpr int kMatrixQuickSpp = 8;
 
 /// A path that exists is a scene file; otherwise the name of a built-in scene.
 render::SceneDesc resolve_scene(const std::string& name, std::string& label) {
@@ -136,17 +146,21 @@ int run(const RenderCliOptions& o, const Context& ctx) {
   render::SceneDesc scene;
   if (!default_scene && (!o.lighting.empty() || o.tilt >= 0.0))
     usage_fail("--lighting and --tilt set up the default cloth's scene: give no scene file");
-  if (default_scene) {
+  // --study with no scene, --lighting or --tilt: the study matrix, which makes its own scenes.
+  const bool matrix = o.study && default_scene && o.lighting.empty() && o.tilt < 0.0;
+  if (default_scene && !matrix) {
     label = render::kDefaultScene;
     render::ClothView view;
     if (!o.lighting.empty()) view.lighting = as_usage([&] { return render::cloth_lighting(o.lighting); });
     if (o.tilt >= 0.0) view.tilt_degrees = o.tilt;
     scene = render::cloth_scene(default_cloth_grid(ctx), view);
-  } else {
+  } else if (!matrix) {
     scene = resolve_scene(o.scene, label);
+  } else {
+    label = "render_study";
   }
   for (const std::string& w : render::scene_warnings(scene)) ctx.say("warning: " + w);
-  if (o.quick) {
+  if (o.quick && !matrix) {
     // Same view, a small film: the longest side kQuickSide pixels.
     const double f = static_cast<double>(kQuickSide) / std::max(scene.camera.width, scene.camera.height);
     scene.camera.width = std::max(1, static_cast<int>(std::lround(scene.camera.width * f)));
@@ -212,6 +226,50 @@ int run(const RenderCliOptions& o, const Context& ctx) {
           usage_fail("--study-albedo: '{}' is not FACTOR:K (e.g. 4:1.08), nor 'fit'", item);
         spec.albedo_factors.emplace_back(static_cast<int>(*f), *k);
       }
+    }
+    const bool matrix_options = !o.study_cloths.empty() || !o.study_lightings.empty() || !o.study_tilts.empty() ||
+                                !o.study_film.empty() || o.study_yarns > 0 || o.resume;
+    if (!matrix && matrix_options)
+      usage_fail(
+          "--study-cloths, --study-lightings, --study-tilts, --study-film, --study-yarns and --resume set up the "
+          "study matrix (--study with no scene, --lighting or --tilt)");
+    if (matrix) {
+      if (o.study_time > 0.0) usage_fail("--study-time: the study matrix renders at a fixed --study-spp");
+      if (!o.output.empty()) usage_fail("-o: the study matrix writes a folder: give --out DIR");
+      study::MatrixSpec m;
+      m.study = spec;
+      if (o.study_factors.empty()) m.study.factors = {2, 4, 8};
+      if (o.study_memory.empty())
+        m.study.memory_rules = {transmittance::MemoryRule::segment, transmittance::MemoryRule::optical_depth};
+      m.study.spp = o.study_spp > 0 ? o.study_spp : (o.quick ? kMatrixQuickSpp : kMatrixSpp);
+      m.study.reference_spp = o.reference_spp > 0 ? o.reference_spp : (o.quick ? 128 : kStudyReferenceSpp);
+      m.study.seed = o.seed.value_or(1);
+      if (o.quick) {
+        m.yarns = 2;
+        m.voxel_size = 0.02;
+        m.width = 32;
+        m.height = 24;
+      }
+      if (!o.study_cloths.empty()) m.cloths = o.study_cloths;
+      if (!o.study_lightings.empty()) {
+        m.lightings.clear();
+        for (const auto& name : o.study_lightings)
+          m.lightings.push_back(as_usage([&] { return render::cloth_lighting(name); }));
+      }
+      if (!o.study_tilts.empty()) m.tilts = o.study_tilts;
+      if (!o.study_film.empty()) {
+        if (o.study_film.size() != 2) usage_fail("--study-film: give WIDTH,HEIGHT");
+        m.width = o.study_film[0];
+        m.height = o.study_film[1];
+      }
+      if (o.study_yarns > 0) m.yarns = o.study_yarns;
+      const fs::path out = o.out_dir.empty() ? fs::path("render_study") : fs::path(o.out_dir);
+      m.study.work_dir = out;
+      as_usage([&] { study::check_matrix_spec(m); });
+      if (dist::is_root()) ensure_directory(out);
+      run_render_matrix(m, out, o.resume, ctx, files);
+      files.say(ctx);
+      return 0;
     }
     spec.seconds = o.study_time > 0.0 ? o.study_time : (o.quick ? 1.0 : kStudySeconds);
     spec.spp = o.study_spp;
@@ -434,6 +492,27 @@ const Registrar kRender{Command{
                      "--study: albedo-corrected candidates (docs/render.md 6d): FACTOR:K,... (k_N fitted on another "
                      "set-up) or 'fit' (fit k_N on this scene first and print them; in-sample)")
           ->delimiter(',');
+      sub.add_option("--study-cloths", o->study_cloths,
+                     "--study matrix (no scene, no --lighting/--tilt): cloth patterns of weft gen, comma-separated "
+                     "(default plain,twill22,stockinette)")
+          ->delimiter(',');
+      sub.add_option("--study-lightings", o->study_lightings,
+                     "--study matrix: light set-ups, comma-separated (default back,front,grazing)")
+          ->delimiter(',');
+      sub.add_option("--study-tilts", o->study_tilts,
+                     "--study matrix: views, degrees off the cloth's normal, comma-separated (default 45,8)")
+          ->delimiter(',')
+          ->check(CLI::Range(0.0, 79.0));
+      sub.add_option("--study-film", o->study_film,
+                     "--study matrix: film WIDTH,HEIGHT (default 96,72; 32,24 with --quick)")
+          ->delimiter(',')
+          ->check(CLI::Range(8, 4096));
+      sub.add_option("--study-yarns", o->study_yarns,
+                     "--study matrix: yarns per side of each cloth (default 4 at 10 um; --quick: 2 at 20 um)")
+          ->check(CLI::Range(1, 64));
+      sub.add_flag("--resume", o->resume,
+                   "--study matrix: keep the cases a previous run of the same options finished (<out>/matrix.units) "
+                   "and render only the others; other options are refused");
       sub.add_option("--lighting", o->lighting,
                      "Default cloth only: light set-up key-and-back (default), back, front or grazing (docs/render.md "
                      "5c), e.g. to run --study under each");

@@ -19,7 +19,7 @@ if(CMAKE_SCRIPT_MODE_FILE)
   file(REMOVE_RECURSE ${WORK})
   file(MAKE_DIRECTORY ${WORK})
   if(CASE STREQUAL "quick")
-    execute_process(COMMAND ${WEFT} render --study --quick --study-spp 8 --study-factors 2,4 --reference-spp 256
+    execute_process(COMMAND ${WEFT} render --study --lighting key-and-back --quick --study-spp 8 --study-factors 2,4 --reference-spp 256
                             --out ${WORK}/run RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
     if(NOT rc EQUAL 0)
       message(FATAL_ERROR "study failed (${rc}): ${err}")
@@ -120,7 +120,7 @@ if(CMAKE_SCRIPT_MODE_FILE)
   endif()
 
   if(CASE STREQUAL "same_bytes")
-    set(args render --study --quick --study-spp 2 --study-factors 2 --reference-spp 8 --seed 5)
+    set(args render --study --lighting key-and-back --quick --study-spp 2 --study-factors 2 --reference-spp 8 --seed 5)
     set(runs t1 t2)
     execute_process(COMMAND ${WEFT} --quiet --threads 1 ${args} --out ${WORK}/t1 RESULT_VARIABLE rc1 ERROR_VARIABLE e1)
     execute_process(COMMAND ${WEFT} --quiet --threads 2 ${args} --out ${WORK}/t2 RESULT_VARIABLE rc2 ERROR_VARIABLE e2)

@@ -2,6 +2,7 @@
 #include "weft/dist/distributed.h"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <chrono>
 #include <climits>
@@ -30,6 +31,9 @@ namespace {
 
 int g_rank = 0;
 int g_size = 1;
+/// Open RankLocal scopes: while > 0 this process acts as a one-process run (rank(), size(), the
+/// collectives below). Atomic: units side by side on threads open and close their own scopes.
+std::atomic<int> g_local{0};
 bool g_mpi = false;  // MPI_Init was called by this process's Session
 #if WEFT_HAVE_MPI
 std::string g_describe = "not started by an MPI launcher (one process)";
@@ -143,17 +147,17 @@ void wait_gently(MPI_Request& request) {
 /// Every rank's message on rank 0 (index = rank); other ranks get an empty vector.
 std::vector<Bytes> gather_to_root(const Bytes& mine) {
 #if WEFT_HAVE_MPI
-  if (g_size > 1) {
+  if (size() > 1) {
     // Counts are ints in MPI: a round's message above 2 GiB is refused before anything is sent.
     if (mine.size() > static_cast<std::size_t>(INT_MAX)) throw Error("distributed run: a round's results exceed 2 GiB");
     int n = static_cast<int>(mine.size());
-    std::vector<int> counts(g_rank == 0 ? static_cast<std::size_t>(g_size) : 0);
+    std::vector<int> counts(rank() == 0 ? static_cast<std::size_t>(size()) : 0);
     MPI_Request request = MPI_REQUEST_NULL;
     MPI_Igather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD, &request);
     wait_gently(request);
     std::vector<int> displs(counts.size());
     Bytes all;
-    if (g_rank == 0) {
+    if (rank() == 0) {
       long long total = 0;
       for (std::size_t r = 0; r < counts.size(); ++r) {
         displs[r] = static_cast<int>(total);
@@ -178,7 +182,7 @@ std::vector<Bytes> gather_to_root(const Bytes& mine) {
 /// Rank 0's `b` on every rank.
 void broadcast(Bytes& b) {
 #if WEFT_HAVE_MPI
-  if (g_size > 1) {
+  if (size() > 1) {
     unsigned long long n = b.size();
     MPI_Request request = MPI_REQUEST_NULL;
     MPI_Ibcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD, &request);
@@ -201,7 +205,7 @@ struct Decision {
 /// Rank 0's decision (go on, or stop with a message) on every rank.
 Decision broadcast(const Decision& d) {
   Bytes b;
-  if (g_rank == 0) {
+  if (rank() == 0) {
     put_u64(b, d.status);
     put_bytes(b, reinterpret_cast<const std::uint8_t*>(d.message.data()), d.message.size());
   }
@@ -280,6 +284,7 @@ int Session::finish(int code, const std::string& error_line, double failed_wait_
 }
 
 bool root_decides(bool value) {
+  if (g_local.load() > 0) return value;
   Bytes b{static_cast<std::uint8_t>(value ? 1 : 0)};
   broadcast(b);
   return b.at(0) != 0;
@@ -293,19 +298,24 @@ double root_value(double value) {
   return value;
 }
 
-int rank() { return g_rank; }
-int size() { return g_size; }
+int rank() { return g_local.load() > 0 ? 0 : g_rank; }
+int size() { return g_local.load() > 0 ? 1 : g_size; }
+
+RankLocal::RankLocal() { g_local.fetch_add(1); }
+RankLocal::~RankLocal() { g_local.fetch_sub(1); }
 std::string describe() { return g_describe; }
 
 std::vector<Bytes> run_units(std::size_t count, const std::function<Bytes(std::size_t)>& body,
                              const UnitsOptions& options) {
-  const bool root = g_rank == 0;
+  const bool root = rank() == 0;
   const auto name = [&](std::size_t u) { return options.name ? options.name(u) : fmt::format("unit {}", u); };
   const std::optional<std::size_t> fail_unit = env_index("WEFT_TEST_FAIL_UNIT");
   const std::optional<std::size_t> kill_after = env_index("WEFT_TEST_KILL_AFTER_UNITS");
   std::vector<Bytes> results(root ? count : 0);
   std::optional<CostLog> costs;
-  if (const char* path = std::getenv("WEFT_UNIT_COSTS"); root && path != nullptr && *path != '\0') costs.emplace(path);
+  if (const char* path = std::getenv("WEFT_UNIT_COSTS");
+      root && g_local.load() == 0 && path != nullptr && *path != '\0')
+    costs.emplace(path);
 
   // Rank 0 opens the store and lists the units still to do; every rank learns the list.
   Bytes plan;
@@ -338,7 +348,7 @@ std::vector<Bytes> run_units(std::size_t count, const std::function<Bytes(std::s
       // with the threads waiting for that round's slowest unit (docs/scale-out.md "Rounds").
       const auto threads = static_cast<std::size_t>(
           std::max<std::size_t>(1, tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
-      const std::size_t ranks = static_cast<std::size_t>(g_size);
+      const std::size_t ranks = static_cast<std::size_t>(size());
       const std::size_t per_rank = (pending.size() + ranks - 1) / ranks;
       const bool one_round = ranks == 1 && options.store == nullptr;
       const std::size_t batch = options.batch > 0 ? options.batch
@@ -359,8 +369,8 @@ std::vector<Bytes> run_units(std::size_t count, const std::function<Bytes(std::s
   std::vector<std::uint64_t> pending(plan_reader.u64());
   for (auto& u : pending) u = plan_reader.u64();
 
-  const auto ranks = static_cast<std::size_t>(g_size);
-  const auto me = static_cast<std::size_t>(g_rank);
+  const auto ranks = static_cast<std::size_t>(size());
+  const auto me = static_cast<std::size_t>(rank());
   const std::size_t per_rank = (pending.size() + ranks - 1) / ranks;
   const std::size_t rounds = (per_rank + batch - 1) / batch;
   std::size_t recorded = 0;

@@ -76,6 +76,24 @@ class Session {
 /// images that only rank 0 holds (e.g. the next step of a fit).
 [[nodiscard]] double root_value(double value);
 
+/// @brief While one is alive, this process computes as if it ran alone: rank() is 0, size() is
+/// 1, run_units keeps its units on this process and root_decides returns its argument.
+///
+/// For work units that are whole computations themselves (a case of the render-study matrix,
+/// docs/render.md §6e, renders its images with render(), whose tiles are run_units of their
+/// own): the unit's body opens one, so its nested collectives stay on this rank instead of
+/// waiting for ranks that are busy with other units. The collective mode is untouched while no
+/// scope is open. Scopes are counted over the process (TBB worker threads of the nested work
+/// see them too), so units side by side on threads may each open one; the enclosing run_units
+/// communicates only after its round's units returned, when every scope is closed.
+class RankLocal {
+ public:
+  RankLocal();
+  ~RankLocal();
+  RankLocal(const RankLocal&) = delete;
+  RankLocal& operator=(const RankLocal&) = delete;
+};
+
 /// @brief Thrown on every rank when a unit failed on some rank: the message names the unit.
 class UnitFailure : public Error {
  public:

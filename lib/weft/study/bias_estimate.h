@@ -17,6 +17,10 @@ namespace weft::study {
 struct BiasEstimate {
   double bias_sq = 0.0;    ///< may be < 0 by noise
   double stderr_sq = 0.0;  ///< standard error of bias_sq
+  /// Over the same values: the mean of (a − r)² − var r, the squared error of `a` at its spp
+  /// with the reference's noise removed (§6b), and the mean of (a − b)²/2, one image's variance.
+  double error_sq = 0.0;
+  double noise_sq = 0.0;
 };
 /// Only the pixels where `mask` (one flag per pixel, if given) is set count. Throws weft::Error
 /// for images of different sizes.

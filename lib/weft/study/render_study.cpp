@@ -440,6 +440,8 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
     c.cloth_bias_sq = cloth.bias_sq;
     c.cloth_bias_sq_stderr = cloth.stderr_sq;
     c.cloth_bias = std::sqrt(std::max(0.0, cloth.bias_sq));
+    c.cloth_rmse = std::sqrt(std::max(0.0, cloth.error_sq));
+    c.cloth_noise = std::sqrt(std::max(0.0, cloth.noise_sq));
     for (std::size_t i = 0; i < reference.rgb.size(); ++i)
       if (result.cloth_mask[i / 3]) c.cloth_difference += 0.5 * (a.image.rgb[i] + b.image.rgb[i]) - reference.rgb[i];
     if (result.cloth_pixels > 0) c.cloth_difference /= 3.0 * result.cloth_pixels;

@@ -129,6 +129,10 @@ struct StudyCandidate {
   /// `fitted_to_images`, and chosen against the fine grid: it uses the ground truth).
   double albedo_factor = 0.0;
   bool fitted_to_images = false;
+  /// RMSE of A over the cloth's values (reference noise removed, §6b) and one image's noise there.
+  double cloth_rmse = 0.0;
+  double cloth_noise = 0.0;
+  double speedup = 0.0;           ///< t_fine(rmse)/seconds (NaN for the fine grid itself)
   std::vector<StudyPoint> curve;  ///< at every power of two of spp, and at the end
   render::Image image;            ///< A
   render::Image error_map;        ///< |A − R| per channel (no variances)

@@ -7,8 +7,10 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 #include "weft/render/convergence.h"
+#include "weft/render/image.h"
 
 namespace weft::study {
 
@@ -21,16 +23,17 @@ std::string study_csv(const StudyResult& result) {
   std::string csv =
       "candidate,model,factor,spp,seconds,cpu_seconds,seconds_per_spp,rmse,rmse_raw,bias,bias_sq,bias_sq_stderr,"
       "bias_z,noise,relative_rmse,speedup,seed,scene,cloth_bias,cloth_bias_sq_stderr,cloth_relative_bias,cloth_"
-      "difference,memory_bytes,memory_channels,albedo_factor,fitted_to_images\n";
+      "difference,cloth_rmse,cloth_noise,memory_bytes,memory_channels,albedo_factor,fitted_to_images\n";
   for (const auto& c : result.candidates) {
     csv += fmt::format(
         "{},{},{},{},{:.6g},{:.6g},{:.6g},{:.8g},{:.8g},{:.8g},{:.8g},{:.8g},{:.4g},{:.8g},{:.6g},{:.6g},{},{},{:.8g},"
-        "{:.8g},{:.6g},{:.6g},{},{},{:.8g},{}\n",
+        "{:.8g},{:.6g},{:.6g},{:.8g},{:.8g},{},{},{:.8g},{}\n",
         c.name, c.model, c.factor, c.spp, c.seconds, c.cpu_seconds, c.seconds / std::max(1, c.spp), c.rmse, c.rmse_raw,
         c.bias, c.bias_sq, c.bias_sq_stderr, c.bias_z(), c.noise,
         result.reference_mean > 0.0 ? c.rmse / result.reference_mean : 0.0, c.speedup, c.seed_a, c.scene_file.string(),
         c.cloth_bias, c.cloth_bias_sq_stderr, result.cloth_mean > 0.0 ? c.cloth_bias / result.cloth_mean : 0.0,
-        c.cloth_difference, c.memory_bytes, c.memory_channels, c.albedo_factor, c.fitted_to_images ? 1 : 0);
+        c.cloth_difference, c.cloth_rmse, c.cloth_noise, c.memory_bytes, c.memory_channels, c.albedo_factor,
+        c.fitted_to_images ? 1 : 0);
   }
   return csv;
 }
@@ -86,6 +89,8 @@ std::string study_json(const StudyResult& result) {
                                {"cloth_bias_sq", c.cloth_bias_sq},
                                {"cloth_bias_sq_stderr", c.cloth_bias_sq_stderr},
                                {"cloth_difference", c.cloth_difference},
+                               {"cloth_rmse", c.cloth_rmse},
+                               {"cloth_noise", c.cloth_noise},
                                {"noise", c.noise},
                                {"speedup", num(c.speedup)},
                                {"seed", c.seed_a},
@@ -145,6 +150,48 @@ StudySheet study_sheet(const StudyResult& result, double exposure, double error_
     sheet.tiles.push_back(error_tile(*slab));
   }
   return sheet;
+}
+
+namespace {
+std::filesystem::path beside(const std::filesystem::path& exr, const std::string& suffix) {
+  std::filesystem::path p = exr;
+  p.replace_extension(suffix);
+  return p;
+}
+}  // namespace
+
+std::vector<StudyFile> write_study_files(const StudyResult& r, const std::filesystem::path& exr,
+                                         const std::filesystem::path& work_dir, double exposure) {
+  std::vector<StudyFile> files;
+  render::write_exr(exr, r.reference);
+  files.push_back({exr, "reference (fine grid), linear"});
+  const auto png = beside(exr, ".png");
+  render::write_png(png, r.reference, exposure);
+  files.push_back({png, "reference, sRGB"});
+  for (const auto& c : r.candidates) {
+    const auto p = work_dir / (c.name + ".exr");
+    render::write_exr(p, c.image);
+    files.push_back({p, fmt::format("{} at {} spp (seed {}; scene {})", c.name, c.spp, c.seed_a,
+                                    c.scene_file.filename().string())});
+  }
+  const auto text = [&](const std::string& suffix, const std::string& content, const std::string& what) {
+    const auto p = beside(exr, suffix);
+    write_text_atomically(p, content);
+    files.push_back({p, what});
+  };
+  text(".study.csv", study_csv(r), "RMSE, bias, noise, spp and time per candidate");
+  text(".study.curves.csv", study_curves_csv(r), "RMSE vs spp and time per candidate");
+  text(".study.json", study_json(r), "study summary and headline");
+  // Error maps: white at 4x the fine grid's RMSE at equal time (its noise shows as grey speckle).
+  const double fine_rmse = r.candidates.empty() ? 0.0 : r.candidates.front().rmse;
+  const double white = fine_rmse > 0.0 ? 4.0 * fine_rmse : std::max(1e-6, r.reference_mean);
+  const auto sheet_path = beside(exr, ".study.contact.png");
+  const StudySheet tiles = study_sheet(r, exposure, white);
+  render::SheetLayout layout;
+  layout.columns = tiles.columns;
+  render::write_contact_sheet_png(sheet_path, tiles.tiles, layout);
+  files.push_back({sheet_path, fmt::format("images over their error maps |A - R| (white = {:.3g})", white)});
+  return files;
 }
 
 }  // namespace weft::study

@@ -3,6 +3,7 @@
 /// @brief The image study's reports (docs/render.md §6c): its table, its curves and its JSON,
 /// and the tiles of its contact sheet, from a StudyResult (render_study.h).
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -29,5 +30,17 @@ struct StudySheet {
   int columns = 1;
 };
 [[nodiscard]] StudySheet study_sheet(const StudyResult& result, double exposure, double error_white);
+
+/// A file the study wrote and what it holds (the app lists them).
+struct StudyFile {
+  std::filesystem::path path;
+  std::string what;
+};
+/// @brief Writes the study's files (rank 0): the reference beside `exr` (EXR and PNG at
+/// `exposure`), each candidate's image A as `work_dir`/<name>.exr, and beside `exr`
+/// <stem>.study.csv, .study.curves.csv, .study.json and .study.contact.png (error maps white at
+/// 4x the fine grid's RMSE). The chart (VTK) is the caller's.
+std::vector<StudyFile> write_study_files(const StudyResult& result, const std::filesystem::path& exr,
+                                         const std::filesystem::path& work_dir, double exposure);
 
 }  // namespace weft::study

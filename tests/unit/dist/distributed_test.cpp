@@ -32,6 +32,36 @@ TEST(RunUnits, OneProcessIsRankZeroOfOne) {
   EXPECT_TRUE(is_root());
 }
 
+TEST(RunUnits, RankLocalUnitsRunNestedWorkOnTheirOwnRank) {
+  // A unit that is a whole computation (a study case) runs run_units of its own inside a
+  // RankLocal scope: there it is rank 0 of 1, its nested units come back in order and
+  // root_decides is its own decision; outside the scopes the process is itself again.
+  const ThreadLimit limit(2);
+  UnitsOptions how;
+  how.batch = 2;
+  const auto out = run_units(
+      6,
+      [](std::size_t u) {
+        const RankLocal local;
+        EXPECT_EQ(rank(), 0);
+        EXPECT_EQ(size(), 1);
+        EXPECT_EQ(root_decides(u % 2 == 0), u % 2 == 0);
+        const auto inner = run_units(5, [u](std::size_t v) { return bytes_of(std::to_string(u * 10 + v)); });
+        std::string all;
+        for (const auto& b : inner) all += text_of(b) + ",";
+        return bytes_of(all);
+      },
+      how);
+  ASSERT_EQ(out.size(), 6U);
+  for (std::size_t u = 0; u < out.size(); ++u) {
+    std::string want;
+    for (std::size_t v = 0; v < 5; ++v) want += std::to_string(u * 10 + v) + ",";
+    EXPECT_EQ(text_of(out[u]), want);
+  }
+  EXPECT_EQ(rank(), 0);
+  EXPECT_EQ(size(), 1);
+}
+
 TEST(RunUnits, ResultsComeBackInUnitOrderForAnyThreadsAndBatch) {
   for (const unsigned threads : {1U, 2U, 4U}) {
     const ThreadLimit limit(threads);

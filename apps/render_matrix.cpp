@@ -1,0 +1,101 @@
+// `weft render --study` with no scene: the study matrix's files (docs/render.md §6e).
+#include "render_matrix.h"
+
+#include <map>
+
+#include <fmt/format.h>
+
+#include "render_study.h"
+#include "weft/core/atomic_file.h"
+#include "weft/dist/distributed.h"
+#include "weft/dist/unit_store.h"
+#include "weft/study/render_matrix_report.h"
+#include "weft/viz/chart.h"
+
+namespace weft::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// One panel per cloth: the worst cloth bias over its set-ups (% of the mean cloth pixel) against
+/// the coarsening factor, one line per model.
+viz::RenderOutcome write_matrix_chart(const std::vector<study::MatrixHeadline>& headlines, const fs::path& path) {
+  const std::vector<viz::Rgb> colours{{31, 119, 180}, {214, 39, 40}, {44, 160, 44},   {148, 103, 189},
+                                      {255, 127, 14}, {140, 86, 75}, {227, 119, 194}, {127, 127, 127}};
+  std::vector<viz::Chart> panels;
+  for (const auto& h : headlines) {
+    viz::Chart c;
+    c.title = h.cloth + ": worst cloth bias over light x view";
+    c.x_label = "coarsening factor";
+    c.y_label = "bias, % of the mean cloth pixel";
+    c.log_x = true;
+    c.width = 600;
+    c.height = 480;
+    std::map<std::string, viz::Series> by_model;
+    for (const auto& v : h.verdicts) {
+      if (v.factor < 2) continue;  // the slab has no factor
+      viz::Series& s = by_model[v.model];
+      s.x.push_back(v.factor);
+      s.y.push_back(100.0 * v.worst_relative_bias);
+    }
+    std::size_t i = 0;
+    for (auto& [model, s] : by_model) {
+      s.label = model;
+      s.color = colours[i++ % colours.size()];
+      s.marker = viz::Marker::circle;
+      c.series.push_back(s);
+    }
+    panels.push_back(std::move(c));
+  }
+  return viz::save_chart_grid_png(panels, static_cast<int>(panels.size()), path, "Render study matrix");
+}
+
+/// The single study's result of a case, without images: what its chart needs.
+study::StudyResult chart_input(const study::MatrixCaseResult& r) {
+  study::StudyResult s;
+  s.reference_mean = r.reference_mean;
+  for (const auto& c : r.candidates) s.candidates.push_back(c.study);
+  return s;
+}
+
+}  // namespace
+
+void run_render_matrix(study::MatrixSpec spec, const fs::path& out, bool resume, const Context& ctx,
+                       WrittenFiles& files) {
+  spec.study.work_dir = out;
+  study::check_matrix_spec(spec);
+  const std::vector<study::MatrixCase> cases = study::matrix_cases(spec);
+  // Say the cost before spending it.
+  ctx.say(fmt::format(
+      "study matrix: {} cloths x {} light set-ups x {} views = {} cases at {}x{} px, each a reference at {} spp and "
+      "2 images per candidate at {} spp; {} rank(s) x {} thread(s)",
+      spec.cloths.size(), spec.lightings.size(), spec.tilts.size(), cases.size(), spec.width, spec.height,
+      spec.study.reference_spp, spec.study.spp, ctx.ranks(), ctx.threads()));
+  dist::UnitStore store(out / "matrix.units", study::matrix_key(spec), resume);
+  const std::vector<study::MatrixCaseResult> results = study::run_matrix(spec, ctx.progress, &store);
+  if (!dist::is_root()) return;
+
+  const std::vector<study::MatrixHeadline> headlines = study::matrix_headlines(spec, results);
+  const auto text = [&](const std::string& name, const std::string& content, const std::string& what) {
+    write_text_atomically(out / name, content);
+    files.add(out / name, what);
+  };
+  text("matrix.csv", study::matrix_csv(results), "per case and candidate: cloth bias, RMSE, noise, memory");
+  text("matrix.cost.csv", study::matrix_cost_csv(results), "per case and candidate: time, cost per sample, speed-up");
+  text("matrix.json", study::matrix_json(spec, results, headlines), "every case and the headline per cloth");
+  text("matrix.md", study::matrix_markdown(headlines), "the headline table and the goals");
+  const viz::RenderOutcome chart = write_matrix_chart(headlines, out / "matrix.png");
+  if (chart.written)
+    files.add(out / "matrix.png", "worst cloth bias vs coarsening per cloth");
+  else
+    ctx.say(fmt::format("no chart {}: {}", (out / "matrix.png").string(), chart.reason));
+  for (const auto& r : results) {
+    const fs::path p = study::matrix_case_dir(spec, r.c) / "reference.study.png";
+    if (write_study_chart(chart_input(r), p, r.c.name).written) files.add(p, "the case's study chart");
+  }
+  if (store.found() > 0)
+    ctx.say(fmt::format("{} of {} cases resumed from {}", store.found(), cases.size(), store.folder().string()));
+  for (const auto& h : headlines) ctx.say("headline: " + h.text);
+}
+
+}  // namespace weft::app

@@ -1,0 +1,365 @@
+// The render-study matrix (render_matrix.h; docs/render.md §6e).
+#include "weft/study/render_matrix.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <optional>
+#include <set>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "data_gen/cloth/cloth.h"
+#include "weft/core/atomic_file.h"
+#include "weft/core/error.h"
+#include "weft/dist/distributed.h"
+#include "weft/dist/unit_store.h"
+#include "weft/render/scene.h"
+#include "weft/study/albedo_fit.h"
+#include "weft/study/render_study_report.h"
+#include "weft/transmittance/gamma_hazard.h"
+#include "weft/volume/grid.h"
+
+namespace weft::study {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+using Factors = std::vector<std::pair<int, double>>;
+
+cloth::ClothSpec cloth_spec(const MatrixSpec& spec, const std::string& pattern) {
+  cloth::ClothSpec c = cloth::default_cloth_spec();
+  c.pattern = pattern;
+  c.warp_count = spec.yarns;
+  c.weft_count = spec.yarns;
+  c.voxel_size = spec.voxel_size;
+  c.seed = spec.cloth_seed;
+  return cloth::resolve(c);
+}
+
+/// The cloth's grid under work_dir/cloths/, named by a hash of its resolved generator spec, so a
+/// changed generator or spec makes a new file and an existing one is the same cloth.
+fs::path cloth_file(const MatrixSpec& spec, const std::string& pattern) {
+  const std::string text = cloth::cloth_spec_json(cloth_spec(spec, pattern));
+  return fs::absolute(spec.study.work_dir / "cloths" /
+                      fmt::format("{}_{:016x}.vdb", pattern, std::hash<std::string>{}(text)));
+}
+
+render::SceneDesc case_scene(const MatrixSpec& spec, const MatrixCase& c) {
+  render::ClothView view;
+  view.lighting = c.lighting;
+  view.tilt_degrees = c.tilt;
+  view.width = spec.width;
+  view.height = spec.height;
+  return render::cloth_scene(cloth_file(spec, spec.cloths[c.cloth]), view);
+}
+
+/// Every channel of a representation, from the medium its scene holds (MatrixMemory).
+MatrixMemory memory_of(const fs::path& scene_file) {
+  const render::SceneDesc scene = render::load_scene(scene_file);
+  MatrixMemory m;
+  const auto add = [&](const volume::Grid& g) {
+    m.values += 4 * g.active_voxel_count();
+    m.tree += g.memory_bytes();
+    ++m.channels;
+  };
+  for (const auto& [name, d] : scene.media) {
+    if (d.kind == render::MediumKind::grid) {
+      add(volume::Grid::load(d.file, d.grid_name));
+    } else if (d.kind == render::MediumKind::local_gamma) {
+      // Every grid of the fields file (fit/local_fields.h), also those the medium does not read.
+      // α and β are set on exactly the blocks of C̄ and Var C (fit/local_fields.cpp) and hold +∞
+      // for exponential blocks, which Grid::load refuses: each counts as its axis's variance grid.
+      add(volume::Grid::load(d.file, "mean_concentration"));
+      for (const char axis : {'x', 'y', 'z'}) {
+        const volume::Grid var = volume::Grid::load(d.file, std::string("var_concentration_") + axis);
+        for (int copies = 0; copies < 3; ++copies) add(var);  // Var C, α, β
+      }
+    } else if (d.kind == render::MediumKind::homogeneous) {
+      // One value per parameter of the law, as a float.
+      m.values += 4 * d.law.params.size();
+      m.channels += static_cast<int>(d.law.params.size());
+    }
+  }
+  return m;
+}
+
+json candidate_json(const MatrixCandidate& mc) {
+  const StudyCandidate& c = mc.study;
+  json curve = json::array();
+  for (const auto& p : c.curve) curve.push_back({p.spp, p.seconds, p.rmse});
+  return {{"name", c.name},
+          {"model", c.model},
+          {"factor", c.factor},
+          {"seed_a", c.seed_a},
+          {"seed_b", c.seed_b},
+          {"spp", c.spp},
+          {"seconds", c.seconds},
+          {"cpu", c.cpu_seconds},
+          {"rmse", c.rmse},
+          {"rmse_raw", c.rmse_raw},
+          {"noise", c.noise},
+          {"bias", c.bias},
+          {"bias_sq", c.bias_sq},
+          {"bias_se", c.bias_sq_stderr},
+          {"cloth_bias", c.cloth_bias},
+          {"cloth_bias_sq", c.cloth_bias_sq},
+          {"cloth_bias_se", c.cloth_bias_sq_stderr},
+          {"cloth_difference", c.cloth_difference},
+          {"cloth_rmse", c.cloth_rmse},
+          {"cloth_noise", c.cloth_noise},
+          {"speedup", c.speedup},
+          {"curve", curve},
+          {"memory", {mc.memory.values, mc.memory.tree, mc.memory.channels}}};
+}
+
+MatrixCandidate candidate_from(const json& j) {
+  MatrixCandidate mc;
+  StudyCandidate& c = mc.study;
+  c.name = j.at("name").get<std::string>();
+  c.model = j.at("model").get<std::string>();
+  c.factor = j.at("factor").get<int>();
+  c.seed_a = j.at("seed_a").get<std::uint64_t>();
+  c.seed_b = j.at("seed_b").get<std::uint64_t>();
+  c.spp = j.at("spp").get<int>();
+  c.seconds = j.at("seconds").get<double>();
+  c.cpu_seconds = j.at("cpu").get<double>();
+  c.rmse = j.at("rmse").get<double>();
+  c.rmse_raw = j.at("rmse_raw").get<double>();
+  c.noise = j.at("noise").get<double>();
+  c.bias = j.at("bias").get<double>();
+  c.bias_sq = j.at("bias_sq").get<double>();
+  c.bias_sq_stderr = j.at("bias_se").get<double>();
+  c.cloth_bias = j.at("cloth_bias").get<double>();
+  c.cloth_bias_sq = j.at("cloth_bias_sq").get<double>();
+  c.cloth_bias_sq_stderr = j.at("cloth_bias_se").get<double>();
+  c.cloth_difference = j.at("cloth_difference").get<double>();
+  c.cloth_rmse = j.at("cloth_rmse").get<double>();
+  c.cloth_noise = j.at("cloth_noise").get<double>();
+  // NaN (the fine grid's speedup) crosses MessagePack as NaN but reads back through json as null.
+  c.speedup = j.at("speedup").is_number() ? j.at("speedup").get<double>() : std::nan("");
+  for (const auto& p : j.at("curve"))
+    c.curve.push_back({p.at(0).get<int>(), p.at(1).get<double>(), p.at(2).get<double>()});
+  const json& m = j.at("memory");
+  mc.memory = {m.at(0).get<std::uint64_t>(), m.at(1).get<std::uint64_t>(), m.at(2).get<int>()};
+  return mc;
+}
+
+// A case crosses ranks and the --resume store as MessagePack: doubles round-trip exactly, so
+// rank 0 writes the digits a one-process run writes (as the corpus, corpus.cpp).
+dist::Bytes encode(const MatrixCaseResult& r) {
+  json cands = json::array();
+  for (const auto& c : r.candidates) cands.push_back(candidate_json(c));
+  json factors = json::array();
+  for (const auto& [f, a] : r.albedo_factors) factors.push_back({f, a});
+  const json j = {{"width", r.width},
+                  {"height", r.height},
+                  {"reference_spp", r.reference_spp},
+                  {"reference_mean", r.reference_mean},
+                  {"cloth_pixels", r.cloth_pixels},
+                  {"cloth_mean", r.cloth_mean},
+                  {"reference_seconds", r.reference_seconds},
+                  {"albedo_factors", factors},
+                  {"candidates", cands}};
+  return json::to_msgpack(j);
+}
+
+MatrixCaseResult decode(const MatrixCase& c, const dist::Bytes& b) {
+  const json j = json::from_msgpack(b);
+  MatrixCaseResult r;
+  r.c = c;
+  r.width = j.at("width").get<int>();
+  r.height = j.at("height").get<int>();
+  r.reference_spp = j.at("reference_spp").get<int>();
+  r.reference_mean = j.at("reference_mean").get<double>();
+  r.cloth_pixels = j.at("cloth_pixels").get<int>();
+  r.cloth_mean = j.at("cloth_mean").get<double>();
+  r.reference_seconds = j.at("reference_seconds").get<double>();
+  for (const auto& f : j.at("albedo_factors")) r.albedo_factors.emplace_back(f.at(0).get<int>(), f.at(1).get<double>());
+  for (const auto& cj : j.at("candidates")) r.candidates.push_back(candidate_from(cj));
+  return r;
+}
+
+/// One case: the study of its scene on this rank, its files in its folder, the memory of each
+/// representation from the files the study wrote.
+MatrixCaseResult run_case(const MatrixSpec& spec, const MatrixCase& c, const Factors& factors) {
+  const dist::RankLocal local;  // the study's renders stay on this rank
+  const fs::path dir = matrix_case_dir(spec, c);
+  StudySpec s = spec.study;
+  s.work_dir = dir / "study";
+  s.log = nullptr;
+  s.albedo_factors = factors;
+  const StudyResult r = run_study(case_scene(spec, c), s, null_progress());
+  (void)write_study_files(r, dir / "reference.exr", s.work_dir, 1.0);
+  MatrixCaseResult out;
+  out.c = c;
+  out.width = r.reference.width;
+  out.height = r.reference.height;
+  out.reference_spp = r.reference.spp;
+  out.reference_mean = r.reference_mean;
+  out.cloth_pixels = r.cloth_pixels;
+  out.cloth_mean = r.cloth_mean;
+  out.reference_seconds = r.reference_seconds;
+  out.albedo_factors = factors;
+  for (const StudyCandidate& sc : r.candidates) {
+    MatrixCandidate mc;
+    mc.study = sc;
+    mc.study.image = {};
+    mc.study.error_map = {};
+    mc.memory = memory_of(sc.scene_file);
+    out.candidates.push_back(std::move(mc));
+  }
+  return out;
+}
+
+/// Per cloth, the albedo factors fitted on its first lighting × first view (docs/render.md §6d
+/// (b)): one unit per cloth; rank 0 writes them to work_dir/fits/ so every rank reads the same numbers.
+std::vector<Factors> fit_factors(const MatrixSpec& spec, const std::vector<MatrixCase>& cases, dist::UnitStore* store) {
+  std::vector<Factors> out(spec.cloths.size());
+  std::vector<const MatrixCase*> fitted(spec.cloths.size(), nullptr);
+  for (const auto& c : cases)
+    if (c.fitted_on) fitted[c.cloth] = &c;
+  std::optional<dist::UnitStore> fits;
+  if (store != nullptr) fits.emplace(store->folder().parent_path() / "fits.units", matrix_key(spec), store->resume());
+  dist::UnitsOptions how;
+  how.batch = 1;
+  how.store = fits ? &*fits : nullptr;
+  how.name = [&](std::size_t u) { return fmt::format("albedo fit of cloth {} ({})", u, spec.cloths[u]); };
+  const auto bytes = dist::run_units(
+      spec.cloths.size(),
+      [&](std::size_t u) {
+        const dist::RankLocal local;
+        StudySpec s = spec.study;
+        s.work_dir = spec.study.work_dir / "fits" / spec.cloths[u];
+        s.log = nullptr;
+        json j = json::array();
+        for (const auto& [f, a] : fit_albedo_factors(case_scene(spec, *fitted[u]), s, null_progress()))
+          j.push_back({f, a});
+        return json::to_msgpack(j);
+      },
+      how);
+  const fs::path file = spec.study.work_dir / "fits" / "albedo_factors.msgpack";
+  if (dist::is_root()) {
+    dist::Bytes all;
+    json j = json::array();
+    for (const auto& b : bytes) j.push_back(json::from_msgpack(b));
+    all = json::to_msgpack(j);
+    write_text_atomically(file, std::string(all.begin(), all.end()));
+  }
+  (void)dist::root_decides(true);  // every rank waits for rank 0's file
+  std::ifstream in(file, std::ios::binary);
+  const dist::Bytes text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  const json j = json::from_msgpack(text);
+  for (std::size_t u = 0; u < out.size(); ++u)
+    for (const auto& f : j.at(u)) out[u].emplace_back(f.at(0).get<int>(), f.at(1).get<double>());
+  return out;
+}
+
+}  // namespace
+
+void check_matrix_spec(const MatrixSpec& spec) {
+  if (spec.cloths.empty()) fail("render matrix: no cloths");
+  const std::set<std::string> patterns(spec.cloths.begin(), spec.cloths.end());
+  if (patterns.size() != spec.cloths.size()) fail("render matrix: a cloth is given twice");
+  for (const auto& p : spec.cloths) cloth::validate(cloth_spec(spec, p));  // an unknown pattern is refused here
+  if (spec.lightings.empty()) fail("render matrix: no light set-ups");
+  if (spec.tilts.empty()) fail("render matrix: no views");
+  for (const double t : spec.tilts)
+    if (!(t >= 0.0 && t <= 80.0)) fail("render matrix: view tilt {} is not in [0, 80] degrees", t);
+  if (spec.width < 8 || spec.height < 8) fail("render matrix: film {}x{} is under 8 px", spec.width, spec.height);
+  if (spec.yarns < 1) fail("render matrix: yarns must be >= 1, got {}", spec.yarns);
+  if (!(spec.voxel_size > 0.0) || !std::isfinite(spec.voxel_size))
+    fail("render matrix: voxel size must be > 0, got {}", spec.voxel_size);
+  if (spec.study.spp <= 0)
+    fail("render matrix: the cases render at a fixed spp (so a case's numbers do not depend on where it ran)");
+  check_study_spec(spec.study);
+}
+
+std::vector<MatrixCase> matrix_cases(const MatrixSpec& spec) {
+  std::vector<MatrixCase> out;
+  for (std::size_t k = 0; k < spec.cloths.size(); ++k) {
+    for (const auto lighting : spec.lightings) {
+      for (const double tilt : spec.tilts) {
+        MatrixCase c;
+        c.cloth = k;
+        c.pattern = spec.cloths[k];
+        c.lighting = lighting;
+        c.tilt = tilt;
+        c.name = fmt::format("{}-{}-{:g}deg", spec.cloths[k], render::cloth_lighting_name(lighting), tilt);
+        c.fitted_on = lighting == spec.lightings.front() && tilt == spec.tilts.front();
+        out.push_back(std::move(c));
+      }
+    }
+  }
+  return out;
+}
+
+fs::path matrix_case_dir(const MatrixSpec& spec, const MatrixCase& c) { return spec.study.work_dir / "cases" / c.name; }
+
+std::string matrix_key(const MatrixSpec& spec) {
+  json lightings = json::array();
+  for (const auto l : spec.lightings) lightings.push_back(render::cloth_lighting_name(l));
+  json rules = json::array();
+  for (const auto r : spec.study.memory_rules) rules.push_back(std::string(transmittance::memory_rule_name(r)));
+  const json key = {{"weft", "render --study (matrix)"},
+                    {"cloths", spec.cloths},
+                    {"yarns", spec.yarns},
+                    {"voxel_size", spec.voxel_size},
+                    {"cloth_seed", spec.cloth_seed},
+                    {"lightings", lightings},
+                    {"tilts", spec.tilts},
+                    {"film", {spec.width, spec.height}},
+                    {"factors", spec.study.factors},
+                    {"memory_rules", rules},
+                    {"spp", spec.study.spp},
+                    {"reference_spp", spec.study.reference_spp},
+                    {"seed", spec.study.seed},
+                    {"scale", spec.study.scale},
+                    {"albedo_fit", true}};
+  return key.dump(2) + "\n";
+}
+
+std::vector<MatrixCaseResult> run_matrix(const MatrixSpec& spec, ProgressSink& progress, dist::UnitStore* store) {
+  check_matrix_spec(spec);
+  const std::vector<MatrixCase> cases = matrix_cases(spec);
+  if (dist::is_root()) fs::create_directories(spec.study.work_dir / "cloths");
+  (void)dist::root_decides(true);
+
+  // 1. The cloths, one unit each (a grid already there is the same cloth: its name hashes its spec).
+  dist::UnitsOptions gen;
+  gen.batch = 1;  // one cloth at a time per rank: a voxelization's memory, not two
+  gen.name = [&](std::size_t u) { return fmt::format("cloth {} ({})", u, spec.cloths[u]); };
+  (void)dist::run_units(
+      spec.cloths.size(),
+      [&](std::size_t u) {
+        const dist::RankLocal local;
+        const fs::path file = cloth_file(spec, spec.cloths[u]);
+        if (!fs::exists(file)) cloth::build_cloth(cloth_spec(spec, spec.cloths[u]), null_progress()).grid.save(file);
+        return dist::Bytes{};
+      },
+      gen);
+
+  // 2. The albedo factors per cloth, fitted on one set-up.
+  const std::vector<Factors> factors = fit_factors(spec, cases, store);
+
+  // 3. The cases, each on one rank. One at a time per rank, so a case's CPU time per sample (the
+  // process's clock around its renders) is its own.
+  ProgressTask task(progress, "render study cases", cases.size());
+  dist::UnitsOptions how;
+  how.batch = 1;
+  how.progress = &task;
+  how.store = store;
+  how.name = [&](std::size_t u) { return fmt::format("study case {} ({})", u, cases[u].name); };
+  const std::vector<dist::Bytes> units = dist::run_units(
+      cases.size(), [&](std::size_t u) { return encode(run_case(spec, cases[u], factors[cases[u].cloth])); }, how);
+  std::vector<MatrixCaseResult> out;
+  if (!dist::is_root()) return out;
+  for (std::size_t u = 0; u < units.size(); ++u) out.push_back(decode(cases[u], units[u]));
+  return out;
+}
+
+}  // namespace weft::study

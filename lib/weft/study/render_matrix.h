@@ -1,0 +1,109 @@
+#pragma once
+/// @file
+/// @brief The render-study matrix (docs/render.md §6e): the image study of render_study.h run on
+/// every cloth × light set-up × view, each case a work unit rendered on one rank, with the
+/// statistics over the cloth's pixels, the memory of every representation in bytes and the cost
+/// per sample, gathered on rank 0 in case order.
+///
+/// A case's bytes depend only on (the spec, the case): images at a fixed spp, seeds from the
+/// spec, cloths from their generator spec and seed. So the matrix gives the same numbers for any
+/// rank or thread count (timings aside), and a finished case stored by `--resume`
+/// (dist::UnitStore, keyed by the spec) stands for a rerun of it.
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "weft/core/progress.h"
+#include "weft/render/cloth_scene.h"
+#include "weft/study/render_study.h"
+
+namespace weft::dist {
+class UnitStore;
+}
+
+namespace weft::study {
+
+struct MatrixSpec {
+  /// Cloth patterns of `weft gen` (default: the plain weave, a twill, the stockinette knit), each
+  /// generated with the default yarns at `yarns` × `yarns` and `voxel_size`.
+  std::vector<std::string> cloths{"plain", "twill22", "stockinette"};
+  int yarns = 4;
+  double voxel_size = 0.01;      ///< mm
+  std::uint64_t cloth_seed = 1;  ///< the generator's seed (the same yarns in every case)
+  std::vector<render::ClothLighting> lightings{render::ClothLighting::back, render::ClothLighting::front,
+                                               render::ClothLighting::grazing};
+  std::vector<double> tilts{45.0, 8.0};  ///< views: degrees off the cloth's normal
+  int width = 96;                        ///< film
+  int height = 72;
+  /// Every case's study: factors, memory rules, spp (> 0: the matrix renders at fixed spp, so a
+  /// case's numbers do not depend on where or when it ran), reference spp, seed, scale. Its
+  /// work_dir is the matrix's folder (cases, cloths and the unit stores go under it).
+  StudySpec study;
+};
+
+/// Throws weft::Error naming the bad field (no cloths, lightings or views, a tilt outside
+/// [0, 80], a film under 8 px, yarns < 1, voxel size not > 0, study.spp == 0, or what
+/// check_study_spec refuses).
+void check_matrix_spec(const MatrixSpec& spec);
+
+struct MatrixCase {
+  std::size_t cloth = 0;  ///< index into MatrixSpec::cloths
+  std::string pattern;    ///< that cloth's pattern
+  render::ClothLighting lighting = render::ClothLighting::back;
+  double tilt = 45.0;
+  std::string name;  ///< "plain-back-45deg"
+  /// The set-up the albedo factors were fitted on (its cloth's first lighting × first view):
+  /// reported, never judged in the headline.
+  bool fitted_on = false;
+};
+
+/// Every cloth × lighting × view, in that nesting order.
+[[nodiscard]] std::vector<MatrixCase> matrix_cases(const MatrixSpec& spec);
+
+/// The bytes a representation takes, every channel counted, two ways: `values` = Σ over its
+/// channels of (active voxels, tiles counted per voxel) × 4 bytes (float), the data a renderer
+/// must hold, which is the figure the study compares; `tree` = Σ OpenVDB Tree::memUsage() of its
+/// grids (nodes, masks and values), which adds the sparse tree's fixed cost.
+struct MatrixMemory {
+  std::uint64_t values = 0;
+  std::uint64_t tree = 0;
+  int channels = 0;
+};
+
+struct MatrixCandidate {
+  StudyCandidate study;  ///< its numbers and curve (image and error map not kept)
+  MatrixMemory memory;
+};
+
+struct MatrixCaseResult {
+  MatrixCase c;
+  int width = 0;
+  int height = 0;
+  int reference_spp = 0;
+  double reference_mean = 0.0;
+  int cloth_pixels = 0;
+  double cloth_mean = 0.0;
+  double reference_seconds = 0.0;
+  std::vector<std::pair<int, double>> albedo_factors;  ///< what the case's study was given
+  std::vector<MatrixCandidate> candidates;
+};
+
+/// The folder of case `c` under the matrix's work_dir (its study's files and images).
+[[nodiscard]] std::filesystem::path matrix_case_dir(const MatrixSpec& spec, const MatrixCase& c);
+
+/// The JSON that identifies a run (every field a case's bytes depend on): the key of the
+/// --resume stores, so a changed spec is refused rather than mixed with old cases.
+[[nodiscard]] std::string matrix_key(const MatrixSpec& spec);
+
+/// @brief Runs every case (collective: every rank calls it). Cloths are generated first (one
+/// unit per cloth, kept under work_dir/cloths/ by a hash of their generator spec), then each
+/// case runs run_study rank-locally (dist::RankLocal) and writes its study's files into
+/// matrix_case_dir. Returns the cases in order on rank 0, an empty vector elsewhere.
+/// `progress` counts cases over all ranks; `store` (may be null) records each finished case.
+[[nodiscard]] std::vector<MatrixCaseResult> run_matrix(const MatrixSpec& spec, ProgressSink& progress = null_progress(),
+                                                       dist::UnitStore* store = nullptr);
+
+}  // namespace weft::study

@@ -1,0 +1,288 @@
+// The render-study matrix's judgement and reports (render_matrix_report.h; docs/render.md §6e).
+#include "weft/study/render_matrix_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "weft/render/cloth_scene.h"
+
+namespace weft::study {
+namespace {
+
+using nlohmann::json;
+
+const StudyCandidate& fine_of(const MatrixCaseResult& r) {
+  for (const auto& c : r.candidates)
+    if (c.study.factor == 1) return c.study;
+  return r.candidates.front().study;
+}
+
+const MatrixCandidate* fine_entry(const MatrixCaseResult& r) {
+  for (const auto& c : r.candidates)
+    if (c.study.factor == 1) return &c;
+  return nullptr;
+}
+
+double relative(double v, double mean) { return mean > 0.0 ? v / mean : 0.0; }
+
+double bias_z(const StudyCandidate& c) {
+  return c.cloth_bias_sq_stderr > 0.0 ? c.cloth_bias_sq / c.cloth_bias_sq_stderr : 0.0;
+}
+
+json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+std::string coarser(int factor) { return factor == 0 ? std::string("slab") : fmt::format("{}x", factor); }
+
+}  // namespace
+
+double cost_per_sample(const StudyCandidate& c, int pixels) {
+  const double samples = static_cast<double>(std::max(1, c.spp)) * std::max(1, pixels);
+  return c.cpu_seconds / samples;
+}
+
+double equal_error_speedup(const StudyCandidate& c, const StudyCandidate& fine, double cloth_mean) {
+  if (c.factor == 1) return 1.0;  // the fine grid against itself (its bias estimate is noise)
+  const double e = kMatrixErrorFraction * cloth_mean;
+  if (!(e > 0.0) || c.cloth_bias >= e) return 0.0;
+  const double v_c = c.cloth_noise * c.cloth_noise * c.spp;
+  const double v_f = fine.cloth_noise * fine.cloth_noise * fine.spp;
+  const double t_c = c.cpu_seconds / std::max(1, c.spp);
+  const double t_f = fine.cpu_seconds / std::max(1, fine.spp);
+  const double time_c = t_c * v_c / (e * e - c.cloth_bias * c.cloth_bias);
+  const double time_f = t_f * v_f / (e * e);
+  return time_c > 0.0 ? time_f / time_c : std::numeric_limits<double>::infinity();
+}
+
+std::vector<MatrixHeadline> matrix_headlines(const MatrixSpec& spec, const std::vector<MatrixCaseResult>& results) {
+  std::vector<MatrixHeadline> out;
+  for (std::size_t k = 0; k < spec.cloths.size(); ++k) {
+    MatrixHeadline h;
+    h.cloth = spec.cloths[k];
+    std::map<std::string, std::size_t> index;  // candidate name → verdict
+    std::map<std::string, int> counted;
+    for (const auto& r : results) {
+      if (r.c.cloth != k || r.c.fitted_on) continue;
+      ++h.judged_cases;
+      const MatrixCandidate* fine = fine_entry(r);
+      if (fine == nullptr) continue;
+      for (const auto& mc : r.candidates) {
+        const StudyCandidate& c = mc.study;
+        if (c.factor == 1) continue;
+        auto [it, fresh] = index.try_emplace(c.name, h.verdicts.size());
+        if (fresh) {
+          MatrixVerdict v;
+          v.name = c.name;
+          v.model = c.model;
+          v.factor = c.factor;
+          v.worst_relative_bias = -1.0;
+          v.speedup = std::numeric_limits<double>::infinity();
+          v.memory_ratio = mc.memory.values > 0 ? static_cast<double>(fine->memory.values) / mc.memory.values : 0.0;
+          h.verdicts.push_back(v);
+        }
+        MatrixVerdict& v = h.verdicts[it->second];
+        const double rb = relative(c.cloth_bias, r.cloth_mean);
+        if (rb > v.worst_relative_bias) {
+          v.worst_relative_bias = rb;
+          v.worst_case = r.c.name;
+        }
+        v.mean_relative_bias += rb;
+        const double f_cost = cost_per_sample(fine->study, r.width * r.height);
+        v.cost_ratio += f_cost > 0.0 ? cost_per_sample(c, r.width * r.height) / f_cost : 0.0;
+        v.speedup = std::min(v.speedup, equal_error_speedup(c, fine->study, r.cloth_mean));
+        ++counted[c.name];
+      }
+    }
+    for (auto& v : h.verdicts) {
+      const int n = std::max(1, counted[v.name]);
+      v.mean_relative_bias /= n;
+      v.cost_ratio /= n;
+    }
+    std::vector<int> factors = spec.study.factors;
+    factors.push_back(0);  // the slab
+    for (const int f : factors) {
+      const MatrixVerdict* best = nullptr;
+      for (const auto& v : h.verdicts)
+        if (v.factor == f && (best == nullptr || v.worst_relative_bias < best->worst_relative_bias)) best = &v;
+      if (best != nullptr) h.best.push_back(*best);
+    }
+    std::string text = fmt::format("{} ({} set-ups judged): ", h.cloth, h.judged_cases);
+    for (std::size_t i = 0; i < h.best.size(); ++i) {
+      const MatrixVerdict& b = h.best[i];
+      text += fmt::format(
+          "{}{}: {} worst cloth bias {:.1f}% ({}), {:.3g}x fewer bytes, cost/sample {:.2f}x the fine grid's, "
+          "speed-up at RMSE 5% {:.2f}x",
+          i > 0 ? "; " : "", coarser(b.factor), b.name, 100.0 * b.worst_relative_bias, b.worst_case, b.memory_ratio,
+          b.cost_ratio, b.speedup);
+    }
+    h.text = text;
+    out.push_back(std::move(h));
+  }
+  return out;
+}
+
+std::string matrix_csv(const std::vector<MatrixCaseResult>& results) {
+  std::string csv =
+      "case,cloth_pattern,lighting,tilt,fitted_on,candidate,model,factor,spp,cloth_pixels,cloth_mean,cloth_bias,"
+      "cloth_bias_sq,cloth_bias_sq_stderr,cloth_bias_z,cloth_relative_bias,cloth_rmse,cloth_relative_rmse,cloth_noise,"
+      "cloth_difference,bias,bias_z,memory_bytes,memory_channels,memory_ratio,memory_tree_bytes\n";
+  for (const auto& r : results) {
+    const MatrixCandidate* fine = fine_entry(r);
+    for (const auto& mc : r.candidates) {
+      const StudyCandidate& c = mc.study;
+      const double ratio =
+          fine != nullptr && mc.memory.values > 0 ? static_cast<double>(fine->memory.values) / mc.memory.values : 0.0;
+      csv += fmt::format(
+          "{},{},{},{:g},{},{},{},{},{},{},{:.8g},{:.8g},{:.8g},{:.8g},{:.4g},{:.6g},{:.8g},{:.6g},{:.8g},{:.6g},{:.8g}"
+          ","
+          "{:.4g},{},{},{:.6g},{}\n",
+          r.c.name, r.c.pattern, render::cloth_lighting_name(r.c.lighting), r.c.tilt, r.c.fitted_on ? 1 : 0, c.name,
+          c.model, c.factor, c.spp, r.cloth_pixels, r.cloth_mean, c.cloth_bias, c.cloth_bias_sq, c.cloth_bias_sq_stderr,
+          bias_z(c), relative(c.cloth_bias, r.cloth_mean), c.cloth_rmse, relative(c.cloth_rmse, r.cloth_mean),
+          c.cloth_noise, c.cloth_difference, c.bias, c.bias_z(), mc.memory.values, mc.memory.channels, ratio,
+          mc.memory.tree);
+    }
+  }
+  return csv;
+}
+
+std::string matrix_cost_csv(const std::vector<MatrixCaseResult>& results) {
+  std::string csv = "case,candidate,factor,spp,seconds,cpu_seconds,cpu_seconds_per_sample,cost_ratio,speedup_at_5pct\n";
+  for (const auto& r : results) {
+    const StudyCandidate& fine = fine_of(r);
+    const int pixels = r.width * r.height;
+    for (const auto& mc : r.candidates) {
+      const StudyCandidate& c = mc.study;
+      const double f_cost = cost_per_sample(fine, pixels);
+      csv += fmt::format("{},{},{},{},{:.6g},{:.6g},{:.6g},{:.4g},{:.4g}\n", r.c.name, c.name, c.factor, c.spp,
+                         c.seconds, c.cpu_seconds, cost_per_sample(c, pixels),
+                         f_cost > 0.0 ? cost_per_sample(c, pixels) / f_cost : 0.0,
+                         equal_error_speedup(c, fine, r.cloth_mean));
+    }
+  }
+  return csv;
+}
+
+std::string matrix_json(const MatrixSpec& spec, const std::vector<MatrixCaseResult>& results,
+                        const std::vector<MatrixHeadline>& headlines) {
+  json j;
+  j["spec"] = json::parse(matrix_key(spec));
+  j["error_fraction"] = kMatrixErrorFraction;
+  j["memory"] =
+      "bytes = sum over a representation's channels of active voxels x 4 (float); tree_bytes = OpenVDB memUsage";
+  j["cases"] = json::array();
+  for (const auto& r : results) {
+    const StudyCandidate& fine = fine_of(r);
+    const MatrixCandidate* fine_mc = fine_entry(r);
+    const int pixels = r.width * r.height;
+    json cands = json::array();
+    for (const auto& mc : r.candidates) {
+      const StudyCandidate& c = mc.study;
+      cands.push_back(
+          {{"name", c.name},
+           {"model", c.model},
+           {"factor", c.factor},
+           {"spp", c.spp},
+           {"cloth_bias", c.cloth_bias},
+           {"cloth_bias_sq", c.cloth_bias_sq},
+           {"cloth_bias_sq_stderr", c.cloth_bias_sq_stderr},
+           {"cloth_bias_z", bias_z(c)},
+           {"cloth_relative_bias", relative(c.cloth_bias, r.cloth_mean)},
+           {"cloth_rmse", c.cloth_rmse},
+           {"cloth_relative_rmse", relative(c.cloth_rmse, r.cloth_mean)},
+           {"cloth_noise", c.cloth_noise},
+           {"cloth_difference", c.cloth_difference},
+           {"bias", c.bias},
+           {"bias_z", c.bias_z()},
+           {"memory_bytes", mc.memory.values},
+           {"memory_tree_bytes", mc.memory.tree},
+           {"memory_channels", mc.memory.channels},
+           {"memory_ratio", fine_mc != nullptr && mc.memory.values > 0
+                                ? static_cast<double>(fine_mc->memory.values) / mc.memory.values
+                                : 0.0},
+           {"image_seconds", c.seconds},
+           {"cpu_seconds", c.cpu_seconds},
+           {"sample_cpu_seconds", cost_per_sample(c, pixels)},
+           {"cost_ratio", number(cost_per_sample(c, pixels) / std::max(1e-300, cost_per_sample(fine, pixels)))},
+           {"speedup", number(equal_error_speedup(c, fine, r.cloth_mean))}});
+    }
+    json factors = json::array();
+    for (const auto& [f, a] : r.albedo_factors) factors.push_back({{"factor", f}, {"albedo_multiplier", a}});
+    j["cases"].push_back({{"case", r.c.name},
+                          {"cloth", r.c.pattern},
+                          {"lighting", render::cloth_lighting_name(r.c.lighting)},
+                          {"tilt", r.c.tilt},
+                          {"fitted_on", r.c.fitted_on},
+                          {"width", r.width},
+                          {"height", r.height},
+                          {"reference_spp", r.reference_spp},
+                          {"reference_mean", r.reference_mean},
+                          {"cloth_pixels", r.cloth_pixels},
+                          {"cloth_mean", r.cloth_mean},
+                          {"reference_seconds", r.reference_seconds},
+                          {"albedo_factors", factors},
+                          {"candidates", cands}});
+  }
+  j["headlines"] = json::array();
+  for (const auto& h : headlines) {
+    json verdicts = json::array();
+    const auto verdict = [](const MatrixVerdict& v) {
+      return json{{"name", v.name},
+                  {"factor", v.factor},
+                  {"worst_relative_bias", v.worst_relative_bias},
+                  {"worst_case", v.worst_case},
+                  {"mean_relative_bias", v.mean_relative_bias},
+                  {"memory_ratio", v.memory_ratio},
+                  {"cost_ratio", number(v.cost_ratio)},
+                  {"speedup", number(v.speedup)}};
+    };
+    for (const auto& v : h.verdicts) verdicts.push_back(verdict(v));
+    json best = json::array();
+    for (const auto& v : h.best) best.push_back(verdict(v));
+    j["headlines"].push_back({{"cloth", h.cloth},
+                              {"judged_cases", h.judged_cases},
+                              {"best", best},
+                              {"representations", verdicts},
+                              {"text", h.text}});
+  }
+  return j.dump(2) + "\n";
+}
+
+std::string matrix_markdown(const std::vector<MatrixHeadline>& headlines) {
+  std::string md =
+      "| cloth | representation | worst cloth bias | (where) | mean cloth bias | memory (fine / it) | cost per "
+      "sample (it / fine) | speed-up at RMSE 5 % |\n|---|---|---|---|---|---|---|---|\n";
+  for (const auto& h : headlines) {
+    for (const auto& v : h.verdicts) {
+      const bool best =
+          std::any_of(h.best.begin(), h.best.end(), [&](const MatrixVerdict& b) { return b.name == v.name; });
+      md += fmt::format("| {} | {}{}{} | {:.1f} % | {} | {:.1f} % | {:.3g}x | {:.2f} | {:.2f}x |\n", h.cloth,
+                        best ? "**" : "", v.name, best ? "**" : "", 100.0 * v.worst_relative_bias, v.worst_case,
+                        100.0 * v.mean_relative_bias, v.memory_ratio, v.cost_ratio, v.speedup);
+    }
+  }
+  md +=
+      "\nGoals (every light x view of a cloth): 4x bias <= 5 %, 8x bias <= 10 %, memory >= 40x at 8x, cost per "
+      "sample at 8x <= 0.5 of the fine grid's, speed-up >= 3x at RMSE 5 %.\n\n";
+  for (const auto& h : headlines) {
+    for (const auto& b : h.best) {
+      if (b.factor != 4 && b.factor != 8) continue;
+      const double limit = b.factor == 4 ? 0.05 : 0.10;
+      std::string goals = fmt::format("bias {:.1f} % {} {:.0f} %", 100.0 * b.worst_relative_bias,
+                                      b.worst_relative_bias <= limit ? "<=" : "> (missed)", 100.0 * limit);
+      if (b.factor == 8)
+        goals += fmt::format("; memory {:.3g}x {}; cost {:.2f} {}", b.memory_ratio,
+                             b.memory_ratio >= 40.0 ? "met" : "missed", b.cost_ratio,
+                             b.cost_ratio <= 0.5 ? "met" : "missed");
+      goals += fmt::format("; speed-up {:.2f}x {}", b.speedup, b.speedup >= 3.0 ? "met" : "missed");
+      md += fmt::format("- {} at {}x: best {}: {}\n", h.cloth, b.factor, b.name, goals);
+    }
+  }
+  return md;
+}
+
+}  // namespace weft::study

@@ -1,0 +1,67 @@
+#pragma once
+/// @file
+/// @brief The render-study matrix's judgement and reports (docs/render.md §6e): cost per sample,
+/// the equal-error speed-up, the headline per cloth, and the CSV, JSON and Markdown of a run.
+
+#include <string>
+#include <vector>
+
+#include "weft/study/render_matrix.h"
+
+namespace weft::study {
+
+/// The error the equal-error speed-up is taken at: 5 % of the reference's mean cloth pixel.
+constexpr double kMatrixErrorFraction = 0.05;
+
+/// CPU seconds per sample of a candidate's image A: its CPU time over spp × pixels.
+[[nodiscard]] double cost_per_sample(const StudyCandidate& c, int pixels);
+
+/// @brief How much sooner `c` reaches an RMSE of E over the cloth's values than the fine grid
+/// `fine`, both rendered in one case. With per-sample variance v = noise² · spp and cost per
+/// sample t, the fine grid (no bias: the reference's model) needs t_f v_f / E² of time; a
+/// candidate with bias b < E needs t_c v_c / (E² − b²), and never reaches E when b ≥ E (0 is
+/// returned); the fine grid itself gives 1. Cloth statistics (cloth_bias, cloth_noise), E = kMatrixErrorFraction ×
+/// cloth mean.
+[[nodiscard]] double equal_error_speedup(const StudyCandidate& c, const StudyCandidate& fine, double cloth_mean);
+
+/// One representation of one cloth judged over the light × view set-ups it was not fitted on.
+struct MatrixVerdict {
+  std::string name;
+  std::string model;
+  int factor = 0;
+  double worst_relative_bias = 0.0;  ///< max over the judged cases of cloth_bias / cloth_mean
+  std::string worst_case;
+  double mean_relative_bias = 0.0;
+  double memory_ratio = 0.0;  ///< fine grid's bytes / its bytes (MatrixMemory::values)
+  double cost_ratio = 0.0;    ///< its cost per sample / the fine grid's, mean over the judged cases
+  double speedup = 0.0;       ///< equal_error_speedup, the smallest over the judged cases
+};
+
+struct MatrixHeadline {
+  std::string cloth;
+  int judged_cases = 0;
+  std::vector<MatrixVerdict> verdicts;  ///< every coarse representation, in candidate order
+  /// Per factor of the study, the representation with the smallest worst-case bias.
+  std::vector<MatrixVerdict> best;
+  std::string text;
+};
+
+/// The headline of each cloth, in the spec's order (cases marked fitted_on are not judged).
+[[nodiscard]] std::vector<MatrixHeadline> matrix_headlines(const MatrixSpec& spec,
+                                                           const std::vector<MatrixCaseResult>& results);
+
+/// One row per case and candidate, only what does not depend on timing (the same bytes for any
+/// rank or thread count): the cloth statistics, the frame bias and the memory.
+[[nodiscard]] std::string matrix_csv(const std::vector<MatrixCaseResult>& results);
+/// One row per case and candidate: spp, seconds, CPU seconds, cost per sample and its ratio to the
+/// fine grid's, the equal-error speed-up.
+[[nodiscard]] std::string matrix_cost_csv(const std::vector<MatrixCaseResult>& results);
+/// Everything: the run's key, every case and candidate, the headlines (timing keys end in
+/// "_seconds"; cost_ratio and speedup are timing-derived).
+[[nodiscard]] std::string matrix_json(const MatrixSpec& spec, const std::vector<MatrixCaseResult>& results,
+                                      const std::vector<MatrixHeadline>& headlines);
+/// The headline table per cloth and representation, and the goals of docs/render.md §6e, as
+/// Markdown (what the docs quote).
+[[nodiscard]] std::string matrix_markdown(const std::vector<MatrixHeadline>& headlines);
+
+}  // namespace weft::study
