@@ -87,3 +87,35 @@ def test_the_preset_fills_what_a_yarn_omits_and_the_label_records_changes(small_
     edited.update(warp_count=2, weft_count=2, voxel_size=0.03)
     edited["warp_yarn"]["fiber_count"] = 12
     assert weft.gen(edited).spec["warp_yarn"]["preset"] == "cotton (modified: fiber_count)"
+
+
+def test_the_memory_budget_is_named_in_pythons_words():
+    with pytest.raises(weft.Error) as e:
+        weft.gen(yarns=(40, 40), voxel_size=0.002, max_memory_mb=1)
+    said = str(e.value)
+    assert "memory budget" in said and "max_memory_mb=" in said and "voxel_size=" in said, said
+    assert "--" not in said, said
+
+
+CROSSING = "v 0 0.5 0.1\nv 2 0.5 -0.1\nv 1 0 -0.1\nv 1 1 0.1\nl 1 2\nl 3 4\n"
+
+
+def test_input_curves_make_an_import_equal_to_the_cli(tmp_path, run_cli, monkeypatch):
+    (tmp_path / "crossing.obj").write_text(CROSSING)
+    monkeypatch.chdir(tmp_path)  # a relative input resolves against the current folder, as in the CLI
+    cloth = weft.gen(input="crossing.obj", warp_yarn={"preset": "cotton", "fiber_count": 8}, voxel_size=0.04)
+    assert cloth.spec["pattern"] == "import"
+    assert cloth.spec["input"] == str(tmp_path / "crossing.obj")
+    assert cloth.grid.active_voxel_count > 0
+    run_cli("gen", "--input", "crossing.obj", "--set", "warp.fiber_count=8", "--voxel-size", "0.04", "--out", "cli",
+            cwd=tmp_path)
+    cli = weft.load_grid(tmp_path / "cli" / "cloth.vdb")
+    assert json.loads((tmp_path / "cli" / "cloth.json").read_text()) == cloth.spec
+    np.testing.assert_array_equal(cli.to_numpy(cloth.grid.bbox), cloth.grid.to_numpy())
+
+
+@pytest.mark.parametrize("kwargs", [{"pattern": "twill22"}, {"yarns": (2, 2)}])
+def test_input_curves_with_a_weave_or_yarn_counts_are_refused(tmp_path, kwargs):
+    (tmp_path / "crossing.obj").write_text(CROSSING)
+    with pytest.raises(weft.Error, match="conflict"):
+        weft.gen(input=tmp_path / "crossing.obj", **kwargs)
