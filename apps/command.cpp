@@ -1,5 +1,7 @@
 #include "command.h"
 
+#include <cstdio>
+
 #include <fmt/core.h>
 
 #include "weft/core/parallel.h"
@@ -14,6 +16,10 @@ std::vector<Command>& registry() {
 
 void Context::say(const std::string& line) const {
   if (!globals.quiet) fmt::print("{}\n", line);
+}
+
+void Context::warn(const std::string& line) const {
+  if (dist::is_root()) fmt::print(stderr, "weft: warning: {}\n", line);
 }
 
 unsigned Context::threads() const { return globals.threads > 0 ? globals.threads : default_thread_count(); }

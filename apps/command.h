@@ -25,6 +25,9 @@ struct Context {
   ProgressSink& progress;
   /// Prints a line to stdout unless --quiet (always quiet on MPI ranks other than 0).
   void say(const std::string& line) const;
+  /// Prints `weft: warning: <line>` to stderr, --quiet or not (on MPI rank 0 only): something the
+  /// run did that the user would want to know, such as a medium that cannot affect the image.
+  void warn(const std::string& line) const;
   /// Worker threads per process (--threads, 0 resolved to the hardware's count) and processes
   /// (MPI ranks, 1 without mpirun): summaries and reports record both as "threads" and "ranks".
   [[nodiscard]] unsigned threads() const;

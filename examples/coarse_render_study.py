@@ -2,8 +2,10 @@
 
 Renders a small backlit cloth (the lighting of docs/render.md §5c) with the fine grid as the
 reference R, then at fewer samples: the fine grid, the grid downsampled N x in numpy (block
-means: volume-conserving, exponential per coarse voxel) and a slab with the gamma law of the
-grid's pooled window statistics (predicted, never fitted to R). Over the cloth's pixels (R differs
+means: volume-conserving, exponential per coarse voxel), the local gamma fields of N^3-voxel
+blocks (`weft.local_fields`, what `weft fit --block N` writes, rendered as a "local-gamma" medium
+straight from the scene dict) and a slab with the gamma law of the grid's pooled window
+statistics (predicted, never fitted to R). Over the cloth's pixels (R differs
 from the empty scene by > 5 standard errors) it prints each candidate's bias (the error left at
 convergence, sqrt(|X - R|^2 - var X - var R)) and RMSE, as `weft render --study` defines them,
 and writes OUT/study.csv.
@@ -76,6 +78,13 @@ def main():
     for n in (2, 4):
         downsample(grid, n, os.path.join(args.out, "coarse%d.vdb" % n))
         candidates["exponential-%dx" % n] = ({"type": "grid", "file": "coarse%d.vdb" % n, "sigma": sigma}, box)
+    for n in (2, 4):
+        # Blocks are aligned to multiples of n in index space, so they may reach past the fine box.
+        fields = weft.local_fields(grid, n)
+        m = fields.mean
+        flo, fhi = (np.array(m.origin) + m.voxel_size * (np.array(m.bbox[k]) + k) for k in (0, 1))
+        candidates["local-gamma-%dx" % n] = ({"type": "local-gamma", "fields": fields, "sigma": sigma},
+                                             (np.minimum(box[0], flo), np.maximum(box[1], fhi)))
     stats = weft.pool([weft.window_stats(grid, axis, float(grid.metadata["weft:yarn_diameter"])) for axis in "xyz"])
     law = {"name": "gamma", "sigma": sigma, "mean_concentration": stats.mean, "var_concentration": stats.variance}
     candidates["slab-gamma"] = ({"type": "homogeneous", "law": law}, (lo, hi))

@@ -148,7 +148,11 @@ std::string yarn_parameter_help() {
   }
   std::string presets;
   for (const auto& n : cloth::yarn_preset_names()) presets += (presets.empty() ? "" : ", ") + n;
-  text += "Yarn presets: " + presets + ".\n";
+  text += "Yarn presets: " + presets +
+          ".\nIn a --config yarn, \"preset\" fills the fields it does not give and given fields\n"
+          "override it; cloth.json records the changes (\"wool (modified: fiber_count)\"), and a yarn\n"
+          "giving every field, all another preset's, under a preset's name is refused (docs/cloth.md,\n"
+          "Presets and explicit fields).\n";
   text +=
       "Outputs in --out, chosen with --write (default grid,fibers,yarns,config): grid = cloth.vdb (grid\n"
       "'density' of fibre volume fraction C, provenance as metadata), fibers = fibers.vtp (fibres with\n"

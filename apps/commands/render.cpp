@@ -159,7 +159,7 @@ int run(const RenderCliOptions& o, const Context& ctx) {
   } else {
     label = "render_study";
   }
-  for (const std::string& w : render::scene_warnings(scene)) ctx.say("warning: " + w);
+  for (const std::string& w : render::scene_warnings(scene)) ctx.warn(w);
   if (o.quick && !matrix) {
     // Same view, a small film: the longest side kQuickSide pixels.
     const double f = static_cast<double>(kQuickSide) / std::max(scene.camera.width, scene.camera.height);
@@ -287,6 +287,7 @@ int run(const RenderCliOptions& o, const Context& ctx) {
   // Every file the scene names is read and every medium built here, once, before anything is
   // written; the reference and the image render this same world.
   const render::World world = render::build_world(scene);
+  for (const std::string& w : render::world_warnings(world)) ctx.warn(w);
   Convergence conv;
   if (!o.convergence.empty()) {
     // The series runs to 512 spp (128 with --quick) unless --spp says otherwise.

@@ -92,7 +92,7 @@ volume::Provenance cloth_provenance(const ClothBuild& build) {
   return p;
 }
 
-ClothBuild build_cloth(const ClothSpec& input, ProgressSink& progress, bool spread_over_ranks) {
+ClothBuild build_cloth(const ClothSpec& input, ProgressSink& progress, bool spread_over_ranks, FrontEnd asker) {
   ClothBuild build;
   build.spec = resolve(input);
   validate(build.spec);
@@ -100,11 +100,11 @@ ClothBuild build_cloth(const ClothSpec& input, ProgressSink& progress, bool spre
   const auto budget = static_cast<std::uint64_t>(build.spec.max_memory_mb * 1024.0 * 1024.0);
   // Woven and knit specs are checked before their centrelines are made (a huge --yarns would
   // spend minutes and gigabytes on those alone); imports on the curves they read.
-  if (build.spec.pattern != "import") check_budget(estimate_cloth(build.spec), budget);
+  if (build.spec.pattern != "import") check_budget(estimate_cloth(build.spec), budget, asker);
   build.centerlines = cloth_centerlines(build.spec);
   if (build.centerlines.curves.empty()) fail("cloth: the pattern produced no yarns");
   build.estimate = estimate_cloth(build.spec, build.centerlines);
-  check_budget(build.estimate, budget);
+  check_budget(build.estimate, budget, asker);
   build.fibers = generate_fibers(build.spec, build.centerlines, progress);
   const double generate_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   VoxelizeOptions options;
@@ -112,6 +112,7 @@ ClothBuild build_cloth(const ClothSpec& input, ProgressSink& progress, bool spre
   options.samples_per_voxel = build.spec.samples_per_voxel;
   options.max_memory_bytes = budget;
   options.spread = spread_over_ranks;
+  options.asker = asker;
   build.grid = voxelize(build.fibers, options, build.report, progress);
   build.report.generate_seconds = generate_seconds;
   // Provenance (no timings: the same spec must give the same file).

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <string>
 
+#include "weft/core/front_end.h"
 #include "weft/core/progress.h"
 #include "weft/volume/grid.h"
 #include "weft/volume/provenance.h"
@@ -43,7 +44,9 @@ struct ClothBuild;
 /// The cost is estimated from the centrelines first (estimate.h) and a build over
 /// spec.max_memory_mb is refused before any fibre is made. `spread_over_ranks`: the voxelizer's
 /// leaves go over the MPI ranks and only rank 0 gets the grid (VoxelizeOptions::spread; weft gen).
-ClothBuild build_cloth(const ClothSpec& spec, ProgressSink& progress, bool spread_over_ranks = false);
+/// `asker`: whose words the budget errors use (`--max-memory` or `max_memory_mb=`).
+ClothBuild build_cloth(const ClothSpec& spec, ProgressSink& progress, bool spread_over_ranks = false,
+                       FrontEnd asker = FrontEnd::cli);
 
 }  // namespace weft::cloth
 

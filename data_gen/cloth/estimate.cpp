@@ -118,13 +118,13 @@ std::string describe(const ClothEstimate& e) {
                      static_cast<double>(e.active_voxels), format_bytes(e.grid_bytes), format_bytes(e.peak_bytes));
 }
 
-void check_budget(const ClothEstimate& e, std::uint64_t budget_bytes) {
+void check_budget(const ClothEstimate& e, std::uint64_t budget_bytes, FrontEnd asker) {
   const std::uint64_t budget = budget_bytes > 0 ? budget_bytes : default_memory_budget();
   if (e.peak_bytes > budget) {
-    fail(
-        "cloth: estimated {}, over the memory budget of {} (--max-memory; check --input-scale, --yarns, "
-        "--voxel-size)",
-        describe(e), format_bytes(budget));
+    const Spelling options{"--max-memory; check --input-scale, --yarns, --voxel-size",
+                           "max_memory_mb=; check input_scale=, yarns=, voxel_size="};
+    fail("cloth: estimated {}, over the memory budget of {} ({})", describe(e), format_bytes(budget),
+         options.in(asker));
   }
 }
 

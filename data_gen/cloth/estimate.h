@@ -9,6 +9,7 @@
 
 #include "data_gen/cloth/fibers.h"
 #include "data_gen/cloth/spec.h"
+#include "weft/core/front_end.h"
 
 namespace weft::cloth {
 
@@ -49,8 +50,9 @@ ClothEstimate estimate_cloth(const ClothSpec& spec);
 /// The estimate on one line, for messages and the summary.
 std::string describe(const ClothEstimate& e);
 
-/// Throws weft::Error (naming the estimate and the budget) when e.peak_bytes exceeds
-/// `budget_bytes` (0 = default_memory_budget()).
-void check_budget(const ClothEstimate& e, std::uint64_t budget_bytes);
+/// Throws weft::Error (naming the estimate and the budget, and the options that set them in the
+/// words of `asker`: `--max-memory` or `max_memory_mb=`) when e.peak_bytes exceeds `budget_bytes`
+/// (0 = default_memory_budget()).
+void check_budget(const ClothEstimate& e, std::uint64_t budget_bytes, FrontEnd asker = FrontEnd::cli);
 
 }  // namespace weft::cloth

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string_view>
 
 #include <nlohmann/json.hpp>
 
@@ -150,7 +151,40 @@ YarnParams yarn_preset(const std::string& name) {
   fail("unknown yarn preset '{}' (known: {})", name, names);
 }
 
+namespace {
+
+bool same_value(const YarnField& f, const YarnParams& a, const YarnParams& b) {
+  return f.integer ? a.*(f.whole) == b.*(f.whole) : a.*(f.real) == b.*(f.real);
+}
+
+std::string field_value(const YarnField& f, const YarnParams& y) {
+  return f.integer ? fmt::format("{}", y.*(f.whole)) : fmt::format("{}", y.*(f.real));
+}
+
+constexpr std::string_view kModified = " (modified: ";
+
+}  // namespace
+
+std::string yarn_label(const YarnParams& y) {
+  const YarnParams preset = yarn_preset(y.preset);
+  std::string changed;
+  for (const auto& f : yarn_fields()) {
+    if (!same_value(f, y, preset)) changed += (changed.empty() ? "" : ", ") + std::string(f.name);
+  }
+  return changed.empty() ? y.preset : fmt::format("{}{}{})", y.preset, kModified, changed);
+}
+
+std::string label_preset(const std::string& label) {
+  const auto at = label.find(kModified);
+  return at != std::string::npos && label.ends_with(')') ? label.substr(0, at) : label;
+}
+
 void validate(const YarnParams& y, const std::string& where) {
+  try {
+    static_cast<void>(yarn_preset(y.preset));
+  } catch (const Error& e) {
+    fail("{}.preset: {}", where, e.what());
+  }
   const auto is = [&](const char* field) { return fmt::format("{}.{}", where, field); };
   const auto positive = [&](const char* field, double v) {
     if (!std::isfinite(v) || !(v > 0.0)) fail("{} must be finite and > 0, got {}", is(field), v);
@@ -264,7 +298,7 @@ namespace {
 
 json yarn_to_json(const YarnParams& y) {
   json j;
-  j["preset"] = y.preset;
+  j["preset"] = yarn_label(y);
   for (const auto& f : yarn_fields()) {
     if (f.integer) {
       j[f.name] = y.*(f.whole);
@@ -287,13 +321,48 @@ int integer(const json& j, const std::string& where) {
   return static_cast<int>(v);
 }
 
+// A yarn that gives every field leaves its preset nothing to fill, so there the preset is only
+// a name; when the fields are all another preset's, the name was changed and not the yarn, and
+// "wool (modified: <every field>)" would hide that the yarn is cotton: refused, naming both
+// (docs/cloth.md "Presets and explicit fields"). Any other edit is recorded by yarn_label.
+void check_renamed_preset(const YarnParams& y, const std::string& label, const std::string& where) {
+  if (label != y.preset) return;
+  for (const auto& other : yarn_preset_names()) {
+    YarnParams as_other = y;
+    as_other.preset = other;
+    if (other == y.preset || yarn_label(as_other) != other) continue;
+    const YarnParams named = yarn_preset(y.preset);
+    std::string diffs;
+    int count = 0;
+    for (const auto& f : yarn_fields()) {
+      if (same_value(f, y, named)) continue;
+      if (++count <= 3) {
+        diffs += fmt::format("{}{} {}, {}'s {}", diffs.empty() ? "" : "; ", f.name, field_value(f, y), y.preset,
+                             field_value(f, named));
+      }
+    }
+    if (count > 3) diffs += fmt::format("; and {} more", count - 3);
+    fail(
+        "{}.preset: '{}', but every field is {}'s ({}): a preset fills only the fields a yarn does not give; "
+        "for {} give the preset alone (with just the fields to change), for {} name it '{}'",
+        where, label, other, diffs, y.preset, other, other);
+  }
+}
+
 YarnParams yarn_from_json(const json& j, const std::string& where) {
   if (!j.is_object()) fail("{}: expected an object", where);
   YarnParams y;
+  std::string label;
   if (j.contains("preset")) {
     if (!j["preset"].is_string()) fail("{}.preset: expected a string", where);
-    y = yarn_preset(j["preset"].get<std::string>());
+    label = j["preset"].get<std::string>();
+    try {
+      y = yarn_preset(label_preset(label));
+    } catch (const Error& e) {
+      fail("{}.preset: {}", where, e.what());
+    }
   }
+  std::size_t given = 0;
   for (auto it = j.begin(); it != j.end(); ++it) {
     if (it.key() == "preset") continue;
     const auto& fields = yarn_fields();
@@ -305,7 +374,9 @@ YarnParams yarn_from_json(const json& j, const std::string& where) {
     } else {
       y.*(f->real) = number(it.value(), at);
     }
+    ++given;
   }
+  if (!label.empty() && given == yarn_fields().size()) check_renamed_preset(y, label, where);
   return y;
 }
 

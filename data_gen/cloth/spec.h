@@ -13,7 +13,7 @@ namespace weft::cloth {
 /// @brief Parameters of one procedural yarn (Zhao et al. 2016, §4). Lengths in mm; radial
 /// quantities marked "× ply radius" are relative to the ply cross-section.
 struct YarnParams {
-  std::string preset = "cotton";  ///< name of the preset these values started from
+  std::string preset = "cotton";  ///< the preset these values started from (a name; see yarn_label)
   int ply_count = 2;              ///< plies per yarn, twisted around the yarn axis
   double ply_radius = 0.08;       ///< mm, radius of a ply's (circular) cross-section before ellipse scaling
   double ply_offset = 0.07;       ///< mm, distance of each ply centre from the yarn axis (0 for one ply)
@@ -62,7 +62,14 @@ const std::vector<YarnField>& yarn_fields();
 std::vector<std::string> yarn_preset_names();
 /// The preset `name`; throws weft::Error listing the known names otherwise.
 YarnParams yarn_preset(const std::string& name);
-/// Throws weft::Error naming `where.field` when a parameter is NaN, negative or inconsistent.
+/// @brief The yarn's label, true to its fields (docs/cloth.md "Presets and explicit fields"): the
+/// preset's name when every field has the preset's value, else "wool (modified: fiber_count,
+/// ply_radius)" naming the fields that differ from it, in yarn_fields() order.
+std::string yarn_label(const YarnParams& yarn);
+/// The preset a label names: "wool" for "wool" and for "wool (modified: ...)".
+std::string label_preset(const std::string& label);
+/// Throws weft::Error naming `where.field` when a parameter is NaN, negative or inconsistent, or
+/// the preset is unknown.
 void validate(const YarnParams& yarn, const std::string& where);
 /// Radius of the yarn's envelope (plies at their largest migration radius), mm; flyaways excluded.
 double yarn_envelope_radius(const YarnParams& yarn);
@@ -94,7 +101,10 @@ std::vector<std::string> pattern_names();
 ClothSpec resolve(ClothSpec spec);
 /// Throws weft::Error naming the parameter when any value is NaN, negative or unknown.
 void validate(const ClothSpec& spec);
-/// Parses cloth.json text; `where` names the source in errors.
+/// Parses cloth.json text; `where` names the source in errors. A yarn object's "preset" fills the
+/// fields it does not give and explicit fields override it (the label is then recomputed,
+/// yarn_label); a yarn that gives every field, all another preset's, under a preset's name is a
+/// weft::Error naming both presets (docs/cloth.md "Presets and explicit fields").
 ClothSpec cloth_spec_from_json(const std::string& text, const std::string& where);
 
 }  // namespace weft::cloth

@@ -199,6 +199,12 @@ void check_options(const VoxelizeOptions& o) {
   }
 }
 
+// The option that sets the budget, as the asker writes it (docs/python.md "One set of checks").
+const std::string& budget_option(const VoxelizeOptions& o) {
+  static const Spelling option{"--max-memory", "max_memory_mb="};
+  return option.in(o.asker);
+}
+
 }  // namespace
 
 VoxelizeEstimate estimate_voxelize_memory(const FiberSet& fibers, const VoxelizeOptions& options) {
@@ -236,8 +242,8 @@ VoxelizeEstimate estimate_voxelize_memory(const FiberSet& fibers, const Voxelize
   }
   const std::uint64_t budget = options.max_memory_bytes > 0 ? options.max_memory_bytes : default_memory_budget();
   if (pieces * static_cast<double>(kBinEntryBytes) > static_cast<double>(budget)) {
-    fail("voxel_size {} mm: {:.3g} fibre pieces alone would exceed the memory budget of {} (--max-memory)", h, pieces,
-         format_bytes(budget));
+    fail("voxel_size {} mm: {:.3g} fibre pieces alone would exceed the memory budget of {} ({})", h, pieces,
+         format_bytes(budget), budget_option(options));
   }
   e.pieces = 0;
   for_each_piece(fibers, h, h / options.samples_per_voxel, [&](const Piece& p, std::uint64_t /*id*/) {
@@ -269,10 +275,8 @@ volume::Grid voxelize(const FiberSet& fibers, const VoxelizeOptions& options, Vo
   // long yarns meandering through a large, mostly empty box).
   const std::uint64_t binning = estimate.bin_entries * kBinEntryBytes;
   if (binning > budget) {
-    fail(
-        "voxel_size {} mm: voxelizing would take {} for {} fibre pieces alone, over the memory budget of {} "
-        "(--max-memory)",
-        h, format_bytes(binning), estimate.pieces, format_bytes(budget));
+    fail("voxel_size {} mm: voxelizing would take {} for {} fibre pieces alone, over the memory budget of {} ({})", h,
+         format_bytes(binning), estimate.pieces, format_bytes(budget), budget_option(options));
   }
 
   // Bin pieces by leaf: (leaf key, piece id) sorted, so each leaf sees its pieces in id order
@@ -298,8 +302,8 @@ volume::Grid voxelize(const FiberSet& fibers, const VoxelizeOptions& options, Vo
   if (binning + leaf_count * kLeafBytes > budget) {
     fail(
         "voxel_size {} mm: voxelizing would take up to {} ({} leaves of 8^3 voxels), over the memory budget of {} "
-        "(--max-memory)",
-        h, format_bytes(binning + leaf_count * kLeafBytes), leaf_count, format_bytes(budget));
+        "({})",
+        h, format_bytes(binning + leaf_count * kLeafBytes), leaf_count, format_bytes(budget), budget_option(options));
   }
 
   using Leaf = openvdb::FloatTree::LeafNodeType;

@@ -6,6 +6,7 @@
 
 #include "data_gen/cloth/cloth.h"
 #include "data_gen/cloth/fibers.h"
+#include "weft/core/front_end.h"
 #include "weft/core/memory.h"  // default_memory_budget(): what --max-memory defaults to
 #include "weft/core/progress.h"
 #include "weft/volume/grid.h"
@@ -23,6 +24,9 @@ struct VoxelizeOptions {
   /// returns the whole grid, the same bytes as one process; other ranks an empty grid and a report
   /// without volumes. Only for callers whose other ranks need no grid (`weft gen`).
   bool spread = false;
+  /// Who asked: the memory errors name the budget's option in its words (`--max-memory` or
+  /// `max_memory_mb=`; docs/python.md "One set of checks").
+  FrontEnd asker = FrontEnd::cli;
 };
 
 /// @brief Upper bound of the memory a voxelization will take, computed without allocating it.

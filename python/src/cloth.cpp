@@ -53,7 +53,8 @@ void init_cloth(py::module_& m) {
         cl::ClothSpec spec = spec_json ? cl::cloth_spec_from_json(*spec_json, "gen spec") : cl::default_cloth_spec();
         spec = cl::resolve(spec);
         cl::validate(spec);
-        auto build = run_released(progress, [&](ProgressSink& p) { return cl::build_cloth(spec, p); });
+        auto build =
+            run_released(progress, [&](ProgressSink& p) { return cl::build_cloth(spec, p, false, FrontEnd::python); });
         py::dict out;
         out["grid"] = py::cast(std::move(build.grid));
         out["fibers"] = fibers_dict(build.fibers);

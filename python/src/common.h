@@ -170,6 +170,10 @@ py::array_t<T> move_to_array(std::vector<T>&& values) {
 using PyLaw = std::shared_ptr<transmittance::Law>;
 inline PyLaw py_law(const transmittance::LawPtr& law) { return std::const_pointer_cast<transmittance::Law>(law); }
 
+/// weft.Warning, the category of every warning the module raises (a UserWarning subclass; made
+/// by the module's init).
+PyObject* warning_category();
+
 /// Parses an axis given as 0/1/2, "x"/"y"/"z" (signs allowed, direction sense ignored).
 int axis_index(const py::object& axis, const char* what);
 

@@ -69,7 +69,11 @@ void init_fibres(py::module_& m) {
       .def("__len__", [](const PyFibres& f) { return f.set.size(); })
       .def_property_readonly("segments", [](const PyFibres& f) { return f.index->capsule_count(); })
       .def_property_readonly(
-          "volume", [](const PyFibres& f) { return f.set.volume(); }, "Sum of length * pi r^2 (caps not counted).");
+          "volume", [](const PyFibres& f) { return f.set.volume(); }, "Sum of length * pi r^2 (caps not counted).")
+      .def("__repr__", [](const PyFibres& f) {
+        return fmt::format("<weft.Fibres {} fibres, {} segments, volume {:.4g}>", f.set.size(),
+                           f.index->capsule_count(), f.set.volume());
+      });
 
   m.def(
       "measure_fibre_beam",

@@ -6,6 +6,7 @@
 #include "data_gen/cloth/voxelize.h"
 #include "weft/volume/dense.h"
 #include "weft/volume/grid.h"
+#include "weft/volume/provenance.h"
 
 namespace weft::python {
 namespace {
@@ -67,6 +68,11 @@ vol::Grid from_numpy(const py::array_t<float, py::array::c_style | py::array::fo
   return grid;
 }
 
+std::optional<std::string> optional_text(const std::string& text) {
+  if (text.empty()) return std::nullopt;
+  return text;
+}
+
 py::dict metadata(const vol::Grid& g) {
   py::dict d;
   for (const auto& [k, v] : g.metadata()) d[py::str(k)] = v;
@@ -116,6 +122,28 @@ void init_grid(py::module_& m) {
       .def_property_readonly("metadata", &metadata,
                              "Provenance stored in the .vdb (generator parameters as JSON, seed, units...).")
       .def("set_metadata", &vol::Grid::set_metadata, py::arg("key"), py::arg("value"))
+      // Typed provenance (docs/architecture.md §5, volume/provenance.h): the keys weft gen writes,
+      // read by the one reader validate, measure and render use; None where the grid has none.
+      .def_property_readonly(
+          "sigma", [](const vol::Grid& g) { return vol::read_provenance(g).sigma; },
+          "Extinction per unit concentration (1/length) from the provenance (weft:sigma_per_concentration), "
+          "or None.")
+      .def_property_readonly(
+          "sigma_rule", [](const vol::Grid& g) { return optional_text(vol::read_provenance(g).sigma_rule); },
+          "How sigma was derived (weft:sigma_rule), or None.")
+      .def_property_readonly(
+          "yarn_diameter", [](const vol::Grid& g) { return vol::read_provenance(g).yarn_diameter; },
+          "Mean yarn diameter (length units) from the provenance (weft:yarn_diameter): the window of "
+          "validate's default scale; or None.")
+      .def_property_readonly(
+          "fiber_radius", [](const vol::Grid& g) { return vol::read_provenance(g).fiber_radius; },
+          "Fibre radius (length units) from the provenance (weft:fiber_radius), or None.")
+      .def_property_readonly(
+          "units", [](const vol::Grid& g) { return optional_text(vol::read_provenance(g).units); },
+          "Length unit of the grid (weft:units, \"mm\" for weft gen), or None.")
+      .def_property_readonly(
+          "value_kind", [](const vol::Grid& g) { return optional_text(vol::read_provenance(g).value_kind); },
+          "\"concentration\" or \"extinction\" (weft:value_kind), or None.")
       .def("value", &vol::Grid::value, py::arg("i"), py::arg("j"), py::arg("k"), "Value at a voxel (0 where inactive).")
       .def(
           "set_value",
@@ -135,8 +163,12 @@ void init_grid(py::module_& m) {
                   "A grid from a dense array [i, j, k]: element (0, 0, 0) goes to voxel index_origin; zeros stay\n"
                   "inactive. weft.Error for NaN, infinite or negative values.")
       .def("__repr__", [](const vol::Grid& g) {
-        return fmt::format("<weft.Grid '{}' voxel_size={} active_voxels={}>", g.name(), g.voxel_size(),
-                           g.active_voxel_count());
+        const vol::Provenance p = vol::read_provenance(g);
+        std::string more;
+        if (!p.units.empty()) more += " units=" + p.units;
+        if (p.sigma) more += fmt::format(" sigma={:.4g}", *p.sigma);
+        return fmt::format("<weft.Grid '{}' voxel_size={} active_voxels={}{}>", g.name(), g.voxel_size(),
+                           g.active_voxel_count(), more);
       });
 }
 

@@ -195,7 +195,11 @@ void init_laws(py::module_& m) {
             return draw(p, tr::parse_origin(from), n, seed);
           },
           py::arg("n"), py::arg("from_") = "source", py::arg("seed") = 1,
-          "n free-flight distances for segments from 'source' or 'scatterer'.");
+          "n free-flight distances for segments from 'source' or 'scatterer'.")
+      .def("__repr__", [](const tr::TransmittancePair& p) {
+        return fmt::format("<weft.TransmittancePair {}: source {}, scatterer {}>", tr::to_string(p.mode()),
+                           p.law(tr::Origin::source).name(), p.law(tr::Origin::scatterer).name());
+      });
 }
 
 }  // namespace weft::python

@@ -8,6 +8,7 @@
 #include "common.h"
 #include "weft/fit/gamma_moments.h"
 #include "weft/fit/least_squares.h"
+#include "weft/fit/local_fields.h"
 #include "weft/fit/report.h"
 #include "weft/fit/scale.h"
 #include "weft/fit/validation.h"
@@ -79,6 +80,14 @@ void init_measure(py::module_& m) {
       .def_readonly("direction", &vol::TransmittanceCurve::direction, "Unit direction of travel.")
       .def_readonly("method", &vol::TransmittanceCurve::method)
       .def("__len__", &vol::TransmittanceCurve::size)
+      .def("__repr__",
+           [](const vol::TransmittanceCurve& c) {
+             return fmt::format(
+                 "<weft.TransmittanceCurve {} depths to {:.4g}, T_end {:.4g}, {} rays, direction ({:.3g}, "
+                 "{:.3g}, {:.3g})>",
+                 c.size(), c.depth.empty() ? 0.0 : c.depth.back(), c.log_t.empty() ? 1.0 : std::exp(c.log_t.back()),
+                 c.distinct_rays, c.direction[0], c.direction[1], c.direction[2]);
+           })
       .def("__iter__", [](const vol::TransmittanceCurve& c) {
         // depths, T, stderr = weft.measure_beam(...)
         return py::iter(py::make_tuple(to_array(c.depth), transmittance(c), stderr_abs(c)));
@@ -149,7 +158,48 @@ void init_measure(py::module_& m) {
       .def_readonly("fit", &fit::LeastSquaresFit::fit)
       .def_readonly("rms", &fit::LeastSquaresFit::rms, "RMS residual on T.")
       .def_readonly("iterations", &fit::LeastSquaresFit::iterations)
-      .def_readonly("converged", &fit::LeastSquaresFit::converged);
+      .def_readonly("converged", &fit::LeastSquaresFit::converged)
+      .def("__repr__", [](const fit::LeastSquaresFit& f) {
+        return fmt::format("<weft.LeastSquaresFit alpha={:.4g} beta={:.4g} rms={:.3g} iterations={}{}>", f.fit.alpha,
+                           f.fit.beta, f.rms, f.iterations, f.converged ? "" : " (not converged)");
+      });
+
+  // Local statistic fields (fit/local_fields.h): what `weft fit --block B` writes as
+  // local_fields.vdb, rendered by a "local-gamma" scene medium (docs/scene-format.md).
+  py::class_<fit::LocalFields>(m, "LocalFields",
+                               "Per block of B^3 voxels: the mean concentration and, per axis, the variance of the\n"
+                               "column means and the gamma (alpha, beta) they give (weft fit --block B).")
+      .def_readonly("block", &fit::LocalFields::block, "Block edge B in voxels.")
+      .def_readonly("blocks", &fit::LocalFields::blocks, "Blocks with data.")
+      .def_readonly("mean", &fit::LocalFields::mean, "Grid 'mean_concentration'.")
+      .def_property_readonly(
+          "variance",
+          [](const fit::LocalFields& f) { return py::make_tuple(f.variance[0], f.variance[1], f.variance[2]); },
+          "Grids 'var_concentration_x', '_y', '_z'.")
+      .def_property_readonly(
+          "alpha", [](const fit::LocalFields& f) { return py::make_tuple(f.alpha[0], f.alpha[1], f.alpha[2]); })
+      .def_property_readonly("beta",
+                             [](const fit::LocalFields& f) { return py::make_tuple(f.beta[0], f.beta[1], f.beta[2]); })
+      .def(
+          "save",
+          [](const fit::LocalFields& f, const py::object& path) {
+            const std::string p = py::str(py::module_::import("os").attr("fspath")(path));
+            py::gil_scoped_release release;
+            fit::save_local_fields(f, p);
+          },
+          py::arg("path"), "Writes every grid into one .vdb file (local_fields.vdb of weft fit --block), atomically.")
+      .def("__repr__", [](const fit::LocalFields& f) {
+        return fmt::format("<weft.LocalFields block={} blocks={} voxel_size={}>", f.block, f.blocks,
+                           f.mean.voxel_size());
+      });
+  m.def(
+      "local_fields",
+      [](const vol::Grid& grid, int block, const py::object& progress) {
+        return run_released(progress, [&](ProgressSink& p) { return fit::local_fields(grid, block, p); });
+      },
+      py::arg("grid"), py::arg("block"), py::kw_only(), py::arg("progress") = py::none(),
+      "Local statistic fields per block of block^3 voxels, as `weft fit --block` computes them (its checks of\n"
+      "the block size and memory estimate included); a LocalFields.");
 
   py::class_<fit::CurveError>(m, "CurveError", "Errors of a model against the ground truth on its depth grid.")
       .def_readonly("max_abs_t", &fit::CurveError::max_abs_t)

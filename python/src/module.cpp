@@ -3,7 +3,10 @@
 #include <cmath>
 #include <string>
 
+#include <tbb/global_control.h>
+
 #include "common.h"
+#include "weft/core/parallel.h"
 #include "weft/volume/beam.h"
 
 namespace weft::python {
@@ -27,6 +30,17 @@ int axis_index(const py::object& axis, const char* what) {
 
 double finite(const char* what, double value) { return require_finite(what, value); }
 
+PyObject* warning_category() {
+  // Made once with the module and kept for the interpreter's life (as pybind11 keeps its
+  // exception types), so warnings from any binding share one class.
+  static PyObject* category = PyErr_NewExceptionWithDoc(
+      "weft.Warning",
+      "What weft does but you probably did not mean (e.g. a scene medium that cannot affect the image); a "
+      "UserWarning.",
+      PyExc_UserWarning, nullptr);
+  return category;
+}
+
 }  // namespace weft::python
 
 PYBIND11_MODULE(_weft, m) {
@@ -47,6 +61,20 @@ PYBIND11_MODULE(_weft, m) {
       PyErr_SetString(PyExc_KeyboardInterrupt, e.what());
     }
   });
+  PyObject* warning = weft::python::warning_category();
+  if (warning == nullptr) throw py::error_already_set();
+  m.attr("Warning") = py::reinterpret_borrow<py::object>(warning);
+  // threads= of the long calls (python/weft/__init__.py): TBB's pool limited while `fn` runs, as
+  // the CLI's --threads does; outputs do not depend on it (docs/architecture.md §5).
+  m.def(
+      "_with_threads",
+      [](unsigned threads, const py::function& fn) {
+        const weft::ThreadLimit limit(threads);
+        return fn();
+      },
+      py::arg("threads"), py::arg("fn"));
+  m.def("_thread_limit",
+        [] { return tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism); });
   weft::python::init_laws(m);
   weft::python::init_grid(m);
   weft::python::init_measure(m);

@@ -1,18 +1,23 @@
 // The volumetric path tracer (weft/render): a scene file, built-in name or JSON text -> image.
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <string>
 
 #include "common.h"
 #include "weft/render/builtin_scenes.h"
+#include "weft/render/cloth_scene.h"
+#include "weft/render/image.h"
 #include "weft/render/render.h"
 #include "weft/render/scene.h"
 #include "weft/render/scene_checks.h"
+#include "weft/render/world.h"
 
 namespace weft::python {
 namespace {
 
 namespace rd = weft::render;
+namespace vol = weft::volume;
 namespace fs = std::filesystem;
 
 rd::IntegratorChoice integrator_choice(const std::string& name) {
@@ -27,6 +32,32 @@ py::array_t<float> image_array(const rd::Image& image, const std::vector<float>&
   py::array_t<float> a({static_cast<py::ssize_t>(image.height), static_cast<py::ssize_t>(image.width), py::ssize_t{3}});
   std::copy(values.begin(), values.end(), a.mutable_data());
   return a;
+}
+
+using ImageArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+
+// An (H, W, 3) array as the library's image; NaN and infinities are refused (a display file
+// cannot hold them, and an EXR of them is rarely what was meant).
+rd::Image image_of_array(const ImageArray& a, const char* what) {
+  if (a.ndim() != 3 || a.shape(2) != 3)
+    fail("{}: expected an image array of shape (H, W, 3), got {} dimensions{}", what, a.ndim(),
+         a.ndim() == 3 ? fmt::format(" of shape ({}, {}, {})", a.shape(0), a.shape(1), a.shape(2)) : "");
+  if (a.shape(0) < 1 || a.shape(1) < 1) fail("{}: the image is empty", what);
+  rd::Image image;
+  image.height = static_cast<int>(a.shape(0));
+  image.width = static_cast<int>(a.shape(1));
+  image.rgb.assign(a.data(), a.data() + a.size());
+  for (std::size_t i = 0; i < image.rgb.size(); ++i) {
+    if (!std::isfinite(image.rgb[i]))
+      fail("{}: pixel ({}, {}) is {}", what, i / 3 / image.width, i / 3 % image.width, image.rgb[i]);
+  }
+  return image;
+}
+
+void warn_all(const std::vector<std::string>& warnings) {
+  for (const std::string& w : warnings) {
+    if (PyErr_WarnEx(warning_category(), ("weft.render: " + w).c_str(), 2) != 0) throw py::error_already_set();
+  }
 }
 
 }  // namespace
@@ -45,10 +76,10 @@ void init_render(py::module_& m) {
         } else {
           scene = rd::parse_scene(text, "scene dict", base_dir.empty() ? fs::current_path() : fs::path(base_dir));
         }
-        // The CLI's scene warnings, as Python warnings (an error under warnings.simplefilter("error")).
-        for (const std::string& w : rd::scene_warnings(scene)) {
-          if (PyErr_WarnEx(PyExc_UserWarning, ("weft.render: " + w).c_str(), 2) != 0) throw py::error_already_set();
-        }
+        // The CLI's scene warnings (render/scene_checks.h), as weft.Warning (an error under
+        // warnings.simplefilter("error")): the description's before the world is built, the
+        // world's after.
+        warn_all(rd::scene_warnings(scene));
         rd::RenderOptions options;
         if (spp) {
           if (*spp < 1) fail("render: spp must be >= 1, got {}", *spp);
@@ -66,7 +97,9 @@ void init_render(py::module_& m) {
           options.spp_per_pass = std::max(1, (options.spp.value_or(scene.integrator.spp) + kPasses - 1) / kPasses);
           options.on_pass = [](int /*spp_done*/, double /*seconds*/, const rd::Image& /*image*/) {};
         }
-        auto result = run_released(progress, [&](ProgressSink& p) { return rd::render(scene, options, p); });
+        const rd::World world = run_released(progress, [&](ProgressSink&) { return rd::build_world(scene); });
+        warn_all(rd::world_warnings(world));
+        auto result = run_released(progress, [&](ProgressSink& p) { return rd::render(world, options, p); });
         py::array_t<float> image = image_array(result.image, result.image.rgb);
         if (!stats) return image;
         py::dict s;
@@ -82,6 +115,45 @@ void init_render(py::module_& m) {
       },
       py::arg("kind"), py::arg("text"), py::arg("base_dir"), py::arg("spp"), py::arg("seed"), py::arg("integrator"),
       py::arg("time_budget"), py::arg("stats"), py::arg("progress"));
+  m.def(
+      "write_exr",
+      [](const py::object& path, const ImageArray& image) {
+        const rd::Image im = image_of_array(image, "write_exr");
+        const std::string p = py::str(py::module_::import("os").attr("fspath")(path));
+        py::gil_scoped_release release;
+        rd::write_exr(p, im);
+      },
+      py::arg("path"), py::arg("image"),
+      "Writes a linear RGB array (H, W, 3) as an OpenEXR file of 32-bit floats (what `weft render` writes), "
+      "atomically.");
+  m.def(
+      "write_png",
+      [](const py::object& path, const ImageArray& image, double exposure) {
+        const rd::Image im = image_of_array(image, "write_png");
+        require_positive("write_png: exposure", exposure);
+        const std::string p = py::str(py::module_::import("os").attr("fspath")(path));
+        py::gil_scoped_release release;
+        rd::write_png(p, im, exposure);
+      },
+      py::arg("path"), py::arg("image"), py::arg("exposure") = 1.0,
+      "Writes a linear RGB array (H, W, 3) as an 8-bit sRGB PNG, scaled by exposure and clamped (the display "
+      "image `weft render` writes), atomically.");
+  m.def(
+      "_cloth_scene_json",
+      [](const vol::Grid& grid, const std::string& file_in_scene, const std::string& lighting, double tilt, int width,
+         int height) {
+        rd::ClothView view;
+        view.lighting = rd::cloth_lighting(lighting);
+        if (!std::isfinite(tilt) || tilt < 0.0 || tilt >= 90.0)
+          fail("cloth_scene: tilt must be in [0, 90) degrees, got {}", tilt);
+        if (width < 1 || height < 1) fail("cloth_scene: width and height must be >= 1, got {}x{}", width, height);
+        view.tilt_degrees = tilt;
+        view.width = width;
+        view.height = height;
+        return rd::cloth_scene_json(grid, file_in_scene, {}, view);
+      },
+      py::arg("grid"), py::arg("file_in_scene"), py::arg("lighting"), py::arg("tilt"), py::arg("width"),
+      py::arg("height"));
   m.def("builtin_scene_names", &rd::builtin_scene_names, "Names of the scenes compiled into weft (scenes/).");
   m.def(
       "builtin_scene", [](const std::string& name) { return std::string(rd::builtin_scene(name)); }, py::arg("name"),

@@ -112,8 +112,9 @@ def scene_with_spare_medium():
 
 
 def test_an_unused_medium_is_a_warning_in_python():
-    with pytest.warns(UserWarning, match="weft.render: medium 'spare' is not the interior or exterior of any shape"):
+    with pytest.warns(weft.Warning, match="weft.render: medium 'spare' is not the interior or exterior of any shape"):
         weft.render(scene_with_spare_medium(), spp=1)
+    assert issubclass(weft.Warning, UserWarning)
     scene = scene_with_spare_medium()
     del scene["media"]["spare"]
     with warnings.catch_warnings():
@@ -124,7 +125,43 @@ def test_an_unused_medium_is_a_warning_in_python():
 def test_an_unused_medium_is_a_warning_in_the_cli(tmp_path, weft_bin):
     path = tmp_path / "scene.json"
     path.write_text(json.dumps(scene_with_spare_medium()))
-    r = subprocess.run([weft_bin, "render", str(path), "--spp", "1", "-o", str(tmp_path / "img.exr")],
+    r = subprocess.run([weft_bin, "--quiet", "render", str(path), "--spp", "1", "-o", str(tmp_path / "img.exr")],
                        capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
-    assert "warning: medium 'spare' is not the interior or exterior of any shape" in r.stdout + r.stderr
+    # On stderr, with the program's name, and not silenced by --quiet.
+    assert "weft: warning: medium 'spare' is not the interior or exterior of any shape" in r.stderr
+    assert "warning" not in r.stdout
+
+
+def scene_with_grid(tmp_path, values, sigma=20.0):
+    """The cloth_patch scene with its box filled by a grid medium of `values` (a 3-D array)."""
+    grid = weft.Grid(voxel_size=0.5)
+    for (i, j, k), v in np.ndenumerate(values):
+        grid.set_value(i - 6, j - 6, k, float(v))  # active even when 0 (set_value activates)
+    grid.save(tmp_path / "g.vdb")
+    scene = scene_with_spare_medium()
+    del scene["media"]["spare"]
+    scene["media"]["cloth"] = {"type": "grid", "file": "g.vdb", "sigma": sigma, "albedo": 0.8}
+    return scene
+
+
+@pytest.mark.parametrize("values, sigma, empty", [
+    (np.zeros((12, 12, 1)), 20.0, True),   # active voxels, every one 0
+    (np.full((12, 12, 1), 0.3), 0.0, True),   # a zero sigma
+    (np.full((12, 12, 1), 0.3), 20.0, False),  # a real medium: no warning
+])
+def test_an_empty_grid_medium_is_a_warning_in_python_and_the_cli(tmp_path, weft_bin, values, sigma, empty):
+    scene = scene_with_grid(tmp_path, values, sigma)
+    said = "medium 'cloth' has zero extinction everywhere"
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        weft.render(scene, spp=1, base_dir=tmp_path)
+    assert [str(w.message) for w in caught if issubclass(w.category, weft.Warning) and said in str(w.message)] == (
+        ["weft.render: " + said + " (its grid's active voxels are all 0, or its sigma or mu is 0), so it does not "
+         "affect the image"] if empty else [])
+    path = tmp_path / "scene.json"
+    path.write_text(json.dumps(scene))
+    r = subprocess.run([weft_bin, "--quiet", "render", str(path), "--spp", "1", "-o", str(tmp_path / "img.exr")],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert (("weft: warning: " + said) in r.stderr) == empty, r.stderr

@@ -4,14 +4,17 @@ Transmittance laws (``weft.law``), sparse voxel grids (``weft.Grid``), ground tr
 (``weft.measure_beam``), window statistics and gamma fits, the procedural cloth generator
 (``weft.gen``) and the volumetric path tracer (``weft.render``). Every bad input raises
 ``weft.Error`` with weft's one-line message (or ``TypeError`` for a value of the wrong type).
-Long calls release the GIL and take ``progress=callable(label, done, total)``.
-See docs/python.md.
+Long calls release the GIL, take ``progress=callable(label, done, total)`` (or ``progress=True``
+for a bar) and ``threads=N``. Warnings are ``weft.Warning`` (a ``UserWarning``). See docs/python.md.
 """
 
+import contextlib as _contextlib
+import functools as _functools
 import json as _json
 import numbers as _numbers
 import os as _os
 import sys as _sys
+import tempfile as _tempfile
 
 from . import _build_info
 
@@ -34,12 +37,85 @@ def _check_interpreter():
 _check_interpreter()
 
 from ._weft import *  # noqa: E402,F401,F403  (the compiled bindings)
-from ._weft import Error, Grid, _gen_json, _render, _validate_json  # noqa: E402
+from . import _weft  # noqa: E402
+from ._weft import Error, Grid, LocalFields, _gen_json, _render, _validate_json  # noqa: E402
 
 __version__ = _build_info.version
 
 
-def validate(grid, sigma=None, window="yarn", axes=("x", "y", "z"), rays_per_column=1, seed=1, progress=None):
+class _ProgressBar:
+    """``progress=True``: a bar per stage on stderr, with tqdm when it is installed (never
+    required), else one line per stage rewritten in place."""
+
+    def __init__(self):
+        try:
+            import tqdm
+            self._tqdm = tqdm.tqdm
+        except ImportError:
+            self._tqdm = None
+        self._label, self._bar, self._shown = None, None, -1
+
+    def __call__(self, label, done, total):
+        if label != self._label:
+            self.close()
+            self._label = label
+            if self._tqdm is not None:
+                self._bar = self._tqdm(total=total, desc=label, leave=False, file=_sys.stderr)
+        if self._bar is not None:
+            self._bar.update(done - self._bar.n)
+            return
+        percent = 100 * done // total if total else 100
+        if percent != self._shown:
+            self._shown = percent
+            _sys.stderr.write("\r%s: %3d%%" % (label, percent))
+            _sys.stderr.flush()
+
+    def close(self):
+        if self._bar is not None:
+            self._bar.close()
+        elif self._label is not None:
+            _sys.stderr.write("\n")
+        self._label, self._bar, self._shown = None, None, -1
+
+
+def _run(fn, threads, progress):
+    """Runs ``fn(progress)`` with at most ``threads`` worker threads (None: all cores) and the
+    progress callback, ``True`` meaning a bar (_ProgressBar). Same numbers for any thread count."""
+    if threads is not None:
+        if isinstance(threads, bool) or not isinstance(threads, _numbers.Integral):
+            raise TypeError("threads must be a positive integer or None, got %s" % type(threads).__name__)
+        if threads < 1:
+            raise Error("threads=%d: must be >= 1 (or None for every core)" % threads)
+    bar = _ProgressBar() if progress is True else None
+    callback = bar if bar is not None else (None if progress is False else progress)
+    try:
+        if threads is None:
+            return fn(callback)
+        return _weft._with_threads(int(threads), lambda: fn(callback))
+    finally:
+        if bar is not None:
+            bar.close()
+
+
+def _long_call(binding):
+    """A compiled long call with ``threads=`` and ``progress=True`` added (docs/python.md)."""
+    @_functools.wraps(binding)
+    def call(*args, threads=None, progress=None, **kwargs):
+        return _run(lambda p: binding(*args, progress=p, **kwargs), threads, progress)
+    call.__doc__ = (binding.__doc__ or "") + ("\n\nthreads=N limits the worker threads (same result for any N); "
+                                              "progress=True shows a bar (tqdm when installed).")
+    return call
+
+
+measure_beam = _long_call(_weft.measure_beam)
+measure_fibre_beam = _long_call(_weft.measure_fibre_beam)
+window_stats = _long_call(_weft.window_stats)
+correlation_length = _long_call(_weft.correlation_length)
+local_fields = _long_call(_weft.local_fields)
+
+
+def validate(grid, sigma=None, window="yarn", axes=("x", "y", "z"), rays_per_column=1, seed=1, progress=None,
+             threads=None):
     """The main job on a grid, as ``weft validate --grid`` computes it and with its checks: sigma
     from the grid's provenance unless given, the statistics scale ``window`` ("yarn",
     "yarn-measured", "corr", "extent" or a length such as ``window=0.3``), ground truth along
@@ -51,10 +127,12 @@ def validate(grid, sigma=None, window="yarn", axes=("x", "y", "z"), rays_per_col
         raise TypeError("validate: grid must be a weft.Grid, got %s" % type(grid).__name__)
     if sigma is not None:
         sigma = _number("validate: sigma", sigma)
-    text, curves, sigma_source, window_used = _validate_json(
-        grid, sigma=sigma, window=_window_text(window), axes=_axes_text(axes),
-        rays_per_column=_integer("validate: rays_per_column", rays_per_column),
-        seed=_integer("validate: seed", seed), progress=progress)
+    window, axes = _window_text(window), _axes_text(axes)
+    rays_per_column = _integer("validate: rays_per_column", rays_per_column)
+    seed = _integer("validate: seed", seed)
+    text, curves, sigma_source, window_used = _run(
+        lambda p: _validate_json(grid, sigma=sigma, window=window, axes=axes, rays_per_column=rays_per_column,
+                                 seed=seed, progress=p), threads, progress)
     report = _json.loads(text)
     report["sigma_source"] = sigma_source
     report["window"] = window_used
@@ -158,9 +236,35 @@ class Cloth:
         return "<weft.Cloth %s, %d fibres, %d active voxels>" % (
             self.spec.get("pattern"), len(self.fibers["radius"]), self.grid.active_voxel_count)
 
+    def scene(self, lighting="key-and-back", tilt=30.0, width=320, height=240):
+        """The scene that shows this cloth (``weft.cloth_scene(self.grid, ...)``)."""
+        return cloth_scene(self.grid, lighting=lighting, tilt=tilt, width=width, height=height)
+
+
+_IN_MEMORY = "<weft.Grid in memory>"
+
+
+def cloth_scene(grid, lighting="key-and-back", tilt=30.0, width=320, height=240):
+    """cloth_scene(grid, lighting="key-and-back", tilt=30, width=320, height=240) -> dict
+
+    The scene ``weft gen`` writes beside its grid (docs/render.md §5c; render/cloth_scene.h): the
+    cloth grid as a grid medium with the provenance's sigma, framed by the camera, lit by
+    ``lighting`` ("key-and-back", "back", "front" or "grazing"), the camera ``tilt`` degrees off
+    the normal, a ``width`` x ``height`` film. The medium's "file" is the Grid object itself, so
+    ``weft.render(scene)`` renders it as is; a grid without weft gen's provenance is a weft.Error."""
+    if not isinstance(grid, Grid):
+        raise TypeError("cloth_scene: grid must be a weft.Grid, got %s" % type(grid).__name__)
+    scene = _json.loads(_weft._cloth_scene_json(grid, _IN_MEMORY, lighting, _number("cloth_scene: tilt", tilt),
+                                                _integer("cloth_scene: width", width),
+                                                _integer("cloth_scene: height", height)))
+    for medium in scene.get("media", {}).values():
+        if medium.get("file") == _IN_MEMORY:
+            medium["file"] = grid
+    return scene
+
 
 def gen(spec=None, progress=None, *, pattern=None, yarns=None, yarn=None, warp_yarn=None, weft_yarn=None,
-        **fields):
+        threads=None, **fields):
     """gen(spec=None, progress=None, *, pattern=None, yarns=None, yarn=None, voxel_size=..., ...) -> Cloth
 
     Generates procedural cloth and voxelizes it, exactly as ``weft gen``: ``spec`` is a dict of
@@ -172,14 +276,15 @@ def gen(spec=None, progress=None, *, pattern=None, yarns=None, yarn=None, warp_y
     (``voxel_size=0.01``, ``seed=3``, ``crimp=...``):
     ``weft.gen(pattern="twill22", yarns=(3, 3), yarn="wool", voxel_size=0.02)``. As with
     ``weft gen --input``, ``input="curves.obj"`` (or .bcc) makes the pattern "import"; a woven or
-    knit pattern or ``yarns=`` with input curves is an error. Same seed, same grid as the CLI."""
+    knit pattern or ``yarns=`` with input curves is an error. Same seed, same grid as the CLI, for
+    any ``threads=``."""
     if spec is not None and not isinstance(spec, dict):
         raise TypeError("gen: spec must be a dict (the fields of cloth.json) or None, got %s"
                         % type(spec).__name__)
     given = {"pattern": pattern, "yarns": yarns, "yarn": yarn, "warp_yarn": warp_yarn, "weft_yarn": weft_yarn}
     if all(v is None for v in given.values()) and not fields and not (spec or {}).get("input"):
         text = None if spec is None else _dumps(spec, "gen")
-        return Cloth(_gen_json(text, progress))
+        return Cloth(_run(lambda p: _gen_json(text, p), threads, progress))
     merged = dict(spec or {})  # missing fields: the defaults, those that follow the yarn resolved after it
     merged.update(fields)  # unknown names are refused by the spec parser, with its suggestions
     if pattern is not None:
@@ -194,7 +299,8 @@ def gen(spec=None, progress=None, *, pattern=None, yarns=None, yarn=None, warp_y
             merged[key] = {"preset": value} if isinstance(value, str) else value
     if merged.get("input"):
         _import_curves(merged, yarns)
-    return Cloth(_gen_json(_dumps(merged, "gen"), progress))
+    text = _dumps(merged, "gen")
+    return Cloth(_run(lambda p: _gen_json(text, p), threads, progress))
 
 
 def _import_curves(merged, yarns):
@@ -214,7 +320,7 @@ def _import_curves(merged, yarns):
 
 
 def render(scene, spp=None, seed=None, integrator="auto", time_budget=0.0, stats=False,
-           base_dir=None, progress=None):
+           base_dir=None, progress=None, threads=None):
     """render(scene, spp=None, seed=None, integrator="auto", ...) -> numpy float32 (H, W, 3)
 
     Renders a scene with weft's path tracer (docs/render.md): ``scene`` is a scene file path,
@@ -222,7 +328,38 @@ def render(scene, spp=None, seed=None, integrator="auto", time_budget=0.0, stats
     (docs/scene-format.md; relative file names resolve against ``base_dir``, default the current
     folder). ``spp``/``seed`` override the scene's. Linear RGB, rows from the top. With
     ``stats=True`` returns ``(image, stats)`` where stats holds the per-pixel ``variance`` of the
-    mean and the run's counters. Same pixels as ``weft render`` for the same seed and spp."""
+    mean and the run's counters. Same pixels as ``weft render`` for the same seed and spp, for any
+    ``threads=``. In a dict, a grid medium's "file" may be a ``weft.Grid`` and a local-gamma
+    medium's "fields" a ``weft.LocalFields``: they are written to a temporary folder for the
+    render (the renderer reads its grids from files) and removed after it."""
+    with _contextlib.ExitStack() as stack:
+        if isinstance(scene, dict):
+            scene = _scene_with_files(scene, stack)
+        return _render_scene(scene, spp, seed, integrator, time_budget, stats, base_dir, progress, threads)
+
+
+def _scene_with_files(scene, stack):
+    """A copy of the scene dict with in-memory grids and fields written to a temporary folder."""
+    media = scene.get("media")
+    if not isinstance(media, dict):
+        return scene
+    folder = None
+    out = dict(scene, media=dict(media))
+    for name, medium in media.items():
+        if not isinstance(medium, dict):
+            continue
+        for key, kind in (("file", Grid), ("fields", LocalFields)):
+            value = medium.get(key)
+            if isinstance(value, kind):
+                if folder is None:
+                    folder = stack.enter_context(_tempfile.TemporaryDirectory(prefix="weft-scene-"))
+                path = _os.path.join(folder, "%s.%s.vdb" % (len(_os.listdir(folder)), key))
+                value.save(path)
+                out["media"][name] = dict(out["media"][name], **{key: path})
+    return out
+
+
+def _render_scene(scene, spp, seed, integrator, time_budget, stats, base_dir, progress, threads):
     if isinstance(scene, dict):
         kind, text = "dict", _dumps(scene, "render")
     elif isinstance(scene, (str, _os.PathLike)):
@@ -234,7 +371,8 @@ def render(scene, spp=None, seed=None, integrator="auto", time_budget=0.0, stats
                         % type(scene).__name__)
     if base_dir is not None:
         base_dir = _os.fspath(base_dir)
-    return _render(kind, text, base_dir or "", spp, seed, integrator, float(time_budget), bool(stats), progress)
+    return _run(lambda p: _render(kind, text, base_dir or "", spp, seed, integrator, float(time_budget),
+                                  bool(stats), p), threads, progress)
 
 
 def _dumps(value, what):
@@ -244,4 +382,5 @@ def _dumps(value, what):
         raise Error("%s: the spec is not JSON-serializable: %s" % (what, e)) from None
 
 
-__all__ = [name for name in dir() if not name.startswith("_")]
+# weft.Warning stays out of `from weft import *`, which would hide the built-in Warning.
+__all__ = [name for name in dir() if not name.startswith("_") and name != "Warning"]

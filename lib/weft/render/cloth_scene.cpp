@@ -43,7 +43,12 @@ ClothLook cloth_look(const volume::Grid& grid, const std::filesystem::path& vdb)
     const nlohmann::json spec = nlohmann::json::parse(it->second, nullptr, false);
     if (!spec.is_discarded() && spec.contains("warp_yarn") && spec["warp_yarn"].is_object()) {
       const auto& yarn = spec["warp_yarn"];
-      if (yarn.contains("preset") && yarn["preset"].is_string()) look.preset = yarn["preset"].get<std::string>();
+      // The label is the preset's name, or "wool (modified: ...)" (docs/cloth.md "Presets and
+      // explicit fields"): the look follows the preset the yarn started from.
+      if (yarn.contains("preset") && yarn["preset"].is_string()) {
+        const auto label = yarn["preset"].get<std::string>();
+        look.preset = label.substr(0, label.find(" ("));
+      }
     }
   }
   try {

@@ -154,7 +154,8 @@ DeltaTrackingGridMedium::DeltaTrackingGridMedium(std::shared_ptr<const volume::G
     : Medium(std::move(albedo), g),
       grid_(std::move(grid)),
       majorants_(std::make_shared<const volume::MajorantGrid>(*grid_)),
-      scale_(scale) {}
+      scale_(scale),
+      empty_(scale_ == 0.0 || grid_->sum() == 0.0) {}
 DeltaTrackingGridMedium::~DeltaTrackingGridMedium() = default;
 
 Flight DeltaTrackingGridMedium::sample_flight(const Vec3& o, const Vec3& d, double t_max, Origin, Pcg32& rng,
@@ -189,12 +190,17 @@ MediumTraits DeltaTrackingGridMedium::traits() const {
   t.law = "exponential";
   t.estimator = "delta + ratio tracking";
   t.heterogeneous = true;
+  t.empty = empty_;
   return t;
 }
 
 OpticalDepthGridMedium::OpticalDepthGridMedium(std::shared_ptr<const volume::Grid> grid, double scale, PairWeights law,
                                                Rgb albedo, double g)
-    : Medium(std::move(albedo), g), grid_(std::move(grid)), scale_(scale), law_(std::move(law)) {}
+    : Medium(std::move(albedo), g),
+      grid_(std::move(grid)),
+      scale_(scale),
+      law_(std::move(law)),
+      empty_(scale_ == 0.0 || grid_->sum() == 0.0) {}
 
 Flight OpticalDepthGridMedium::sample_flight(const Vec3& o, const Vec3& d, double t_max, Origin origin, Pcg32& rng,
                                              MediumScratch* scratch) const {
@@ -231,6 +237,7 @@ MediumTraits OpticalDepthGridMedium::traits() const {
   t.estimator = pair_estimator(law_, "optical-depth flights (exact DDA)");
   t.non_reciprocal = !law_.unit_weights();
   t.heterogeneous = true;
+  t.empty = empty_;
   return t;
 }
 

@@ -40,6 +40,9 @@ struct MediumTraits {
   bool exponential = false;
   bool non_reciprocal = false;  ///< flights carry the T_S/(c·p_Q) ratio weights (same/explicit pairs)
   bool heterogeneous = false;   ///< density varies in space
+  /// Extinction 0 everywhere (a grid whose active voxels are all 0, or a zero scale): the medium
+  /// cannot change the image, which render/scene_checks warns about.
+  bool empty = false;
   /// "grid medium, exponential law, delta + ratio tracking".
   [[nodiscard]] std::string describe() const;
 };
@@ -194,6 +197,7 @@ class DeltaTrackingGridMedium final : public Medium {
   std::shared_ptr<const volume::Grid> grid_;
   std::shared_ptr<const volume::MajorantGrid> majorants_;
   double scale_;
+  bool empty_;  ///< MediumTraits::empty, found once when the medium is built
 };
 
 /// A voxel grid with any law in optical depth τ: the flight samples τ* from the law of its
@@ -215,6 +219,7 @@ class OpticalDepthGridMedium final : public Medium {
   std::shared_ptr<const volume::Grid> grid_;
   double scale_;
   PairWeights law_;
+  bool empty_;  ///< MediumTraits::empty, found once when the medium is built
 };
 
 /// The local statistic fields of `weft fit --block` as per-voxel gamma laws (local_gamma.h):

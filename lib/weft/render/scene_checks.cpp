@@ -21,4 +21,16 @@ std::vector<std::string> scene_warnings(const SceneDesc& scene) {
   return out;
 }
 
+std::vector<std::string> world_warnings(const World& world) {
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < world.media.size(); ++i) {
+    if (world.media[i]->traits().empty)
+      out.push_back(fmt::format(
+          "medium '{}' has zero extinction everywhere (its grid's active voxels are all 0, or its sigma or mu is 0), "
+          "so it does not affect the image",
+          world.medium_names[i]));
+  }
+  return out;
+}
+
 }  // namespace weft::render

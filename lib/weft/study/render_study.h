@@ -120,7 +120,6 @@ struct StudyCandidate {
   double cloth_bias_sq_stderr = 0.0;
   /// Mean of (A + B)/2 − R over the cloth's values: the sign of the bias (> 0: too bright).
   double cloth_difference = 0.0;
-  double speedup = 0.0;  ///< t_fine(rmse)/seconds (NaN for the fine grid itself)
   /// Bytes of the grids the candidate's medium holds in memory (Grid::memory_bytes), every
   /// channel counted, and the number of channels (grids); 0 and 0 for the slab (a law only).
   std::uint64_t memory_bytes = 0;

@@ -94,6 +94,44 @@ TEST(Cloth, SpecJsonRejectsBadFields) {
   EXPECT_THROW(load_cloth_spec("/nonexistent/cloth.json"), Error);
 }
 
+TEST(Cloth, PresetFillsUnsetFieldsAndTheLabelRecordsEveryChange) {
+  EXPECT_EQ(yarn_label(yarn_preset("silk")), "silk");
+  EXPECT_EQ(label_preset("wool (modified: fiber_count, ply_radius)"), "wool");
+  EXPECT_EQ(label_preset("wool"), "wool");
+  auto j = nlohmann::json::parse(cloth_spec_json(small_spec()));
+  j["warp_yarn"] = {{"preset", "wool"}, {"fiber_count", 30}};
+  j["weft_yarn"] = {{"preset", "wool"}};
+  const ClothSpec spec = cloth_spec_from_json(j.dump(), "in.json");
+  const YarnParams wool = yarn_preset("wool");
+  EXPECT_EQ(spec.warp_yarn.fiber_count, 30);
+  EXPECT_EQ(spec.warp_yarn.ply_radius, wool.ply_radius);  // filled by the preset, not cotton's default
+  EXPECT_EQ(yarn_label(spec.warp_yarn), "wool (modified: fiber_count)");
+  EXPECT_EQ(yarn_label(spec.weft_yarn), "wool");
+  // Written and read back, the label stays true and the spec the same.
+  const std::string text = cloth_spec_json(spec);
+  EXPECT_EQ(nlohmann::json::parse(text)["warp_yarn"]["preset"], "wool (modified: fiber_count)");
+  EXPECT_EQ(cloth_spec_json(cloth_spec_from_json(text, "cloth.json")), text);
+}
+
+TEST(Cloth, AFullYarnOfOnePresetUnderAnotherNameIsRefusedNamingBoth) {
+  auto j = nlohmann::json::parse(cloth_spec_json(small_spec()));  // every field: cotton's
+  j["warp_yarn"]["preset"] = "wool";
+  try {
+    cloth_spec_from_json(j.dump(), "in.json");
+    ADD_FAILURE() << "a cotton yarn labelled wool was accepted";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    for (const char* word : {"in.json", "warp_yarn.preset", "'wool'", "cotton's", "ply_radius 0.08, wool's 0.11"})
+      EXPECT_NE(what.find(word), std::string::npos) << word << " not in: " << what;
+  }
+  // A full yarn with an edited field is a modification, recorded, not an error.
+  j["warp_yarn"]["preset"] = "cotton";
+  j["warp_yarn"]["fiber_count"] = 20;
+  EXPECT_EQ(yarn_label(cloth_spec_from_json(j.dump(), "in.json").warp_yarn), "cotton (modified: fiber_count)");
+  j["warp_yarn"]["preset"] = "lace";
+  EXPECT_THROW(cloth_spec_from_json(j.dump(), "in.json"), Error);
+}
+
 TEST(Cloth, ImportedCurvesGetFibres) {
   const fs::path dir = fs::temp_directory_path() / "weft_cloth_import_test";
   fs::create_directories(dir);

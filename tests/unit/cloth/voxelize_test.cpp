@@ -326,7 +326,18 @@ TEST(Voxelizer, BadVoxelSizesAndMemoryBudgetAreRefusedBeforeAllocating) {
     ADD_FAILURE() << "over budget accepted";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("memory budget"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("(--max-memory)"), std::string::npos) << e.what();
   }
+  // Asked from Python, the budget is named in Python's words.
+  o.asker = FrontEnd::python;
+  try {
+    voxelize(f, o, report);
+    ADD_FAILURE() << "over budget accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("(max_memory_mb=)"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).find("--"), std::string::npos) << e.what();
+  }
+  o.asker = FrontEnd::cli;
   // Absurdly small voxels are refused by the cheap bound (no per-piece pass, no allocation).
   o.voxel_size = 1e-12;
   o.max_memory_bytes = 0;
