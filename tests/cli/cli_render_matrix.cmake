@@ -43,9 +43,10 @@ if(CMAKE_SCRIPT_MODE_FILE)
     endforeach()
     list(REMOVE_AT rows 0)
     list(LENGTH rows n_rows)
-    # 4 cases x (fine, 2 factors x (exponential, local-gamma, local-gamma-optical-depth), slab).
-    if(NOT n_rows EQUAL 32)
-      message(FATAL_ERROR "matrix.csv has ${n_rows} rows, expected 32")
+    # 4 cases x (fine, 2 factors x (exponential, local-gamma, local-gamma-optical-depth,
+    # shadow-corrected, albedo-corrected), slab): docs/render.md §6c–§6e.
+    if(NOT n_rows EQUAL 48)
+      message(FATAL_ERROR "matrix.csv has ${n_rows} rows, expected 48")
     endif()
     set(cases "")
     foreach(row IN LISTS rows)
