@@ -113,6 +113,8 @@ json candidate_json(const MatrixCandidate& mc) {
           {"cloth_rmse", c.cloth_rmse},
           {"cloth_noise", c.cloth_noise},
           {"speedup", c.speedup},
+          {"albedo_factor", c.albedo_factor},
+          {"fitted_to_images", c.fitted_to_images},
           {"curve", curve},
           {"memory", {mc.memory.values, mc.memory.tree, mc.memory.channels}}};
 }
@@ -142,6 +144,8 @@ MatrixCandidate candidate_from(const json& j) {
   c.cloth_noise = j.at("cloth_noise").get<double>();
   // NaN (the fine grid's speedup) crosses MessagePack as NaN but reads back through json as null.
   c.speedup = j.at("speedup").is_number() ? j.at("speedup").get<double>() : std::nan("");
+  c.albedo_factor = j.at("albedo_factor").get<double>();
+  c.fitted_to_images = j.at("fitted_to_images").get<bool>();
   for (const auto& p : j.at("curve"))
     c.curve.push_back({p.at(0).get<int>(), p.at(1).get<double>(), p.at(2).get<double>()});
   const json& m = j.at("memory");
@@ -319,7 +323,9 @@ std::string matrix_key(const MatrixSpec& spec) {
                     {"reference_spp", spec.study.reference_spp},
                     {"seed", spec.study.seed},
                     {"scale", spec.study.scale},
-                    {"albedo_fit", true}};
+                    {"albedo_fit", true},
+                    // What a stored case holds (candidate_json); bumped when it changes.
+                    {"case_format", 2}};
   return key.dump(2) + "\n";
 }
 

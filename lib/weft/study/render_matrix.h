@@ -56,7 +56,7 @@ struct MatrixCase {
   double tilt = 45.0;
   std::string name;  ///< "plain-back-45deg"
   /// The set-up the albedo factors were fitted on (its cloth's first lighting × first view):
-  /// reported, never judged in the headline.
+  /// the albedo-corrected candidates are not judged on it in the headline (the others are).
   bool fitted_on = false;
 };
 

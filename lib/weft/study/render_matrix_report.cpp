@@ -66,13 +66,15 @@ std::vector<MatrixHeadline> matrix_headlines(const MatrixSpec& spec, const std::
     std::map<std::string, std::size_t> index;  // candidate name → verdict
     std::map<std::string, int> counted;
     for (const auto& r : results) {
-      if (r.c.cloth != k || r.c.fitted_on) continue;
+      if (r.c.cloth != k) continue;
       ++h.judged_cases;
       const MatrixCandidate* fine = fine_entry(r);
       if (fine == nullptr) continue;
       for (const auto& mc : r.candidates) {
         const StudyCandidate& c = mc.study;
-        if (c.factor == 1) continue;
+        // A representation fitted to this set-up's images is judged only on the others (§6d (b));
+        // every other representation is judged on every set-up, the fitted one included.
+        if (c.factor == 1 || (r.c.fitted_on && c.fitted_to_images)) continue;
         auto [it, fresh] = index.try_emplace(c.name, h.verdicts.size());
         if (fresh) {
           MatrixVerdict v;
@@ -110,7 +112,8 @@ std::vector<MatrixHeadline> matrix_headlines(const MatrixSpec& spec, const std::
         if (v.factor == f && (best == nullptr || v.worst_relative_bias < best->worst_relative_bias)) best = &v;
       if (best != nullptr) h.best.push_back(*best);
     }
-    std::string text = fmt::format("{} ({} set-ups judged): ", h.cloth, h.judged_cases);
+    std::string text = fmt::format("{} ({} set-ups; albedo-corrected judged on the {} it was not fitted on): ", h.cloth,
+                                   h.judged_cases, std::max(0, h.judged_cases - 1));
     for (std::size_t i = 0; i < h.best.size(); ++i) {
       const MatrixVerdict& b = h.best[i];
       text += fmt::format(

@@ -24,7 +24,8 @@ constexpr double kMatrixErrorFraction = 0.05;
 /// cloth mean.
 [[nodiscard]] double equal_error_speedup(const StudyCandidate& c, const StudyCandidate& fine, double cloth_mean);
 
-/// One representation of one cloth judged over the light × view set-ups it was not fitted on.
+/// One representation of one cloth judged over the light × view set-ups (a representation fitted
+/// to images, over those it was not fitted on).
 struct MatrixVerdict {
   std::string name;
   std::string model;
@@ -46,7 +47,7 @@ struct MatrixHeadline {
   std::string text;
 };
 
-/// The headline of each cloth, in the spec's order (cases marked fitted_on are not judged).
+/// The headline of each cloth, in the spec's order (a candidate fitted to images is not judged on its fitted_on case).
 [[nodiscard]] std::vector<MatrixHeadline> matrix_headlines(const MatrixSpec& spec,
                                                            const std::vector<MatrixCaseResult>& results);
 
