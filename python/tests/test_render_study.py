@@ -134,6 +134,12 @@ def test_matrix_equals_the_cli_report(matrix, weft_bin, tmp_path):
     assert result.markdown.splitlines()[0] == (tmp_path / "matrix.md").read_text().splitlines()[0]
     cost = [line.split(",")[:4] for line in result.cost_csv.splitlines()]
     assert cost == [line.split(",")[:4] for line in (tmp_path / "matrix.cost.csv").read_text().splitlines()]
+    # The CLI's finished case, taken by Python's resume (one store, keyed by the spec): the
+    # CLI's report, timings included.
+    resumed = weft.render_matrix(quick=True, cloths=["plain"], lightings=["back"], tilts="45", factors="2,4",
+                                 out=tmp_path, resume=True)
+    assert resumed.resumed == 1
+    assert resumed.to_dict() == json.loads((tmp_path / "matrix.json").read_text())
 
 
 def test_matrix_rows_headlines_and_resume(matrix):
@@ -265,3 +271,5 @@ def test_matrix_bad_input_is_one_error_naming_the_argument(tmp_path, kwargs, mat
     assert out is None or not any(out.iterdir())
     with pytest.raises(TypeError, match="film must be"):
         weft.render_matrix(film=32)
+    with pytest.raises(TypeError, match="render_matrix: window must be a number"):
+        weft.render_matrix(window=[0.3])

@@ -14,7 +14,7 @@ import os as _os
 import tempfile as _tempfile
 
 from . import _weft
-from . import Error, Grid, _run, _scene_kind, _scene_with_files, _window_text
+from . import Error, Grid, _run, _scene_kind, _scene_with_files
 
 
 class _Record:
@@ -292,6 +292,15 @@ def _integer_item(call, name, value):
     return _integer(call, name, value)
 
 
+def _real_item(call, name, value):
+    if isinstance(value, str):
+        try:
+            return float(value)
+        except ValueError:
+            raise TypeError("%s: %s must be numbers, got %r" % (call, name, value)) from None
+    return _real(call, name, value)
+
+
 def _albedo(call, albedo):
     """None, "fit", {factor: k} or [(factor, k), ...] -> (fit, pairs)."""
     if albedo is None:
@@ -317,8 +326,8 @@ def _study_options(call, spp, reference_spp, factors, memory, window, seed, quic
         o["factors"] = _listed(call, "factors", factors, _integer_item)
     if memory is not None:
         o["memory"] = _listed(call, "memory", memory, _name)
-    if window is not None:
-        o["window"] = _window_text(window)
+    if window is not None:  # a name or a length, as fit::check_scale_text reads it
+        o["window"] = window if isinstance(window, str) else repr(_real(call, "window", window))
     if seed is not None:
         o["seed"] = _integer(call, "seed", seed)
         if o["seed"] < 0:
@@ -425,7 +434,7 @@ def render_matrix(*, cloths=None, lightings=None, tilts=None, film=None, yarns=N
     if lightings is not None:
         options["lightings"] = _listed(call, "lightings", lightings, _name)
     if tilts is not None:
-        options["tilts"] = _listed(call, "tilts", tilts, _real)
+        options["tilts"] = _listed(call, "tilts", tilts, _real_item)
     if film is not None:
         try:
             width, height = film
