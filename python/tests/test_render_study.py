@@ -100,6 +100,18 @@ def test_study_shapes_and_rows(study):
         result["fine"].biass
 
 
+def test_study_numbers_do_not_depend_on_the_thread_count(small_cloth):
+    scene = small_cloth.scene(lighting="back", width=24, height=18)
+    one, two = (weft.render_study(scene, spp=2, reference_spp=16, factors=(2,), threads=n) for n in (1, 2))
+    # Each call's scene files are in its own temporary folder.
+    def report(r):
+        return untimed(json.loads(r.to_json().replace(os.path.dirname(r.reference["scene"]), "DIR")))
+    assert report(one) == report(two)
+    assert np.array_equal(one.reference_image, two.reference_image)
+    for a, b in zip(one.candidates, two.candidates):
+        assert np.array_equal(a.image, b.image), a.name
+
+
 def test_a_spec_whose_coarse_models_are_exact_has_no_detectable_bias(small_cloth):
     """A uniform slab: every block is uniform, so the downsampled grid, the self-shadowing
     correction, the local fields (Var C = 0: exponential) and the slab all hold the fine grid's
