@@ -204,7 +204,10 @@ class MatrixHeadline(_Record):
                                doc="Every coarse representation, in candidate order.")
 
     def __repr__(self):
-        return "<weft.MatrixHeadline %s>" % self._fields["text"]
+        f = self._fields
+        return "<weft.MatrixHeadline %s, %d set-ups; least worst cloth bias: %s>" % (
+            f["cloth"], f["judged_cases"],
+            ", ".join("%s %.1f%%" % (v["name"], 100.0 * v["worst_relative_bias"]) for v in f["best"]))
 
 
 class MatrixResult(_Record):
