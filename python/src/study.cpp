@@ -54,6 +54,7 @@ std::string shown(const std::vector<int>& v) { return fmt::format("[{}]", fmt::j
 std::string shown(const std::vector<double>& v) { return fmt::format("[{}]", fmt::join(v, ", ")); }
 std::string shown(const std::vector<std::string>& v) {
   std::vector<std::string> quoted;
+  quoted.reserve(v.size());
   for (const auto& s : v) quoted.push_back("'" + s + "'");
   return fmt::format("[{}]", fmt::join(quoted, ", "));
 }
