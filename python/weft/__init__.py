@@ -2,7 +2,8 @@
 
 Transmittance laws (``weft.law``), sparse voxel grids (``weft.Grid``), ground truth by DDA
 (``weft.measure_beam``), window statistics and gamma fits, the procedural cloth generator
-(``weft.gen``) and the volumetric path tracer (``weft.render``). Every bad input raises
+(``weft.gen``), the volumetric path tracer (``weft.render``) and the coarse-cloth image study
+with its baselines (``weft.render_study``, ``weft.render_matrix``). Every bad input raises
 ``weft.Error`` with weft's one-line message (or ``TypeError`` for a value of the wrong type).
 Long calls release the GIL, take ``progress=callable(label, done, total)`` (or ``progress=True``
 for a bar) and ``threads=N``. Warnings are ``weft.Warning`` (a ``UserWarning``). See docs/python.md.
