@@ -215,7 +215,10 @@ MediumDesc parse_medium(const json& j, const std::string& where, const std::file
     if (!std::filesystem::exists(p)) fail("{}: fields file '{}' does not exist", where, p.string());
     m.file = p.string();
     m.sigma = r.positive("sigma", m.sigma);
-    m.memory = parse_choice(where, "memory rule", r.string("memory", "segment"), memory_rules());
+    m.memory = parse_choice(
+        where, "memory rule",
+        r.string("memory", std::string(transmittance::memory_rule_name(transmittance::kDefaultMemoryRule))),
+        memory_rules());
     m.law = transmittance::LawSpec{};  // no law: the fields carry one gamma law per voxel
     m.albedo = r.rgb("albedo", m.albedo);
     if ((m.albedo > 1.0).any()) fail("{}: 'albedo' must be <= 1", where);

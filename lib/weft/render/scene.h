@@ -89,7 +89,7 @@ struct MediumDesc {
   double sigma = 1.0;         ///< σ for concentration grids and local-gamma fields
   Tracking tracking = Tracking::delta;
   /// local-gamma: how the hazard's memory passes from cell to cell (docs/render.md §5e).
-  transmittance::MemoryRule memory = transmittance::MemoryRule::segment;
+  transmittance::MemoryRule memory = transmittance::kDefaultMemoryRule;
 };
 
 enum class ShapeKind { sphere, box, rectangle, mesh, curves };

@@ -295,7 +295,7 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
                {"g", base_medium.at("g")}};
     for (const transmittance::MemoryRule rule : spec.memory_rules) {
       const std::string rule_name(transmittance::memory_rule_name(rule));
-      const bool plain = rule == transmittance::MemoryRule::segment;
+      const bool plain = rule == transmittance::kDefaultMemoryRule;  // local-gamma-Nx: the medium's default
       Plan gr = g;
       gr.c.name = plain ? g.c.name : fmt::format("local-gamma-{}-{}x", rule_name, f);
       gr.c.model = plain ? g.c.model : "local-gamma " + rule_name;

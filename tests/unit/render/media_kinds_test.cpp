@@ -87,7 +87,7 @@ std::vector<Kind> kinds() {
                    grid),
        "grid", "grid medium, gamma law, optical-depth flights (exact DDA)"},
       {"local_gamma", fmt::format(R"({{"type": "local-gamma", "fields": "{}", "sigma": 6, "albedo": ALBEDO}})", fields),
-       "local-gamma", "local-gamma medium, per-voxel gamma law, hazard inversion, segment memory"},
+       "local-gamma", "local-gamma medium, per-voxel gamma law, hazard inversion, optical-depth memory"},
   };
 }
 
