@@ -6,10 +6,11 @@
 #   Per case, the bias estimates are statistical statements with standard errors: the fine grid
 #   (the reference's own model) is consistent with no bias (|z| < 5 over the cloth's pixels) and
 #   every candidate whose cloth bias is detectable (z > 5) is more biased than the fine grid; the
-#   memory columns agree with what each representation is: 1 channel for the grids, the 10 of the
-#   local fields file on the same blocks as the downsampled grid (10x its bytes), the slab's 3 law
-#   parameters. Then a rerun with --resume takes every case from the store and writes the same
-#   aggregate files byte for byte, and --resume with another spec is refused (exit 1).
+#   memory columns agree with what each representation is: 1 channel for the grids, the 4 of the
+#   local fields file the medium reads on the same blocks as the downsampled grid (4x its bytes),
+#   the slab's 3 law parameters. Then a rerun with --resume takes every case from the store and
+#   writes the same aggregate files byte for byte, and --resume with another spec is refused
+#   (exit 1).
 # same_bytes: the same small matrix without mpirun and under mpirun -n 2 (one thread each) gives
 #   the same matrix.csv, the same images of every case and the same matrix.json without timings.
 
@@ -73,11 +74,11 @@ if(CMAKE_SCRIPT_MODE_FILE)
       endforeach()
       foreach(f 2 4)
         set(e ${memory_bytes_${c}_exponential-${f}x})
-        math(EXPR ten "10 * ${e}")
+        math(EXPR four "4 * ${e}")
         foreach(name local-gamma-${f}x local-gamma-segment-${f}x)
-          if(NOT memory_channels_${c}_${name} EQUAL 10 OR NOT memory_bytes_${c}_${name} EQUAL ten)
+          if(NOT memory_channels_${c}_${name} EQUAL 4 OR NOT memory_bytes_${c}_${name} EQUAL four)
             message(FATAL_ERROR "${c}: ${name} holds ${memory_bytes_${c}_${name}} bytes in "
-                                "${memory_channels_${c}_${name}} channels, expected 10 x ${e}")
+                                "${memory_channels_${c}_${name}} channels, expected 4 x ${e}")
           endif()
         endforeach()
         if(NOT memory_channels_${c}_exponential-${f}x EQUAL 1 OR NOT e LESS memory_bytes_${c}_fine)

@@ -268,7 +268,7 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
       const fit::LocalFields fields = fit::local_fields(fine, f, progress);
       fields_bytes = fields.mean.memory_bytes();
       for (const volume::Grid& v : fields.variance) fields_bytes += v.memory_bytes();
-      fit::save_local_fields(fields, fields_file);
+      fit::save_local_fields(fields, fields_file, fit::FieldChannels::render);  // what the medium reads
     }
     const Box box = union_box(target.box, world_box(coarse));
     Plan e;

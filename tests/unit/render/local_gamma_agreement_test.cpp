@@ -75,7 +75,7 @@ double predicted(const volume::Grid& g, const std::string& model) {
 TEST(LocalGammaAgreement, PredictedCurveEqualsAlbedoZeroRender) {
   const volume::Grid g = fine_grid();
   const fs::path fields = fs::temp_directory_path() / "weft_lg_agreement_fields.vdb";
-  fit::save_local_fields(fit::local_fields(g, kBlock), fields);
+  fit::save_local_fields(fit::local_fields(g, kBlock), fields, fit::FieldChannels::render);
   const double t = predicted(g, "local-gamma");
   // fit::predict_axis's local-gamma model carries its memory by distance: the `segment` rule
   // (docs/render.md §5e), named here because the medium's default is optical-depth.
