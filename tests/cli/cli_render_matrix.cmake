@@ -45,9 +45,9 @@ if(CMAKE_SCRIPT_MODE_FILE)
     list(REMOVE_AT rows 0)
     list(LENGTH rows n_rows)
     # 4 cases x (fine, 2 factors x (exponential, local-gamma (optical-depth), local-gamma-segment,
-    # shadow-corrected, albedo-corrected), slab): docs/render.md §6c–§6e.
-    if(NOT n_rows EQUAL 48)
-      message(FATAL_ERROR "matrix.csv has ${n_rows} rows, expected 48")
+    # shadow-corrected, shadow-directional, albedo-corrected), slab): docs/render.md §6c–§6e.
+    if(NOT n_rows EQUAL 56)
+      message(FATAL_ERROR "matrix.csv has ${n_rows} rows, expected 56")
     endif()
     set(cases "")
     foreach(row IN LISTS rows)

@@ -70,7 +70,11 @@ MatrixMemory memory_of(const fs::path& scene_file) {
   };
   for (const auto& [name, d] : scene.media) {
     if (d.kind == render::MediumKind::grid) {
-      add(volume::Grid::load(d.file, d.grid_name));
+      if (d.axis_grids.empty()) {
+        add(volume::Grid::load(d.file, d.grid_name));
+      } else {
+        for (const std::string& name : d.axis_grids) add(volume::Grid::load(d.file, name));  // σ'_x, σ'_y, σ'_z
+      }
     } else if (d.kind == render::MediumKind::local_gamma) {
       // Every grid of the fields file (fit/local_fields.h), also any the medium does not read:
       // the study writes only the four it reads (fit::FieldChannels::render), a file of `weft

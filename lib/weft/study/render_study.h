@@ -15,6 +15,8 @@
 ///   shadow-corrected-Nx  the grid downsampled N× with each coarse voxel's extinction corrected
 ///                     for self-shadowing in its block (volume::shadowed_downsample, isotropic;
 ///                     docs/render.md §6d), exponential per coarse voxel
+///   shadow-directional-Nx  the same correction kept per axis: a direction-dependent extinction
+///                     σ(ω) = Σ_a ω_a² σ'_a from three grids (render::DeltaTrackingGridMedium, §6d)
 ///   albedo-corrected-Nx  exponential-Nx with the albedo × k_N of StudySpec::albedo_factors
 ///                     (fitted to images of another scene; only when given)
 ///   slab-gamma        one homogeneous box of the grid's active box with the gamma law of the

@@ -103,6 +103,12 @@ TEST(MatrixRun, MemoryIsTheGridsOwnCount) {
     } else if (n == "local-gamma-2x") {
       EXPECT_EQ(c.memory.values, field_values(volume::Grid::load(cloth), 2));
       EXPECT_EQ(c.memory.channels, 4);
+    } else if (n == "shadow-directional-2x") {
+      std::uint64_t values = 0;  // σ'_x, σ'_y, σ'_z: every grid of the file, counted here
+      for (const volume::GridCount& g : volume::count_grids(study / "shadow_axes_2x.vdb"))
+        values += 4 * g.active_voxels;
+      EXPECT_EQ(c.memory.values, values);
+      EXPECT_EQ(c.memory.channels, 3);
     } else if (n == "slab-gamma") {
       EXPECT_EQ(c.memory.values, 12U);  // σ, C̄, Var C
     } else {
@@ -111,7 +117,7 @@ TEST(MatrixRun, MemoryIsTheGridsOwnCount) {
     EXPECT_GT(c.memory.values, 0U) << n;
     ++seen;
   }
-  EXPECT_EQ(seen, 4);
+  EXPECT_EQ(seen, 5);
   EXPECT_GT(r[0].cloth_pixels, 0);
   fs::remove_all(s.study.work_dir);
 }
