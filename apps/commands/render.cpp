@@ -240,7 +240,7 @@ int run(const RenderCliOptions& o, const Context& ctx) {
       m.study = spec;
       if (o.study_factors.empty()) m.study.factors = {2, 4, 8};
       if (o.study_memory.empty())
-        m.study.memory_rules = {transmittance::MemoryRule::segment, transmittance::MemoryRule::optical_depth};
+        m.study.memory_rules = {transmittance::kDefaultMemoryRule, transmittance::MemoryRule::segment};
       m.study.spp = o.study_spp > 0 ? o.study_spp : (o.quick ? kMatrixQuickSpp : kMatrixSpp);
       m.study.reference_spp = o.reference_spp > 0 ? o.reference_spp : (o.quick ? 128 : kStudyReferenceSpp);
       m.study.seed = o.seed.value_or(1);
@@ -486,8 +486,9 @@ const Registrar kRender{Command{
                      "--window (default yarn: the yarn diameter of the grid's provenance; a grid without it needs "
                      "a LENGTH or yarn-measured)");
       sub.add_option("--study-memory", o->study_memory,
-                     "--study: memory rules of the local-gamma candidates, comma-separated (default segment; "
-                     "renewal, optical-depth, carried: docs/render.md §5e)")
+                     "--study: memory rules of the local-gamma candidates, comma-separated (default optical-depth, "
+                     "named local-gamma-Nx; the study matrix: optical-depth,segment; others are named "
+                     "local-gamma-RULE-Nx: segment, renewal, carried; docs/render.md §5e)")
           ->delimiter(',');
       sub.add_option("--study-albedo", o->study_albedo,
                      "--study: albedo-corrected candidates (docs/render.md 6d): FACTOR:K,... (k_N fitted on another "
