@@ -83,7 +83,7 @@ void run_render_matrix(study::MatrixSpec spec, const fs::path& out, bool resume,
   text("matrix.csv", study::matrix_csv(results), "per case and candidate: cloth bias, RMSE, noise, memory");
   text("matrix.cost.csv", study::matrix_cost_csv(results), "per case and candidate: time, cost per sample, speed-up");
   text("matrix.json", study::matrix_json(spec, results, headlines), "every case and the headline per cloth");
-  text("matrix.md", study::matrix_markdown(headlines), "the headline table and the goals");
+  text("matrix.md", study::matrix_markdown(headlines, results), "the headline table and the goals");
   const viz::RenderOutcome chart = write_matrix_chart(headlines, out / "matrix.png");
   if (chart.written)
     files.add(out / "matrix.png", "worst cloth bias vs coarsening per cloth");

@@ -53,6 +53,7 @@ struct RenderCliOptions {
   std::string study_window;
   std::vector<std::string> study_memory;
   std::vector<std::string> study_albedo;  ///< {"fit"} or {"N:k", …}
+  std::vector<std::string> study_components;
   std::vector<std::string> study_cloths;  ///< the matrix (--study with no scene)
   std::vector<std::string> study_lightings;
   std::vector<double> study_tilts;
@@ -188,9 +189,10 @@ int run(const RenderCliOptions& o, const Context& ctx) {
   if (!std::isfinite(o.study_time))
     usage_fail("--study-time: must be a finite number of seconds, got {}", o.study_time);
   if (!o.study && (o.study_time > 0.0 || o.study_spp > 0 || !o.study_factors.empty() || !o.study_window.empty() ||
-                   !o.study_memory.empty() || !o.study_albedo.empty()))
+                   !o.study_memory.empty() || !o.study_albedo.empty() || !o.study_components.empty()))
     usage_fail(
-        "--study-time, --study-spp, --study-factors, --study-window, --study-memory and --study-albedo need --study");
+        "--study-time, --study-spp, --study-factors, --study-window, --study-memory, --study-albedo and "
+        "--study-components need --study");
   if (o.study) {
     if (!o.convergence.empty()) usage_fail("--study and --convergence are separate runs: give one");
     if (o.spp > 0 || o.time_budget > 0.0)
@@ -216,6 +218,7 @@ int run(const RenderCliOptions& o, const Context& ctx) {
         spec.memory_rules.push_back(*rule);
       }
     }
+    spec.components = o.study_components;
     const bool fit_albedo = o.study_albedo == std::vector<std::string>{"fit"};
     if (!o.study_albedo.empty() && !fit_albedo) {
       for (const std::string& item : o.study_albedo) {
@@ -277,7 +280,7 @@ int run(const RenderCliOptions& o, const Context& ctx) {
     spec.seed = o.seed.value_or(scene.integrator.seed);
     spec.work_dir = "(beside the output)";  // the app sets it; checked here for the other fields
     as_usage([&] { study::check_study_spec(spec); });
-    study::check_study_scene(scene);  // refuse a scene without a grid before creating anything
+    study::check_study_scene(scene, spec);  // refuse a scene without a grid before creating anything
     if (dist::is_root() && !o.out_dir.empty()) ensure_directory(o.out_dir);
     run_render_study(scene, spec, label, exr, o.exposure, ctx, files, fit_albedo);
     files.say(ctx);
@@ -493,6 +496,12 @@ const Registrar kRender{Command{
       sub.add_option("--study-albedo", o->study_albedo,
                      "--study: albedo-corrected candidates (docs/render.md 6d): FACTOR:K,... (k_N fitted on another "
                      "set-up) or 'fit' (fit k_N on this scene first and print them; in-sample)")
+          ->delimiter(',');
+      sub.add_option("--study-components", o->study_components,
+                     "--study: also render the reference and these candidates with albedo 0 and with at most one "
+                     "scattering event, and split their bias into transmission, single and multiple scattering "
+                     "(docs/render.md 6e): candidate families without -Nx, comma-separated (exponential, "
+                     "local-gamma-optical-depth, shadow-corrected, ...) or all; the fine grid is always split too")
           ->delimiter(',');
       sub.add_option("--study-cloths", o->study_cloths,
                      "--study matrix (no scene, no --lighting/--tilt): cloth patterns of weft gen, comma-separated "

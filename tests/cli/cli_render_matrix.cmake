@@ -10,7 +10,10 @@
 #   local fields file the medium reads on the same blocks as the downsampled grid (4x its bytes),
 #   the slab's 3 law parameters. Then a rerun with --resume takes every case from the store and
 #   writes the same aggregate files byte for byte, and --resume with another spec is refused
-#   (exit 1).
+#   (exit 1). The exponential candidates are split into transmission, single and multiple
+#   scattering (--study-components): check_matrix_split.py asserts the fine grid's bias at every
+#   image scale and in every component is 0 within 5 standard errors, only the asked candidates are
+#   split, and the components' levels add up to the full one.
 # same_bytes: the same small matrix without mpirun and under mpirun -n 2 (one thread each) gives
 #   the same matrix.csv, the same images of every case and the same matrix.json without timings.
 
@@ -18,7 +21,7 @@ if(CMAKE_SCRIPT_MODE_FILE)
   file(REMOVE_RECURSE ${WORK})
   file(MAKE_DIRECTORY ${WORK})
   set(args render --study --quick --study-factors 2,4 --study-cloths plain,stockinette --study-lightings back,front
-           --study-tilts 45 --seed 3)
+           --study-tilts 45 --seed 3 --study-components exponential)
   if(CASE STREQUAL "quick")
     execute_process(COMMAND ${WEFT} ${args} --out ${WORK}/run RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
     if(NOT rc EQUAL 0)
@@ -36,7 +39,8 @@ if(CMAKE_SCRIPT_MODE_FILE)
     file(STRINGS ${d}/matrix.csv rows)
     list(GET rows 0 header)
     string(REPLACE "," ";" columns "${header}")
-    foreach(col case candidate cloth_bias cloth_bias_z memory_bytes memory_channels)
+    foreach(col case candidate cloth_bias cloth_bias_z memory_bytes memory_channels cloth_bias_2px cloth_bias_4px_z
+                cloth_level cloth_level_stderr transmission_bias single_bias_z multiple_difference)
       list(FIND columns ${col} i_${col})
       if(i_${col} LESS 0)
         message(FATAL_ERROR "matrix.csv lacks column ${col}: ${header}")
@@ -89,6 +93,17 @@ if(CMAKE_SCRIPT_MODE_FILE)
         message(FATAL_ERROR "${c}: slab ${memory_bytes_${c}_slab-gamma} bytes, fine ${memory_channels_${c}_fine} channels")
       endif()
     endforeach()
+    if(PYTHON)
+      execute_process(COMMAND ${PYTHON} ${CMAKE_CURRENT_LIST_DIR}/check_matrix_split.py ${d}/matrix.json exponential
+                      RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+      if(NOT rc EQUAL 0)
+        message(FATAL_ERROR "bias against scale and components: ${out}${err}")
+      endif()
+    endif()
+    file(READ ${d}/matrix.md md)
+    if(NOT md MATCHES "Bias against image scale" OR NOT md MATCHES "\\| plain-back-45deg \\| exponential-4x \\|")
+      message(FATAL_ERROR "matrix.md lacks the scale table or the components of exponential-4x")
+    endif()
     file(READ ${d}/matrix.json summary)
     string(JSON n_head LENGTH "${summary}" headlines)
     string(JSON text GET "${summary}" headlines 0 text)
@@ -125,7 +140,7 @@ if(CMAKE_SCRIPT_MODE_FILE)
     set(SKIP_KEYS "^(timings|timings_seconds|seconds|.*_seconds|threads|ranks|resumed_units|elapsed|cost_ratio|speedup|text)$")
     # 2 cases (one cloth, two light set-ups): one per rank under mpirun -n 2.
     set(small render --study --quick --study-factors 2 --study-cloths plain --study-lightings back,front --study-tilts 45
-              --seed 3)
+              --seed 3 --study-components exponential)
     set(runs t1)
     execute_process(COMMAND ${WEFT} --quiet --threads 1 ${small} --out ${WORK}/t1
                     RESULT_VARIABLE rc ERROR_VARIABLE err)
@@ -178,6 +193,7 @@ endif()
 set(_matrix_work ${CMAKE_CURRENT_BINARY_DIR}/render_matrix)
 add_test(NAME cli.render_study.matrix_quick
          COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DCASE=quick -DWORK=${_matrix_work}/quick
+                 -DPYTHON=${Python3_EXECUTABLE}
                  -P ${CMAKE_CURRENT_LIST_FILE})
 set_tests_properties(cli.render_study.matrix_quick PROPERTIES LABELS "cli;render" TIMEOUT 300)
 set(_matrix_mpi "")

@@ -122,6 +122,8 @@ json candidate_json(const MatrixCandidate& mc) {
           {"albedo_factor", c.albedo_factor},
           {"fitted_to_images", c.fitted_to_images},
           {"curve", curve},
+          {"cloth_scales", scale_bias_json(c.cloth_scales)},
+          {"components", component_biases_json(c.components)},
           {"memory", {mc.memory.values, mc.memory.tree, mc.memory.channels}}};
 }
 
@@ -154,6 +156,8 @@ MatrixCandidate candidate_from(const json& j) {
   c.fitted_to_images = j.at("fitted_to_images").get<bool>();
   for (const auto& p : j.at("curve"))
     c.curve.push_back({p.at(0).get<int>(), p.at(1).get<double>(), p.at(2).get<double>()});
+  c.cloth_scales = scale_bias_from_json(j.at("cloth_scales"));
+  c.components = component_biases_from_json(j.at("components"));
   const json& m = j.at("memory");
   mc.memory = {m.at(0).get<std::uint64_t>(), m.at(1).get<std::uint64_t>(), m.at(2).get<int>()};
   return mc;
@@ -330,8 +334,9 @@ std::string matrix_key(const MatrixSpec& spec) {
                     {"seed", spec.study.seed},
                     {"scale", spec.study.scale},
                     {"albedo_fit", true},
+                    {"components", spec.study.components},
                     // What a stored case holds (candidate_json); bumped when it changes.
-                    {"case_format", 2}};
+                    {"case_format", 3}};
   return key.dump(2) + "\n";
 }
 

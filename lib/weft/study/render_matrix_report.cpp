@@ -38,6 +38,56 @@ json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 std::string coarser(int factor) { return factor == 0 ? std::string("slab") : fmt::format("{}x", factor); }
 
+std::string percent(double v, double mean) { return fmt::format("{:.1f}", 100.0 * relative(v, mean)); }
+
+/// Worst cloth bias per representation at each block size, and the level (docs/render.md §6e).
+std::string scales_markdown(const std::vector<MatrixHeadline>& headlines) {
+  std::string md =
+      "\nBias against image scale: worst cloth bias over the set-ups after box-filtering k x k pixels, and the "
+      "level (mean difference over the cloth, largest magnitude), % of the mean cloth pixel:\n\n| cloth | "
+      "representation |";
+  std::string rule = "|---|---|";
+  for (const int k : kBiasBlocks) {
+    md += fmt::format(" {} px |", k);
+    rule += "---|";
+  }
+  md += " level |\n" + rule + "---|\n";
+  for (const auto& h : headlines) {
+    for (const auto& v : h.verdicts) {
+      md += fmt::format("| {} | {} |", h.cloth, v.name);
+      for (const double b : v.worst_relative_bias_by_block)
+        md += b < 0.0 ? std::string(" – |") : fmt::format(" {:.1f} |", 100.0 * b);
+      md += fmt::format(" {:+.1f} |\n", 100.0 * v.worst_relative_level);
+    }
+  }
+  return md;
+}
+
+/// Per case, each split candidate's bias (level) over the cloth: full, and its transmission,
+/// single and multiple scattering (render_components.h), % of the mean cloth pixel.
+std::string components_markdown(const std::vector<MatrixCaseResult>& results) {
+  std::string rows;
+  for (const auto& r : results) {
+    for (const auto& mc : r.candidates) {
+      const StudyCandidate& c = mc.study;
+      if (c.components.empty()) continue;
+      rows += fmt::format("| {} | {} | {} z {:.1f} ({:+.1f}) |", r.c.name, c.name, percent(c.cloth_bias, r.cloth_mean),
+                          bias_z(c), 100.0 * relative(c.cloth_scales.level.difference, r.cloth_mean));
+      for (const ComponentBias& k : c.components)
+        rows += fmt::format(" {} z {:.1f} ({:+.1f} ± {:.1f}) |", percent(k.bias.blocks.front().bias(), r.cloth_mean),
+                            k.bias.blocks.front().z(), 100.0 * relative(k.bias.level.difference, r.cloth_mean),
+                            100.0 * relative(k.bias.level.stderr_difference, r.cloth_mean));
+      rows += "\n";
+    }
+  }
+  if (rows.empty()) return {};
+  return "\nWhat the error is made of: cloth bias, z of its square (a bias with |z| < 5 is noise), and (level ± its "
+         "standard error), % of the mean cloth pixel; "
+         "transmission = the albedo-0 image, single = at most one scattering event minus it, multiple = the rest:\n\n"
+         "| case | candidate | full | transmission | single | multiple |\n|---|---|---|---|---|---|\n" +
+         rows;
+}
+
 }  // namespace
 
 double cost_per_sample(const StudyCandidate& c, int pixels) {
@@ -93,6 +143,14 @@ std::vector<MatrixHeadline> matrix_headlines(const MatrixSpec& spec, const std::
           v.worst_case = r.c.name;
         }
         v.mean_relative_bias += rb;
+        // −1: too few blocks of that size lie wholly on the cloth in every judged case (a small film).
+        v.worst_relative_bias_by_block.resize(c.cloth_scales.blocks.size(), -1.0);
+        for (std::size_t i = 0; i < c.cloth_scales.blocks.size(); ++i)
+          if (c.cloth_scales.blocks[i].blocks >= kMinBiasBlocks)
+            v.worst_relative_bias_by_block[i] =
+                std::max(v.worst_relative_bias_by_block[i], relative(c.cloth_scales.blocks[i].bias(), r.cloth_mean));
+        const double level = relative(c.cloth_scales.level.difference, r.cloth_mean);
+        if (std::abs(level) > std::abs(v.worst_relative_level)) v.worst_relative_level = level;
         const double f_cost = cost_per_sample(fine->study, r.width * r.height);
         v.cost_ratio += f_cost > 0.0 ? cost_per_sample(c, r.width * r.height) / f_cost : 0.0;
         v.speedup = std::min(v.speedup, equal_error_speedup(c, fine->study, r.cloth_mean));
@@ -132,7 +190,8 @@ std::string matrix_csv(const std::vector<MatrixCaseResult>& results) {
   std::string csv =
       "case,cloth_pattern,lighting,tilt,fitted_on,candidate,model,factor,spp,cloth_pixels,cloth_mean,cloth_bias,"
       "cloth_bias_sq,cloth_bias_sq_stderr,cloth_bias_z,cloth_relative_bias,cloth_rmse,cloth_relative_rmse,cloth_noise,"
-      "cloth_difference,bias,bias_z,memory_bytes,memory_channels,memory_ratio,memory_tree_bytes\n";
+      "cloth_difference,bias,bias_z,memory_bytes,memory_channels,memory_ratio,memory_tree_bytes," +
+      scale_bias_csv_header() + "," + component_csv_header() + "\n";
   for (const auto& r : results) {
     const MatrixCandidate* fine = fine_entry(r);
     for (const auto& mc : r.candidates) {
@@ -142,12 +201,12 @@ std::string matrix_csv(const std::vector<MatrixCaseResult>& results) {
       csv += fmt::format(
           "{},{},{},{:g},{},{},{},{},{},{},{:.8g},{:.8g},{:.8g},{:.8g},{:.4g},{:.6g},{:.8g},{:.6g},{:.8g},{:.6g},{:.8g}"
           ","
-          "{:.4g},{},{},{:.6g},{}\n",
+          "{:.4g},{},{},{:.6g},{},{},{}\n",
           r.c.name, r.c.pattern, render::cloth_lighting_name(r.c.lighting), r.c.tilt, r.c.fitted_on ? 1 : 0, c.name,
           c.model, c.factor, c.spp, r.cloth_pixels, r.cloth_mean, c.cloth_bias, c.cloth_bias_sq, c.cloth_bias_sq_stderr,
           bias_z(c), relative(c.cloth_bias, r.cloth_mean), c.cloth_rmse, relative(c.cloth_rmse, r.cloth_mean),
           c.cloth_noise, c.cloth_difference, c.bias, c.bias_z(), mc.memory.values, mc.memory.channels, ratio,
-          mc.memory.tree);
+          mc.memory.tree, scale_bias_csv(c.cloth_scales), component_csv(c.components));
     }
   }
   return csv;
@@ -211,7 +270,9 @@ std::string matrix_json(const MatrixSpec& spec, const std::vector<MatrixCaseResu
            {"cpu_seconds", c.cpu_seconds},
            {"sample_cpu_seconds", cost_per_sample(c, pixels)},
            {"cost_ratio", number(cost_per_sample(c, pixels) / std::max(1e-300, cost_per_sample(fine, pixels)))},
-           {"speedup", number(equal_error_speedup(c, fine, r.cloth_mean))}});
+           {"speedup", number(equal_error_speedup(c, fine, r.cloth_mean))},
+           {"cloth_scales", scale_bias_json(c.cloth_scales)},
+           {"components", component_biases_json(c.components)}});
     }
     json factors = json::array();
     for (const auto& [f, a] : r.albedo_factors) factors.push_back({{"factor", f}, {"albedo_multiplier", a}});
@@ -241,7 +302,9 @@ std::string matrix_json(const MatrixSpec& spec, const std::vector<MatrixCaseResu
                   {"mean_relative_bias", v.mean_relative_bias},
                   {"memory_ratio", v.memory_ratio},
                   {"cost_ratio", number(v.cost_ratio)},
-                  {"speedup", number(v.speedup)}};
+                  {"speedup", number(v.speedup)},
+                  {"worst_relative_bias_by_block", v.worst_relative_bias_by_block},
+                  {"worst_relative_level", v.worst_relative_level}};
     };
     for (const auto& v : h.verdicts) verdicts.push_back(verdict(v));
     json best = json::array();
@@ -255,7 +318,8 @@ std::string matrix_json(const MatrixSpec& spec, const std::vector<MatrixCaseResu
   return j.dump(2) + "\n";
 }
 
-std::string matrix_markdown(const std::vector<MatrixHeadline>& headlines) {
+std::string matrix_markdown(const std::vector<MatrixHeadline>& headlines,
+                            const std::vector<MatrixCaseResult>& results) {
   std::string md =
       "| cloth | representation | worst cloth bias | (where) | mean cloth bias | memory (fine / it) | cost per "
       "sample (it / fine) | speed-up at RMSE 5 % |\n|---|---|---|---|---|---|---|---|\n";
@@ -285,6 +349,8 @@ std::string matrix_markdown(const std::vector<MatrixHeadline>& headlines) {
       md += fmt::format("- {} at {}x: best {}: {}\n", h.cloth, b.factor, b.name, goals);
     }
   }
+  md += scales_markdown(headlines);
+  md += components_markdown(results);
   return md;
 }
 

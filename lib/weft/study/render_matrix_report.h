@@ -36,6 +36,10 @@ struct MatrixVerdict {
   double memory_ratio = 0.0;  ///< fine grid's bytes / its bytes (MatrixMemory::values)
   double cost_ratio = 0.0;    ///< its cost per sample / the fine grid's, mean over the judged cases
   double speedup = 0.0;       ///< equal_error_speedup, the smallest over the judged cases
+  /// The worst cloth bias at each block size of kBiasBlocks (bias_scales.h), relative, and the
+  /// level (mean difference) of largest magnitude, relative and signed.
+  std::vector<double> worst_relative_bias_by_block;
+  double worst_relative_level = 0.0;
 };
 
 struct MatrixHeadline {
@@ -61,8 +65,11 @@ struct MatrixHeadline {
 /// "_seconds"; cost_ratio and speedup are timing-derived).
 [[nodiscard]] std::string matrix_json(const MatrixSpec& spec, const std::vector<MatrixCaseResult>& results,
                                       const std::vector<MatrixHeadline>& headlines);
-/// The headline table per cloth and representation, and the goals of docs/render.md §6e, as
-/// Markdown (what the docs quote).
-[[nodiscard]] std::string matrix_markdown(const std::vector<MatrixHeadline>& headlines);
+/// The headline table per cloth and representation, the goals of docs/render.md §6e, the worst
+/// bias against image scale per representation and, for the candidates split into components,
+/// each case's transmission, single and multiple scattering bias and level, as Markdown (what
+/// the docs quote).
+[[nodiscard]] std::string matrix_markdown(const std::vector<MatrixHeadline>& headlines,
+                                          const std::vector<MatrixCaseResult>& results);
 
 }  // namespace weft::study

@@ -38,9 +38,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-/// Seeds of the second images and of the reference: far from the first images' streams
-/// (stream_for hashes (seed, index), so any distinct seed gives independent noise).
-constexpr std::uint64_t kSeedStep = 0x9E3779B97F4A7C15ULL;
+constexpr std::uint64_t kSeedStep = kStudySeedStep;
 
 struct Box {
   Vec3 min;
@@ -156,6 +154,17 @@ void check_study_spec(const StudySpec& spec) {
   if (spec.max_spp < 1) fail("study: max spp must be >= 1, got {}", spec.max_spp);
   if (spec.reference_spp < 1) fail("study: reference spp must be >= 1, got {}", spec.reference_spp);
   if (spec.work_dir.empty()) fail("study: no folder for the candidates' files");
+  // A family that names no candidate would split nothing silently (render_components.h).
+  std::set<std::string> families{
+      "all", "fine", "exponential", "local-gamma", "shadow-corrected", "albedo-corrected", "slab-gamma"};
+  for (const auto rule : spec.memory_rules)
+    families.insert("local-gamma-" + std::string(transmittance::memory_rule_name(rule)));
+  for (const auto& f : spec.components)
+    if (!families.contains(f))
+      fail(
+          "study: components of '{}': no such candidate family (fine, exponential, local-gamma[-RULE], "
+          "shadow-corrected, albedo-corrected, slab-gamma, all)",
+          f);
   std::set<int> fitted;
   for (const auto& [f, k] : spec.albedo_factors) {
     if (!seen.contains(f)) fail("study: albedo factor for {}x, which is not a coarsening factor of the study", f);
@@ -164,10 +173,14 @@ void check_study_spec(const StudySpec& spec) {
   }
 }
 
-void check_study_scene(const SceneDesc& scene) { (void)find_target(scene); }
+void check_study_scene(const SceneDesc& scene, const StudySpec& spec) {
+  (void)find_target(scene);
+  if (!spec.components.empty()) check_component_scene(scene);
+}
 
 StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSink& progress) {
   check_study_spec(spec);
+  check_study_scene(scene, spec);
   const Target target = find_target(scene);
   const MediumDesc& fine_desc = scene.media.at(target.medium);
   const volume::Grid fine = volume::Grid::load(fine_desc.file, fine_desc.grid_name);
@@ -386,6 +399,12 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
     result.reference_scene = fs::absolute(spec.work_dir / "reference.json");
     write_scene(target.scene, spec.reference_spp, result.reference_seed, result.reference_scene);
   }
+  ComponentRenders reference_components;
+  if (!spec.components.empty()) {
+    say(spec, "rendering the reference's components (albedo 0, at most one scattering event)");
+    reference_components = render_components(target.scene, target.medium, spec.reference_spp, result.reference_seed,
+                                             scene.base_dir, progress);
+  }
   const Image& reference = result.reference;
   {
     // The cloth's pixels: the reference against the same scene without the cloth's box.
@@ -440,6 +459,15 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
     ob.seed = c.seed_b;
     ob.spp = c.spp;
     const RenderResult b = render::render(s, ob, progress);
+    // The components of A and B (collective renders, on every rank).
+    const bool split = splits_components(spec.components, c.name);
+    ComponentRenders ca;
+    ComponentRenders cb;
+    if (split) {
+      say(spec, fmt::format("rendering {}'s components", c.name));
+      ca = render_components(p.scene, target.medium, c.spp, c.seed_a, scene.base_dir, progress);
+      cb = render_components(p.scene, target.medium, c.spp, c.seed_b, scene.base_dir, progress);
+    }
     c.scene_file = fs::absolute(spec.work_dir / (c.name + ".json"));
     write_scene(p.scene, c.spp, c.seed_a, c.scene_file);
     if (!root) continue;  // images live on rank 0
@@ -461,7 +489,10 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
     for (std::size_t i = 0; i < reference.rgb.size(); ++i)
       if (result.cloth_mask[i / 3]) c.cloth_difference += 0.5 * (a.image.rgb[i] + b.image.rgb[i]) - reference.rgb[i];
     if (result.cloth_pixels > 0) c.cloth_difference /= 3.0 * result.cloth_pixels;
+    c.cloth_scales = bias_by_scale(a.image, b.image, reference, result.cloth_mask);
     c.error_map = abs_difference(a.image, reference);
+    if (split)
+      c.components = component_biases(a.image, b.image, reference, ca, cb, reference_components, result.cloth_mask);
   }
   for (Plan& p : plans) result.candidates.push_back(std::move(p.c));
   if (!root) return result;

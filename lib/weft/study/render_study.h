@@ -57,8 +57,16 @@
 #include "weft/core/progress.h"
 #include "weft/render/image.h"
 #include "weft/render/scene.h"
+#include "weft/study/bias_scales.h"
+#include "weft/study/render_components.h"
 
 namespace weft::study {
+
+/// Seeds of a study's images are its seed plus multiples of this step: A + 0, B + 1, the
+/// reference + 2, the background + 3, and the components of each image (render_components.h)
+/// + 8 and + 16 from that image's own (stream_for hashes (seed, index), so any distinct seed
+/// gives independent noise).
+constexpr std::uint64_t kStudySeedStep = 0x9E3779B97F4A7C15ULL;
 
 struct StudySpec {
   std::vector<int> factors{2, 4, 8, 16};  ///< coarsening factors, each in [2, 4096], no repeats
@@ -79,6 +87,12 @@ struct StudySpec {
   /// albedo × k_N clamped to [0, 1] (fitted on another scene by fit_albedo_factors, albedo_fit.h;
   /// docs/render.md §6d). Each N must be one of `factors`, each k_N finite and > 0. Empty: none.
   std::vector<std::pair<int, double>> albedo_factors;
+  /// Candidates whose error is split into transmission, single and multiple scattering
+  /// (render_components.h): families such as "exponential" or "local-gamma-optical-depth" (a
+  /// candidate's name without "-Nx"), or "all"; the fine grid is split whenever anything is.
+  /// Empty: no component renders (the scene must then have no reflecting surface: see
+  /// check_component_scene).
+  std::vector<std::string> components;
   /// Folder for the candidates' grids, fields and scene files (created; rank 0 writes).
   std::filesystem::path work_dir;
   /// Receives one line per stage ("rendering local-gamma-4x ..."); may be null.
@@ -90,8 +104,9 @@ struct StudySpec {
 void check_study_spec(const StudySpec& spec);
 
 /// Throws weft::Error unless `scene` has exactly one grid medium with an exponential law filling
-/// one box shape (what run_study needs), before anything is computed or written.
-void check_study_scene(const render::SceneDesc& scene);
+/// one box shape (what run_study needs), and, when `spec` asks for components, no reflecting
+/// surface (check_component_scene), before anything is computed or written.
+void check_study_scene(const render::SceneDesc& scene, const StudySpec& spec = {});
 
 /// One (spp, seconds, rmse) point of a candidate's first image on its way to its budget.
 struct StudyPoint {
@@ -124,6 +139,12 @@ struct StudyCandidate {
   double cloth_bias_sq_stderr = 0.0;
   /// Mean of (A + B)/2 − R over the cloth's values: the sign of the bias (> 0: too bright).
   double cloth_difference = 0.0;
+  /// The cloth bias against image scale: k × k pixel blocks (kBiasBlocks) and the level
+  /// (bias_scales.h, docs/render.md §6e).
+  ScaleBias cloth_scales;
+  /// When StudySpec::components splits this candidate: its transmission, single and multiple
+  /// scattering biases over the cloth (render_components.h); empty otherwise.
+  std::vector<ComponentBias> components;
   /// Bytes of the grids the candidate's medium holds in memory (Grid::memory_bytes), every
   /// channel counted, and the number of channels (grids); 0 and 0 for the slab (a law only).
   std::uint64_t memory_bytes = 0;

@@ -23,17 +23,18 @@ std::string study_csv(const StudyResult& result) {
   std::string csv =
       "candidate,model,factor,spp,seconds,cpu_seconds,seconds_per_spp,rmse,rmse_raw,bias,bias_sq,bias_sq_stderr,"
       "bias_z,noise,relative_rmse,speedup,seed,scene,cloth_bias,cloth_bias_sq_stderr,cloth_relative_bias,cloth_"
-      "difference,cloth_rmse,cloth_noise,memory_bytes,memory_channels,albedo_factor,fitted_to_images\n";
+      "difference,cloth_rmse,cloth_noise,memory_bytes,memory_channels,albedo_factor,fitted_to_images," +
+      scale_bias_csv_header() + "," + component_csv_header() + "\n";
   for (const auto& c : result.candidates) {
     csv += fmt::format(
         "{},{},{},{},{:.6g},{:.6g},{:.6g},{:.8g},{:.8g},{:.8g},{:.8g},{:.8g},{:.4g},{:.8g},{:.6g},{:.6g},{},{},{:.8g},"
-        "{:.8g},{:.6g},{:.6g},{:.8g},{:.8g},{},{},{:.8g},{}\n",
+        "{:.8g},{:.6g},{:.6g},{:.8g},{:.8g},{},{},{:.8g},{},{},{}\n",
         c.name, c.model, c.factor, c.spp, c.seconds, c.cpu_seconds, c.seconds / std::max(1, c.spp), c.rmse, c.rmse_raw,
         c.bias, c.bias_sq, c.bias_sq_stderr, c.bias_z(), c.noise,
         result.reference_mean > 0.0 ? c.rmse / result.reference_mean : 0.0, c.speedup, c.seed_a, c.scene_file.string(),
         c.cloth_bias, c.cloth_bias_sq_stderr, result.cloth_mean > 0.0 ? c.cloth_bias / result.cloth_mean : 0.0,
         c.cloth_difference, c.cloth_rmse, c.cloth_noise, c.memory_bytes, c.memory_channels, c.albedo_factor,
-        c.fitted_to_images ? 1 : 0);
+        c.fitted_to_images ? 1 : 0, scale_bias_csv(c.cloth_scales), component_csv(c.components));
   }
   return csv;
 }
@@ -101,6 +102,8 @@ std::string study_json(const StudyResult& result) {
                                {"albedo_factor", c.albedo_factor},
                                {"fitted_to_images", c.fitted_to_images},
                                {"uses_ground_truth", c.fitted_to_images},
+                               {"cloth_scales", scale_bias_json(c.cloth_scales)},
+                               {"components", component_biases_json(c.components)},
                                {"curve", curve}});
   }
   return j.dump(2) + "\n";

@@ -125,7 +125,7 @@ TEST(StudyBaselines, NewCandidatesAppearWithMemoryAndLabels) {
     EXPECT_DOUBLE_EQ(c["albedo_factor"].get<double>(), 1.2);
   }
   EXPECT_TRUE(seen);
-  EXPECT_NE(study_csv(r).find(",memory_bytes,memory_channels,albedo_factor,fitted_to_images\n"), std::string::npos);
+  EXPECT_NE(study_csv(r).find(",memory_bytes,memory_channels,albedo_factor,fitted_to_images,"), std::string::npos);
 }
 
 TEST(StudyBaselines, ShadowCorrectedEqualsExponentialOnAUniformGrid) {
