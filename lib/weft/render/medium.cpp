@@ -154,6 +154,7 @@ struct MajorantScratch final : MediumScratch {
 };
 std::vector<const volume::Grid*> pointers(const std::vector<std::shared_ptr<const volume::Grid>>& grids) {
   std::vector<const volume::Grid*> out;
+  out.reserve(grids.size());
   for (const auto& g : grids) out.push_back(g.get());
   return out;
 }
