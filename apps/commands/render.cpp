@@ -334,9 +334,8 @@ int run(const RenderCliOptions& o, const Context& ctx) {
   const render::RenderResult result = render::render(world, options, ctx.progress);
   if (!dist::is_root()) return 0;  // the tiles were gathered on rank 0, which writes
   if (!o.out_dir.empty()) ensure_directory(o.out_dir);
-  render::write_exr(exr, result.image);
+  render::write_exr_and_png(exr, png, result.image, o.exposure);
   files.add(exr, "linear");
-  render::write_png(png, result.image, o.exposure);
   files.add(png, "sRGB");
 
   const auto& s = result.stats;

@@ -2,6 +2,40 @@
 # timings, the scaling study, the 1- vs 2-thread runs and their scaling model, and checks the markdown it writes. Included by
 # tests/cli/CMakeLists.txt to declare the test; the same file runs in script mode (cmake -P) to
 # drive the script and check its output.
+if(CMAKE_SCRIPT_MODE_FILE AND MODE STREQUAL "update")
+  # `scripts/bench --update --sections none` on a copy of docs/benchmarks.md measures nothing:
+  # the generated part (up to "## Notes and analysis") stays byte for byte, and what follows is
+  # docs/benchmarks.notes.md verbatim.
+  file(REMOVE_RECURSE "${OUT}")
+  file(MAKE_DIRECTORY "${OUT}")
+  set(md "${OUT}/benchmarks.md")
+  file(READ "${SOURCE_DIR}/docs/benchmarks.md" before)
+  string(APPEND before "\n(a line the update must drop: it is after the notes heading)\n")
+  file(WRITE "${md}" "${before}")
+  execute_process(COMMAND bash "${SOURCE_DIR}/scripts/bench" --update --sections none --out "${md}"
+                  RESULT_VARIABLE rc ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "scripts/bench --update --sections none failed (${rc}): ${err}")
+  endif()
+  file(READ "${md}" after)
+  file(READ "${SOURCE_DIR}/docs/benchmarks.notes.md" notes)
+  set(heading "\n## Notes and analysis\n")
+  string(FIND "${before}" "${heading}" at_before)
+  string(FIND "${after}" "${heading}" at_after)
+  if(at_before EQUAL -1 OR NOT at_before EQUAL at_after)
+    message(FATAL_ERROR "${md}: the notes heading moved (${at_before} -> ${at_after})")
+  endif()
+  string(SUBSTRING "${before}" 0 ${at_before} generated_before)
+  string(SUBSTRING "${after}" 0 ${at_after} generated_after)
+  if(NOT generated_before STREQUAL generated_after)
+    message(FATAL_ERROR "${md}: --update --sections none changed the generated part")
+  endif()
+  string(SUBSTRING "${after}" ${at_after} -1 tail)
+  if(NOT tail STREQUAL "${heading}\n${notes}")
+    message(FATAL_ERROR "${md}: what follows the notes heading is not docs/benchmarks.notes.md")
+  endif()
+  return()
+endif()
 if(CMAKE_SCRIPT_MODE_FILE)
   file(REMOVE_RECURSE "${OUT}")
   file(MAKE_DIRECTORY "${OUT}")
@@ -75,3 +109,8 @@ add_test(NAME cli.bench.quick
 # Runs every benchmark executable once plus whole runs: RUN_SERIAL keeps it from competing with
 # (and slowing) the rest of the suite.
 set_tests_properties(cli.bench.quick PROPERTIES LABELS "cli" TIMEOUT 600 RUN_SERIAL TRUE)
+# The notes refreshed into docs/benchmarks.md without measuring (scripts/bench --update).
+add_test(NAME cli.bench.update_notes
+         COMMAND ${CMAKE_COMMAND} -DSOURCE_DIR=${PROJECT_SOURCE_DIR} -DMODE=update
+                 -DOUT=${CMAKE_CURRENT_BINARY_DIR}/bench_update -P ${CMAKE_CURRENT_LIST_FILE})
+set_tests_properties(cli.bench.update_notes PROPERTIES LABELS "cli")

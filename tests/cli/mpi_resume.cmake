@@ -33,8 +33,9 @@ if(MODE STREQUAL "resume" OR MODE STREQUAL "resume_corpus")
     file(WRITE "${WORK}/in/cloth.json"
          "{\"pattern\": \"plain\", \"warp_count\": 2, \"weft_count\": 2, \"voxel_size\": 0.02}\n")
     set(common validate --sweep --quick --no-plot --axes x,y,z --cloth "${WORK}/in/cloth.json")
-    # 4 factor units + 3 axes x 3 ray strides = 13 units.
-    set(total 13)
+    # 4 factors x 2 coarse inputs x 1 repetition + 4 factors x 3 axes x 2 kinds of law
+    # + 3 axes x 3 ray strides = 41 units.
+    set(total 41)
     set(kill_after 5)
     set(outputs accuracy_time.csv sweep.json)
   else()

@@ -343,14 +343,15 @@ std::vector<Bytes> run_units(std::size_t count, const std::function<Bytes(std::s
         if (!have[u]) pending.push_back(u);
       }
       // Enough units per round to keep every thread busy, and at most ~32 rounds per run: each
-      // round ends in a gather, and fewer rounds wait less on the slowest rank. One rank without a
-      // store has nothing to gather or record: its units go in one round, since every round ends
-      // with the threads waiting for that round's slowest unit (docs/scale-out.md "Rounds").
+      // round ends in a gather, and fewer rounds wait less on the slowest rank. One rank has
+      // nothing to gather, and records each unit in the store as it finishes: its units go in one
+      // round, since every round ends with the threads waiting for that round's slowest unit
+      // (docs/scale-out.md "Rounds").
       const auto threads = static_cast<std::size_t>(
           std::max<std::size_t>(1, tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
       const std::size_t ranks = static_cast<std::size_t>(size());
       const std::size_t per_rank = (pending.size() + ranks - 1) / ranks;
-      const bool one_round = ranks == 1 && options.store == nullptr;
+      const bool one_round = ranks == 1;
       const std::size_t batch = options.batch > 0 ? options.batch
                                 : one_round       ? std::max<std::size_t>(1, per_rank)
                                                   : std::max(threads, (per_rank + 31) / 32);
@@ -373,7 +374,14 @@ std::vector<Bytes> run_units(std::size_t count, const std::function<Bytes(std::s
   const auto me = static_cast<std::size_t>(rank());
   const std::size_t per_rank = (pending.size() + ranks - 1) / ranks;
   const std::size_t rounds = (per_rank + batch - 1) / batch;
-  std::size_t recorded = 0;
+  // One rank records a unit the moment it finishes (from the thread that ran it), so a run
+  // killed inside its one round keeps every unit done so far; ranks record after each gather.
+  const bool record_at_once = ranks == 1 && options.store != nullptr;
+  std::atomic<std::size_t> recorded{0};
+  const auto record = [&](std::uint64_t u, const Bytes& bytes) {
+    options.store->save(u, bytes);
+    if (kill_after && recorded.fetch_add(1) + 1 >= *kill_after) std::raise(SIGKILL);
+  };
   for (std::size_t round = 0; round < rounds; ++round) {
     // This rank's units of the round: its slots round·batch … of the cyclic assignment.
     std::vector<std::uint64_t> mine;
@@ -400,6 +408,7 @@ std::vector<Bytes> run_units(std::size_t count, const std::function<Bytes(std::s
         out[k] = body(u);
         unit_cpu[k] = thread_cpu_seconds() - cpu0;
         unit_seconds[k] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (record_at_once) record(u, out[k]);
         ok[k] = 1;
         if (root && options.progress != nullptr) options.progress->step();
         return;
@@ -481,13 +490,9 @@ std::vector<Bytes> run_units(std::size_t count, const std::function<Bytes(std::s
         }
         // Units finished this round are recorded even when another one failed: a rerun with
         // --resume then only redoes what is missing.
-        if (options.store != nullptr) {
+        if (options.store != nullptr && !record_at_once) {
           std::sort(finished.begin(), finished.end());
-          for (const std::uint64_t u : finished) {
-            options.store->save(u, results[u]);
-            ++recorded;
-            if (kill_after && recorded >= *kill_after) std::raise(SIGKILL);
-          }
+          for (const std::uint64_t u : finished) record(u, results[u]);
         }
         if (first) {
           decision.status = first_status;

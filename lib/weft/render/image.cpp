@@ -15,6 +15,7 @@
 
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
+#include "weft/core/parallel.h"
 
 namespace weft::render {
 
@@ -98,6 +99,17 @@ void write_png(const std::filesystem::path& path, const Image& image, double exp
   std::vector<unsigned char> rgb(image.rgb.size());
   for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = srgb8(image.rgb[i], exposure);
   write_rgb8_png(path, image.width, image.height, rgb);
+}
+
+void write_exr_and_png(const std::filesystem::path& exr, const std::filesystem::path& png, const Image& image,
+                       double exposure) {
+  parallel_units(2, [&](std::size_t i) {
+    if (i == 0) {
+      write_exr(exr, image);
+    } else {
+      write_png(png, image, exposure);
+    }
+  });
 }
 
 double rmse(const Image& a, const Image& b) {

@@ -64,8 +64,6 @@ struct CoarseInputs {
   tbb::collaborative_once_flag fields_once;
   volume::Grid grid;  ///< volume::downsample (the exponential law's C̄)
   LocalFields fields;
-  double grid_seconds = 0.0;  ///< median time to make each
-  double fields_seconds = 0.0;
 };
 
 double rms_stderr(const volume::TransmittanceCurve& c) {
@@ -226,62 +224,126 @@ Sweep sweep(const volume::Grid& grid, const SweepSpec& spec, ProgressSink& progr
                                                                {CoarseLaw::gamma_independent, "gamma"},
                                                                {CoarseLaw::gamma_memory, "gamma-memory"}}};
 
-  // Work units (spread over threads and MPI ranks, dist::run_units), each independent:
-  //  - one per (downsampling factor, axis, kind of law): the exponential law's beam through the
-  //    coarse grid, or the two gamma laws' beams through the local fields. The coarse inputs of a
-  //    factor (with the median time it takes to make them) are made once per process, by the
-  //    first unit that needs them, while the other units of that factor wait and help
-  //    (tbb::collaborative_call_once joins them to the TBB loops inside); one unit per factor,
-  //    as before, made the finest factor's unit most of the run on any number of threads;
+  // Work units (spread over threads and MPI ranks, dist::run_units), in this order:
+  //  - one per (downsampling factor, coarse input, timing repetition): makes the factor's local
+  //    fields or its downsampled grid once and times it; the median over the repetitions is the
+  //    rows' prepare_seconds. A factor's inputs are kept once per process, made by the first
+  //    unit that needs them (tbb::collaborative_call_once; a repetition unit only times a
+  //    computation of its own). The finest factor's fields are about a third of the run: as one
+  //    unit, repetitions included, they bounded the run on any number of threads;
+  //  - one per (factor, axis, kind of law), coarsest factor first: the exponential law's beam
+  //    through the coarse grid, or the two gamma laws' beams through the local fields; the
+  //    finest factor's last, so that its inputs are made (or being made) when they start;
   //  - one per (axis, ray stride): the ground truth with that share of the rays; stride 1 is the
   //    reference the errors are measured against (added as a unit even when it is not a row).
-  // Errors against the reference are computed afterwards, in the reduction on rank 0.
+  //    Small and independent, they come last and fill the threads at the end.
+  // Errors against the reference and the median times are computed afterwards, in the
+  // reduction on rank 0. The rows do not depend on the order or on which unit made the inputs.
   std::vector<int> strides = spec.ray_strides;
   if (std::find(strides.begin(), strides.end(), 1) == strides.end()) strides.push_back(1);
   const std::size_t n_factors = spec.factors.size();
   const std::size_t n_axes = spec.directions.size();
   const std::size_t n_strides = strides.size();
-  const std::size_t n_models = n_factors * n_axes * 2;  // unit (f, a, gamma?) = (f·n_axes + a)·2 + gamma
-  const std::size_t count = n_models + n_axes * n_strides;
+  const auto n_reps = static_cast<std::size_t>(reps);
+  const std::size_t n_prep = n_factors * 2 * n_reps;  // unit (f, gamma?, r) = (f·2 + !gamma)·reps + r
+  const std::size_t n_models = n_factors * n_axes * 2;
+  const std::size_t n_truth = n_axes * n_strides;  // unit n_prep + n_models + a·n_strides + i
+  const std::size_t count = n_prep + n_models + n_truth;
+  // Model unit n_prep + m: factor n_factors − 1 − m / (2·n_axes), axis m / 2 % n_axes, gamma m % 2.
+  const auto model_unit = [&](std::size_t fi, std::size_t a, bool gamma) {
+    return n_prep + ((n_factors - 1 - fi) * n_axes + a) * 2 + (gamma ? 1 : 0);
+  };
   std::vector<CoarseInputs> inputs(n_factors);
+  const auto make_fields = [&](std::size_t fi) {
+    tbb::collaborative_call_once(inputs[fi].fields_once,
+                                 [&] { inputs[fi].fields = local_fields(grid, spec.factors[fi]); });
+  };
+  const auto make_grid = [&](std::size_t fi) {
+    tbb::collaborative_call_once(inputs[fi].grid_once,
+                                 [&] { inputs[fi].grid = volume::downsample(grid, spec.factors[fi]); });
+  };
   ProgressTask task(progress, "accuracy/time sweep", count);
   dist::UnitsOptions how;
   how.progress = &task;
   how.store = store;
   how.name = [&](std::size_t u) {
-    if (u < n_models) {
-      return fmt::format("sweep unit {} (coarse {} models, factor {}, {})", u, u % 2 == 1 ? "gamma" : "exponential",
-                         spec.factors[u / 2 / n_axes], volume::direction_label(spec.directions[u / 2 % n_axes]));
+    if (u < n_prep) {
+      return fmt::format("sweep unit {} (factor {} {}, repetition {})", u, spec.factors[u / n_reps / 2],
+                         u / n_reps % 2 == 0 ? "local fields" : "coarse grid", u % n_reps + 1);
     }
-    const std::size_t a = (u - n_models) / n_strides;
-    const int stride = strides[(u - n_models) % n_strides];
-    return fmt::format("sweep unit {} (ground truth {}, ray stride {})", u, volume::direction_label(spec.directions[a]),
-                       stride);
+    if (u >= n_prep + n_models) {
+      const std::size_t a = (u - n_prep - n_models) / n_strides;
+      const int stride = strides[(u - n_prep - n_models) % n_strides];
+      return fmt::format("sweep unit {} (ground truth {}, ray stride {})", u,
+                         volume::direction_label(spec.directions[a]), stride);
+    }
+    const std::size_t m = u - n_prep;
+    return fmt::format("sweep unit {} (coarse {} models, factor {}, {})", u, m % 2 == 1 ? "gamma" : "exponential",
+                       spec.factors[n_factors - 1 - m / 2 / n_axes],
+                       volume::direction_label(spec.directions[m / 2 % n_axes]));
   };
   const std::vector<dist::Bytes> units = dist::run_units(
       count,
       [&](std::size_t u) {
         nlohmann::json j;
-        if (u < n_models) {
-          const std::size_t fi = u / 2 / n_axes;
-          const std::array<double, 3>& d = spec.directions[u / 2 % n_axes];
-          const bool gamma = u % 2 == 1;
+        if (u < n_prep) {
+          const std::size_t fi = u / n_reps / 2;
+          const bool gamma = u / n_reps % 2 == 0;
           const int f = spec.factors[fi];
-          CoarseInputs& in = inputs[fi];
+          // The first repetition makes the kept inputs when no unit has yet; every repetition
+          // times one computation of its own.
+          const auto prepare = [&](LocalFields& fields, volume::Grid& coarse) {
+            if (gamma) {
+              fields = local_fields(grid, f);
+            } else {
+              coarse = volume::downsample(grid, f);
+            }
+          };
+          bool made = false;
+          double seconds = 0.0;
+          if (u % n_reps == 0) {
+            tbb::collaborative_call_once(gamma ? inputs[fi].fields_once : inputs[fi].grid_once, [&] {
+              made = true;
+              seconds = timed(1, [&] { prepare(inputs[fi].fields, inputs[fi].grid); });
+            });
+          }
+          if (!made) {
+            LocalFields fields;
+            volume::Grid coarse;
+            seconds = timed(1, [&] { prepare(fields, coarse); });
+          }
+          j["seconds"] = seconds;
+        } else if (u >= n_prep + n_models) {
+          const std::size_t a = (u - n_prep - n_models) / n_strides;
+          volume::BeamSpec beam;
+          beam.direction = spec.directions[a];
+          beam.scale = spec.sigma;
+          beam.seed = spec.seed;
+          beam.column_stride = strides[(u - n_prep - n_models) % n_strides];
+          volume::TransmittanceCurve c;
+          j["seconds"] = timed(reps, [&] { c = volume::measure_beam(grid, beam); });
+          j["depth"] = c.depth;
+          j["log_t"] = c.log_t;
+          j["rel_stderr"] = c.rel_stderr;
+          j["rays"] = c.rays;
+          j["direction"] = c.direction;
+          j["method"] = c.method;
+        } else {
+          const std::size_t m = u - n_prep;
+          const std::size_t fi = n_factors - 1 - m / 2 / n_axes;
+          const std::array<double, 3>& d = spec.directions[m / 2 % n_axes];
+          const bool gamma = m % 2 == 1;
+          const int f = spec.factors[fi];
           const int axis = volume::beam_axis(d);
           const volume::Grid* mean = nullptr;
           const volume::Grid* var = nullptr;
           if (gamma) {
-            tbb::collaborative_call_once(
-                in.fields_once, [&] { in.fields_seconds = timed(reps, [&] { in.fields = local_fields(grid, f); }); });
-            j["prepare_seconds"] = in.fields_seconds;
-            mean = &in.fields.mean;
-            var = &in.fields.variance[static_cast<std::size_t>(axis)];
+            make_fields(fi);
+            mean = &inputs[fi].fields.mean;
+            var = &inputs[fi].fields.variance[static_cast<std::size_t>(axis)];
           } else {
-            tbb::collaborative_call_once(
-                in.grid_once, [&] { in.grid_seconds = timed(reps, [&] { in.grid = volume::downsample(grid, f); }); });
-            j["prepare_seconds"] = in.grid_seconds;
-            mean = &in.grid;
+            make_grid(fi);
+            mean = &inputs[fi].grid;
           }
           nlohmann::json beams = nlohmann::json::array();
           for (const auto& entry : laws) {
@@ -293,21 +355,6 @@ Sweep sweep(const volume::Grid& grid, const SweepSpec& spec, ProgressSink& progr
             beams.push_back({{"log_t", log_t}, {"seconds", seconds}});
           }
           j["beams"] = std::move(beams);
-        } else {
-          const std::size_t a = (u - n_models) / n_strides;
-          volume::BeamSpec beam;
-          beam.direction = spec.directions[a];
-          beam.scale = spec.sigma;
-          beam.seed = spec.seed;
-          beam.column_stride = strides[(u - n_models) % n_strides];
-          volume::TransmittanceCurve c;
-          j["seconds"] = timed(reps, [&] { c = volume::measure_beam(grid, beam); });
-          j["depth"] = c.depth;
-          j["log_t"] = c.log_t;
-          j["rel_stderr"] = c.rel_stderr;
-          j["rays"] = c.rays;
-          j["direction"] = c.direction;
-          j["method"] = c.method;
         }
         return nlohmann::json::to_msgpack(j);
       },
@@ -316,12 +363,19 @@ Sweep sweep(const volume::Grid& grid, const SweepSpec& spec, ProgressSink& progr
 
   std::vector<nlohmann::json> unit(units.size());
   for (std::size_t u = 0; u < units.size(); ++u) unit[u] = nlohmann::json::from_msgpack(units[u]);
+  // The median time to make a factor's local fields (gamma) or coarse grid over its repetitions.
+  const auto prepare_seconds = [&](std::size_t fi, bool gamma) {
+    std::vector<double> t;
+    for (std::size_t r = 0; r < n_reps; ++r)
+      t.push_back(unit[(fi * 2 + (gamma ? 0 : 1)) * n_reps + r].at("seconds").get<double>());
+    return median(t);
+  };
   for (std::size_t a = 0; a < spec.directions.size(); ++a) {
     const std::string label = volume::direction_label(spec.directions[a]);
     const auto curve = [&](int stride, double* seconds) {
       const std::size_t i =
           static_cast<std::size_t>(std::find(strides.begin(), strides.end(), stride) - strides.begin());
-      const nlohmann::json& j = unit[n_models + a * n_strides + i];
+      const nlohmann::json& j = unit[n_prep + n_models + a * n_strides + i];
       volume::TransmittanceCurve c;
       j.at("depth").get_to(c.depth);
       j.at("log_t").get_to(c.log_t);
@@ -351,7 +405,7 @@ Sweep sweep(const volume::Grid& grid, const SweepSpec& spec, ProgressSink& progr
     for (std::size_t fi = 0; fi < n_factors; ++fi) {
       for (std::size_t li = 0; li < laws.size(); ++li) {
         const bool gamma = laws[li].first != CoarseLaw::exponential;
-        const nlohmann::json& j = unit[(fi * n_axes + a) * 2 + (gamma ? 1 : 0)];
+        const nlohmann::json& j = unit[model_unit(fi, a, gamma)];
         const nlohmann::json& b = j.at("beams").at(gamma ? li - 1 : 0);  // laws: exponential, then the gammas
         const std::vector<double> log_t = b.at("log_t").get<std::vector<double>>();
         SweepRow r;
@@ -365,7 +419,7 @@ Sweep sweep(const volume::Grid& grid, const SweepSpec& spec, ProgressSink& progr
         r.error_rms_t = e.rms_abs_t;
         r.error_max_t = e.max_abs_t;
         r.accuracy_rms_t = e.rms_abs_t;
-        r.prepare_seconds = j.at("prepare_seconds").get<double>();
+        r.prepare_seconds = prepare_seconds(fi, gamma);
         out.rows.push_back(r);
       }
     }
