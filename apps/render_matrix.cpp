@@ -103,8 +103,7 @@ void run_render_matrix_command(const study::StudySpec& study, const MatrixCliOpt
   study::MatrixSpec m;
   m.study = study;
   if (!given.factors) m.study.factors = {2, 4, 8};
-  if (!given.memory)
-    m.study.memory_rules = {transmittance::MemoryRule::segment, transmittance::MemoryRule::optical_depth};
+  if (!given.memory) m.study.memory_rules = {transmittance::kDefaultMemoryRule, transmittance::MemoryRule::segment};
   m.study.spp = given.spp > 0 ? given.spp : (given.quick ? kMatrixQuickSpp : kMatrixSpp);
   m.study.reference_spp =
       given.reference_spp > 0 ? given.reference_spp : (given.quick ? kMatrixQuickReferenceSpp : kMatrixReferenceSpp);

@@ -150,7 +150,7 @@ void run_render_study(const render::SceneDesc& scene, study::StudySpec spec, con
                     fmt::join(pairs, ",")));
   }
   // Say the cost before spending it: two images per candidate (the second at the first's spp).
-  const std::size_t candidates = 2 + (2 + spec.memory_rules.size()) * spec.factors.size() + spec.albedo_factors.size();
+  const std::size_t candidates = 2 + (3 + spec.memory_rules.size()) * spec.factors.size() + spec.albedo_factors.size();
   if (spec.spp == 0)
     ctx.say(fmt::format("study: {} candidates x 2 images, about {:.3g} s of rendering plus the reference at {} spp",
                         candidates, 2.0 * static_cast<double>(candidates) * spec.seconds, spec.reference_spp));

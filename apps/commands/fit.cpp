@@ -34,6 +34,7 @@ struct FitOptions {
   std::string axes = "x,y,z";
   std::string window = "yarn";
   int block = 0;
+  std::string fields = "render";
   std::string beams;
   std::string out = "weft-out";
 };
@@ -98,16 +99,23 @@ const Registrar kFit{Command{
       sub.add_option("--block", o->block,
                      "Also write local fields per block of B^3 voxels to local_fields.vdb (0 = off)")
           ->capture_default_str();
+      CLI::Option* fields_option =
+          sub.add_option("--fields", o->fields,
+                         "With --block: render (mean and variance per axis, the 4 grids the local-gamma medium reads) "
+                         "or all (also alpha and beta per axis: 10 grids, for analysis)")
+              ->check(CLI::IsMember({"render", "all"}))
+              ->capture_default_str();
       sub.add_option("--beams", o->beams, "beams.csv from `weft measure`: adds least-squares fits and model errors");
       sub.add_option(
              "--out", o->out,
              "Output folder (created if missing): fit.json; with --block local_fields.vdb and local_fields_scene.json")
           ->capture_default_str();
-      return [o](const Context& ctx) -> int {
+      return [o, fields_option](const Context& ctx) -> int {
         check_grid_input(o->input);
         as_usage([&] { fit::check_scale_text(o->window); });
         if (o->block < 0 || o->block > fit::kMaxLocalBlock)
           usage_fail("--block must be in 0..{} voxels (0 = off), got {}", fit::kMaxLocalBlock, o->block);
+        if (fields_option->count() > 0 && o->block == 0) usage_fail("--fields needs --block");
         const auto dirs = as_usage([&] { return fit::parse_axes(o->axes); });
         const LoadedGrid loaded = load_grid_input(o->input);
         const volume::Grid& grid = loaded.grid;
@@ -163,13 +171,17 @@ const Registrar kFit{Command{
                        {"axes", axes},
                        {"isotropic", {{"mean", iso.mean}, {"variance", iso.variance}, {"fit", fit_json(iso_fit)}}}};
         if (fields)
-          report["local_fields"] = {{"file", "local_fields.vdb"}, {"block", o->block}, {"blocks", fields->blocks}};
+          report["local_fields"] = {
+              {"file", "local_fields.vdb"}, {"block", o->block}, {"blocks", fields->blocks}, {"fields", o->fields}};
         const fs::path out = o->out;
         ensure_directory(out);
         WrittenFiles files;
         if (fields) {
-          fit::save_local_fields(*fields, out / "local_fields.vdb");
-          files.add(out / "local_fields.vdb", fmt::format("alpha, beta per {}^3 block", o->block));
+          const fit::FieldChannels channels = *fit::parse_field_channels(o->fields);  // checked by CLI::IsMember
+          fit::save_local_fields(*fields, out / "local_fields.vdb", channels);
+          files.add(out / "local_fields.vdb",
+                    fmt::format("mean, variance{} per {}^3 block",
+                                channels == fit::FieldChannels::all ? ", alpha, beta" : "", o->block));
           // Cloth scenes take σ from the grid's provenance (render::cloth_look): grids of weft gen.
           if (!o->input.extinction() && loaded.provenance.sigma) {
             // A scene that renders the fields as is (`weft render OUT/local_fields_scene.json`),

@@ -456,18 +456,20 @@ const Registrar kRender{Command{
                      "--window (default yarn: the yarn diameter of the grid's provenance; a grid without it needs "
                      "a LENGTH or yarn-measured)");
       sub.add_option("--study-memory", o->study_memory,
-                     "--study: memory rules of the local-gamma candidates, comma-separated (default segment; "
-                     "renewal, optical-depth, carried: docs/render.md §5e)")
+                     "--study: memory rules of the local-gamma candidates, comma-separated (default optical-depth, "
+                     "named local-gamma-Nx; the study matrix: optical-depth,segment; others are named "
+                     "local-gamma-RULE-Nx: segment, renewal, carried; docs/render.md §5e)")
           ->delimiter(',');
       sub.add_option("--study-albedo", o->study_albedo,
                      "--study: albedo-corrected candidates (docs/render.md 6d): FACTOR:K,... (k_N fitted on another "
                      "set-up) or 'fit' (fit k_N on this scene first and print them; in-sample)")
           ->delimiter(',');
-      sub.add_option("--study-components", o->study_components,
-                     "--study: also render the reference and these candidates with albedo 0 and with at most one "
-                     "scattering event, and split their bias into transmission, single and multiple scattering "
-                     "(docs/render.md 6e): candidate families without -Nx, comma-separated (exponential, "
-                     "local-gamma-optical-depth, shadow-corrected, ...) or all; the fine grid is always split too")
+      sub.add_option(
+             "--study-components", o->study_components,
+             "--study: also render the reference and these candidates with albedo 0 and with at most one "
+             "scattering event, and split their bias into transmission, single and multiple scattering "
+             "(docs/render.md 6e): candidate families without -Nx, comma-separated (exponential, "
+             "local-gamma, local-gamma-segment, shadow-corrected, ...) or all; the fine grid is always split too")
           ->delimiter(',');
       add_matrix_options(sub, o->matrix);
       sub.add_option("--lighting", o->lighting,

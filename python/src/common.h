@@ -30,6 +30,7 @@ void init_measure(py::module_& m);
 void init_cloth(py::module_& m);
 void init_render(py::module_& m);
 void init_fibres(py::module_& m);
+void init_study(py::module_& m);
 
 /// @brief A ProgressSink that calls a Python callable `callback(label, done, total)` and stops the
 /// computation (weft::Cancelled, docs/python.md "Interrupting a call") when the callback raised or

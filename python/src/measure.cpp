@@ -185,7 +185,7 @@ void init_measure(py::module_& m) {
           [](const fit::LocalFields& f, const py::object& path) {
             const std::string p = py::str(py::module_::import("os").attr("fspath")(path));
             py::gil_scoped_release release;
-            fit::save_local_fields(f, p);
+            fit::save_local_fields(f, p, fit::FieldChannels::all);
           },
           py::arg("path"), "Writes every grid into one .vdb file (local_fields.vdb of weft fit --block), atomically.")
       .def("__repr__", [](const fit::LocalFields& f) {

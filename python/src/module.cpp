@@ -81,4 +81,5 @@ PYBIND11_MODULE(_weft, m) {
   weft::python::init_cloth(m);
   weft::python::init_render(m);
   weft::python::init_fibres(m);
+  weft::python::init_study(m);
 }

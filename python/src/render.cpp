@@ -5,6 +5,7 @@
 #include <string>
 
 #include "common.h"
+#include "render_io.h"
 #include "weft/render/builtin_scenes.h"
 #include "weft/render/cloth_scene.h"
 #include "weft/render/image.h"
@@ -26,12 +27,6 @@ rd::IntegratorChoice integrator_choice(const std::string& name) {
   if (name == "exponential") return rd::IntegratorChoice::exponential;
   if (name == "general") return rd::IntegratorChoice::general;
   fail("render: integrator must be auto, surfaces, exponential or general, got '{}'", name);
-}
-
-py::array_t<float> image_array(const rd::Image& image, const std::vector<float>& values) {
-  py::array_t<float> a({static_cast<py::ssize_t>(image.height), static_cast<py::ssize_t>(image.width), py::ssize_t{3}});
-  std::copy(values.begin(), values.end(), a.mutable_data());
-  return a;
 }
 
 using ImageArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
@@ -62,20 +57,26 @@ void warn_all(const std::vector<std::string>& warnings) {
 
 }  // namespace
 
+rd::SceneDesc scene_of(const std::string& kind, const std::string& text, const std::string& base_dir) {
+  if (kind == "file") return rd::load_scene(text);
+  if (kind == "builtin")
+    return rd::parse_scene(rd::builtin_scene(text), "built-in scene '" + text + "'", fs::current_path());
+  return rd::parse_scene(text, "scene dict", base_dir.empty() ? fs::current_path() : fs::path(base_dir));
+}
+
+py::array_t<float> image_array(const rd::Image& image, const std::vector<float>& values) {
+  py::array_t<float> a({static_cast<py::ssize_t>(image.height), static_cast<py::ssize_t>(image.width), py::ssize_t{3}});
+  std::copy(values.begin(), values.end(), a.mutable_data());
+  return a;
+}
+
 void init_render(py::module_& m) {
   m.def(
       "_render",
       [](const std::string& kind, const std::string& text, const std::string& base_dir, std::optional<int> spp,
          std::optional<std::uint64_t> seed, const std::string& integrator, double time_budget, bool stats,
          const py::object& progress) -> py::object {
-        rd::SceneDesc scene;
-        if (kind == "file") {
-          scene = rd::load_scene(text);
-        } else if (kind == "builtin") {
-          scene = rd::parse_scene(rd::builtin_scene(text), "built-in scene '" + text + "'", fs::current_path());
-        } else {
-          scene = rd::parse_scene(text, "scene dict", base_dir.empty() ? fs::current_path() : fs::path(base_dir));
-        }
+        const rd::SceneDesc scene = scene_of(kind, text, base_dir);
         // The CLI's scene warnings (render/scene_checks.h), as weft.Warning (an error under
         // warnings.simplefilter("error")): the description's before the world is built, the
         // world's after.

@@ -30,6 +30,11 @@ LONG_CALLS = {
     "validate": "weft.validate(weft.gen(%r).grid, window='0.3', progress=cb)" % MEDIUM_CLOTH,
     "measure_beam": "weft.measure_beam(small.grid, direction=(1, 1, 1), sigma=100, rays_per_column=1 << 12, "
                     "progress=cb)",
+    "render_study": "weft.render_study(small.scene(lighting='back', width=32, height=24), spp=1, "
+                    "reference_spp=1 << 16, factors=(2,), progress=cb)",
+    # The matrix reports once per case (its first report after the cloths and the albedo fits):
+    # Ctrl-C stops it at the end of the case it is in, one of six.
+    "render_matrix": "weft.render_matrix(quick=True, cloths='plain', tilts=(45, 8), progress=cb)",
 }
 
 CHILD = textwrap.dedent("""
@@ -122,6 +127,8 @@ CALLBACK_CALLS = {
     "measure_beam": lambda small, cb: weft.measure_beam(small.grid, "x", sigma=100, progress=cb),
     "window_stats": lambda small, cb: weft.window_stats(small.grid, "x", window=0.05, progress=cb),
     "correlation_length": lambda small, cb: weft.correlation_length(small.grid, "x", progress=cb),
+    "render_study": lambda small, cb: weft.render_study(small.scene(lighting="back", width=24, height=18), spp=2,
+                                                        reference_spp=16, factors=(2,), progress=cb),
 }
 
 

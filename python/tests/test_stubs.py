@@ -55,7 +55,8 @@ def test_every_public_name_is_stubbed():
             assert sorted(members - set(stubbed_names(stubs[name].body))) == [], name
 
 
-@pytest.mark.parametrize("name", ["gen", "render", "validate", "measure_beam", "window_stats", "local_fields"])
+@pytest.mark.parametrize("name", ["gen", "render", "validate", "measure_beam", "window_stats", "local_fields",
+                                  "render_study", "render_matrix", "fit_albedo"])
 def test_long_calls_are_stubbed_with_threads_and_progress(name):
     node = stubbed_names(stub_tree().body)[name]
     args = {a.arg for a in node.args.args + node.args.kwonlyargs}

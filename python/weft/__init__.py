@@ -2,7 +2,8 @@
 
 Transmittance laws (``weft.law``), sparse voxel grids (``weft.Grid``), ground truth by DDA
 (``weft.measure_beam``), window statistics and gamma fits, the procedural cloth generator
-(``weft.gen``) and the volumetric path tracer (``weft.render``). Every bad input raises
+(``weft.gen``), the volumetric path tracer (``weft.render``) and the coarse-cloth image study
+with its baselines (``weft.render_study``, ``weft.render_matrix``). Every bad input raises
 ``weft.Error`` with weft's one-line message (or ``TypeError`` for a value of the wrong type).
 Long calls release the GIL, take ``progress=callable(label, done, total)`` (or ``progress=True``
 for a bar) and ``threads=N``. Warnings are ``weft.Warning`` (a ``UserWarning``). See docs/python.md.
@@ -359,16 +360,19 @@ def _scene_with_files(scene, stack):
     return out
 
 
-def _render_scene(scene, spp, seed, integrator, time_budget, stats, base_dir, progress, threads):
+def _scene_kind(scene, what):
+    """A scene as the bindings take it: ("dict", JSON text), ("file", path) or ("builtin", name)."""
     if isinstance(scene, dict):
-        kind, text = "dict", _dumps(scene, "render")
-    elif isinstance(scene, (str, _os.PathLike)):
+        return "dict", _dumps(scene, what)
+    if isinstance(scene, (str, _os.PathLike)):
         text = _os.fspath(scene)
         looks_like_file = _os.path.exists(text) or "/" in text or text.endswith(".json")
-        kind = "file" if looks_like_file else "builtin"
-    else:
-        raise TypeError("render: scene must be a path, a built-in scene name or a dict, got %s"
-                        % type(scene).__name__)
+        return ("file" if looks_like_file else "builtin"), text
+    raise TypeError("%s: scene must be a path, a built-in scene name or a dict, got %s" % (what, type(scene).__name__))
+
+
+def _render_scene(scene, spp, seed, integrator, time_budget, stats, base_dir, progress, threads):
+    kind, text = _scene_kind(scene, "render")
     if base_dir is not None:
         base_dir = _os.fspath(base_dir)
     return _run(lambda p: _render(kind, text, base_dir or "", spp, seed, integrator, float(time_budget),
@@ -381,6 +385,9 @@ def _dumps(value, what):
     except (TypeError, ValueError) as e:
         raise Error("%s: the spec is not JSON-serializable: %s" % (what, e)) from None
 
+
+# The image study, its matrix and the baselines (docs/render.md §6c-§6e).
+from ._study import *  # noqa: E402,F401,F403
 
 # weft.Warning stays out of `from weft import *`, which would hide the built-in Warning.
 __all__ = [name for name in dir() if not name.startswith("_") and name != "Warning"]

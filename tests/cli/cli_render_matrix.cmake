@@ -6,14 +6,14 @@
 #   Per case, the bias estimates are statistical statements with standard errors: the fine grid
 #   (the reference's own model) is consistent with no bias (|z| < 5 over the cloth's pixels) and
 #   every candidate whose cloth bias is detectable (z > 5) is more biased than the fine grid; the
-#   memory columns agree with what each representation is: 1 channel for the grids, the 10 of the
-#   local fields file on the same blocks as the downsampled grid (10x its bytes), the slab's 3 law
-#   parameters. Then a rerun with --resume takes every case from the store and writes the same
-#   aggregate files byte for byte, and --resume with another spec is refused (exit 1). The
-#   exponential candidates are split into transmission, single and multiple scattering
-#   (--study-components): check_matrix_split.py asserts the fine grid's bias at every image scale
-#   and in every component is 0 within 5 standard errors, only the asked candidates are split, and
-#   the components' levels add up to the full one.
+#   memory columns agree with what each representation is: 1 channel for the grids, the 4 of the
+#   local fields file the medium reads on the same blocks as the downsampled grid (4x its bytes),
+#   the slab's 3 law parameters. Then a rerun with --resume takes every case from the store and
+#   writes the same aggregate files byte for byte, and --resume with another spec is refused
+#   (exit 1). The exponential candidates are split into transmission, single and multiple
+#   scattering (--study-components): check_matrix_split.py asserts the fine grid's bias at every
+#   image scale and in every component is 0 within 5 standard errors, only the asked candidates are
+#   split, and the components' levels add up to the full one.
 # same_bytes: the same small matrix without mpirun and under mpirun -n 2 (one thread each) gives
 #   the same matrix.csv, the same images of every case and the same matrix.json without timings.
 
@@ -31,7 +31,7 @@ if(CMAKE_SCRIPT_MODE_FILE)
     set(d ${WORK}/run)
     foreach(f matrix.csv matrix.cost.csv matrix.json matrix.md cases/plain-back-45deg/reference.exr
               cases/stockinette-front-45deg/reference.study.csv cases/stockinette-front-45deg/reference.study.contact.png
-              cases/plain-front-45deg/study/local-gamma-optical-depth-4x.exr)
+              cases/plain-front-45deg/study/local-gamma-segment-4x.exr)
       if(NOT EXISTS ${d}/${f})
         message(FATAL_ERROR "missing output ${f}")
       endif()
@@ -48,10 +48,10 @@ if(CMAKE_SCRIPT_MODE_FILE)
     endforeach()
     list(REMOVE_AT rows 0)
     list(LENGTH rows n_rows)
-    # 4 cases x (fine, 2 factors x (exponential, local-gamma, local-gamma-optical-depth,
-    # shadow-corrected, albedo-corrected), slab): docs/render.md §6c–§6e.
-    if(NOT n_rows EQUAL 48)
-      message(FATAL_ERROR "matrix.csv has ${n_rows} rows, expected 48")
+    # 4 cases x (fine, 2 factors x (exponential, local-gamma (optical-depth), local-gamma-segment,
+    # shadow-corrected, shadow-directional, albedo-corrected), slab): docs/render.md §6c–§6e.
+    if(NOT n_rows EQUAL 56)
+      message(FATAL_ERROR "matrix.csv has ${n_rows} rows, expected 56")
     endif()
     set(cases "")
     foreach(row IN LISTS rows)
@@ -69,8 +69,8 @@ if(CMAKE_SCRIPT_MODE_FILE)
       if(NOT (zf LESS 5 AND zf GREATER -5))
         message(FATAL_ERROR "${c}: the fine grid's cloth bias has z = ${zf}: not consistent with 0")
       endif()
-      foreach(name exponential-2x local-gamma-2x local-gamma-optical-depth-2x exponential-4x local-gamma-4x
-                   local-gamma-optical-depth-4x slab-gamma)
+      foreach(name exponential-2x local-gamma-2x local-gamma-segment-2x exponential-4x local-gamma-4x
+                   local-gamma-segment-4x slab-gamma)
         if(cloth_bias_z_${c}_${name} GREATER 5 AND NOT cloth_bias_${c}_${name} GREATER cloth_bias_${c}_fine)
           message(FATAL_ERROR "${c}: ${name} (cloth bias ${cloth_bias_${c}_${name}}, z ${cloth_bias_z_${c}_${name}}) "
                               "is not more biased than the fine grid (${cloth_bias_${c}_fine})")
@@ -78,11 +78,11 @@ if(CMAKE_SCRIPT_MODE_FILE)
       endforeach()
       foreach(f 2 4)
         set(e ${memory_bytes_${c}_exponential-${f}x})
-        math(EXPR ten "10 * ${e}")
-        foreach(name local-gamma-${f}x local-gamma-optical-depth-${f}x)
-          if(NOT memory_channels_${c}_${name} EQUAL 10 OR NOT memory_bytes_${c}_${name} EQUAL ten)
+        math(EXPR four "4 * ${e}")
+        foreach(name local-gamma-${f}x local-gamma-segment-${f}x)
+          if(NOT memory_channels_${c}_${name} EQUAL 4 OR NOT memory_bytes_${c}_${name} EQUAL four)
             message(FATAL_ERROR "${c}: ${name} holds ${memory_bytes_${c}_${name}} bytes in "
-                                "${memory_channels_${c}_${name}} channels, expected 10 x ${e}")
+                                "${memory_channels_${c}_${name}} channels, expected 4 x ${e}")
           endif()
         endforeach()
         if(NOT memory_channels_${c}_exponential-${f}x EQUAL 1 OR NOT e LESS memory_bytes_${c}_fine)

@@ -25,8 +25,8 @@ if(CMAKE_SCRIPT_MODE_FILE)
       message(FATAL_ERROR "study failed (${rc}): ${err}")
     endif()
     message(STATUS "${out}")
-    set(candidates fine exponential-2x local-gamma-2x shadow-corrected-2x exponential-4x local-gamma-4x shadow-corrected-4x
-        slab-gamma)
+    set(candidates fine exponential-2x local-gamma-2x shadow-corrected-2x shadow-directional-2x exponential-4x local-gamma-4x
+        shadow-corrected-4x shadow-directional-4x slab-gamma)
     set(d ${WORK}/run)
     foreach(f default_cloth.exr default_cloth.png default_cloth.study.csv default_cloth.study.curves.csv
               default_cloth.study.json default_cloth.study.contact.png default_cloth.study/reference.json

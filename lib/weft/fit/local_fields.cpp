@@ -315,11 +315,23 @@ LocalFields local_fields(const volume::Grid& grid, int block, ProgressSink& prog
   return out;
 }
 
-void save_local_fields(const LocalFields& f, const std::filesystem::path& path) {
+std::string_view field_channels_name(FieldChannels channels) {
+  return channels == FieldChannels::render ? "render" : "all";
+}
+
+std::optional<FieldChannels> parse_field_channels(std::string_view name) {
+  for (const FieldChannels c : {FieldChannels::render, FieldChannels::all})
+    if (name == field_channels_name(c)) return c;
+  return std::nullopt;
+}
+
+void save_local_fields(const LocalFields& f, const std::filesystem::path& path, FieldChannels channels) {
   std::vector<volume::Grid> grids{f.mean};
   for (std::size_t a = 0; a < 3; ++a) grids.push_back(f.variance[a]);
-  for (std::size_t a = 0; a < 3; ++a) grids.push_back(f.alpha[a]);
-  for (std::size_t a = 0; a < 3; ++a) grids.push_back(f.beta[a]);
+  if (channels == FieldChannels::all) {
+    for (std::size_t a = 0; a < 3; ++a) grids.push_back(f.alpha[a]);
+    for (std::size_t a = 0; a < 3; ++a) grids.push_back(f.beta[a]);
+  }
   volume::save_grids(grids, path);
 }
 

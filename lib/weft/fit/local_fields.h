@@ -7,6 +7,8 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
+#include <string_view>
 
 #include "weft/core/progress.h"
 #include "weft/volume/grid.h"
@@ -47,7 +49,21 @@ struct LocalFields {
   std::uint64_t blocks = 0;
 };
 [[nodiscard]] LocalFields local_fields(const volume::Grid& grid, int block, ProgressSink& progress = null_progress());
-/// Writes every grid of `fields` into one .vdb file, atomically.
-void save_local_fields(const LocalFields& fields, const std::filesystem::path& path);
+/// Which grids of LocalFields a file holds (docs/render.md §5b).
+enum class FieldChannels {
+  /// What the local-gamma medium reads, and all it needs: mean_concentration and
+  /// var_concentration_{x,y,z}, 4 channels (α, β follow from them per voxel).
+  render,
+  /// Those and alpha_{x,y,z}, beta_{x,y,z}: 10 channels, for analysis (α = β = +∞ on
+  /// exponential blocks).
+  all,
+};
+/// "render", "all".
+[[nodiscard]] std::string_view field_channels_name(FieldChannels channels);
+/// The channels of a name above, or nothing.
+[[nodiscard]] std::optional<FieldChannels> parse_field_channels(std::string_view name);
+
+/// Writes the grids of `fields` that `channels` names into one .vdb file, atomically.
+void save_local_fields(const LocalFields& fields, const std::filesystem::path& path, FieldChannels channels);
 
 }  // namespace weft::fit

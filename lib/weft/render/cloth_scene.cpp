@@ -218,7 +218,11 @@ std::string scene_json(const volume::Grid& grid, const std::string& file_in_scen
                {"tracking", "delta"}};
       break;
     case ClothSceneMedium::Kind::local_fields:
-      cloth = {{"type", "local-gamma"}, {"fields", file_in_scene}, {"sigma", look.sigma}};
+      // The memory rule written out, so the scene says what it renders (docs/render.md §5e).
+      cloth = {{"type", "local-gamma"},
+               {"fields", file_in_scene},
+               {"sigma", look.sigma},
+               {"memory", transmittance::memory_rule_name(transmittance::kDefaultMemoryRule)}};
       break;
     case ClothSceneMedium::Kind::homogeneous: {
       if (!medium.law) fail("cloth scene for '{}': a homogeneous medium needs a law", where.string());

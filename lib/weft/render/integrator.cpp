@@ -267,9 +267,23 @@ bool Integrator<kMedia, kNonExp>::roulette(Rgb& beta, int depth, Pcg32& rng) con
 template <bool kMedia, bool kNonExp>
 double Integrator<kMedia, kNonExp>::shadow(Vec3 x, const LightSample& ls, int medium, Origin origin, Pcg32& rng,
                                            PathCounters& counters) const {
-  const Vec3& wi = ls.wi;
-  // Measured from the shadow ray's own (offset) origin, so it cannot reach the light's surface.
-  const double dist = std::isfinite(ls.dist) ? std::max(0.0, (ls.point - x).norm() - ls.margin) : ls.dist;
+  // A light point (area or point light) is aimed at from each segment's own origin
+  // (docs/render.md §2, "Shadow rays to a light point"): the origin is offset off the surface it
+  // leaves (a diffuse vertex, each null boundary crossed), and a ray kept along ls.wi from there
+  // passes beside the light point, so the distance to that point no longer bounds the distance
+  // to the light's surface; re-aimed, the segment ends ls.margin short of the point on the line
+  // through it, which a flat or convex emitter seen from its front does not cross. Lights at
+  // infinity keep ls.wi.
+  const bool finite = std::isfinite(ls.dist);
+  Vec3 wi = ls.wi;
+  double dist = ls.dist;
+  const auto aim = [&] {
+    const Vec3 to = ls.point - x;
+    const double length = to.norm();
+    if (length > 0.0) wi = to / length;
+    dist = std::max(0.0, length - ls.margin);
+  };
+  if (finite) aim();
   double tmin = 0.0;
   if constexpr (!kMedia) {
     if (!w_.any_null) {
@@ -304,7 +318,10 @@ double Integrator<kMedia, kNonExp>::shadow(Vec3 x, const LightSample& ls, int me
     }
     escaped = !entering && w_.geometry->lone_convex();
     x = offset(hit->p, hit->n, wi);
-    remaining -= hit->t;
+    if (finite) {
+      aim();
+      remaining = dist;
+    }
     tmin = 0.0;
     if (!(remaining > 0.0)) return tr;
   }

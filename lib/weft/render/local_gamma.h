@@ -18,7 +18,8 @@ namespace weft::render {
 /// mean C̄ and the column-mean variance V along the ray's dominant axis), applied along a ray
 /// as the hazard Σ(s) = σα_v/(β_v + σs) of that law at memory s
 /// (transmittance::GammaHazard); how s passes from voxel to voxel is the memory rule
-/// (docs/render.md §5e; `segment`, the default, measures it from the segment start).
+/// (docs/render.md §5e; the default, `optical-depth`, converts the optical depth so far into
+/// the cell's memory).
 /// H(t) = ∫Σ and T = e^{−H}. A constant field is exactly the homogeneous gamma law
 /// T = (1 + σt/β)^{−α} under every rule but renewal; V = 0 gives the exponential e^{−σC̄t}.
 ///
@@ -34,7 +35,7 @@ class LocalGammaField {
   /// --block` writes. Throws weft::Error naming the file for a missing grid, an empty mean
   /// grid, a negative or NaN value in a grid, or σ not finite and positive.
   LocalGammaField(const std::filesystem::path& vdb, double sigma,
-                  transmittance::MemoryRule memory = transmittance::MemoryRule::segment);
+                  transmittance::MemoryRule memory = transmittance::kDefaultMemoryRule);
 
   /// A field on the same (shared, read-only) grids with its own DDA tracer, for another thread.
   [[nodiscard]] std::unique_ptr<LocalGammaField> clone() const;
@@ -62,7 +63,7 @@ class LocalGammaField {
   std::unique_ptr<volume::Tracer> tracer_;
   std::array<std::unique_ptr<volume::VoxelReader>, 3> var_readers_;
   double sigma_ = 1.0;
-  transmittance::MemoryRule memory_ = transmittance::MemoryRule::segment;
+  transmittance::MemoryRule memory_ = transmittance::kDefaultMemoryRule;
 };
 
 }  // namespace weft::render

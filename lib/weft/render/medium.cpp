@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <vector>
 
 #include "weft/core/error.h"
 #include "weft/render/local_gamma.h"
@@ -141,8 +142,21 @@ MediumTraits PairMedium::traits() const {
 namespace {
 struct MajorantScratch final : MediumScratch {
   volume::MajorantTracker tracker;
-  MajorantScratch(const volume::Grid& g, const volume::MajorantGrid& m) : tracker(g, m) {}
+  std::vector<double> weights;  ///< directional media: ω_a² of the current ray
+  MajorantScratch(const std::vector<const volume::Grid*>& channels, const volume::MajorantGrid& m)
+      : tracker(channels, m), weights(channels.size() == 1 ? 0 : channels.size()) {}
+  /// ω_a²/|ω|² for a direction that need not be unit: the weights sum to 1 (to rounding).
+  void set_direction(const Vec3& d) {
+    const double n2 = d.squaredNorm();
+    for (std::size_t a = 0; a < weights.size(); ++a)
+      weights[a] = d[static_cast<Eigen::Index>(a)] * d[static_cast<Eigen::Index>(a)] / n2;
+  }
 };
+std::vector<const volume::Grid*> pointers(const std::vector<std::shared_ptr<const volume::Grid>>& grids) {
+  std::vector<const volume::Grid*> out;
+  for (const auto& g : grids) out.push_back(g.get());
+  return out;
+}
 struct DepthScratch final : MediumScratch {
   volume::DepthTracker tracker;
   explicit DepthScratch(const volume::Grid& g) : tracker(g) {}
@@ -151,17 +165,32 @@ struct DepthScratch final : MediumScratch {
 
 DeltaTrackingGridMedium::DeltaTrackingGridMedium(std::shared_ptr<const volume::Grid> grid, double scale, Rgb albedo,
                                                  double g)
+    : DeltaTrackingGridMedium(std::vector<std::shared_ptr<const volume::Grid>>{std::move(grid)}, scale,
+                              std::move(albedo), g) {}
+DeltaTrackingGridMedium::DeltaTrackingGridMedium(const std::array<std::shared_ptr<const volume::Grid>, 3>& axes,
+                                                 double scale, Rgb albedo, double g)
+    : DeltaTrackingGridMedium(std::vector<std::shared_ptr<const volume::Grid>>(axes.begin(), axes.end()), scale,
+                              std::move(albedo), g) {}
+DeltaTrackingGridMedium::DeltaTrackingGridMedium(std::vector<std::shared_ptr<const volume::Grid>> channels,
+                                                 double scale, Rgb albedo, double g)
     : Medium(std::move(albedo), g),
-      grid_(std::move(grid)),
-      majorants_(std::make_shared<const volume::MajorantGrid>(*grid_)),
+      channels_(std::move(channels)),
+      majorants_(std::make_shared<const volume::MajorantGrid>(pointers(channels_))),
       scale_(scale),
-      empty_(scale_ == 0.0 || grid_->sum() == 0.0) {}
+      empty_(scale_ == 0.0 ||
+             std::all_of(channels_.begin(), channels_.end(), [](const auto& c) { return c->sum() == 0.0; })) {}
 DeltaTrackingGridMedium::~DeltaTrackingGridMedium() = default;
 
 Flight DeltaTrackingGridMedium::sample_flight(const Vec3& o, const Vec3& d, double t_max, Origin, Pcg32& rng,
                                               MediumScratch* scratch) const {
-  auto& tracker = static_cast<MajorantScratch*>(scratch)->tracker;
-  const volume::TrackedCollision c = tracker.delta_track(to_ray(o, d), 0.0, t_max, scale_, rng);
+  auto& s = *static_cast<MajorantScratch*>(scratch);
+  volume::TrackedCollision c;
+  if (directional()) {
+    s.set_direction(d);
+    c = s.tracker.delta_track(to_ray(o, d), 0.0, t_max, scale_, s.weights, rng);
+  } else {
+    c = s.tracker.delta_track(to_ray(o, d), 0.0, t_max, scale_, rng);
+  }
   Flight f;
   f.collided = c.collided;
   f.t = c.collided ? c.t : t_max;
@@ -170,12 +199,14 @@ Flight DeltaTrackingGridMedium::sample_flight(const Vec3& o, const Vec3& d, doub
 
 double DeltaTrackingGridMedium::transmittance(const Vec3& o, const Vec3& d, double t, Origin, Pcg32& rng,
                                               MediumScratch* scratch) const {
-  auto& tracker = static_cast<MajorantScratch*>(scratch)->tracker;
-  return tracker.ratio_track(to_ray(o, d), 0.0, t, scale_, rng);
+  auto& s = *static_cast<MajorantScratch*>(scratch);
+  if (!directional()) return s.tracker.ratio_track(to_ray(o, d), 0.0, t, scale_, rng);
+  s.set_direction(d);
+  return s.tracker.ratio_track(to_ray(o, d), 0.0, t, scale_, s.weights, rng);
 }
 
 std::unique_ptr<MediumScratch> DeltaTrackingGridMedium::make_scratch() const {
-  return std::make_unique<MajorantScratch>(*grid_, *majorants_);
+  return std::make_unique<MajorantScratch>(pointers(channels_), *majorants_);
 }
 
 MediumWork DeltaTrackingGridMedium::work(const MediumScratch* scratch) const {
@@ -188,7 +219,8 @@ MediumTraits DeltaTrackingGridMedium::traits() const {
   MediumTraits t;
   t.kind = "grid";
   t.law = "exponential";
-  t.estimator = "delta + ratio tracking";
+  t.estimator = directional() ? "delta + ratio tracking, direction-dependent extinction (3 axis grids)"
+                              : "delta + ratio tracking";
   t.heterogeneous = true;
   t.empty = empty_;
   return t;
@@ -314,14 +346,28 @@ std::shared_ptr<const Medium> make_medium(const MediumDesc& desc, const std::str
     if (mu) return std::make_shared<const ExponentialMedium>(*mu, desc.albedo, desc.g);
     return std::make_shared<const PairMedium>(PairWeights(std::move(pair), unit_weights), desc.albedo, desc.g);
   }
-  std::shared_ptr<const volume::Grid> grid;
-  try {
-    grid = std::make_shared<const volume::Grid>(volume::Grid::load(desc.file, desc.grid_name));
-  } catch (const Error& e) {
-    fail("{}: {}", where, e.what());
-  }
-  if (grid->active_voxel_count() == 0) fail("{}: grid '{}' in '{}' is empty", where, grid->name(), desc.file);
+  const auto load = [&](const std::string& name) {
+    std::shared_ptr<const volume::Grid> g;
+    try {
+      g = std::make_shared<const volume::Grid>(volume::Grid::load(desc.file, name));
+    } catch (const Error& e) {
+      fail("{}: {}", where, e.what());
+    }
+    if (g->active_voxel_count() == 0) fail("{}: grid '{}' in '{}' is empty", where, g->name(), desc.file);
+    return g;
+  };
   const double scale = desc.concentration ? desc.sigma : 1.0;
+  if (!desc.axis_grids.empty()) {
+    if (!mu) fail("{}: 'axis_grids' (a direction-dependent extinction) needs an exponential law", where);
+    std::array<std::shared_ptr<const volume::Grid>, 3> axes;
+    for (std::size_t a = 0; a < 3; ++a) axes[a] = load(desc.axis_grids.at(a));
+    try {
+      return std::make_shared<const DeltaTrackingGridMedium>(axes, *mu * scale, desc.albedo, desc.g);
+    } catch (const Error& e) {
+      fail("{}: {}", where, e.what());  // grids of different voxel sizes or origins
+    }
+  }
+  std::shared_ptr<const volume::Grid> grid = load(desc.grid_name);
   if (desc.tracking == Tracking::delta) {
     if (!mu) fail("{}: delta tracking needs an exponential law; use \"tracking\": \"optical-depth\"", where);
     return std::make_shared<const DeltaTrackingGridMedium>(std::move(grid), *mu * scale, desc.albedo, desc.g);

@@ -6,11 +6,13 @@
 /// The integrator calls `sample_flight` once per flight and `transmittance` once per shadow
 /// segment and never asks which kind it holds (docs/render.md §2).
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "weft/core/rng.h"
 #include "weft/render/scene.h"
@@ -178,9 +180,17 @@ class PairMedium final : public Medium {
 
 /// A voxel grid with an exponential law in optical depth, e^{−∫μ}, μ = scale·value: delta
 /// tracking for flights and ratio tracking for shadows against the per-leaf majorant grid.
+///
+/// With three per-axis grids the extinction depends on the direction (docs/render.md §6d): along
+/// a ray of unit direction ω, μ(x, ω) = scale·Σ_a ω_a² value_a(x). The same trackers run on the
+/// weighted channels against one majorant grid over the three (their per-voxel maximum bounds
+/// the weighted sum, since Σ ω_a² = 1).
 class DeltaTrackingGridMedium final : public Medium {
  public:
   DeltaTrackingGridMedium(std::shared_ptr<const volume::Grid> grid, double scale, Rgb albedo, double g);
+  /// The direction-dependent medium of the x, y and z grids (same voxel size and origin).
+  DeltaTrackingGridMedium(const std::array<std::shared_ptr<const volume::Grid>, 3>& axes, double scale, Rgb albedo,
+                          double g);
   ~DeltaTrackingGridMedium() override;
   [[nodiscard]] Flight sample_flight(const Vec3& o, const Vec3& d, double t_max, transmittance::Origin origin,
                                      Pcg32& rng, MediumScratch* scratch) const override;
@@ -189,12 +199,16 @@ class DeltaTrackingGridMedium final : public Medium {
   [[nodiscard]] std::unique_ptr<MediumScratch> make_scratch() const override;
   [[nodiscard]] MediumTraits traits() const override;
   [[nodiscard]] MediumWork work(const MediumScratch* scratch) const override;
-  [[nodiscard]] const volume::Grid& grid() const { return *grid_; }
+  /// The grid (the x grid of a direction-dependent medium).
+  [[nodiscard]] const volume::Grid& grid() const { return *channels_.front(); }
   [[nodiscard]] const volume::MajorantGrid& majorants() const { return *majorants_; }
   [[nodiscard]] double scale() const { return scale_; }
+  [[nodiscard]] bool directional() const { return channels_.size() == 3; }
 
  private:
-  std::shared_ptr<const volume::Grid> grid_;
+  DeltaTrackingGridMedium(std::vector<std::shared_ptr<const volume::Grid>> channels, double scale, Rgb albedo,
+                          double g);
+  std::vector<std::shared_ptr<const volume::Grid>> channels_;  ///< one grid, or x, y, z
   std::shared_ptr<const volume::MajorantGrid> majorants_;
   double scale_;
   bool empty_;  ///< MediumTraits::empty, found once when the medium is built

@@ -215,7 +215,10 @@ MediumDesc parse_medium(const json& j, const std::string& where, const std::file
     if (!std::filesystem::exists(p)) fail("{}: fields file '{}' does not exist", where, p.string());
     m.file = p.string();
     m.sigma = r.positive("sigma", m.sigma);
-    m.memory = parse_choice(where, "memory rule", r.string("memory", "segment"), memory_rules());
+    m.memory = parse_choice(
+        where, "memory rule",
+        r.string("memory", std::string(transmittance::memory_rule_name(transmittance::kDefaultMemoryRule))),
+        memory_rules());
     m.law = transmittance::LawSpec{};  // no law: the fields carry one gamma law per voxel
     m.albedo = r.rgb("albedo", m.albedo);
     if ((m.albedo > 1.0).any()) fail("{}: 'albedo' must be <= 1", where);
@@ -232,12 +235,22 @@ MediumDesc parse_medium(const json& j, const std::string& where, const std::file
     if (!std::filesystem::exists(p)) fail("{}: grid file '{}' does not exist", where, p.string());
     m.file = p.string();
     m.grid_name = r.string("grid", "");
+    if (r.has("axis_grids")) {
+      const json& v = r.at("axis_grids");
+      if (!v.is_array() || v.size() != 3 ||
+          !std::all_of(v.begin(), v.end(), [](const json& e) { return e.is_string(); }))
+        fail("{}: 'axis_grids' must be an array of 3 grid names (x, y, z), got {}", where, v.dump());
+      if (!m.grid_name.empty()) fail("{}: give 'grid' or 'axis_grids', not both", where);
+      for (const json& e : v) m.axis_grids.push_back(e.get<std::string>());
+    }
     const std::string values = r.string("values", "concentration");
     if (values != "concentration" && values != "extinction")
       fail("{}: 'values' must be 'concentration' or 'extinction', got '{}'", where, values);
     m.concentration = values == "concentration";
     if (m.concentration) m.sigma = r.non_negative("sigma", m.sigma);
     m.tracking = parse_choice(where, "tracking", r.string("tracking", "delta"), kTrackings);
+    if (!m.axis_grids.empty() && m.tracking != Tracking::delta)
+      fail("{}: 'axis_grids' (a direction-dependent extinction) needs delta tracking", where);
     // The law of a grid medium is in optical depth; exponential with μ = 1 by default.
     m.law = r.has("law") ? transmittance::law_from_json(r.at("law"), where + ".law")
                          : transmittance::LawSpec{"exponential", {{"mu", 1.0}}, "", ""};

@@ -83,13 +83,16 @@ struct MediumDesc {
   Rgb albedo{1, 1, 1};  ///< single-scattering albedo Λ
   double g = 0.0;       ///< Henyey–Greenstein asymmetry; 0 = isotropic
   // grid and local-gamma media
-  std::string file;           ///< .vdb path (resolved against the scene folder); local-gamma: the fields
-  std::string grid_name;      ///< grid in the file; empty = the first float grid
+  std::string file;       ///< .vdb path (resolved against the scene folder); local-gamma: the fields
+  std::string grid_name;  ///< grid in the file; empty = the first float grid
+  /// grid: three grids of the file (x, y, z) for a direction-dependent extinction
+  /// σ(ω) = Σ_a ω_a² σ_a (docs/render.md §6d); empty = the one grid above.
+  std::vector<std::string> axis_grids;
   bool concentration = true;  ///< values are concentrations C (μ = σ·C) rather than μ
   double sigma = 1.0;         ///< σ for concentration grids and local-gamma fields
   Tracking tracking = Tracking::delta;
   /// local-gamma: how the hazard's memory passes from cell to cell (docs/render.md §5e).
-  transmittance::MemoryRule memory = transmittance::MemoryRule::segment;
+  transmittance::MemoryRule memory = transmittance::kDefaultMemoryRule;
 };
 
 enum class ShapeKind { sphere, box, rectangle, mesh, curves };

@@ -62,7 +62,11 @@ std::string scene_to_json(const SceneDesc& scene) {
     if (m.mode == transmittance::PairMode::explicit_) j["scatterer_law"] = transmittance::law_to_json(m.scatterer_law);
     if (m.kind == MediumKind::grid) {
       j["file"] = m.file;
-      j["grid"] = m.grid_name;
+      if (m.axis_grids.empty()) {
+        j["grid"] = m.grid_name;
+      } else {
+        j["axis_grids"] = m.axis_grids;
+      }
       j["values"] = m.concentration ? "concentration" : "extinction";
       if (m.concentration) j["sigma"] = m.sigma;
       j["tracking"] = choice_name(m.tracking, kTrackings);

@@ -41,7 +41,8 @@ ModelScenes write_model_scenes(const fit::Validation& v, const volume::Grid& gri
   }
   // The local-gamma model's fields: blocks of L³ voxels, L the scale along the normal.
   const int block = std::max(1, static_cast<int>(std::lround(axis->scale / grid.voxel_size())));
-  fit::save_local_fields(fit::local_fields(grid, block, progress), folder / "local_fields.vdb");
+  fit::save_local_fields(fit::local_fields(grid, block, progress), folder / "local_fields.vdb",
+                         fit::FieldChannels::render);
   out.written.emplace_back(folder / "local_fields.vdb", fmt::format("local fields of {}^3-voxel blocks", block));
   render::ClothSceneMedium fields;
   fields.kind = Kind::local_fields;

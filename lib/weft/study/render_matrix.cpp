@@ -19,6 +19,7 @@
 #include "weft/study/render_study_report.h"
 #include "weft/transmittance/gamma_hazard.h"
 #include "weft/volume/grid.h"
+#include "weft/volume/grid_io.h"
 
 namespace weft::study {
 namespace {
@@ -66,15 +67,20 @@ MatrixMemory memory_of(const fs::path& scene_file) {
   };
   for (const auto& [name, d] : scene.media) {
     if (d.kind == render::MediumKind::grid) {
-      add(volume::Grid::load(d.file, d.grid_name));
+      if (d.axis_grids.empty()) {
+        add(volume::Grid::load(d.file, d.grid_name));
+      } else {
+        for (const std::string& name : d.axis_grids) add(volume::Grid::load(d.file, name));  // σ'_x, σ'_y, σ'_z
+      }
     } else if (d.kind == render::MediumKind::local_gamma) {
-      // Every grid of the fields file (fit/local_fields.h), also those the medium does not read.
-      // α and β are set on exactly the blocks of C̄ and Var C (fit/local_fields.cpp) and hold +∞
-      // for exponential blocks, which Grid::load refuses: each counts as its axis's variance grid.
-      add(volume::Grid::load(d.file, "mean_concentration"));
-      for (const char axis : {'x', 'y', 'z'}) {
-        const volume::Grid var = volume::Grid::load(d.file, std::string("var_concentration_") + axis);
-        for (int copies = 0; copies < 3; ++copies) add(var);  // Var C, α, β
+      // Every grid of the fields file (fit/local_fields.h), also any the medium does not read:
+      // the study writes only the four it reads (fit::FieldChannels::render), a file of `weft
+      // fit --block --fields all` would count ten. Counted without Grid::load's value check (α, β
+      // hold +∞ on exponential blocks).
+      for (const volume::GridCount& g : volume::count_grids(d.file)) {
+        m.values += 4 * g.active_voxels;
+        m.tree += g.tree_bytes;
+        ++m.channels;
       }
     } else if (d.kind == render::MediumKind::homogeneous) {
       // One value per parameter of the law, as a float.

@@ -27,6 +27,7 @@
 #include "weft/study/bias_estimate.h"
 #include "weft/study/render_study_report.h"
 #include "weft/volume/downsample.h"
+#include "weft/volume/grid_io.h"
 #include "weft/volume/provenance.h"
 #include "weft/volume/shadowed_downsample.h"
 
@@ -158,7 +159,8 @@ void check_study_spec(const StudySpec& spec) {
   std::set<std::string> families{
       "all", "fine", "exponential", "local-gamma", "shadow-corrected", "albedo-corrected", "slab-gamma"};
   for (const auto rule : spec.memory_rules)
-    families.insert("local-gamma-" + std::string(transmittance::memory_rule_name(rule)));
+    if (rule != transmittance::kDefaultMemoryRule)  // its candidates are local-gamma-Nx
+      families.insert("local-gamma-" + std::string(transmittance::memory_rule_name(rule)));
   for (const auto& f : spec.components)
     if (!families.contains(f))
       fail(
@@ -273,16 +275,19 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
     const fs::path grid_file = fs::absolute(spec.work_dir / fmt::format("grid_{}x.vdb", f));
     const fs::path fields_file = fs::absolute(spec.work_dir / fmt::format("fields_{}x.vdb", f));
     const fs::path shadow_file = fs::absolute(spec.work_dir / fmt::format("shadow_{}x.vdb", f));
+    const fs::path directional_file = fs::absolute(spec.work_dir / fmt::format("shadow_axes_{}x.vdb", f));
     const volume::Grid coarse = volume::downsample(fine, f);
-    const volume::Grid shadowed = volume::shadowed_downsample(fine, f, target.sigma_stats).isotropic;
+    const volume::ShadowedGrids shadowed_grids = volume::shadowed_downsample(fine, f, target.sigma_stats);
+    const volume::Grid& shadowed = shadowed_grids.isotropic;
     std::uint64_t fields_bytes = 0;  // what the local-gamma medium loads: the mean and 3 variances
     if (root) {
       coarse.save(grid_file);
       shadowed.save(shadow_file);
+      volume::save_grids({shadowed_grids.per_axis.begin(), shadowed_grids.per_axis.end()}, directional_file);
       const fit::LocalFields fields = fit::local_fields(fine, f, progress);
       fields_bytes = fields.mean.memory_bytes();
       for (const volume::Grid& v : fields.variance) fields_bytes += v.memory_bytes();
-      fit::save_local_fields(fields, fields_file);
+      fit::save_local_fields(fields, fields_file, fit::FieldChannels::render);  // what the medium reads
     }
     const Box box = union_box(target.box, world_box(coarse));
     Plan e;
@@ -309,7 +314,7 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
                {"g", base_medium.at("g")}};
     for (const transmittance::MemoryRule rule : spec.memory_rules) {
       const std::string rule_name(transmittance::memory_rule_name(rule));
-      const bool plain = rule == transmittance::MemoryRule::segment;
+      const bool plain = rule == transmittance::kDefaultMemoryRule;  // local-gamma-Nx: the medium's default
       Plan gr = g;
       gr.c.name = plain ? g.c.name : fmt::format("local-gamma-{}-{}x", rule_name, f);
       gr.c.model = plain ? g.c.model : "local-gamma " + rule_name;
@@ -331,6 +336,18 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
     json shadow_medium = em;
     shadow_medium["file"] = shadow_file.string();
     plans.push_back(baseline("shadow-corrected", shadow_medium, shadowed.memory_bytes()));
+    // The same correction kept per axis, σ(ω) = Σ_a ω_a² σ'_a (docs/render.md §6d): 3 channels.
+    json directional_medium = em;
+    directional_medium["file"] = directional_file.string();
+    directional_medium["axis_grids"] = json::array();
+    std::uint64_t directional_bytes = 0;
+    for (const volume::Grid& g : shadowed_grids.per_axis) {
+      directional_medium["axis_grids"].push_back(g.name());
+      directional_bytes += g.memory_bytes();
+    }
+    Plan dir = baseline("shadow-directional", directional_medium, directional_bytes);
+    dir.c.memory_channels = 3;
+    plans.push_back(std::move(dir));
     for (const auto& [fa, k] : spec.albedo_factors) {
       if (fa != f) continue;
       json albedo_medium = em;

@@ -10,10 +10,13 @@
 ///   exponential-Nx    the grid downsampled N× (volume::downsample, volume-conserving), exponential
 ///                     per coarse voxel: what a coarse render grid without statistics carries
 ///   local-gamma-Nx    the local statistic fields of N³ blocks (fit::local_fields, what
-///                     `weft fit --block N` writes) as a local-gamma medium (§5b)
+///                     `weft fit --block N` writes) as a local-gamma medium (§5b) under its
+///                     default memory rule; local-gamma-<rule>-Nx under another (§5e)
 ///   shadow-corrected-Nx  the grid downsampled N× with each coarse voxel's extinction corrected
 ///                     for self-shadowing in its block (volume::shadowed_downsample, isotropic;
 ///                     docs/render.md §6d), exponential per coarse voxel
+///   shadow-directional-Nx  the same correction kept per axis: a direction-dependent extinction
+///                     σ(ω) = Σ_a ω_a² σ'_a from three grids (render::DeltaTrackingGridMedium, §6d)
 ///   albedo-corrected-Nx  exponential-Nx with the albedo × k_N of StudySpec::albedo_factors
 ///                     (fitted to images of another scene; only when given)
 ///   slab-gamma        one homogeneous box of the grid's active box with the gamma law of the
@@ -77,14 +80,15 @@ struct StudySpec {
   /// (otherwise weft::Error before anything is written: no voxel-dependent fallback).
   std::string scale = "yarn";
   /// The local-gamma candidates' memory rules (docs/render.md §5e), one candidate per rule and
-  /// factor: `local-gamma-Nx` (segment), `local-gamma-<rule>-Nx` (the others).
-  std::vector<transmittance::MemoryRule> memory_rules{transmittance::MemoryRule::segment};
+  /// factor: `local-gamma-Nx` for the medium's default rule (transmittance::kDefaultMemoryRule,
+  /// optical-depth), `local-gamma-<rule>-Nx` for the others (e.g. local-gamma-segment-4x).
+  std::vector<transmittance::MemoryRule> memory_rules{transmittance::kDefaultMemoryRule};
   /// (factor N, k_N): one `albedo-corrected-Nx` candidate per pair, exponential-N× with the
   /// albedo × k_N clamped to [0, 1] (fitted on another scene by fit_albedo_factors, albedo_fit.h;
   /// docs/render.md §6d). Each N must be one of `factors`, each k_N finite and > 0. Empty: none.
   std::vector<std::pair<int, double>> albedo_factors;
   /// Candidates whose error is split into transmission, single and multiple scattering
-  /// (render_components.h): families such as "exponential" or "local-gamma-optical-depth" (a
+  /// (render_components.h): families such as "exponential" or "local-gamma-segment" (a
   /// candidate's name without "-Nx"), or "all"; the fine grid is split whenever anything is.
   /// Empty: no component renders (the scene must then have no reflecting surface: see
   /// check_component_scene).

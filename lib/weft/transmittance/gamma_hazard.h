@@ -30,6 +30,13 @@ enum class MemoryRule {
 inline constexpr MemoryRule kMemoryRules[] = {MemoryRule::segment, MemoryRule::renewal, MemoryRule::optical_depth,
                                               MemoryRule::carried};
 
+/// The rule of the render's local-gamma medium when a scene names none, of the scenes `weft fit
+/// --block` and `validate --scenes` write and of the image study's local-gamma candidates:
+/// optical-depth, because a sparse margin or yarn edge in front of a dense cell then carries
+/// almost no memory into it (docs/render.md §5e: `segment` leaks light through every yarn).
+/// The predicted beam models of `weft validate` name their rules themselves (fit/local_models).
+inline constexpr MemoryRule kDefaultMemoryRule = MemoryRule::optical_depth;
+
 /// "segment", "renewal", "optical-depth", "carried".
 [[nodiscard]] std::string_view memory_rule_name(MemoryRule rule);
 /// The rule of a name above, or nothing.

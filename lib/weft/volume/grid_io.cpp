@@ -437,4 +437,25 @@ void save_grids(const std::vector<Grid>& grids, const std::filesystem::path& pat
   });
 }
 
+std::vector<GridCount> count_grids(const std::filesystem::path& path) {
+  ensure_openvdb_initialized();
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) fail("{}: no such file", path.string());
+  check_vdb_file(path);  // bounds every length OpenVDB will read
+  std::vector<GridCount> out;
+  try {
+    openvdb::io::File file(path.string());
+    file.open(false);
+    for (auto it = file.beginName(); it != file.endName(); ++it) {
+      if (!file.readGridMetadata(it.gridName())->isType<openvdb::FloatGrid>()) continue;
+      const openvdb::GridBase::Ptr g = file.readGrid(it.gridName());
+      out.push_back({it.gridName(), g->activeVoxelCount(), static_cast<std::uint64_t>(g->memUsage())});
+    }
+    file.close();
+  } catch (const openvdb::Exception& e) {
+    fail("{}: cannot read OpenVDB file: {}", path.string(), e.what());
+  }
+  return out;
+}
+
 }  // namespace weft::volume

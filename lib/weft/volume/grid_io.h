@@ -2,7 +2,9 @@
 /// @file
 /// @brief Several grids in one .vdb file.
 
+#include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "weft/volume/grid.h"
@@ -20,5 +22,18 @@ void check_vdb_file(const std::filesystem::path& path);
 
 /// Writes all `grids` (with their names and metadata) to one .vdb file atomically.
 void save_grids(const std::vector<Grid>& grids, const std::filesystem::path& path);
+
+/// What one grid of a file holds in memory.
+struct GridCount {
+  std::string name;
+  std::uint64_t active_voxels = 0;  ///< active voxels, tiles counted per voxel
+  std::uint64_t tree_bytes = 0;     ///< OpenVDB's Tree::memUsage (nodes, masks, values)
+};
+
+/// @brief Every float grid of a .vdb file with its active voxels and tree bytes, in file order:
+/// what a file costs, every channel counted (docs/render.md §6e). The values are not checked
+/// (Grid::load refuses the +∞ α, β of exponential blocks; they still cost 4 bytes each). Throws
+/// weft::Error naming the file when it is missing or not a valid OpenVDB file (check_vdb_file).
+[[nodiscard]] std::vector<GridCount> count_grids(const std::filesystem::path& path);
 
 }  // namespace weft::volume

@@ -37,9 +37,16 @@ void raise_box(openvdb::FloatGrid::Accessor& acc, const openvdb::Coord& lo, cons
 
 }  // namespace
 
-MajorantGrid::MajorantGrid(const Grid& grid) {
+MajorantGrid::MajorantGrid(const Grid& grid) : MajorantGrid(std::vector<const Grid*>{&grid}) {}
+
+MajorantGrid::MajorantGrid(const std::vector<const Grid*>& channels) {
   ensure_openvdb_initialized();
-  const openvdb::FloatGrid& fine = *grid.impl().grid;
+  if (channels.empty()) fail("majorant grid: no grid");
+  const Grid& grid = *channels.front();
+  for (const Grid* c : channels) {
+    if (c->voxel_size() != grid.voxel_size() || c->origin() != grid.origin())
+      fail("majorant grid: grids '{}' and '{}' differ in voxel size or origin", grid.name(), c->name());
+  }
   auto coarse = openvdb::FloatGrid::create(0.0F);
   // Coarse cell K covers world origin + 8h·[K, K+1) per axis; OpenVDB places voxel centres,
   // so the coarse transform is scale 8h with cell K centred at origin + 8h·(K + ½).
@@ -52,32 +59,37 @@ MajorantGrid::MajorantGrid(const Grid& grid) {
   coarse->setName(grid.name() + "_majorant");
   auto acc = coarse->getAccessor();
   float global = 0.0F;
-  // Voxels: the leaf's own maximum goes to its cell in one write; voxels on the leaf's faces
-  // also raise the neighbouring cells (the one-voxel dilation).
-  for (auto leaf = fine.tree().cbeginLeaf(); leaf; ++leaf) {
-    const openvdb::Coord org = leaf->origin();
-    float leaf_max = -std::numeric_limits<float>::infinity();
-    for (auto it = leaf->cbeginValueOn(); it; ++it) {
-      const float v = *it;
-      leaf_max = std::max(leaf_max, v);
-      const openvdb::Coord c = it.getCoord();
-      const openvdb::Coord rel = c - org;
-      const bool face = rel.x() == 0 || rel.y() == 0 || rel.z() == 0 || rel.x() == 7 || rel.y() == 7 || rel.z() == 7;
-      if (face) raise_box(acc, c, c, v);
+  // Raising is a maximum, so every channel raising the same cells gives the maximum over the
+  // channels of the per-voxel values.
+  for (const Grid* channel : channels) {
+    const openvdb::FloatGrid& fine = *channel->impl().grid;
+    // Voxels: the leaf's own maximum goes to its cell in one write; voxels on the leaf's faces
+    // also raise the neighbouring cells (the one-voxel dilation).
+    for (auto leaf = fine.tree().cbeginLeaf(); leaf; ++leaf) {
+      const openvdb::Coord org = leaf->origin();
+      float leaf_max = -std::numeric_limits<float>::infinity();
+      for (auto it = leaf->cbeginValueOn(); it; ++it) {
+        const float v = *it;
+        leaf_max = std::max(leaf_max, v);
+        const openvdb::Coord c = it.getCoord();
+        const openvdb::Coord rel = c - org;
+        const bool face = rel.x() == 0 || rel.y() == 0 || rel.z() == 0 || rel.x() == 7 || rel.y() == 7 || rel.z() == 7;
+        if (face) raise_box(acc, c, c, v);
+      }
+      if (leaf_max > -std::numeric_limits<float>::infinity()) {
+        raise(acc, openvdb::Coord(cell_of(org.x()), cell_of(org.y()), cell_of(org.z())), leaf_max);
+        global = std::max(global, leaf_max);
+      }
     }
-    if (leaf_max > -std::numeric_limits<float>::infinity()) {
-      raise(acc, openvdb::Coord(cell_of(org.x()), cell_of(org.y()), cell_of(org.z())), leaf_max);
-      global = std::max(global, leaf_max);
+    // Active tiles (constant over 128³ or 4096³ voxels): every cell they touch, dilated.
+    auto tiles = fine.tree().cbeginValueOn();
+    tiles.setMaxDepth(openvdb::FloatTree::ValueOnCIter::LEAF_DEPTH - 1);
+    for (; tiles; ++tiles) {
+      openvdb::CoordBBox bb;
+      tiles.getBoundingBox(bb);
+      raise_box(acc, bb.min(), bb.max(), *tiles);
+      global = std::max(global, *tiles);
     }
-  }
-  // Active tiles (constant over 128³ or 4096³ voxels): every cell they touch, dilated.
-  auto tiles = fine.tree().cbeginValueOn();
-  tiles.setMaxDepth(openvdb::FloatTree::ValueOnCIter::LEAF_DEPTH - 1);
-  for (; tiles; ++tiles) {
-    openvdb::CoordBBox bb;
-    tiles.getBoundingBox(bb);
-    raise_box(acc, bb.min(), bb.max(), *tiles);
-    global = std::max(global, *tiles);
   }
   max_value_ = std::max(0.0, static_cast<double>(global));
   cells_ = std::make_unique<Grid>(wrap_openvdb(coarse));
@@ -144,16 +156,18 @@ struct MajorantTracker::Impl {
   openvdb::FloatGrid::ConstPtr coarse;
   detail::Accessor coarse_acc;
   detail::CellBox box;
-  PointLookup lookup;
-  Impl(const Grid& grid, const MajorantGrid& m)
-      : coarse(m.cells().impl().grid),
-        coarse_acc(coarse->getConstAccessor()),
-        box(detail::active_cell_box(*coarse)),
-        lookup(grid) {}
+  std::vector<PointLookup> lookups;  // one per channel
+  Impl(const std::vector<const Grid*>& channels, const MajorantGrid& m)
+      : coarse(m.cells().impl().grid), coarse_acc(coarse->getConstAccessor()), box(detail::active_cell_box(*coarse)) {
+    lookups.reserve(channels.size());
+    for (const Grid* c : channels) lookups.emplace_back(*c);
+  }
 };
 
 MajorantTracker::MajorantTracker(const Grid& grid, const MajorantGrid& majorants)
-    : impl_(std::make_unique<Impl>(grid, majorants)) {}
+    : MajorantTracker(std::vector<const Grid*>{&grid}, majorants) {}
+MajorantTracker::MajorantTracker(const std::vector<const Grid*>& channels, const MajorantGrid& majorants)
+    : impl_(std::make_unique<Impl>(channels, majorants)) {}
 MajorantTracker::~MajorantTracker() = default;
 MajorantTracker::MajorantTracker(MajorantTracker&&) noexcept = default;
 MajorantTracker& MajorantTracker::operator=(MajorantTracker&&) noexcept = default;
@@ -167,17 +181,18 @@ void MajorantTracker::walk(const Ray& ray, double t0, double t1, FunctionRef<boo
                       });
 }
 
-double MajorantTracker::value_at(const std::array<double, 3>& x) { return impl_->lookup(x[0], x[1], x[2]); }
+double MajorantTracker::value_at(const std::array<double, 3>& x) { return impl_->lookups[0](x[0], x[1], x[2]); }
 
 namespace {
 
 // The tentative collisions of a ray through the majorant cells (delta and ratio tracking share
 // them, pbrt-v4's SampleT_maj): in each cell of majorant μ̄ = scale·v, exponential steps of rate
 // μ̄ (memoryless, so a flight that leaves a cell restarts at its face with the next cell's
-// rate); at each, `at(t, mu, majorant)` gets the density's μ there and returns false to stop.
-template <typename At>
+// rate); at each, `at(t, mu, majorant)` gets the density's μ there (scale·lookup(x, y, z): one
+// channel, or the weighted channels) and returns false to stop.
+template <typename Lookup, typename At>
 void for_each_tentative(const detail::CellRay& r, detail::Accessor& coarse_acc, const detail::CellBox& box,
-                        const Ray& ray, double t0, double t1, double scale, Pcg32& rng, PointLookup& lookup,
+                        const Ray& ray, double t0, double t1, double scale, Pcg32& rng, Lookup&& lookup,
                         TrackerCounters& counters, At&& at) {
   const auto d = unit(ray);
   const auto& o = ray.origin;
@@ -199,13 +214,30 @@ void for_each_tentative(const detail::CellRay& r, detail::Accessor& coarse_acc, 
 constexpr double kRouletteBelow = 0.05;
 constexpr double kRouletteStop = 0.75;
 
-}  // namespace
+/// Σ_c w_c·value_c(x): the weighted channels of a direction-dependent grid.
+struct WeightedLookup {
+  std::vector<PointLookup>& channels;
+  const std::vector<double>& weights;
+  double operator()(double x, double y, double z) const {
+    double v = 0.0;
+    for (std::size_t c = 0; c < channels.size(); ++c)
+      if (weights[c] > 0.0) v += weights[c] * channels[c](x, y, z);
+    return v;
+  }
+};
 
-TrackedCollision MajorantTracker::delta_track(const Ray& ray, double t0, double t1, double scale, Pcg32& rng) {
+void check_weights(const std::vector<double>& weights, std::size_t channels) {
+  if (weights.size() != channels) fail("tracking: {} weights for {} channels", weights.size(), channels);
+}
+
+template <typename Lookup>
+TrackedCollision delta_track_impl(const detail::CellRay& r, detail::Accessor& coarse_acc, const detail::CellBox& box,
+                                  const Ray& ray, double t0, double t1, double scale, Pcg32& rng, Lookup&& lookup,
+                                  TrackerCounters& counters) {
   TrackedCollision out;
   if (!(scale > 0.0)) return out;
-  for_each_tentative(detail::to_cell_ray(*impl_->coarse, ray), impl_->coarse_acc, impl_->box, ray, t0, t1, scale, rng,
-                     impl_->lookup, counters_, [&](double t, double mu, double majorant) {
+  for_each_tentative(r, coarse_acc, box, ray, t0, t1, scale, rng, lookup, counters,
+                     [&](double t, double mu, double majorant) {
                        if (rng.uniform() * majorant < mu) {  // a real collision with probability μ/μ̄
                          out.collided = true;
                          out.t = t;
@@ -216,11 +248,14 @@ TrackedCollision MajorantTracker::delta_track(const Ray& ray, double t0, double 
   return out;
 }
 
-double MajorantTracker::ratio_track(const Ray& ray, double t0, double t1, double scale, Pcg32& rng) {
+template <typename Lookup>
+double ratio_track_impl(const detail::CellRay& r, detail::Accessor& coarse_acc, const detail::CellBox& box,
+                        const Ray& ray, double t0, double t1, double scale, Pcg32& rng, Lookup&& lookup,
+                        TrackerCounters& counters) {
   if (!(scale > 0.0)) return 1.0;
   double tr = 1.0;
-  for_each_tentative(detail::to_cell_ray(*impl_->coarse, ray), impl_->coarse_acc, impl_->box, ray, t0, t1, scale, rng,
-                     impl_->lookup, counters_, [&](double, double mu, double majorant) {
+  for_each_tentative(r, coarse_acc, box, ray, t0, t1, scale, rng, lookup, counters,
+                     [&](double, double mu, double majorant) {
                        tr *= std::max(0.0, 1.0 - mu / majorant);
                        if (tr <= 0.0) return false;
                        // Russian roulette once the estimate is small (pbrt-v4's ratio tracking):
@@ -236,6 +271,36 @@ double MajorantTracker::ratio_track(const Ray& ray, double t0, double t1, double
                        return true;
                      });
   return tr;
+}
+
+}  // namespace
+
+TrackedCollision MajorantTracker::delta_track(const Ray& ray, double t0, double t1, double scale, Pcg32& rng) {
+  Impl& m = *impl_;
+  return delta_track_impl(detail::to_cell_ray(*m.coarse, ray), m.coarse_acc, m.box, ray, t0, t1, scale, rng,
+                          m.lookups[0], counters_);
+}
+
+double MajorantTracker::ratio_track(const Ray& ray, double t0, double t1, double scale, Pcg32& rng) {
+  Impl& m = *impl_;
+  return ratio_track_impl(detail::to_cell_ray(*m.coarse, ray), m.coarse_acc, m.box, ray, t0, t1, scale, rng,
+                          m.lookups[0], counters_);
+}
+
+TrackedCollision MajorantTracker::delta_track(const Ray& ray, double t0, double t1, double scale,
+                                              const std::vector<double>& weights, Pcg32& rng) {
+  Impl& m = *impl_;
+  check_weights(weights, m.lookups.size());
+  return delta_track_impl(detail::to_cell_ray(*m.coarse, ray), m.coarse_acc, m.box, ray, t0, t1, scale, rng,
+                          WeightedLookup{m.lookups, weights}, counters_);
+}
+
+double MajorantTracker::ratio_track(const Ray& ray, double t0, double t1, double scale,
+                                    const std::vector<double>& weights, Pcg32& rng) {
+  Impl& m = *impl_;
+  check_weights(weights, m.lookups.size());
+  return ratio_track_impl(detail::to_cell_ray(*m.coarse, ray), m.coarse_acc, m.box, ray, t0, t1, scale, rng,
+                          WeightedLookup{m.lookups, weights}, counters_);
 }
 
 struct DepthTracker::Impl {

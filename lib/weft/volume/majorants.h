@@ -14,6 +14,7 @@
 #include <memory>
 #include <type_traits>
 #include <utility>
+#include <vector>
 
 #include "weft/core/rng.h"
 #include "weft/volume/dda.h"
@@ -47,11 +48,19 @@ class FunctionRef<R(Args...)> {
 /// rounds across a cell face still finds value ≤ majorant. Active tiles give their value to
 /// every cell they touch. Values are the grid's own (unscaled): for μ = scale·value the
 /// majorant is scale·cell.
+///
+/// Several channels (grids of one voxel size and origin, e.g. the three per-axis extinctions of
+/// a direction-dependent medium, docs/render.md §6d) share one majorant grid: each cell holds
+/// the maximum over every channel, i.e. of the per-voxel maximum, which bounds any combination
+/// Σ_c w_c·value_c with w_c ≥ 0 and Σ_c w_c ≤ 1.
 class MajorantGrid {
  public:
   static constexpr int kBlock = 8;  ///< voxels per cell side: the leaf node's DIM
 
   explicit MajorantGrid(const Grid& grid);
+  /// One majorant grid over every channel (at least one; throws weft::Error naming the grids
+  /// when their voxel sizes or origins differ).
+  explicit MajorantGrid(const std::vector<const Grid*>& channels);
   ~MajorantGrid();
   MajorantGrid(MajorantGrid&&) noexcept;
   MajorantGrid& operator=(MajorantGrid&&) noexcept;
@@ -81,10 +90,14 @@ struct TrackerCounters {
 };
 
 /// @brief Delta and ratio tracking through one grid against its MajorantGrid, for one thread
-/// (holds OpenVDB accessors; cheap to make). μ(x) = scale·value(voxel containing x).
+/// (holds OpenVDB accessors; cheap to make). μ(x) = scale·value(voxel containing x); with
+/// several channels and per-ray weights w (the overloads taking them), μ(x) = scale·Σ_c w_c
+/// value_c(x), the weights ≥ 0 with Σ w_c ≤ 1 so that the channels' common majorant bounds it.
 class MajorantTracker {
  public:
   MajorantTracker(const Grid& grid, const MajorantGrid& majorants);
+  /// Channels as given to the MajorantGrid (same grids, same order).
+  MajorantTracker(const std::vector<const Grid*>& channels, const MajorantGrid& majorants);
   ~MajorantTracker();
   MajorantTracker(MajorantTracker&&) noexcept;
   MajorantTracker& operator=(MajorantTracker&&) noexcept;
@@ -109,6 +122,12 @@ class MajorantTracker {
   /// (1 − μ(x)/majorant), an unbiased estimate of e^{−∫_{t0}^{t1} μ}; below 0.05 it is
   /// continued by Russian roulette (stop with probability 0.75, else divide by 0.25).
   [[nodiscard]] double ratio_track(const Ray& ray, double t0, double t1, double scale, Pcg32& rng);
+
+  /// The same two over the weighted sum of the channels, one weight per channel (see above).
+  [[nodiscard]] TrackedCollision delta_track(const Ray& ray, double t0, double t1, double scale,
+                                             const std::vector<double>& weights, Pcg32& rng);
+  [[nodiscard]] double ratio_track(const Ray& ray, double t0, double t1, double scale,
+                                   const std::vector<double>& weights, Pcg32& rng);
 
   [[nodiscard]] const TrackerCounters& counters() const { return counters_; }
 

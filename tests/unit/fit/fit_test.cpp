@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "test_grids.h"
@@ -16,6 +17,7 @@
 #include "weft/fit/window_stats.h"
 #include "weft/volume/beam.h"
 #include "weft/volume/grid.h"
+#include "weft/volume/grid_io.h"
 
 namespace weft::fit {
 namespace {
@@ -224,9 +226,16 @@ TEST(Fit, LocalFieldsOfAKnownBlock) {
   // The coarse grid covers the same world box as its fine block.
   EXPECT_EQ(f.mean.origin(), g.origin());
   const auto path = std::filesystem::temp_directory_path() / "weft_fit_local_fields_test.vdb";
-  save_local_fields(f, path);
+  save_local_fields(f, path, FieldChannels::all);
   const Grid back = Grid::load(path, "alpha_y");
   EXPECT_NEAR(back.value(0, 0, 0), 4.0, 1e-5);
+  // The render file holds exactly the four grids the local-gamma medium reads.
+  save_local_fields(f, path, FieldChannels::render);
+  std::vector<std::string> names;
+  for (const volume::GridCount& c : volume::count_grids(path)) names.push_back(c.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"mean_concentration", "var_concentration_x", "var_concentration_y",
+                                             "var_concentration_z"}));
+  EXPECT_THROW((void)Grid::load(path, "alpha_y"), Error);
   std::filesystem::remove(path);
   EXPECT_THROW((void)local_fields(g, 0), Error);
 }

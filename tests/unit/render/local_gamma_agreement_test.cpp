@@ -75,9 +75,11 @@ double predicted(const volume::Grid& g, const std::string& model) {
 TEST(LocalGammaAgreement, PredictedCurveEqualsAlbedoZeroRender) {
   const volume::Grid g = fine_grid();
   const fs::path fields = fs::temp_directory_path() / "weft_lg_agreement_fields.vdb";
-  fit::save_local_fields(fit::local_fields(g, kBlock), fields);
+  fit::save_local_fields(fit::local_fields(g, kBlock), fields, fit::FieldChannels::render);
   const double t = predicted(g, "local-gamma");
-  const RenderResult r = render(parse_scene(slab_scene(fields, ""), "agreement", "."), {});
+  // fit::predict_axis's local-gamma model carries its memory by distance: the `segment` rule
+  // (docs/render.md §5e), named here because the medium's default is optical-depth.
+  const RenderResult r = render(parse_scene(slab_scene(fields, R"(, "memory": "segment")"), "agreement", "."), {});
   const Estimate e = image_mean(r.image);
   EXPECT_GT(e.stderr_, 0.0);
   EXPECT_NEAR(e.mean, t, 5.0 * e.stderr_) << "predicted " << t << ", rendered " << e.mean << " ± " << e.stderr_;

@@ -100,7 +100,7 @@ std::string slab_scene(const fs::path& fields, const std::string& medium_extra, 
 TEST(LocalGammaMemory, AlbedoZeroImageAgainstTheFineGridsTransmittance) {
   const volume::Grid g = separable_grid();
   const fs::path fields = fs::temp_directory_path() / "weft_lg_memory_separable.vdb";
-  fit::save_local_fields(fit::local_fields(g, kB), fields);
+  fit::save_local_fields(fit::local_fields(g, kB), fields, fit::FieldChannels::render);
   const double fine = fine_mean_transmittance(g);
   // The gamma shape's own error: the B² quantiles are a gamma law only up to quadrature (and
   // the fields' α is the quantiles' empirical one). Exact, from the same numbers the fields hold.

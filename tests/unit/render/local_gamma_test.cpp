@@ -67,7 +67,10 @@ TEST(LocalGamma, SamplingMatchesAccumulatedHazardCdf) {
   const std::vector<double> mean{0.5, 2.0, 0.0, 1.0, 3.0, 0.2};
   const std::vector<double> var{0.1, 4.0, 0.0, 0.0, 0.5, 1e-3};
   const double sigma = 0.8;
-  LocalGammaField f(write_fields("layers", mean, var), sigma);
+  // The hazard below is the `segment` rule's (memory = distance from the segment start), named
+  // because the medium's default is optical-depth (docs/render.md §5e, tested in
+  // local_gamma_memory_test.cpp).
+  LocalGammaField f(write_fields("layers", mean, var), sigma, transmittance::MemoryRule::segment);
   // Midpoint rule per layer (the hazard jumps at layer faces, so each layer is integrated alone).
   auto numeric_h = [&](double t) {
     double h = 0.0;

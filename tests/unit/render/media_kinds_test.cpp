@@ -10,6 +10,7 @@
 #include <limits>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -39,6 +40,23 @@ std::string constant_grid() {
       for (int k = 0; k < 10; ++k) grid.set_value(i, j, k, 0.5f);
   grid.set_origin({-0.5, -0.5, -0.5});
   grid.save(path);
+  return path.string();
+}
+
+/// The same cube as three per-axis grids of a direction-dependent extinction (docs/render.md §6d):
+/// 0.2 along x, 0.8 along y, 0.5 along z, so a view along z sees μ = 3 as the constant grid.
+std::string axis_grids() {
+  const fs::path path = fs::temp_directory_path() / "weft_media_kinds_axes.vdb";
+  std::vector<volume::Grid> grids;
+  for (const auto& [name, v] : {std::pair<std::string, float>{"cx", 0.2f}, {"cy", 0.8f}, {"cz", 0.5f}}) {
+    volume::Grid g(0.1, name);
+    for (int i = 0; i < 10; ++i)
+      for (int j = 0; j < 10; ++j)
+        for (int k = 0; k < 10; ++k) g.set_value(i, j, k, v);
+    g.set_origin({-0.5, -0.5, -0.5});
+    grids.push_back(g);
+  }
+  volume::save_grids(grids, path);
   return path.string();
 }
 
@@ -81,13 +99,18 @@ std::vector<Kind> kinds() {
        "homogeneous", "homogeneous medium, gamma-mixture law, T_Q/T_S flights ("},
       {"grid_delta", fmt::format(R"({{"type": "grid", "file": "{}", "sigma": 6, "albedo": ALBEDO}})", grid), "grid",
        "grid medium, exponential law, delta + ratio tracking"},
+      {"grid_directional",
+       fmt::format(R"({{"type": "grid", "file": "{}", "axis_grids": ["cx", "cy", "cz"], "sigma": 6,
+                       "albedo": ALBEDO}})",
+                   axis_grids()),
+       "grid", "grid medium, exponential law, delta + ratio tracking, direction-dependent extinction"},
       {"grid_optical_depth_gamma",
        fmt::format(R"({{"type": "grid", "file": "{}", "sigma": 6, "tracking": "optical-depth", "albedo": ALBEDO,
                        "law": {{"name": "gamma", "mean_extinction": 1, "alpha": 0.5}}}})",
                    grid),
        "grid", "grid medium, gamma law, optical-depth flights (exact DDA)"},
       {"local_gamma", fmt::format(R"({{"type": "local-gamma", "fields": "{}", "sigma": 6, "albedo": ALBEDO}})", fields),
-       "local-gamma", "local-gamma medium, per-voxel gamma law, hazard inversion, segment memory"},
+       "local-gamma", "local-gamma medium, per-voxel gamma law, hazard inversion, optical-depth memory"},
   };
 }
 

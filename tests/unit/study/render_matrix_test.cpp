@@ -11,6 +11,7 @@
 #include "weft/study/render_matrix.h"
 #include "weft/study/render_matrix_report.h"
 #include "weft/volume/grid.h"
+#include "weft/volume/grid_io.h"
 
 namespace weft::study {
 namespace {
@@ -62,12 +63,12 @@ TEST(MatrixSpec, RefusesWhatCannotRun) {
   EXPECT_EQ(matrix_cases(s).size(), 3U * 3U * 2U);
 }
 
-/// Bytes of every float value of the ten local-field grids, computed here from the fine grid.
+/// Bytes of every float value of the four local-field grids the medium reads (the study writes
+/// only those: fit::FieldChannels::render), computed here from the fine grid.
 std::uint64_t field_values(const volume::Grid& fine, int block) {
   const fit::LocalFields f = fit::local_fields(fine, block);
   std::uint64_t n = 4 * f.mean.active_voxel_count();
-  for (std::size_t a = 0; a < 3; ++a)
-    n += 4 * (f.variance[a].active_voxel_count() + f.alpha[a].active_voxel_count() + f.beta[a].active_voxel_count());
+  for (std::size_t a = 0; a < 3; ++a) n += 4 * f.variance[a].active_voxel_count();
   return n;
 }
 
@@ -101,7 +102,13 @@ TEST(MatrixRun, MemoryIsTheGridsOwnCount) {
       EXPECT_EQ(c.memory.channels, 1);
     } else if (n == "local-gamma-2x") {
       EXPECT_EQ(c.memory.values, field_values(volume::Grid::load(cloth), 2));
-      EXPECT_EQ(c.memory.channels, 10);
+      EXPECT_EQ(c.memory.channels, 4);
+    } else if (n == "shadow-directional-2x") {
+      std::uint64_t values = 0;  // σ'_x, σ'_y, σ'_z: every grid of the file, counted here
+      for (const volume::GridCount& g : volume::count_grids(study / "shadow_axes_2x.vdb"))
+        values += 4 * g.active_voxels;
+      EXPECT_EQ(c.memory.values, values);
+      EXPECT_EQ(c.memory.channels, 3);
     } else if (n == "slab-gamma") {
       EXPECT_EQ(c.memory.values, 12U);  // σ, C̄, Var C
     } else {
@@ -110,7 +117,7 @@ TEST(MatrixRun, MemoryIsTheGridsOwnCount) {
     EXPECT_GT(c.memory.values, 0U) << n;
     ++seen;
   }
-  EXPECT_EQ(seen, 4);
+  EXPECT_EQ(seen, 5);
   EXPECT_GT(r[0].cloth_pixels, 0);
   fs::remove_all(s.study.work_dir);
 }

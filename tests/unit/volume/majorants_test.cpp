@@ -2,12 +2,14 @@
 // cells align with the tree's leaves and bound every value a point lookup can return (faces,
 // negative indices, tiles, axis-aligned rays), and delta/ratio tracking and the optical-depth
 // march estimate what the exact DDA computes. Statistical checks use fixed seeds and 5σ.
+#include <array>
 #include <cmath>
 #include <vector>
 
 #include <gtest/gtest.h>
 #include <openvdb/openvdb.h>
 
+#include "weft/core/error.h"
 #include "weft/core/rng.h"
 #include "weft/volume/dda.h"
 #include "weft/volume/grid.h"
@@ -107,6 +109,58 @@ TEST(MajorantTracker, WalkTilesTheRayAndBoundsEveryPointValue) {
     });
   }
   EXPECT_GT(segments, 100);  // most rays cross the grid
+}
+
+// Several channels (a direction-dependent medium's per-axis grids, docs/render.md §6d) share one
+// majorant grid: every cell bounds every channel's point values, and so any weighted sum with
+// weights ≥ 0 summing to 1; with one channel it is that channel's own majorant grid.
+TEST(MajorantGrid, SeveralChannelsShareOneBoundOverTheirPerVoxelMaximum) {
+  const Grid a = varying_grid();
+  Grid b(1.0 / 24.0, "other");
+  for (int i = -12; i < 12; ++i)
+    for (int j = -12; j < 12; ++j) b.set_value(i, j, 11, 2.0f);  // a dense top layer that a lacks
+  b.set_origin({0.0, 0.0, 0.0});
+  const MajorantGrid m({&a, &b});
+  EXPECT_DOUBLE_EQ(m.max_value(), 2.0);
+  const MajorantGrid ma(a);
+  MajorantTracker tracker({&a, &b}, m);
+  Pcg32 rng(9);
+  for (int trial = 0; trial < 200; ++trial) {
+    std::array<double, 3> o{rng.uniform() * 3 - 1.5, rng.uniform() * 3 - 1.5, rng.uniform() * 3 - 1.5};
+    std::array<double, 3> d{rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5};
+    const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (double& x : d) x /= len;
+    tracker.walk(Ray{o, d}, 0.0, 10.0, [&](double ta, double tb, double majorant) {
+      for (double f : {0.0, 0.5, 0.999999}) {
+        const double t = ta + f * (tb - ta);
+        const std::array<double, 3> x{o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]};
+        EXPECT_LE(value_at_point(a, x[0], x[1], x[2]), majorant);
+        EXPECT_LE(value_at_point(b, x[0], x[1], x[2]), majorant);
+      }
+      return true;
+    });
+  }
+  EXPECT_GE(m.active_cells(), ma.active_cells());
+  // Channels of another voxel size cannot share cells.
+  const Grid coarse(1.0 / 12.0, "coarse");
+  EXPECT_THROW(MajorantGrid({&a, &coarse}), Error);
+}
+
+// Weighted channels are tracked as one grid of the weighted values: weights (1, 0) are channel
+// a's own ratio tracking, the same numbers from the same random stream.
+TEST(MajorantTracker, WeightOneOnAChannelIsThatChannelsTracking) {
+  const Grid a = varying_grid();
+  const MajorantGrid m(a);
+  MajorantTracker one(a, m);
+  MajorantTracker weighted(std::vector<const Grid*>{&a}, m);
+  const Ray ray{{-0.2, -0.3, -0.4}, {0.6, 0.64, 0.48}};
+  Pcg32 r1(4);
+  Pcg32 r2(4);
+  for (int i = 0; i < 50; ++i) {
+    EXPECT_EQ(one.ratio_track(ray, 0.0, 2.0, 3.0, r1), weighted.ratio_track(ray, 0.0, 2.0, 3.0, {1.0}, r2));
+    EXPECT_EQ(one.delta_track(ray, 0.0, 2.0, 3.0, r1).t, weighted.delta_track(ray, 0.0, 2.0, 3.0, {1.0}, r2).t);
+  }
+  EXPECT_THROW((void)weighted.ratio_track(ray, 0.0, 2.0, 3.0, {0.5, 0.5}, r2), Error);
 }
 
 TEST(MajorantTracker, RaysThatMissCollideNeverAndTransmitFully) {
