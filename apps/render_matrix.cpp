@@ -6,16 +6,25 @@
 #include <fmt/format.h>
 
 #include "render_study.h"
+#include "usage.h"
 #include "weft/core/atomic_file.h"
 #include "weft/dist/distributed.h"
 #include "weft/dist/unit_store.h"
+#include "weft/render/cloth_scene.h"
 #include "weft/study/render_matrix_report.h"
+#include "weft/transmittance/gamma_hazard.h"
 #include "weft/viz/chart.h"
 
 namespace weft::app {
 namespace {
 
 namespace fs = std::filesystem;
+
+/// The matrix's spp per candidate image and its reference's (--quick: 8 and 128).
+constexpr int kMatrixSpp = 64;
+constexpr int kMatrixQuickSpp = 8;
+constexpr int kMatrixReferenceSpp = 1024;
+constexpr int kMatrixQuickReferenceSpp = 128;
 
 /// One panel per cloth: the worst cloth bias over its set-ups (% of the mean cloth pixel) against
 /// the coarsening factor, one line per model.
@@ -59,6 +68,70 @@ study::StudyResult chart_input(const study::MatrixCaseResult& r) {
 }
 
 }  // namespace
+
+bool MatrixCliOptions::any() const {
+  return !cloths.empty() || !lightings.empty() || !tilts.empty() || !film.empty() || yarns > 0 || resume;
+}
+
+void add_matrix_options(CLI::App& sub, MatrixCliOptions& o) {
+  sub.add_option("--study-cloths", o.cloths,
+                 "--study matrix (no scene, no --lighting/--tilt): cloth patterns of weft gen, comma-separated "
+                 "(default plain,twill22,stockinette)")
+      ->delimiter(',');
+  sub.add_option("--study-lightings", o.lightings,
+                 "--study matrix: light set-ups, comma-separated (default back,front,grazing)")
+      ->delimiter(',');
+  sub.add_option("--study-tilts", o.tilts,
+                 "--study matrix: views, degrees off the cloth's normal, comma-separated (default 45,8)")
+      ->delimiter(',')
+      ->check(CLI::Range(0.0, 79.0));
+  sub.add_option("--study-film", o.film, "--study matrix: film WIDTH,HEIGHT (default 96,72; 32,24 with --quick)")
+      ->delimiter(',')
+      ->check(CLI::Range(8, 4096));
+  sub.add_option("--study-yarns", o.yarns,
+                 "--study matrix: yarns per side of each cloth (default 4 at 10 um; --quick: 2 at 20 um)")
+      ->check(CLI::Range(1, 64));
+  sub.add_flag("--resume", o.resume,
+               "--study matrix: keep the cases a previous run of the same options finished (<out>/matrix.units) "
+               "and render only the others; other options are refused");
+}
+
+void run_render_matrix_command(const study::StudySpec& study, const MatrixCliOptions& o,
+                               const MatrixStudyChoices& given, const Context& ctx, WrittenFiles& files) {
+  if (given.study_time) usage_fail("--study-time: the study matrix renders at a fixed --study-spp");
+  if (given.output_file) usage_fail("-o: the study matrix writes a folder: give --out DIR");
+  study::MatrixSpec m;
+  m.study = study;
+  if (!given.factors) m.study.factors = {2, 4, 8};
+  if (!given.memory) m.study.memory_rules = {transmittance::kDefaultMemoryRule, transmittance::MemoryRule::segment};
+  m.study.spp = given.spp > 0 ? given.spp : (given.quick ? kMatrixQuickSpp : kMatrixSpp);
+  m.study.reference_spp =
+      given.reference_spp > 0 ? given.reference_spp : (given.quick ? kMatrixQuickReferenceSpp : kMatrixReferenceSpp);
+  m.study.seed = given.seed.value_or(1);
+  if (given.quick) {
+    m.yarns = 2;
+    m.voxel_size = 0.02;
+    m.width = 32;
+    m.height = 24;
+  }
+  if (!o.cloths.empty()) m.cloths = o.cloths;
+  if (!o.lightings.empty()) {
+    m.lightings.clear();
+    for (const auto& name : o.lightings) m.lightings.push_back(as_usage([&] { return render::cloth_lighting(name); }));
+  }
+  if (!o.tilts.empty()) m.tilts = o.tilts;
+  if (!o.film.empty()) {
+    if (o.film.size() != 2) usage_fail("--study-film: give WIDTH,HEIGHT");
+    m.width = o.film[0];
+    m.height = o.film[1];
+  }
+  if (o.yarns > 0) m.yarns = o.yarns;
+  const fs::path out = given.out_dir.empty() ? fs::path("render_study") : fs::path(given.out_dir);
+  m.study.work_dir = out;
+  as_usage([&] { study::check_matrix_spec(m); });
+  if (dist::is_root()) ensure_directory(out);
+  run_render_matrix(m, out, o.resume, ctx, files);
+}
 
 void run_render_matrix(study::MatrixSpec spec, const fs::path& out, bool resume, const Context& ctx,
                        WrittenFiles& files) {

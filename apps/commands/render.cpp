@@ -54,12 +54,7 @@ struct RenderCliOptions {
   std::vector<std::string> study_memory;
   std::vector<std::string> study_albedo;  ///< {"fit"} or {"N:k", …}
   std::vector<std::string> study_components;
-  std::vector<std::string> study_cloths;  ///< the matrix (--study with no scene)
-  std::vector<std::string> study_lightings;
-  std::vector<double> study_tilts;
-  std::vector<int> study_film;
-  int study_yarns = 0;
-  bool resume = false;
+  MatrixCliOptions matrix;  ///< the matrix's own options (--study with no scene)
   std::string lighting;
   double tilt = -1.0;
   bool quick = false;
@@ -76,9 +71,6 @@ constexpr int kQuickSpp = 128;
 /// --study defaults: seconds per candidate image and the reference's spp (--quick: 1 s, 256).
 constexpr double kStudySeconds = 10.0;
 constexpr int kStudyReferenceSpp = 1024;
-/// The study matrix's spp per candidate image (--quick: 8).
-constexpr int kMatrixSpp = 64;
-constexpr int kMatrixQuickSpp = 8;
 
 /// A path that exists is a scene file; otherwise the name of a built-in scene.
 render::SceneDesc resolve_scene(const std::string& name, std::string& label) {
@@ -230,47 +222,22 @@ int run(const RenderCliOptions& o, const Context& ctx) {
         spec.albedo_factors.emplace_back(static_cast<int>(*f), *k);
       }
     }
-    const bool matrix_options = !o.study_cloths.empty() || !o.study_lightings.empty() || !o.study_tilts.empty() ||
-                                !o.study_film.empty() || o.study_yarns > 0 || o.resume;
-    if (!matrix && matrix_options)
+    if (!matrix && o.matrix.any())
       usage_fail(
           "--study-cloths, --study-lightings, --study-tilts, --study-film, --study-yarns and --resume set up the "
           "study matrix (--study with no scene, --lighting or --tilt)");
     if (matrix) {
-      if (o.study_time > 0.0) usage_fail("--study-time: the study matrix renders at a fixed --study-spp");
-      if (!o.output.empty()) usage_fail("-o: the study matrix writes a folder: give --out DIR");
-      study::MatrixSpec m;
-      m.study = spec;
-      if (o.study_factors.empty()) m.study.factors = {2, 4, 8};
-      if (o.study_memory.empty())
-        m.study.memory_rules = {transmittance::kDefaultMemoryRule, transmittance::MemoryRule::segment};
-      m.study.spp = o.study_spp > 0 ? o.study_spp : (o.quick ? kMatrixQuickSpp : kMatrixSpp);
-      m.study.reference_spp = o.reference_spp > 0 ? o.reference_spp : (o.quick ? 128 : kStudyReferenceSpp);
-      m.study.seed = o.seed.value_or(1);
-      if (o.quick) {
-        m.yarns = 2;
-        m.voxel_size = 0.02;
-        m.width = 32;
-        m.height = 24;
-      }
-      if (!o.study_cloths.empty()) m.cloths = o.study_cloths;
-      if (!o.study_lightings.empty()) {
-        m.lightings.clear();
-        for (const auto& name : o.study_lightings)
-          m.lightings.push_back(as_usage([&] { return render::cloth_lighting(name); }));
-      }
-      if (!o.study_tilts.empty()) m.tilts = o.study_tilts;
-      if (!o.study_film.empty()) {
-        if (o.study_film.size() != 2) usage_fail("--study-film: give WIDTH,HEIGHT");
-        m.width = o.study_film[0];
-        m.height = o.study_film[1];
-      }
-      if (o.study_yarns > 0) m.yarns = o.study_yarns;
-      const fs::path out = o.out_dir.empty() ? fs::path("render_study") : fs::path(o.out_dir);
-      m.study.work_dir = out;
-      as_usage([&] { study::check_matrix_spec(m); });
-      if (dist::is_root()) ensure_directory(out);
-      run_render_matrix(m, out, o.resume, ctx, files);
+      MatrixStudyChoices given;
+      given.factors = !o.study_factors.empty();
+      given.memory = !o.study_memory.empty();
+      given.spp = o.study_spp;
+      given.reference_spp = o.reference_spp;
+      given.seed = o.seed;
+      given.quick = o.quick;
+      given.study_time = o.study_time > 0.0;
+      given.output_file = !o.output.empty();
+      given.out_dir = o.out_dir;
+      run_render_matrix_command(spec, o.matrix, given, ctx, files);
       files.say(ctx);
       return 0;
     }
@@ -496,33 +463,14 @@ const Registrar kRender{Command{
                      "--study: albedo-corrected candidates (docs/render.md 6d): FACTOR:K,... (k_N fitted on another "
                      "set-up) or 'fit' (fit k_N on this scene first and print them; in-sample)")
           ->delimiter(',');
-      sub.add_option("--study-components", o->study_components,
-                     "--study: also render the reference and these candidates with albedo 0 and with at most one "
-                     "scattering event, and split their bias into transmission, single and multiple scattering "
-                     "(docs/render.md 6e): candidate families without -Nx, comma-separated (exponential, "
-                     "local-gamma-optical-depth, shadow-corrected, ...) or all; the fine grid is always split too")
+      sub.add_option(
+             "--study-components", o->study_components,
+             "--study: also render the reference and these candidates with albedo 0 and with at most one "
+             "scattering event, and split their bias into transmission, single and multiple scattering "
+             "(docs/render.md 6e): candidate families without -Nx, comma-separated (exponential, "
+             "local-gamma, local-gamma-segment, shadow-corrected, ...) or all; the fine grid is always split too")
           ->delimiter(',');
-      sub.add_option("--study-cloths", o->study_cloths,
-                     "--study matrix (no scene, no --lighting/--tilt): cloth patterns of weft gen, comma-separated "
-                     "(default plain,twill22,stockinette)")
-          ->delimiter(',');
-      sub.add_option("--study-lightings", o->study_lightings,
-                     "--study matrix: light set-ups, comma-separated (default back,front,grazing)")
-          ->delimiter(',');
-      sub.add_option("--study-tilts", o->study_tilts,
-                     "--study matrix: views, degrees off the cloth's normal, comma-separated (default 45,8)")
-          ->delimiter(',')
-          ->check(CLI::Range(0.0, 79.0));
-      sub.add_option("--study-film", o->study_film,
-                     "--study matrix: film WIDTH,HEIGHT (default 96,72; 32,24 with --quick)")
-          ->delimiter(',')
-          ->check(CLI::Range(8, 4096));
-      sub.add_option("--study-yarns", o->study_yarns,
-                     "--study matrix: yarns per side of each cloth (default 4 at 10 um; --quick: 2 at 20 um)")
-          ->check(CLI::Range(1, 64));
-      sub.add_flag("--resume", o->resume,
-                   "--study matrix: keep the cases a previous run of the same options finished (<out>/matrix.units) "
-                   "and render only the others; other options are refused");
+      add_matrix_options(sub, o->matrix);
       sub.add_option("--lighting", o->lighting,
                      "Default cloth only: light set-up key-and-back (default), back, front or grazing (docs/render.md "
                      "5c), e.g. to run --study under each");

@@ -299,7 +299,7 @@ void init_study(py::module_& m) {
         out["json"] = st::matrix_json(spec, results, headlines);
         out["csv"] = st::matrix_csv(results);
         out["cost_csv"] = st::matrix_cost_csv(results);
-        out["markdown"] = st::matrix_markdown(headlines);
+        out["markdown"] = st::matrix_markdown(headlines, results);
         out["resumed"] = store ? store->found() : 0;
         return out;
       },

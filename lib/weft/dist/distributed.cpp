@@ -298,6 +298,11 @@ double root_value(double value) {
   return value;
 }
 
+Bytes root_bytes(Bytes value) {
+  broadcast(value);
+  return value;
+}
+
 int rank() { return g_local.load() > 0 ? 0 : g_rank; }
 int size() { return g_local.load() > 0 ? 1 : g_size; }
 

@@ -75,6 +75,10 @@ class Session {
 /// @brief Rank 0's `value` on every rank, bit for bit (a collective), for numbers computed from
 /// images that only rank 0 holds (e.g. the next step of a fit).
 [[nodiscard]] double root_value(double value);
+/// @brief Rank 0's `value` on every rank (a collective; other ranks' arguments are ignored), for
+/// results gathered on rank 0 that every rank needs next (the render matrix's albedo factors),
+/// without a file that would need a filesystem shared by the ranks.
+[[nodiscard]] Bytes root_bytes(Bytes value);
 
 /// @brief While one is alive, this process computes as if it ran alone: rank() is 0, size() is
 /// 1, run_units keeps its units on this process and root_decides returns its argument.

@@ -48,7 +48,7 @@ struct ComponentRenders {
 void check_component_scene(const render::SceneDesc& scene);
 
 /// True when candidate `name` ("exponential-4x") is split by `families` ("exponential",
-/// "local-gamma-optical-depth", …, or "all"): its name without the "-Nx" suffix is listed. The
+/// "local-gamma", "local-gamma-segment", …, or "all"): its name without the "-Nx" suffix is listed. The
 /// fine grid is split whenever anything is (it is the control: its component biases are 0).
 [[nodiscard]] bool splits_components(const std::vector<std::string>& families, const std::string& name);
 

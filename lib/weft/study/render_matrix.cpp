@@ -3,9 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <functional>
-#include <iterator>
 #include <optional>
 #include <set>
 
@@ -13,7 +11,6 @@
 #include <nlohmann/json.hpp>
 
 #include "data_gen/cloth/cloth.h"
-#include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 #include "weft/dist/distributed.h"
 #include "weft/dist/unit_store.h"
@@ -104,27 +101,29 @@ json candidate_json(const MatrixCandidate& mc) {
           {"seed_a", c.seed_a},
           {"seed_b", c.seed_b},
           {"spp", c.spp},
-          {"seconds", c.seconds},
-          {"cpu", c.cpu_seconds},
+          {"image_seconds", c.seconds},
+          {"cpu_seconds", c.cpu_seconds},
           {"rmse", c.rmse},
           {"rmse_raw", c.rmse_raw},
           {"noise", c.noise},
           {"bias", c.bias},
           {"bias_sq", c.bias_sq},
-          {"bias_se", c.bias_sq_stderr},
+          {"bias_sq_stderr", c.bias_sq_stderr},
           {"cloth_bias", c.cloth_bias},
           {"cloth_bias_sq", c.cloth_bias_sq},
-          {"cloth_bias_se", c.cloth_bias_sq_stderr},
+          {"cloth_bias_sq_stderr", c.cloth_bias_sq_stderr},
           {"cloth_difference", c.cloth_difference},
           {"cloth_rmse", c.cloth_rmse},
           {"cloth_noise", c.cloth_noise},
-          {"speedup", c.speedup},
+          {"study_speedup", c.speedup},
           {"albedo_factor", c.albedo_factor},
           {"fitted_to_images", c.fitted_to_images},
           {"curve", curve},
+          {"memory_bytes", mc.memory.values},
+          {"memory_tree_bytes", mc.memory.tree},
+          {"memory_channels", mc.memory.channels},
           {"cloth_scales", scale_bias_json(c.cloth_scales)},
-          {"components", component_biases_json(c.components)},
-          {"memory", {mc.memory.values, mc.memory.tree, mc.memory.channels}}};
+          {"components", component_biases_json(c.components)}};
 }
 
 MatrixCandidate candidate_from(const json& j) {
@@ -136,51 +135,37 @@ MatrixCandidate candidate_from(const json& j) {
   c.seed_a = j.at("seed_a").get<std::uint64_t>();
   c.seed_b = j.at("seed_b").get<std::uint64_t>();
   c.spp = j.at("spp").get<int>();
-  c.seconds = j.at("seconds").get<double>();
-  c.cpu_seconds = j.at("cpu").get<double>();
+  c.seconds = j.at("image_seconds").get<double>();
+  c.cpu_seconds = j.at("cpu_seconds").get<double>();
   c.rmse = j.at("rmse").get<double>();
   c.rmse_raw = j.at("rmse_raw").get<double>();
   c.noise = j.at("noise").get<double>();
   c.bias = j.at("bias").get<double>();
   c.bias_sq = j.at("bias_sq").get<double>();
-  c.bias_sq_stderr = j.at("bias_se").get<double>();
+  c.bias_sq_stderr = j.at("bias_sq_stderr").get<double>();
   c.cloth_bias = j.at("cloth_bias").get<double>();
   c.cloth_bias_sq = j.at("cloth_bias_sq").get<double>();
-  c.cloth_bias_sq_stderr = j.at("cloth_bias_se").get<double>();
+  c.cloth_bias_sq_stderr = j.at("cloth_bias_sq_stderr").get<double>();
   c.cloth_difference = j.at("cloth_difference").get<double>();
   c.cloth_rmse = j.at("cloth_rmse").get<double>();
   c.cloth_noise = j.at("cloth_noise").get<double>();
   // NaN (the fine grid's speedup) crosses MessagePack as NaN but reads back through json as null.
-  c.speedup = j.at("speedup").is_number() ? j.at("speedup").get<double>() : std::nan("");
+  c.speedup = j.at("study_speedup").is_number() ? j.at("study_speedup").get<double>() : std::nan("");
   c.albedo_factor = j.at("albedo_factor").get<double>();
   c.fitted_to_images = j.at("fitted_to_images").get<bool>();
   for (const auto& p : j.at("curve"))
     c.curve.push_back({p.at(0).get<int>(), p.at(1).get<double>(), p.at(2).get<double>()});
+  mc.memory = {j.at("memory_bytes").get<std::uint64_t>(), j.at("memory_tree_bytes").get<std::uint64_t>(),
+               j.at("memory_channels").get<int>()};
   c.cloth_scales = scale_bias_from_json(j.at("cloth_scales"));
   c.components = component_biases_from_json(j.at("components"));
-  const json& m = j.at("memory");
-  mc.memory = {m.at(0).get<std::uint64_t>(), m.at(1).get<std::uint64_t>(), m.at(2).get<int>()};
   return mc;
 }
 
-// A case crosses ranks and the --resume store as MessagePack: doubles round-trip exactly, so
-// rank 0 writes the digits a one-process run writes (as the corpus, corpus.cpp).
-dist::Bytes encode(const MatrixCaseResult& r) {
-  json cands = json::array();
-  for (const auto& c : r.candidates) cands.push_back(candidate_json(c));
-  json factors = json::array();
-  for (const auto& [f, a] : r.albedo_factors) factors.push_back({f, a});
-  const json j = {{"width", r.width},
-                  {"height", r.height},
-                  {"reference_spp", r.reference_spp},
-                  {"reference_mean", r.reference_mean},
-                  {"cloth_pixels", r.cloth_pixels},
-                  {"cloth_mean", r.cloth_mean},
-                  {"reference_seconds", r.reference_seconds},
-                  {"albedo_factors", factors},
-                  {"candidates", cands}};
-  return json::to_msgpack(j);
-}
+// A case crosses ranks and the --resume store as MessagePack of matrix_case_json: doubles
+// round-trip exactly, so rank 0 writes the digits a one-process run writes (as the corpus,
+// corpus.cpp).
+dist::Bytes encode(const MatrixCaseResult& r) { return json::to_msgpack(matrix_case_json(r)); }
 
 MatrixCaseResult decode(const MatrixCase& c, const dist::Bytes& b) {
   const json j = json::from_msgpack(b);
@@ -193,7 +178,8 @@ MatrixCaseResult decode(const MatrixCase& c, const dist::Bytes& b) {
   r.cloth_pixels = j.at("cloth_pixels").get<int>();
   r.cloth_mean = j.at("cloth_mean").get<double>();
   r.reference_seconds = j.at("reference_seconds").get<double>();
-  for (const auto& f : j.at("albedo_factors")) r.albedo_factors.emplace_back(f.at(0).get<int>(), f.at(1).get<double>());
+  for (const auto& f : j.at("albedo_factors"))
+    r.albedo_factors.emplace_back(f.at("factor").get<int>(), f.at("albedo_multiplier").get<double>());
   for (const auto& cj : j.at("candidates")) r.candidates.push_back(candidate_from(cj));
   return r;
 }
@@ -231,7 +217,7 @@ MatrixCaseResult run_case(const MatrixSpec& spec, const MatrixCase& c, const Fac
 }
 
 /// Per cloth, the albedo factors fitted on its first lighting × first view (docs/render.md §6d
-/// (b)): one unit per cloth; rank 0 writes them to work_dir/fits/ so every rank reads the same numbers.
+/// (b)): one unit per cloth, gathered on rank 0 and broadcast, so every rank takes the same numbers.
 std::vector<Factors> fit_factors(const MatrixSpec& spec, const std::vector<MatrixCase>& cases, dist::UnitStore* store) {
   std::vector<Factors> out(spec.cloths.size());
   std::vector<const MatrixCase*> fitted(spec.cloths.size(), nullptr);
@@ -256,24 +242,41 @@ std::vector<Factors> fit_factors(const MatrixSpec& spec, const std::vector<Matri
         return json::to_msgpack(j);
       },
       how);
-  const fs::path file = spec.study.work_dir / "fits" / "albedo_factors.msgpack";
+  // Gathered on rank 0, sent to every rank (no file: the ranks need not share a filesystem).
+  dist::Bytes all;
   if (dist::is_root()) {
-    dist::Bytes all;
     json j = json::array();
     for (const auto& b : bytes) j.push_back(json::from_msgpack(b));
     all = json::to_msgpack(j);
-    write_text_atomically(file, std::string(all.begin(), all.end()));
   }
-  (void)dist::root_decides(true);  // every rank waits for rank 0's file
-  std::ifstream in(file, std::ios::binary);
-  const dist::Bytes text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  const json j = json::from_msgpack(text);
+  const json j = json::from_msgpack(dist::root_bytes(std::move(all)));
   for (std::size_t u = 0; u < out.size(); ++u)
     for (const auto& f : j.at(u)) out[u].emplace_back(f.at(0).get<int>(), f.at(1).get<double>());
   return out;
 }
 
 }  // namespace
+
+json matrix_case_json(const MatrixCaseResult& r) {
+  json cands = json::array();
+  for (const auto& c : r.candidates) cands.push_back(candidate_json(c));
+  json factors = json::array();
+  for (const auto& [f, a] : r.albedo_factors) factors.push_back({{"factor", f}, {"albedo_multiplier", a}});
+  return {{"case", r.c.name},
+          {"cloth", r.c.pattern},
+          {"lighting", render::cloth_lighting_name(r.c.lighting)},
+          {"tilt", r.c.tilt},
+          {"fitted_on", r.c.fitted_on},
+          {"width", r.width},
+          {"height", r.height},
+          {"reference_spp", r.reference_spp},
+          {"reference_mean", r.reference_mean},
+          {"cloth_pixels", r.cloth_pixels},
+          {"cloth_mean", r.cloth_mean},
+          {"reference_seconds", r.reference_seconds},
+          {"albedo_factors", factors},
+          {"candidates", cands}};
+}
 
 void check_matrix_spec(const MatrixSpec& spec) {
   if (spec.cloths.empty()) fail("render matrix: no cloths");

@@ -16,6 +16,8 @@
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "weft/core/progress.h"
 #include "weft/render/cloth_scene.h"
 #include "weft/study/render_study.h"
@@ -90,6 +92,12 @@ struct MatrixCaseResult {
   std::vector<std::pair<int, double>> albedo_factors;  ///< what the case's study was given
   std::vector<MatrixCandidate> candidates;
 };
+
+/// @brief A case as JSON, written once: what a stored case holds and crosses ranks as (MessagePack,
+/// doubles exact), and what matrix.json reports per case, whose reports add the judged figures
+/// (render_matrix_report.h). Per candidate every field of StudyCandidate but the images, its
+/// memory, its cloth bias against image scale and its components.
+[[nodiscard]] nlohmann::json matrix_case_json(const MatrixCaseResult& r);
 
 /// The folder of case `c` under the matrix's work_dir (its study's files and images).
 [[nodiscard]] std::filesystem::path matrix_case_dir(const MatrixSpec& spec, const MatrixCase& c);

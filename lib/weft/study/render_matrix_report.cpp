@@ -241,55 +241,27 @@ std::string matrix_json(const MatrixSpec& spec, const std::vector<MatrixCaseResu
     const StudyCandidate& fine = fine_of(r);
     const MatrixCandidate* fine_mc = fine_entry(r);
     const int pixels = r.width * r.height;
-    json cands = json::array();
-    for (const auto& mc : r.candidates) {
+    // The case as it is stored (matrix_case_json), less what depends on timing beyond the
+    // "_seconds" keys (the curve's seconds, the single study's speedup), plus what is judged here.
+    json cj = matrix_case_json(r);
+    for (std::size_t i = 0; i < r.candidates.size(); ++i) {
+      const MatrixCandidate& mc = r.candidates[i];
       const StudyCandidate& c = mc.study;
-      cands.push_back(
-          {{"name", c.name},
-           {"model", c.model},
-           {"factor", c.factor},
-           {"spp", c.spp},
-           {"cloth_bias", c.cloth_bias},
-           {"cloth_bias_sq", c.cloth_bias_sq},
-           {"cloth_bias_sq_stderr", c.cloth_bias_sq_stderr},
-           {"cloth_bias_z", bias_z(c)},
-           {"cloth_relative_bias", relative(c.cloth_bias, r.cloth_mean)},
-           {"cloth_rmse", c.cloth_rmse},
-           {"cloth_relative_rmse", relative(c.cloth_rmse, r.cloth_mean)},
-           {"cloth_noise", c.cloth_noise},
-           {"cloth_difference", c.cloth_difference},
-           {"bias", c.bias},
-           {"bias_z", c.bias_z()},
-           {"memory_bytes", mc.memory.values},
-           {"memory_tree_bytes", mc.memory.tree},
-           {"memory_channels", mc.memory.channels},
-           {"memory_ratio", fine_mc != nullptr && mc.memory.values > 0
-                                ? static_cast<double>(fine_mc->memory.values) / mc.memory.values
-                                : 0.0},
-           {"image_seconds", c.seconds},
-           {"cpu_seconds", c.cpu_seconds},
-           {"sample_cpu_seconds", cost_per_sample(c, pixels)},
-           {"cost_ratio", number(cost_per_sample(c, pixels) / std::max(1e-300, cost_per_sample(fine, pixels)))},
-           {"speedup", number(equal_error_speedup(c, fine, r.cloth_mean))},
-           {"cloth_scales", scale_bias_json(c.cloth_scales)},
-           {"components", component_biases_json(c.components)}});
+      json& o = cj["candidates"][i];
+      o.erase("curve");
+      o.erase("study_speedup");
+      o["cloth_bias_z"] = bias_z(c);
+      o["cloth_relative_bias"] = relative(c.cloth_bias, r.cloth_mean);
+      o["cloth_relative_rmse"] = relative(c.cloth_rmse, r.cloth_mean);
+      o["bias_z"] = c.bias_z();
+      o["memory_ratio"] = fine_mc != nullptr && mc.memory.values > 0
+                              ? static_cast<double>(fine_mc->memory.values) / mc.memory.values
+                              : 0.0;
+      o["sample_cpu_seconds"] = cost_per_sample(c, pixels);
+      o["cost_ratio"] = number(cost_per_sample(c, pixels) / std::max(1e-300, cost_per_sample(fine, pixels)));
+      o["speedup"] = number(equal_error_speedup(c, fine, r.cloth_mean));
     }
-    json factors = json::array();
-    for (const auto& [f, a] : r.albedo_factors) factors.push_back({{"factor", f}, {"albedo_multiplier", a}});
-    j["cases"].push_back({{"case", r.c.name},
-                          {"cloth", r.c.pattern},
-                          {"lighting", render::cloth_lighting_name(r.c.lighting)},
-                          {"tilt", r.c.tilt},
-                          {"fitted_on", r.c.fitted_on},
-                          {"width", r.width},
-                          {"height", r.height},
-                          {"reference_spp", r.reference_spp},
-                          {"reference_mean", r.reference_mean},
-                          {"cloth_pixels", r.cloth_pixels},
-                          {"cloth_mean", r.cloth_mean},
-                          {"reference_seconds", r.reference_seconds},
-                          {"albedo_factors", factors},
-                          {"candidates", cands}});
+    j["cases"].push_back(std::move(cj));
   }
   j["headlines"] = json::array();
   for (const auto& h : headlines) {

@@ -25,6 +25,7 @@
 #include "weft/render/render.h"
 #include "weft/study/albedo_fit.h"
 #include "weft/study/bias_estimate.h"
+#include "weft/study/render_study_report.h"
 #include "weft/volume/downsample.h"
 #include "weft/volume/grid_io.h"
 #include "weft/volume/provenance.h"
@@ -158,7 +159,8 @@ void check_study_spec(const StudySpec& spec) {
   std::set<std::string> families{
       "all", "fine", "exponential", "local-gamma", "shadow-corrected", "albedo-corrected", "slab-gamma"};
   for (const auto rule : spec.memory_rules)
-    families.insert("local-gamma-" + std::string(transmittance::memory_rule_name(rule)));
+    if (rule != transmittance::kDefaultMemoryRule)  // its candidates are local-gamma-Nx
+      families.insert("local-gamma-" + std::string(transmittance::memory_rule_name(rule)));
   for (const auto& f : spec.components)
     if (!families.contains(f))
       fail(
@@ -497,35 +499,7 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
   for (Plan& p : plans) result.candidates.push_back(std::move(p.c));
   if (!root) return result;
 
-  // Speedups against the fine grid's t^{-1/2} law, and the headline.
-  const StudyCandidate& f = result.candidates.front();
-  const StudyCandidate* best = nullptr;
-  for (StudyCandidate& c : result.candidates) {
-    if (&c == &f) {
-      c.speedup = std::numeric_limits<double>::quiet_NaN();
-      continue;
-    }
-    const double t_fine =
-        c.rmse > 0.0 ? f.seconds * (f.rmse / c.rmse) * (f.rmse / c.rmse) : std::numeric_limits<double>::infinity();
-    c.speedup = t_fine / c.seconds;
-    if (best == nullptr || c.speedup > best->speedup) best = &c;
-  }
-  const auto relative = [&](double e) { return result.reference_mean > 0.0 ? 100.0 * e / result.reference_mean : 0.0; };
-  const auto coarser = [](const StudyCandidate& c) {
-    return c.factor == 0 ? std::string("as one homogeneous slab") : fmt::format("at {}x coarser", c.factor);
-  };
-  if (best != nullptr && best->speedup > 1.0) {
-    result.headline = fmt::format(
-        "{} and {:.3g}x less time, {} ({}) is within RMSE {:.3g} ({:.2g}% of the mean pixel) of the fine grid: "
-        "{:.3g} s at {} spp, bias {:.3g}, noise {:.3g}; the fine grid needs about {:.3g} s to get as close",
-        coarser(*best), best->speedup, best->name, best->model, best->rmse, relative(best->rmse), best->seconds,
-        best->spp, best->bias, best->noise, best->speedup * best->seconds);
-  } else if (best != nullptr) {
-    result.headline = fmt::format(
-        "no coarse model beats the fine grid here: in {:.3g} s the fine grid is within RMSE {:.3g} ({:.2g}% of the "
-        "mean pixel); the best coarse candidate, {} ({}), is within {:.3g} (bias {:.3g}) in {:.3g} s",
-        f.seconds, f.rmse, relative(f.rmse), best->name, coarser(*best), best->rmse, best->bias, best->seconds);
-  }
+  judge_study(result);
   return result;
 }
 

@@ -88,7 +88,7 @@ struct StudySpec {
   /// docs/render.md §6d). Each N must be one of `factors`, each k_N finite and > 0. Empty: none.
   std::vector<std::pair<int, double>> albedo_factors;
   /// Candidates whose error is split into transmission, single and multiple scattering
-  /// (render_components.h): families such as "exponential" or "local-gamma-optical-depth" (a
+  /// (render_components.h): families such as "exponential" or "local-gamma-segment" (a
   /// candidate's name without "-Nx"), or "all"; the fine grid is split whenever anything is.
   /// Empty: no component renders (the scene must then have no reflecting surface: see
   /// check_component_scene).

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -37,6 +38,38 @@ std::string study_csv(const StudyResult& result) {
         c.fitted_to_images ? 1 : 0, scale_bias_csv(c.cloth_scales), component_csv(c.components));
   }
   return csv;
+}
+
+void judge_study(StudyResult& r) {
+  // Speedups against the fine grid's t^{-1/2} law, and the headline.
+  const StudyCandidate& f = r.candidates.front();
+  const StudyCandidate* best = nullptr;
+  for (StudyCandidate& c : r.candidates) {
+    if (&c == &f) {
+      c.speedup = std::numeric_limits<double>::quiet_NaN();
+      continue;
+    }
+    const double t_fine =
+        c.rmse > 0.0 ? f.seconds * (f.rmse / c.rmse) * (f.rmse / c.rmse) : std::numeric_limits<double>::infinity();
+    c.speedup = t_fine / c.seconds;
+    if (best == nullptr || c.speedup > best->speedup) best = &c;
+  }
+  const auto relative = [&](double e) { return r.reference_mean > 0.0 ? 100.0 * e / r.reference_mean : 0.0; };
+  const auto coarser = [](const StudyCandidate& c) {
+    return c.factor == 0 ? std::string("as one homogeneous slab") : fmt::format("at {}x coarser", c.factor);
+  };
+  if (best != nullptr && best->speedup > 1.0) {
+    r.headline = fmt::format(
+        "{} and {:.3g}x less time, {} ({}) is within RMSE {:.3g} ({:.2g}% of the mean pixel) of the fine grid: "
+        "{:.3g} s at {} spp, bias {:.3g}, noise {:.3g}; the fine grid needs about {:.3g} s to get as close",
+        coarser(*best), best->speedup, best->name, best->model, best->rmse, relative(best->rmse), best->seconds,
+        best->spp, best->bias, best->noise, best->speedup * best->seconds);
+  } else if (best != nullptr) {
+    r.headline = fmt::format(
+        "no coarse model beats the fine grid here: in {:.3g} s the fine grid is within RMSE {:.3g} ({:.2g}% of the "
+        "mean pixel); the best coarse candidate, {} ({}), is within {:.3g} (bias {:.3g}) in {:.3g} s",
+        f.seconds, f.rmse, relative(f.rmse), best->name, coarser(*best), best->rmse, best->bias, best->seconds);
+  }
 }
 
 std::string study_curves_csv(const StudyResult& result) {

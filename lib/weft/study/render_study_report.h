@@ -12,6 +12,10 @@
 
 namespace weft::study {
 
+/// @brief Each candidate's speedup against the fine grid's t^{−1/2} law (render_study.h) and the
+/// study's headline (run_study calls it on rank 0, whose result holds the images' statistics).
+void judge_study(StudyResult& result);
+
 /// One row per candidate: candidate,model,factor,spp,seconds,cpu_seconds,seconds_per_spp,
 /// rmse,rmse_raw,bias,bias_sq,bias_sq_stderr,bias_z,noise,relative_rmse,speedup,seed,scene.
 [[nodiscard]] std::string study_csv(const StudyResult& result);

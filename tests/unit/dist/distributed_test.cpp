@@ -226,5 +226,13 @@ TEST(UnitStore, ResumeRefusesAnotherRunsUnits) {
   fs::remove_all(dir);
 }
 
+TEST(RootBytes, RankZerosBytesComeBackWhole) {
+  // One process is rank 0: its bytes, every one of them, including zeros and an empty value
+  // (under mpirun the matrix's albedo factors take this path: cli.mpi.same_bytes.render_matrix).
+  const Bytes value{0, 1, 2, 255, 0, 7};
+  EXPECT_EQ(root_bytes(value), value);
+  EXPECT_TRUE(root_bytes({}).empty());
+}
+
 }  // namespace
 }  // namespace weft::dist

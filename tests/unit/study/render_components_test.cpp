@@ -91,10 +91,10 @@ TEST(StudyComponents, ADifferenceCarriesBothVariances) {
 }
 
 TEST(StudyComponents, OnlyTheAskedFamiliesAreSplit) {
-  const std::vector<std::string> asked{"exponential", "local-gamma-optical-depth"};
+  const std::vector<std::string> asked{"exponential", "local-gamma-segment"};
   EXPECT_TRUE(splits_components(asked, "fine"));
   EXPECT_TRUE(splits_components(asked, "exponential-4x"));
-  EXPECT_TRUE(splits_components(asked, "local-gamma-optical-depth-16x"));
+  EXPECT_TRUE(splits_components(asked, "local-gamma-segment-16x"));
   EXPECT_FALSE(splits_components(asked, "local-gamma-4x"));
   EXPECT_FALSE(splits_components(asked, "shadow-corrected-4x"));
   EXPECT_FALSE(splits_components(asked, "slab-gamma"));
