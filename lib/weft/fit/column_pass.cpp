@@ -100,41 +100,62 @@ void gather(const volume::ColumnReader& reader, std::size_t unit, volume::Sparse
   for (; c < 64; ++c) out.start[c + 1] = out.start[c];
 }
 
+/// Σx and Σx² of xs in four lanes (a reduction the compiler can vectorise; a sum in one running
+/// order would wait on the adder at every window).
+Sums lane_sums(const std::vector<double>& xs) {
+  std::array<double, 4> s{};
+  std::array<double, 4> s2{};
+  std::size_t i = 0;
+  for (; i + 4 <= xs.size(); i += 4) {
+    for (std::size_t j = 0; j < 4; ++j) {
+      s[j] += xs[i + j];
+      s2[j] += xs[i + j] * xs[i + j];
+    }
+  }
+  for (; i < xs.size(); ++i) {
+    s[0] += xs[i];
+    s2[0] += xs[i] * xs[i];
+  }
+  return Sums{static_cast<double>(xs.size()), (s[0] + s[1]) + (s[2] + s[3]), (s2[0] + s2[1]) + (s2[2] + s2[3])};
+}
+
 /// Every window of w voxels of one column (positions 0 … n − w). Windows that cannot hold a
 /// voxel — before the first voxel's reach or after the last voxel — have mean exactly 0 and are
-/// counted, not visited; between them the column is read densely (no branch per window on
-/// where the next voxel is). Window sums come from the same running prefix sums as a dense pass
-/// over the whole column (a zero voxel adds nothing to them), so every window mean has the same
-/// bits as there.
+/// counted, not visited. Between them the windows are read from prefix sums over the span: the
+/// running sum over the column's voxels in order, laid out per position (a position between
+/// voxels repeats the sum before it, which is what adding the zero voxels would give), so every
+/// window mean has the same bits as a dense pass's; no branch per window on where the next voxel
+/// is. The column's sums over windows are taken in four lanes and added to the shard's and the
+/// group's once per column (docs/benchmarks.md "Validate: predictions against the truth").
 void add_windows(const int* k, const float* value, std::size_t count, int n, int w, WindowSummary& part, Group& g,
                  std::vector<double>& prefix, std::vector<double>& means) {
   const int positions = n - w + 1;
   if (positions <= 0) return;
   means.clear();
-  double empty = positions;  // windows without a voxel
   if (count > 0) {
     const int s_lo = std::max(0, k[0] - w + 1);
     const int s_hi = std::min(positions - 1, k[count - 1]);
     const auto span = static_cast<std::size_t>(s_hi - s_lo + w);  // voxels s_lo … s_hi + w − 1
-    prefix.assign(span + 1, 0.0);
-    for (std::size_t i = 0; i < count; ++i) prefix[static_cast<std::size_t>(k[i] - s_lo) + 1] = value[i];
-    for (std::size_t i = 0; i < span; ++i) prefix[i + 1] += prefix[i];  // prefix(s_lo) = 0: no voxel before
+    prefix.resize(span + 1);
+    // prefix[x] = Σ of the voxels before position s_lo + x: 0 up to the first voxel, then after
+    // voxel i the running sum through it, until the next voxel.
+    std::size_t x = 0;
+    double run = 0.0;
+    for (std::size_t i = 0; i < count; ++i) {
+      const auto at = static_cast<std::size_t>(k[i] - s_lo);
+      for (; x <= at; ++x) prefix[x] = run;
+      run += static_cast<double>(value[i]);
+    }
+    for (; x <= span; ++x) prefix[x] = run;
     means.resize(static_cast<std::size_t>(s_hi - s_lo + 1));
     for (std::size_t i = 0; i < means.size(); ++i) means[i] = (prefix[i + static_cast<std::size_t>(w)] - prefix[i]) / w;
-    empty -= static_cast<double>(means.size());
   }
-  Sums all = part.all;
-  Sums group = g.windows;
-  double column_sum = 0.0;
-  for (const double m : means) {
-    all.add(m);
-    group.add(m);
-    column_sum += m;
-  }
-  all.n += empty;
-  group.n += empty;
-  part.all = all;
-  g.windows = group;
+  const double empty = positions - static_cast<double>(means.size());  // windows without a voxel
+  const Sums column_sums = lane_sums(means);
+  part.all.merge(column_sums);
+  g.windows.merge(column_sums);
+  part.all.n += empty;
+  g.windows.n += empty;
   // The histogram as (count, sum) pairs, one cache line for both; windows of mean 0 inside the
   // span (gaps between yarns come in runs, so the branch is predictable) are counted.
   double* hist = part.histogram.data();
@@ -152,7 +173,7 @@ void add_windows(const int* k, const float* value, std::size_t count, int n, int
   // partial sums of the squared deviations, and the empty windows' (0 − mean)² at once.
   Moments column;
   column.n = static_cast<std::uint64_t>(positions);
-  column.mean = column_sum / positions;
+  column.mean = column_sums.s / positions;
   std::array<double, 4> m2{};
   std::size_t i = 0;
   for (; i + 4 <= means.size(); i += 4) {

@@ -33,6 +33,24 @@ double persistent_relative_variance(const BlockStats& st, std::int64_t cu, std::
   return pairs > 0.0 ? std::max(0.0, sum / pairs) : 0.0;
 }
 
+/// Once a node's hazard exceeds the first node's by this much, its term in the mean of e^{−H} is
+/// below e^{−40} ≈ 4·10⁻¹⁸ of the largest term, which is added first and is ≈ 1 after the shift
+/// of log_sum_exp_mean: added to a sum ≥ ½ such a term is below half an ulp and leaves the sum's
+/// bits unchanged (two_scale_curve).
+constexpr double kNegligibleHazard = 40.0;
+
+/// log of the mean of e^{at[j]} over `nodes` equally weighted nodes of which only the first
+/// `live` can contribute (the others are below kNegligibleHazard of the first): the same bits as
+/// log_sum_exp_mean over all nodes with unit weights.
+double log_mean_exp_nodes(const std::vector<double>& at, std::size_t live, std::size_t nodes) {
+  double hi = -std::numeric_limits<double>::infinity();
+  for (std::size_t j = 0; j < live; ++j) hi = std::max(hi, at[j]);
+  if (!std::isfinite(hi)) return hi;
+  double s = 0.0;
+  for (std::size_t j = 0; j < live; ++j) s += std::exp(at[j] - hi);
+  return hi + std::log(s / static_cast<double>(nodes));
+}
+
 /// log T per depth: the ray-weighted mean of the coarse columns' T, depth by depth in parallel
 /// (each depth's sum in column order: the same bits for any thread count).
 std::vector<double> mean_over_columns(const std::vector<std::vector<double>>& log_terms,
@@ -121,7 +139,10 @@ std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const 
       for (int j = 0; j < kNodes; ++j)
         p[static_cast<std::size_t>(j)] = boost::math::gamma_p_inv(shape, (j + 0.5) / kNodes, Double()) / shape;
     }
-    const std::vector<double> ones(p.size(), 1.0);
+    // Nodes are in increasing P, so every slice adds at least as much hazard to node j + 1 as to
+    // node j: once node j is kNegligibleHazard above node 0 it stays there, and it and every
+    // later node are dropped for the rest of the column (`live`), which changes no bit of T.
+    std::size_t live = p.size();
     std::vector<double> H(p.size(), 0.0);
     std::vector<double> at(p.size(), 0.0);
     std::vector<double> inc(p.size(), 0.0);
@@ -147,8 +168,8 @@ std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const 
     for (int k = 0; k <= n && d < depths.size(); ++k) {
       const double s0 = k * h;
       if (k == n) {
-        for (std::size_t j = 0; j < p.size(); ++j) at[j] = -H[j];
-        const double past = with_open(log_sum_exp_mean(at, ones));  // past the box: nothing more
+        for (std::size_t j = 0; j < live; ++j) at[j] = -H[j];
+        const double past = with_open(log_mean_exp_nodes(at, live, p.size()));  // past the box: nothing more
         while (d < depths.size()) log_terms[d++][c] = past;
         break;
       }
@@ -164,25 +185,26 @@ std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const 
       const bool still = !(mean > 0.0);
       // The slice's hazard once per node (the beam's depths are the slice ends, k·h).
       if (!still)
-        for (std::size_t j = 0; j < p.size(); ++j) inc[j] = hazard(j, s0, s0 + h);
+        for (std::size_t j = 0; j < live; ++j) inc[j] = hazard(j, s0, s0 + h);
       bool ended = false;
       while (d < depths.size() && depths[d] <= s0 + h) {
         const double t = std::max(depths[d], s0);
         if (t == s0 + h) {
           if (!(still && have_last)) {
-            for (std::size_t j = 0; j < p.size(); ++j) at[j] = -(H[j] + (still ? 0.0 : inc[j]));
-            last = with_open(log_sum_exp_mean(at, ones));
+            for (std::size_t j = 0; j < live; ++j) at[j] = -(H[j] + (still ? 0.0 : inc[j]));
+            last = with_open(log_mean_exp_nodes(at, live, p.size()));
           }
           ended = true;
           log_terms[d++][c] = last;
           continue;
         }
-        for (std::size_t j = 0; j < p.size(); ++j) at[j] = -(H[j] + (still ? 0.0 : hazard(j, s0, t)));
-        log_terms[d++][c] = with_open(log_sum_exp_mean(at, ones));
+        for (std::size_t j = 0; j < live; ++j) at[j] = -(H[j] + (still ? 0.0 : hazard(j, s0, t)));
+        log_terms[d++][c] = with_open(log_mean_exp_nodes(at, live, p.size()));
       }
       have_last = ended;
       if (still) continue;
-      for (std::size_t j = 0; j < p.size(); ++j) H[j] += inc[j];
+      for (std::size_t j = 0; j < live; ++j) H[j] += inc[j];
+      while (live > 1 && H[live - 1] - H[0] > kNegligibleHazard) --live;
     }
   });
   return mean_over_columns(log_terms, st.rays);
