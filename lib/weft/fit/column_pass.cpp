@@ -131,7 +131,7 @@ void add_windows(const int* k, const float* value, std::size_t count, int n, int
                  std::vector<double>& prefix, std::vector<double>& means) {
   const int positions = n - w + 1;
   if (positions <= 0) return;
-  means.clear();
+  if (count == 0) means.clear();  // (resized below without clearing: no zero fill per column)
   if (count > 0) {
     const int s_lo = std::max(0, k[0] - w + 1);
     const int s_hi = std::min(positions - 1, k[count - 1]);
@@ -160,14 +160,28 @@ void add_windows(const int* k, const float* value, std::size_t count, int n, int
   // span (gaps between yarns come in runs, so the branch is predictable) are counted.
   double* hist = part.histogram.data();
   std::size_t positive = 0;
+  // Neighbouring windows often share a bin: its (count, sum) stay in registers until the bin
+  // changes (the same additions in the same order, without a store and a load per window).
+  std::size_t bin = 0;
+  double bin_count = hist[0];
+  double bin_sum = hist[1];
   for (const double m : means) {
     if (m > 0.0) {
       const auto b = 2 * static_cast<std::size_t>(bin_of_positive(m));
-      hist[b] += 1.0;
-      hist[b + 1] += m;
+      if (b != bin) {
+        hist[bin] = bin_count;
+        hist[bin + 1] = bin_sum;
+        bin = b;
+        bin_count = hist[b];
+        bin_sum = hist[b + 1];
+      }
+      bin_count += 1.0;
+      bin_sum += m;
       ++positive;
     }
   }
+  hist[bin] = bin_count;
+  hist[bin + 1] = bin_sum;
   part.zeros += empty + static_cast<double>(means.size() - positive);
   // The column's moments about its own mean, merged pairwise into the shard's (moments.h); four
   // partial sums of the squared deviations, and the empty windows' (0 − mean)² at once.

@@ -10,6 +10,7 @@
 
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
+#include "weft/fit/node_kernels.h"
 #include "weft/transmittance/gamma_hazard.h"
 
 namespace weft::fit::detail {
@@ -31,24 +32,6 @@ double persistent_relative_variance(const BlockStats& st, std::int64_t cu, std::
     pairs += 1.0;
   }
   return pairs > 0.0 ? std::max(0.0, sum / pairs) : 0.0;
-}
-
-/// Once a node's hazard exceeds the first node's by this much, its term in the mean of e^{−H} is
-/// below e^{−40} ≈ 4·10⁻¹⁸ of the largest term, which is added first and is ≈ 1 after the shift
-/// of log_sum_exp_mean: added to a sum ≥ ½ such a term is below half an ulp and leaves the sum's
-/// bits unchanged (two_scale_curve).
-constexpr double kNegligibleHazard = 40.0;
-
-/// log of the mean of e^{at[j]} over `nodes` equally weighted nodes of which only the first
-/// `live` can contribute (the others are below kNegligibleHazard of the first): the same bits as
-/// log_sum_exp_mean over all nodes with unit weights.
-double log_mean_exp_nodes(const std::vector<double>& at, std::size_t live, std::size_t nodes) {
-  double hi = -std::numeric_limits<double>::infinity();
-  for (std::size_t j = 0; j < live; ++j) hi = std::max(hi, at[j]);
-  if (!std::isfinite(hi)) return hi;
-  double s = 0.0;
-  for (std::size_t j = 0; j < live; ++j) s += std::exp(at[j] - hi);
-  return hi + std::log(s / static_cast<double>(nodes));
 }
 
 /// log T per depth: the ray-weighted mean of the coarse columns' T, depth by depth in parallel
@@ -152,12 +135,12 @@ std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const 
     double entry = 0.0;
     double last = 0.0;  // log T at the last slice end evaluated, if no hazard was added since
     bool have_last = false;
-    // Hazard of node j over [a, b) of the current block: the gamma hazard of Q_b (α = 1/v_b,
-    // κ = μ v_b) with memory from the block's entry (transmittance::GammaCell, the one rule).
-    auto hazard = [&](std::size_t j, double a, double b) {
-      const double mu = sigma * mean * p[j];
-      const transmittance::GammaCell cell{mu, vb > 0.0 ? mu * vb : 0.0, mu};
-      return mean > 0.0 ? cell.integral(a - entry, b - a) : 0.0;
+    std::vector<double> scratch(p.size(), 0.0);
+    // Hazards of the live nodes over [a, b) of the current block: the gamma hazard of Q_b
+    // (α = 1/v_b, κ = μ v_b) with memory from the block's entry (transmittance::GammaCell's
+    // integral, node by node in node_hazards).
+    auto hazards = [&](double a, double b, double* out) {
+      node_hazards(p.data(), live, sigma * mean, vb, a - entry, b - a, out);
     };
     // Open columns (no concentration along the whole beam) transmit everything, exactly.
     const double f_open = st.rays[c] > 0.0 ? st.open[c] / st.rays[c] : 0.0;
@@ -169,7 +152,8 @@ std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const 
       const double s0 = k * h;
       if (k == n) {
         for (std::size_t j = 0; j < live; ++j) at[j] = -H[j];
-        const double past = with_open(log_mean_exp_nodes(at, live, p.size()));  // past the box: nothing more
+        const double past =
+            with_open(log_mean_exp_nodes(at.data(), live, p.size(), scratch.data()));  // past the box: nothing more
         while (d < depths.size()) log_terms[d++][c] = past;
         break;
       }
@@ -184,22 +168,22 @@ std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const 
       // T is the value at the previous slice's end (H there was H + inc, the same additions).
       const bool still = !(mean > 0.0);
       // The slice's hazard once per node (the beam's depths are the slice ends, k·h).
-      if (!still)
-        for (std::size_t j = 0; j < live; ++j) inc[j] = hazard(j, s0, s0 + h);
+      if (!still) hazards(s0, s0 + h, inc.data());
       bool ended = false;
       while (d < depths.size() && depths[d] <= s0 + h) {
         const double t = std::max(depths[d], s0);
         if (t == s0 + h) {
           if (!(still && have_last)) {
             for (std::size_t j = 0; j < live; ++j) at[j] = -(H[j] + (still ? 0.0 : inc[j]));
-            last = with_open(log_mean_exp_nodes(at, live, p.size()));
+            last = with_open(log_mean_exp_nodes(at.data(), live, p.size(), scratch.data()));
           }
           ended = true;
           log_terms[d++][c] = last;
           continue;
         }
-        for (std::size_t j = 0; j < live; ++j) at[j] = -(H[j] + (still ? 0.0 : hazard(j, s0, t)));
-        log_terms[d++][c] = with_open(log_mean_exp_nodes(at, live, p.size()));
+        if (!still) hazards(s0, t, scratch.data());
+        for (std::size_t j = 0; j < live; ++j) at[j] = -(H[j] + (still ? 0.0 : scratch[j]));
+        log_terms[d++][c] = with_open(log_mean_exp_nodes(at.data(), live, p.size(), scratch.data()));
       }
       have_last = ended;
       if (still) continue;
