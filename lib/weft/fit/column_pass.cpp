@@ -119,36 +119,45 @@ Sums lane_sums(const std::vector<double>& xs) {
   return Sums{static_cast<double>(xs.size()), (s[0] + s[1]) + (s[2] + s[3]), (s2[0] + s2[1]) + (s2[2] + s2[3])};
 }
 
+/// Per-thread buffers of add_windows, reused from column to column.
+struct WindowScratch {
+  std::vector<double> run;
+  std::vector<std::uint32_t> rank;
+  std::vector<double> means;
+};
+
 /// Every window of w voxels of one column (positions 0 … n − w). Windows that cannot hold a
 /// voxel — before the first voxel's reach or after the last voxel — have mean exactly 0 and are
-/// counted, not visited. Between them the windows are read from prefix sums over the span: the
-/// running sum over the column's voxels in order, laid out per position (a position between
-/// voxels repeats the sum before it, which is what adding the zero voxels would give), so every
-/// window mean has the same bits as a dense pass's; no branch per window on where the next voxel
-/// is. The column's sums over windows are taken in four lanes and added to the shard's and the
-/// group's once per column (docs/benchmarks.md "Validate: predictions against the truth").
+/// counted, not visited. Between them a window's sum is a difference of the running sum over
+/// the column's voxels in order, read at each end's rank (how many voxels lie before it): that
+/// is the dense pass's prefix sum there (a zero voxel adds exactly 0), so every window mean has
+/// the same bits as a dense pass's, with no branch per window on where the next voxel is. The
+/// column's sums over windows are taken in four lanes and added to the shard's and the group's
+/// once per column (docs/benchmarks.md "Validate: predictions against the truth").
 void add_windows(const int* k, const float* value, std::size_t count, int n, int w, WindowSummary& part, Group& g,
-                 std::vector<double>& prefix, std::vector<double>& means) {
+                 WindowScratch& scratch) {
   const int positions = n - w + 1;
   if (positions <= 0) return;
+  std::vector<double>& means = scratch.means;
   if (count == 0) means.clear();  // (resized below without clearing: no zero fill per column)
   if (count > 0) {
     const int s_lo = std::max(0, k[0] - w + 1);
     const int s_hi = std::min(positions - 1, k[count - 1]);
     const auto span = static_cast<std::size_t>(s_hi - s_lo + w);  // voxels s_lo … s_hi + w − 1
-    prefix.resize(span + 1);
-    // prefix[x] = Σ of the voxels before position s_lo + x: 0 up to the first voxel, then after
-    // voxel i the running sum through it, until the next voxel.
-    std::size_t x = 0;
-    double run = 0.0;
-    for (std::size_t i = 0; i < count; ++i) {
-      const auto at = static_cast<std::size_t>(k[i] - s_lo);
-      for (; x <= at; ++x) prefix[x] = run;
-      run += static_cast<double>(value[i]);
-    }
-    for (; x <= span; ++x) prefix[x] = run;
+    // run[i]: Σ of the first i voxels; rank[x]: how many voxels lie before position s_lo + x.
+    // run[rank[x]] is the dense prefix sum at x, without a branch or a chain of additions per
+    // position.
+    std::vector<double>& run = scratch.run;
+    run.resize(count + 1);
+    run[0] = 0.0;
+    for (std::size_t i = 0; i < count; ++i) run[i + 1] = run[i] + static_cast<double>(value[i]);
+    std::vector<std::uint32_t>& rank = scratch.rank;
+    rank.assign(span + 1, 0U);
+    for (std::size_t i = 0; i < count; ++i) rank[static_cast<std::size_t>(k[i] - s_lo) + 1] = 1U;
+    for (std::size_t x = 1; x <= span; ++x) rank[x] += rank[x - 1];
     means.resize(static_cast<std::size_t>(s_hi - s_lo + 1));
-    for (std::size_t i = 0; i < means.size(); ++i) means[i] = (prefix[i + static_cast<std::size_t>(w)] - prefix[i]) / w;
+    const auto wu = static_cast<std::size_t>(w);
+    for (std::size_t i = 0; i < means.size(); ++i) means[i] = (run[rank[i + wu]] - run[rank[i]]) / w;
   }
   const double empty = positions - static_cast<double>(means.size());  // windows without a voxel
   const Sums column_sums = lane_sums(means);
@@ -160,28 +169,14 @@ void add_windows(const int* k, const float* value, std::size_t count, int n, int
   // span (gaps between yarns come in runs, so the branch is predictable) are counted.
   double* hist = part.histogram.data();
   std::size_t positive = 0;
-  // Neighbouring windows often share a bin: its (count, sum) stay in registers until the bin
-  // changes (the same additions in the same order, without a store and a load per window).
-  std::size_t bin = 0;
-  double bin_count = hist[0];
-  double bin_sum = hist[1];
   for (const double m : means) {
     if (m > 0.0) {
       const auto b = 2 * static_cast<std::size_t>(bin_of_positive(m));
-      if (b != bin) {
-        hist[bin] = bin_count;
-        hist[bin + 1] = bin_sum;
-        bin = b;
-        bin_count = hist[b];
-        bin_sum = hist[b + 1];
-      }
-      bin_count += 1.0;
-      bin_sum += m;
+      hist[b] += 1.0;
+      hist[b + 1] += m;
       ++positive;
     }
   }
-  hist[bin] = bin_count;
-  hist[bin + 1] = bin_sum;
   part.zeros += empty + static_cast<double>(means.size() - positive);
   // The column's moments about its own mean, merged pairwise into the shard's (moments.h); four
   // partial sums of the squared deviations, and the empty windows' (0 − mean)² at once.
@@ -272,8 +267,7 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
     volume::SparseColumnTile sparse;
     volume::ColumnTile dense;
     PatchColumns cols;
-    std::vector<double> prefix;
-    std::vector<double> means;
+    WindowScratch scratch;
     auto& part = parts[shard];
     part.histogram.assign(2 * static_cast<std::size_t>(kBins), 0.0);
     auto& sb = blocks[shard];
@@ -298,7 +292,7 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
           }
           Group& g = *group;
           g.rays += 1.0;
-          add_windows(k, value, count, n, w, part, g, prefix, means);
+          add_windows(k, value, count, n, w, part, g, scratch);
           const auto coarse_column = static_cast<std::size_t>(gu * st.nv + gv);
           add_blocks(k, value, count, n, w, reverse, sb, sb.place(coarse_column, st.nb), st.nb);
         }
