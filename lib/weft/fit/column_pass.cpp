@@ -100,41 +100,102 @@ void gather(const volume::ColumnReader& reader, std::size_t unit, volume::Sparse
   for (; c < 64; ++c) out.start[c + 1] = out.start[c];
 }
 
+/// Two lanes of doubles (GCC and Clang vector extension): the four-lane sums below as two such
+/// pairs, the same additions per lane as scalar code, in SSE2 registers.
+using Lanes2 = double __attribute__((vector_size(16)));
+
+Lanes2 load2(const double* x) {
+  Lanes2 v;
+  std::memcpy(&v, x, sizeof v);
+  return v;
+}
+
+/// Σx and Σx² of xs in four lanes (lane j holds the elements i ≡ j mod 4 of the full groups of
+/// four; the rest goes to lane 0): a sum in one running order would wait on the adder at every
+/// window.
+Sums lane_sums(const std::vector<double>& xs) {
+  Lanes2 s01{0.0, 0.0}, s23{0.0, 0.0}, q01{0.0, 0.0}, q23{0.0, 0.0};
+  std::size_t i = 0;
+  for (; i + 4 <= xs.size(); i += 4) {
+    const Lanes2 a = load2(&xs[i]);
+    const Lanes2 b = load2(&xs[i + 2]);
+    s01 += a;
+    s23 += b;
+    q01 += a * a;
+    q23 += b * b;
+  }
+  for (; i < xs.size(); ++i) {
+    s01[0] += xs[i];
+    q01[0] += xs[i] * xs[i];
+  }
+  return Sums{static_cast<double>(xs.size()), (s01[0] + s01[1]) + (s23[0] + s23[1]),
+              (q01[0] + q01[1]) + (q23[0] + q23[1])};
+}
+
+/// Σ(x − c)² over xs in the lanes of lane_sums.
+double lane_squared_deviations(const std::vector<double>& xs, double c) {
+  const Lanes2 cc{c, c};
+  Lanes2 q01{0.0, 0.0}, q23{0.0, 0.0};
+  std::size_t i = 0;
+  for (; i + 4 <= xs.size(); i += 4) {
+    const Lanes2 a = load2(&xs[i]) - cc;
+    const Lanes2 b = load2(&xs[i + 2]) - cc;
+    q01 += a * a;
+    q23 += b * b;
+  }
+  for (; i < xs.size(); ++i) {
+    const double dev = xs[i] - c;
+    q01[0] += dev * dev;
+  }
+  return (q01[0] + q01[1]) + (q23[0] + q23[1]);
+}
+
+/// Per-thread buffers of add_windows, reused from column to column.
+struct WindowScratch {
+  std::vector<double> run;
+  std::vector<std::uint32_t> rank;
+  std::vector<double> means;
+};
+
 /// Every window of w voxels of one column (positions 0 … n − w). Windows that cannot hold a
 /// voxel — before the first voxel's reach or after the last voxel — have mean exactly 0 and are
-/// counted, not visited; between them the column is read densely (no branch per window on
-/// where the next voxel is). Window sums come from the same running prefix sums as a dense pass
-/// over the whole column (a zero voxel adds nothing to them), so every window mean has the same
-/// bits as there.
+/// counted, not visited. Between them a window's sum is a difference of the running sum over
+/// the column's voxels in order, read at each end's rank (how many voxels lie before it): that
+/// is the dense pass's prefix sum there (a zero voxel adds exactly 0), so every window mean has
+/// the same bits as a dense pass's, with no branch per window on where the next voxel is. The
+/// column's sums over windows are taken in four lanes and added to the shard's and the group's
+/// once per column (docs/benchmarks.md "Validate: predictions against the truth").
 void add_windows(const int* k, const float* value, std::size_t count, int n, int w, WindowSummary& part, Group& g,
-                 std::vector<double>& prefix, std::vector<double>& means) {
+                 WindowScratch& scratch) {
   const int positions = n - w + 1;
   if (positions <= 0) return;
-  means.clear();
-  double empty = positions;  // windows without a voxel
+  std::vector<double>& means = scratch.means;
+  if (count == 0) means.clear();  // (resized below without clearing: no zero fill per column)
   if (count > 0) {
     const int s_lo = std::max(0, k[0] - w + 1);
     const int s_hi = std::min(positions - 1, k[count - 1]);
     const auto span = static_cast<std::size_t>(s_hi - s_lo + w);  // voxels s_lo … s_hi + w − 1
-    prefix.assign(span + 1, 0.0);
-    for (std::size_t i = 0; i < count; ++i) prefix[static_cast<std::size_t>(k[i] - s_lo) + 1] = value[i];
-    for (std::size_t i = 0; i < span; ++i) prefix[i + 1] += prefix[i];  // prefix(s_lo) = 0: no voxel before
+    // run[i]: Σ of the first i voxels; rank[x]: how many voxels lie before position s_lo + x.
+    // run[rank[x]] is the dense prefix sum at x, without a branch or a chain of additions per
+    // position.
+    std::vector<double>& run = scratch.run;
+    run.resize(count + 1);
+    run[0] = 0.0;
+    for (std::size_t i = 0; i < count; ++i) run[i + 1] = run[i] + static_cast<double>(value[i]);
+    std::vector<std::uint32_t>& rank = scratch.rank;
+    rank.assign(span + 1, 0U);
+    for (std::size_t i = 0; i < count; ++i) rank[static_cast<std::size_t>(k[i] - s_lo) + 1] = 1U;
+    for (std::size_t x = 1; x <= span; ++x) rank[x] += rank[x - 1];
     means.resize(static_cast<std::size_t>(s_hi - s_lo + 1));
-    for (std::size_t i = 0; i < means.size(); ++i) means[i] = (prefix[i + static_cast<std::size_t>(w)] - prefix[i]) / w;
-    empty -= static_cast<double>(means.size());
+    const auto wu = static_cast<std::size_t>(w);
+    for (std::size_t i = 0; i < means.size(); ++i) means[i] = (run[rank[i + wu]] - run[rank[i]]) / w;
   }
-  Sums all = part.all;
-  Sums group = g.windows;
-  double column_sum = 0.0;
-  for (const double m : means) {
-    all.add(m);
-    group.add(m);
-    column_sum += m;
-  }
-  all.n += empty;
-  group.n += empty;
-  part.all = all;
-  g.windows = group;
+  const double empty = positions - static_cast<double>(means.size());  // windows without a voxel
+  const Sums column_sums = lane_sums(means);
+  part.all.merge(column_sums);
+  g.windows.merge(column_sums);
+  part.all.n += empty;
+  g.windows.n += empty;
   // The histogram as (count, sum) pairs, one cache line for both; windows of mean 0 inside the
   // span (gaps between yarns come in runs, so the branch is predictable) are counted.
   double* hist = part.histogram.data();
@@ -152,20 +213,8 @@ void add_windows(const int* k, const float* value, std::size_t count, int n, int
   // partial sums of the squared deviations, and the empty windows' (0 − mean)² at once.
   Moments column;
   column.n = static_cast<std::uint64_t>(positions);
-  column.mean = column_sum / positions;
-  std::array<double, 4> m2{};
-  std::size_t i = 0;
-  for (; i + 4 <= means.size(); i += 4) {
-    for (std::size_t j = 0; j < 4; ++j) {
-      const double dev = means[i + j] - column.mean;
-      m2[j] += dev * dev;
-    }
-  }
-  for (; i < means.size(); ++i) {
-    const double dev = means[i] - column.mean;
-    m2[0] += dev * dev;
-  }
-  column.m2 = (m2[0] + m2[1]) + (m2[2] + m2[3]) + empty * column.mean * column.mean;
+  column.mean = column_sums.s / positions;
+  column.m2 = lane_squared_deviations(means, column.mean) + empty * column.mean * column.mean;
   part.moments.merge(column);
 }
 
@@ -237,8 +286,7 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
     volume::SparseColumnTile sparse;
     volume::ColumnTile dense;
     PatchColumns cols;
-    std::vector<double> prefix;
-    std::vector<double> means;
+    WindowScratch scratch;
     auto& part = parts[shard];
     part.histogram.assign(2 * static_cast<std::size_t>(kBins), 0.0);
     auto& sb = blocks[shard];
@@ -263,7 +311,7 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
           }
           Group& g = *group;
           g.rays += 1.0;
-          add_windows(k, value, count, n, w, part, g, prefix, means);
+          add_windows(k, value, count, n, w, part, g, scratch);
           const auto coarse_column = static_cast<std::size_t>(gu * st.nv + gv);
           add_blocks(k, value, count, n, w, reverse, sb, sb.place(coarse_column, st.nb), st.nb);
         }

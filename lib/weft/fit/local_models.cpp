@@ -10,6 +10,7 @@
 
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
+#include "weft/fit/node_kernels.h"
 #include "weft/transmittance/gamma_hazard.h"
 
 namespace weft::fit::detail {
@@ -121,7 +122,10 @@ std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const 
       for (int j = 0; j < kNodes; ++j)
         p[static_cast<std::size_t>(j)] = boost::math::gamma_p_inv(shape, (j + 0.5) / kNodes, Double()) / shape;
     }
-    const std::vector<double> ones(p.size(), 1.0);
+    // Nodes are in increasing P, so every slice adds at least as much hazard to node j + 1 as to
+    // node j: once node j is kNegligibleHazard above node 0 it stays there, and it and every
+    // later node are dropped for the rest of the column (`live`), which changes no bit of T.
+    std::size_t live = p.size();
     std::vector<double> H(p.size(), 0.0);
     std::vector<double> at(p.size(), 0.0);
     std::vector<double> inc(p.size(), 0.0);
@@ -131,12 +135,12 @@ std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const 
     double entry = 0.0;
     double last = 0.0;  // log T at the last slice end evaluated, if no hazard was added since
     bool have_last = false;
-    // Hazard of node j over [a, b) of the current block: the gamma hazard of Q_b (α = 1/v_b,
-    // κ = μ v_b) with memory from the block's entry (transmittance::GammaCell, the one rule).
-    auto hazard = [&](std::size_t j, double a, double b) {
-      const double mu = sigma * mean * p[j];
-      const transmittance::GammaCell cell{mu, vb > 0.0 ? mu * vb : 0.0, mu};
-      return mean > 0.0 ? cell.integral(a - entry, b - a) : 0.0;
+    std::vector<double> scratch(p.size(), 0.0);
+    // Hazards of the live nodes over [a, b) of the current block: the gamma hazard of Q_b
+    // (α = 1/v_b, κ = μ v_b) with memory from the block's entry (transmittance::GammaCell's
+    // integral, node by node in node_hazards).
+    auto hazards = [&](double a, double b, double* out) {
+      node_hazards(p.data(), live, sigma * mean, vb, a - entry, b - a, out);
     };
     // Open columns (no concentration along the whole beam) transmit everything, exactly.
     const double f_open = st.rays[c] > 0.0 ? st.open[c] / st.rays[c] : 0.0;
@@ -147,8 +151,9 @@ std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const 
     for (int k = 0; k <= n && d < depths.size(); ++k) {
       const double s0 = k * h;
       if (k == n) {
-        for (std::size_t j = 0; j < p.size(); ++j) at[j] = -H[j];
-        const double past = with_open(log_sum_exp_mean(at, ones));  // past the box: nothing more
+        for (std::size_t j = 0; j < live; ++j) at[j] = -H[j];
+        const double past =
+            with_open(log_mean_exp_nodes(at.data(), live, p.size(), scratch.data()));  // past the box: nothing more
         while (d < depths.size()) log_terms[d++][c] = past;
         break;
       }
@@ -163,26 +168,27 @@ std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const 
       // T is the value at the previous slice's end (H there was H + inc, the same additions).
       const bool still = !(mean > 0.0);
       // The slice's hazard once per node (the beam's depths are the slice ends, k·h).
-      if (!still)
-        for (std::size_t j = 0; j < p.size(); ++j) inc[j] = hazard(j, s0, s0 + h);
+      if (!still) hazards(s0, s0 + h, inc.data());
       bool ended = false;
       while (d < depths.size() && depths[d] <= s0 + h) {
         const double t = std::max(depths[d], s0);
         if (t == s0 + h) {
           if (!(still && have_last)) {
-            for (std::size_t j = 0; j < p.size(); ++j) at[j] = -(H[j] + (still ? 0.0 : inc[j]));
-            last = with_open(log_sum_exp_mean(at, ones));
+            for (std::size_t j = 0; j < live; ++j) at[j] = -(H[j] + (still ? 0.0 : inc[j]));
+            last = with_open(log_mean_exp_nodes(at.data(), live, p.size(), scratch.data()));
           }
           ended = true;
           log_terms[d++][c] = last;
           continue;
         }
-        for (std::size_t j = 0; j < p.size(); ++j) at[j] = -(H[j] + (still ? 0.0 : hazard(j, s0, t)));
-        log_terms[d++][c] = with_open(log_sum_exp_mean(at, ones));
+        if (!still) hazards(s0, t, scratch.data());
+        for (std::size_t j = 0; j < live; ++j) at[j] = -(H[j] + (still ? 0.0 : scratch[j]));
+        log_terms[d++][c] = with_open(log_mean_exp_nodes(at.data(), live, p.size(), scratch.data()));
       }
       have_last = ended;
       if (still) continue;
-      for (std::size_t j = 0; j < p.size(); ++j) H[j] += inc[j];
+      for (std::size_t j = 0; j < live; ++j) H[j] += inc[j];
+      while (live > 1 && H[live - 1] - H[0] > kNegligibleHazard) --live;
     }
   });
   return mean_over_columns(log_terms, st.rays);

@@ -4,12 +4,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <vector>
 
 #include "test_grids.h"
 #include "weft/core/parallel.h"
 #include "weft/fit/models.h"
+#include "weft/fit/node_kernels.h"
 #include "weft/fit/report.h"
 #include "weft/fit/validation.h"
+#include "weft/transmittance/gamma_hazard.h"
 #include "weft/volume/beam.h"
 #include "weft/volume/dense.h"
 
@@ -152,6 +156,49 @@ TEST(Prediction, StatisticsPassGivesTheSameBitsForAnyThreadCount) {
     EXPECT_EQ(moments[0].samples, dense.samples);
     EXPECT_NEAR(moments[0].mean, dense.mean, 1e-13 * dense.mean);
     EXPECT_NEAR(moments[0].variance, dense.variance, 1e-11 * dense.variance);
+  }
+}
+
+TEST(Prediction, NodeHazardsAreTheGammaCellIntegral) {
+  // node_hazards is GammaCell::integral as a loop over nodes (vectorised: within a few ulp of
+  // the scalar libm), including κ = 0 from v_b = 0 and from a node P = 0.
+  const std::vector<double> p{0.0, 0.03, 0.2, 0.7, 1.0, 1.3, 2.9, 7.5, 31.0};
+  std::vector<double> out(p.size());
+  for (const double vb : {0.0, 1e-9, 0.05, 1.0, 40.0}) {
+    for (const double s : {0.0, 0.02, 0.29}) {
+      for (const double length : {0.02, 1e-7}) {
+        const double sigma_mean = 106.1 * 0.37;
+        detail::node_hazards(p.data(), p.size(), sigma_mean, vb, s, length, out.data());
+        for (std::size_t j = 0; j < p.size(); ++j) {
+          const double mu = sigma_mean * p[j];
+          const transmittance::GammaCell cell{mu, vb > 0.0 ? mu * vb : 0.0, mu};
+          const double want = cell.integral(s, length);
+          EXPECT_NEAR(out[j], want, 8.0 * std::numeric_limits<double>::epsilon() * std::abs(want))
+              << "vb " << vb << " s " << s << " length " << length << " node " << j;
+        }
+      }
+    }
+  }
+}
+
+TEST(Prediction, NegligibleNodesLeaveTheMeanBitForBit) {
+  // Nodes kNegligibleHazard or more below the first cannot change the bits of the mean of
+  // e^{at}: dropping them (two_scale_curve's `live`) gives exactly the mean over all nodes.
+  std::vector<double> scratch(32);
+  for (const double first : {0.0, -3.7, -812.5}) {
+    std::vector<double> at(32);
+    std::size_t live = 0;
+    for (std::size_t j = 0; j < at.size(); ++j) {
+      const double gap = 0.013 * static_cast<double>(j * j * j);  // increasing with the node
+      at[j] = first - gap;
+      if (gap <= detail::kNegligibleHazard) live = j + 1;
+    }
+    ASSERT_LT(live, at.size());
+    const double all = detail::log_mean_exp_nodes(at.data(), at.size(), at.size(), scratch.data());
+    EXPECT_EQ(detail::log_mean_exp_nodes(at.data(), live, at.size(), scratch.data()), all) << first;
+    double direct = 0.0;  // the definition, in long double
+    for (const double a : at) direct += std::exp(static_cast<long double>(a - first));
+    EXPECT_NEAR(all, first + static_cast<double>(std::log(direct / 32.0L)), 1e-14 * (1.0 + std::abs(first)));
   }
 }
 
