@@ -12,19 +12,12 @@
 #include "weft/dist/unit_store.h"
 #include "weft/render/cloth_scene.h"
 #include "weft/study/render_matrix_report.h"
-#include "weft/transmittance/gamma_hazard.h"
 #include "weft/viz/chart.h"
 
 namespace weft::app {
 namespace {
 
 namespace fs = std::filesystem;
-
-/// The matrix's spp per candidate image and its reference's (--quick: 8 and 128).
-constexpr int kMatrixSpp = 64;
-constexpr int kMatrixQuickSpp = 8;
-constexpr int kMatrixReferenceSpp = 1024;
-constexpr int kMatrixQuickReferenceSpp = 128;
 
 /// One panel per cloth: the worst cloth bias over its set-ups (% of the mean cloth pixel) against
 /// the coarsening factor, one line per model.
@@ -100,20 +93,16 @@ void run_render_matrix_command(const study::StudySpec& study, const MatrixCliOpt
                                const MatrixStudyChoices& given, const Context& ctx, WrittenFiles& files) {
   if (given.study_time) usage_fail("--study-time: the study matrix renders at a fixed --study-spp");
   if (given.output_file) usage_fail("-o: the study matrix writes a folder: give --out DIR");
-  study::MatrixSpec m;
-  m.study = study;
-  if (!given.factors) m.study.factors = {2, 4, 8};
-  if (!given.memory) m.study.memory_rules = {transmittance::kDefaultMemoryRule, transmittance::MemoryRule::segment};
-  m.study.spp = given.spp > 0 ? given.spp : (given.quick ? kMatrixQuickSpp : kMatrixSpp);
-  m.study.reference_spp =
-      given.reference_spp > 0 ? given.reference_spp : (given.quick ? kMatrixQuickReferenceSpp : kMatrixReferenceSpp);
+  // The library's defaults (docs/render.md §6e), then what the command line gave.
+  study::MatrixSpec m = study::default_matrix_spec(given.quick);
+  if (given.factors) m.study.factors = study.factors;
+  if (given.memory) m.study.memory_rules = study.memory_rules;
+  m.study.scale = study.scale;
+  m.study.components = study.components;
+  m.study.albedo_factors = study.albedo_factors;
+  if (given.spp > 0) m.study.spp = given.spp;
+  if (given.reference_spp > 0) m.study.reference_spp = given.reference_spp;
   m.study.seed = given.seed.value_or(1);
-  if (given.quick) {
-    m.yarns = 2;
-    m.voxel_size = 0.02;
-    m.width = 32;
-    m.height = 24;
-  }
   if (!o.cloths.empty()) m.cloths = o.cloths;
   if (!o.lightings.empty()) {
     m.lightings.clear();

@@ -3,8 +3,8 @@
 `weft.render_study` (docs/render.md §6c, the library call behind `weft render --study`) on a
 small back-lit cloth (the lighting of docs/render.md §5c): the fine grid rendered to low noise
 is the reference R; then, two images each at fewer samples, the fine grid itself, the grid
-downsampled N x (exponential-Nx), the local gamma fields of N^3-voxel blocks with the `segment`
-and `optical-depth` memory rules (local-gamma-Nx, local-gamma-optical-depth-Nx), the baseline
+downsampled N x (exponential-Nx), the local gamma fields of N^3-voxel blocks with the `optical-depth`
+(default) and `segment` memory rules (local-gamma-Nx, local-gamma-segment-Nx), the baseline
 corrected for self-shadowing (shadow-corrected-Nx, docs/render.md §6d; `weft.shadowed_downsample`)
 and a slab with the gamma law of the grid's pooled window statistics (predicted, never fitted
 to R). Over the cloth's pixels it prints each candidate's bias (the error left at convergence),
@@ -37,7 +37,7 @@ def main():
                      weft_yarn={"fiber_count": 16})
     scene = cloth.scene(lighting="back", width=size[0], height=size[1])
     result = weft.render_study(scene, spp=spp, reference_spp=ref_spp, factors=factors,
-                               memory=("segment", "optical-depth"), seed=101, out=os.path.join(args.out, "study"))
+                               memory=("optical-depth", "segment"), seed=101, out=os.path.join(args.out, "study"))
     ref = result.reference
     print("film %dx%d, reference %d spp, candidates %d spp; %d cloth pixels, mean %.4f"
           % (ref["width"], ref["height"], ref["spp"], spp, ref["cloth_pixels"], ref["cloth_mean_pixel"]))

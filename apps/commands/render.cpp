@@ -68,9 +68,6 @@ constexpr int kSheetSpp[] = {2, 8, 64, 128, 512};
 /// --quick: the longest image side and the series' spp.
 constexpr int kQuickSide = 48;
 constexpr int kQuickSpp = 128;
-/// --study defaults: seconds per candidate image and the reference's spp (--quick: 1 s, 256).
-constexpr double kStudySeconds = 10.0;
-constexpr int kStudyReferenceSpp = 1024;
 
 /// A path that exists is a scene file; otherwise the name of a built-in scene.
 render::SceneDesc resolve_scene(const std::string& name, std::string& label) {
@@ -189,7 +186,7 @@ int run(const RenderCliOptions& o, const Context& ctx) {
     if (!o.convergence.empty()) usage_fail("--study and --convergence are separate runs: give one");
     if (o.spp > 0 || o.time_budget > 0.0)
       usage_fail("--study renders each candidate by --study-time or --study-spp, not --spp or --time-budget");
-    study::StudySpec spec;
+    study::StudySpec spec = study::default_study_spec(o.quick);
     if (!o.study_factors.empty()) {
       std::vector<int> sorted = o.study_factors;
       std::sort(sorted.begin(), sorted.end());
@@ -241,9 +238,9 @@ int run(const RenderCliOptions& o, const Context& ctx) {
       files.say(ctx);
       return 0;
     }
-    spec.seconds = o.study_time > 0.0 ? o.study_time : (o.quick ? 1.0 : kStudySeconds);
+    if (o.study_time > 0.0) spec.seconds = o.study_time;
     spec.spp = o.study_spp;
-    spec.reference_spp = o.reference_spp > 0 ? o.reference_spp : (o.quick ? 256 : kStudyReferenceSpp);
+    if (o.reference_spp > 0) spec.reference_spp = o.reference_spp;
     spec.seed = o.seed.value_or(scene.integrator.seed);
     spec.work_dir = "(beside the output)";  // the app sets it; checked here for the other fields
     as_usage([&] { study::check_study_spec(spec); });

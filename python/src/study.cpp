@@ -33,16 +33,9 @@ namespace {
 namespace fs = std::filesystem;
 namespace st = weft::study;
 
-// The defaults of `weft render --study` (docs/render.md §6c) and of its matrix (§6e), with
-// --quick's; pytest test_render_study.py compares the specs both front ends run.
-constexpr double kStudySeconds = 10.0;
-constexpr double kQuickStudySeconds = 1.0;
-constexpr int kStudyReferenceSpp = 1024;
-constexpr int kQuickStudyReferenceSpp = 256;
+// The library's defaults are the CLI's (study::default_study_spec, default_matrix_spec); only
+// --quick's small film of a single study is the front end's own, as the CLI's.
 constexpr int kQuickSide = 48;  ///< --quick: a single study's film, its longest side
-constexpr int kMatrixSpp = 64;
-constexpr int kQuickMatrixSpp = 8;
-constexpr int kQuickMatrixReferenceSpp = 128;
 
 template <typename T>
 std::optional<T> get(const py::dict& o, const char* key) {
@@ -74,17 +67,8 @@ void argument(const char* call, const std::string& name_value, Fn&& apply) {
 /// The study's spec from the Python arguments (None: the CLI's default), checked.
 st::StudySpec study_spec(const py::dict& o, const char* call, bool matrix) {
   const bool quick = get<bool>(o, "quick").value_or(false);
-  st::StudySpec spec;
+  st::StudySpec spec = matrix ? st::default_matrix_spec(quick).study : st::default_study_spec(quick);
   spec.work_dir = "(the out folder)";  // set by the caller; checked here for the other fields
-  if (matrix) {
-    spec.factors = {2, 4, 8};
-    spec.memory_rules = {transmittance::MemoryRule::segment, transmittance::MemoryRule::optical_depth};
-    spec.spp = quick ? kQuickMatrixSpp : kMatrixSpp;
-    spec.reference_spp = quick ? kQuickMatrixReferenceSpp : kStudyReferenceSpp;
-  } else {
-    spec.seconds = quick ? kQuickStudySeconds : kStudySeconds;
-    spec.reference_spp = quick ? kQuickStudyReferenceSpp : kStudyReferenceSpp;
-  }
   const auto check = [&] { st::check_study_spec(spec); };
   if (auto f = get<std::vector<int>>(o, "factors")) {
     argument(call, "factors=" + shown(*f), [&] {
@@ -128,6 +112,12 @@ st::StudySpec study_spec(const py::dict& o, const char* call, bool matrix) {
     argument(call, fmt::format("window='{}'", *window), [&] {
       fit::check_scale_text(*window);
       spec.scale = *window;
+    });
+  }
+  if (auto names = get<std::vector<std::string>>(o, "components")) {
+    argument(call, "components=" + shown(*names), [&] {
+      spec.components = *names;
+      check();
     });
   }
   if (auto pairs = get<std::vector<std::pair<int, double>>>(o, "albedo")) {
@@ -250,14 +240,8 @@ void init_study(py::module_& m) {
       "_render_matrix",
       [](const py::dict& o, const std::string& work_dir, bool keep_units, bool resume, const py::object& progress) {
         constexpr const char* call = "render_matrix";
-        st::MatrixSpec spec;
+        st::MatrixSpec spec = st::default_matrix_spec(get<bool>(o, "quick").value_or(false));
         spec.study = study_spec(o, call, true);
-        if (get<bool>(o, "quick").value_or(false)) {  // docs/render.md §6e: 2 x 2 yarns at 20 µm, 32 x 24 px
-          spec.yarns = 2;
-          spec.voxel_size = 0.02;
-          spec.width = 32;
-          spec.height = 24;
-        }
         const auto check = [&] { st::check_matrix_spec(spec); };
         if (auto cloths = get<std::vector<std::string>>(o, "cloths"))
           argument(call, "cloths=" + shown(*cloths), [&] {

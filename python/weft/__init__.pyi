@@ -278,7 +278,8 @@ class MatrixResult:
 def render_study(scene: Scene, *, spp: Optional[int] = ..., seconds: Optional[float] = ...,
                  reference_spp: Optional[int] = ..., factors: Union[None, str, Sequence[int]] = ...,
                  memory: Optional[Names] = ..., albedo: Union[None, str, Dict[int, float], Sequence[Tuple[int, float]]] = ...,
-                 window: Union[None, str, float] = ..., seed: Optional[int] = ..., quick: bool = ...,
+                 window: Union[None, str, float] = ..., components: Optional[Names] = ...,
+                 seed: Optional[int] = ..., quick: bool = ...,
                  base_dir: Optional[Path] = ..., out: Optional[Path] = ..., progress: Progress = ...,
                  threads: Optional[int] = ...) -> StudyResult: ...
 def fit_albedo(scene: Scene, *, factors: Union[None, str, Sequence[int]] = ..., spp: Optional[int] = ...,
@@ -289,7 +290,8 @@ def render_matrix(*, cloths: Optional[Names] = ..., lightings: Optional[Names] =
                   tilts: Union[None, float, Sequence[float]] = ..., film: Optional[Tuple[int, int]] = ...,
                   yarns: Optional[int] = ..., spp: Optional[int] = ..., reference_spp: Optional[int] = ...,
                   factors: Union[None, str, Sequence[int]] = ..., memory: Optional[Names] = ...,
-                  window: Union[None, str, float] = ..., seed: Optional[int] = ..., quick: bool = ...,
+                  window: Union[None, str, float] = ..., components: Optional[Names] = ...,
+                  seed: Optional[int] = ..., quick: bool = ...,
                   out: Optional[Path] = ..., resume: bool = ..., progress: Progress = ...,
                   threads: Optional[int] = ...) -> MatrixResult: ...
 def shadowed_downsample(grid: Grid, factor: int, sigma: Optional[float] = ...) -> ShadowedGrids: ...

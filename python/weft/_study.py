@@ -319,8 +319,10 @@ def _albedo(call, albedo):
         raise TypeError("%s: albedo must be 'fit', {factor: k} or [(factor, k), ...], got %r" % (call, albedo)) from None
 
 
-def _study_options(call, spp, reference_spp, factors, memory, window, seed, quick):
+def _study_options(call, spp, reference_spp, factors, memory, window, seed, quick, components=None):
     o = {"quick": bool(quick)}
+    if components is not None:
+        o["components"] = _listed(call, "components", components, _name)
     if spp is not None:
         o["spp"] = _integer(call, "spp", spp)
     if reference_spp is not None:
@@ -363,7 +365,8 @@ def _scene_options(call, scene, base_dir, stack):
 
 
 def render_study(scene, *, spp=None, seconds=None, reference_spp=None, factors=None, memory=None, albedo=None,
-                 window=None, seed=None, quick=False, base_dir=None, out=None, progress=None, threads=None):
+                 window=None, components=None, seed=None, quick=False, base_dir=None, out=None, progress=None,
+                 threads=None):
     """render_study(scene, *, spp=None, seconds=None, reference_spp=None, factors=None, ...) -> StudyResult
 
     ``weft render SCENE --study`` (docs/render.md §6c): coarse representations of the scene's one
@@ -374,15 +377,17 @@ def render_study(scene, *, spp=None, seconds=None, reference_spp=None, factors=N
     (--study-time: wall seconds per candidate image; default 10, 1 with quick),
     ``reference_spp`` (default 1024, 256 with quick), ``factors`` (--study-factors, default
     (2, 4, 8, 16)), ``memory`` (--study-memory: the local-gamma candidates' rules, default
-    ("segment",)), ``albedo`` (--study-albedo: "fit" fits k_N on this scene, or {factor: k}
+    ("optical-depth",)), ``albedo`` (--study-albedo: "fit" fits k_N on this scene, or {factor: k}
     fitted elsewhere; those candidates are ``fitted_to_images``), ``window`` (--study-window,
-    default "yarn"), ``seed`` (default the scene's), ``quick`` (a film of 48 px on its longest
+    default "yarn"), ``components`` (--study-components: the candidate families, e.g.
+    ("exponential",), also rendered as transmission, single and multiple scattering; default
+    none), ``seed`` (default the scene's), ``quick`` (a film of 48 px on its longest
     side). ``out``: the folder for the candidates' grids, fields and scene files (a temporary
     one, removed after the call, when None: the ``scene`` paths in the result then name removed
     files). Same numbers as the CLI for the same seed and spp, for any ``threads=``."""
     call = "render_study"
     fit, pairs = _albedo(call, albedo)
-    options = _study_options(call, spp, reference_spp, factors, memory, window, seed, quick)
+    options = _study_options(call, spp, reference_spp, factors, memory, window, seed, quick, components)
     if seconds is not None:
         options["seconds"] = _real(call, "seconds", seconds)
     if pairs is not None:
@@ -413,8 +418,8 @@ def fit_albedo(scene, *, factors=None, spp=None, reference_spp=None, seed=None, 
 
 
 def render_matrix(*, cloths=None, lightings=None, tilts=None, film=None, yarns=None, spp=None, reference_spp=None,
-                  factors=None, memory=None, window=None, seed=None, quick=False, out=None, resume=False,
-                  progress=None, threads=None):
+                  factors=None, memory=None, window=None, components=None, seed=None, quick=False, out=None,
+                  resume=False, progress=None, threads=None):
     """render_matrix(*, cloths=None, lightings=None, tilts=None, film=None, ...) -> MatrixResult
 
     ``weft render --study`` with no scene (docs/render.md §6e): the study on every cloth x light
@@ -423,15 +428,15 @@ def render_matrix(*, cloths=None, lightings=None, tilts=None, film=None, yarns=N
     ("back", "front", "grazing")), ``tilts`` (--study-tilts, default (45, 8)), ``film``
     (--study-film, (width, height), default (96, 72)), ``yarns`` (--study-yarns, default 4),
     ``spp`` (--study-spp, default 64), ``reference_spp`` (default 1024), ``factors`` (default
-    (2, 4, 8)), ``memory`` (default ("segment", "optical-depth")), ``window``, ``seed`` (default
-    1), ``quick`` (2 x 2 yarns at 20 um, a 32 x 24 film, 8 spp, a 128 spp reference). The
+    (2, 4, 8)), ``memory`` (default ("optical-depth", "segment")), ``window``, ``components`` (as
+    ``render_study``'s), ``seed`` (default 1), ``quick`` (2 x 2 yarns at 20 um, a 32 x 24 film, 8 spp, a 128 spp reference). The
     albedo-corrected candidates are fitted per cloth on its first set-up (``fitted_on``).
     ``out``: the folder of the cases' files, the cloths and the finished cases
     (``out/matrix.units``; ``resume=True`` takes those of the same spec, as --resume); None: a
     temporary folder removed after the call. Same numbers as the CLI for any ``threads=``
     (timings aside)."""
     call = "render_matrix"
-    options = _study_options(call, spp, reference_spp, factors, memory, window, seed, quick)
+    options = _study_options(call, spp, reference_spp, factors, memory, window, seed, quick, components)
     if cloths is not None:
         options["cloths"] = _listed(call, "cloths", cloths, _name)
     if lightings is not None:

@@ -278,6 +278,22 @@ json matrix_case_json(const MatrixCaseResult& r) {
           {"candidates", cands}};
 }
 
+MatrixSpec default_matrix_spec(bool quick) {
+  MatrixSpec spec;
+  spec.study = default_study_spec(false);
+  spec.study.factors = {2, 4, 8};
+  spec.study.memory_rules = {transmittance::kDefaultMemoryRule, transmittance::MemoryRule::segment};
+  spec.study.spp = quick ? 8 : 64;
+  spec.study.reference_spp = quick ? 128 : 1024;
+  if (quick) {
+    spec.yarns = 2;
+    spec.voxel_size = 0.02;
+    spec.width = 32;
+    spec.height = 24;
+  }
+  return spec;
+}
+
 void check_matrix_spec(const MatrixSpec& spec) {
   if (spec.cloths.empty()) fail("render matrix: no cloths");
   const std::set<std::string> patterns(spec.cloths.begin(), spec.cloths.end());

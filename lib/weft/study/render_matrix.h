@@ -46,6 +46,13 @@ struct MatrixSpec {
   StudySpec study;
 };
 
+/// The defaults of the study matrix (docs/render.md §6e), where every front end (the CLI's
+/// `--study` with no scene, Python's weft.render_matrix) starts: the spec's cloths, set-ups, film
+/// and yarns; factors 2, 4, 8; the default memory rule and `segment`; 64 spp per candidate image
+/// and a 1024 spp reference. With `quick`: 2 × 2 yarns at 20 µm, a 32 × 24 film, 8 spp and a
+/// 128 spp reference.
+[[nodiscard]] MatrixSpec default_matrix_spec(bool quick);
+
 /// Throws weft::Error naming the bad field (no cloths, lightings or views, a tilt outside
 /// [0, 80], a film under 8 px, yarns < 1, voxel size not > 0, study.spp == 0, or what
 /// check_study_spec refuses).

@@ -142,6 +142,15 @@ void say(const StudySpec& spec, const std::string& line) {
 
 }  // namespace
 
+StudySpec default_study_spec(bool quick) {
+  StudySpec spec;
+  if (quick) {
+    spec.seconds = 1.0;
+    spec.reference_spp = 256;
+  }
+  return spec;
+}
+
 void check_study_spec(const StudySpec& spec) {
   if (spec.factors.empty()) fail("study: no coarsening factors");
   std::set<int> seen;

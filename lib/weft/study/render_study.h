@@ -99,6 +99,11 @@ struct StudySpec {
   std::function<void(const std::string&)> log;
 };
 
+/// The defaults of a single study (docs/render.md §6c), where every front end (the CLI's
+/// `--study`, Python's weft.render_study) starts: the spec's own values, and with `quick` a 1 s
+/// budget per candidate image and a 256 spp reference.
+[[nodiscard]] StudySpec default_study_spec(bool quick);
+
 /// Throws weft::Error naming the bad field (factors out of range or repeated, seconds not
 /// finite and > 0, spp < 0, max_spp or reference_spp < 1, an empty work_dir).
 void check_study_spec(const StudySpec& spec);
