@@ -20,6 +20,7 @@
 #include <tbb/global_control.h>
 
 #include "weft/core/parallel.h"
+#include "weft/core/progress.h"
 #include "weft/dist/unit_store.h"
 
 #if WEFT_HAVE_MPI
@@ -402,7 +403,11 @@ std::vector<Bytes> run_units(std::size_t count, const std::function<Bytes(std::s
     std::optional<std::size_t> failed;  // index into `mine` of the lowest failing unit
     std::string failed_what;
     bool failed_internal = false;
+    // A Cancelled (Ctrl-C, a failing callback: core/progress.h) stops the round: the units not
+    // begun are skipped, and one process hands the Cancelled to its caller unchanged.
+    std::atomic<bool> cancelled{false};
     parallel_units(mine.size(), [&](std::size_t k) {
+      if (cancelled.load(std::memory_order_relaxed)) return;
       const std::size_t u = mine[k];
       std::string what;
       bool internal = false;
@@ -417,6 +422,9 @@ std::vector<Bytes> run_units(std::size_t count, const std::function<Bytes(std::s
         ok[k] = 1;
         if (root && options.progress != nullptr) options.progress->step();
         return;
+      } catch (const Cancelled& e) {
+        cancelled.store(true, std::memory_order_relaxed);
+        what = e.what();
       } catch (const Error& e) {
         what = e.what();
       } catch (const std::exception& e) {
@@ -433,6 +441,7 @@ std::vector<Bytes> run_units(std::size_t count, const std::function<Bytes(std::s
         failed_internal = internal;
       }
     });
+    if (cancelled.load() && ranks == 1) throw Cancelled();
     Bytes message;
     if (failed) {
       put_u64(message, failed_internal ? kInternal : kFailed);

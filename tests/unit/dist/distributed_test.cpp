@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "weft/core/parallel.h"
+#include "weft/core/progress.h"
 #include "weft/dist/distributed.h"
 #include "weft/dist/unit_store.h"
 
@@ -151,6 +152,27 @@ TEST(RunUnits, AStandardExceptionIsAnInternalFailure) {
   } catch (const UnitFailure& e) {
     EXPECT_STREQ(e.what(), "unit 2 failed: boom");
     EXPECT_TRUE(e.internal());
+  }
+}
+
+TEST(RunUnits, CancelledPassesUnchangedAndStopsTheRound) {
+  // A Cancelled (core/progress.h: Ctrl-C from Python, a failing callback) is not a unit failure:
+  // it reaches the caller as itself, and the units not begun are skipped instead of run to the
+  // end of the one round a single process has (docs/architecture.md §5).
+  for (const unsigned threads : {1U, 2U}) {
+    const ThreadLimit limit(threads);
+    std::atomic<int> ran{0};
+    constexpr std::size_t kUnits = 10000;
+    EXPECT_THROW((void)run_units(kUnits,
+                                 [&](std::size_t u) -> Bytes {
+                                   ran.fetch_add(1);
+                                   if (u == 3) throw Cancelled();
+                                   return {};
+                                 }),
+                 Cancelled);
+    // Without the skip every unit would run; with it, at most the units already begun by the
+    // other threads (TBB hands out ranges, so allow a generous share, far below kUnits).
+    EXPECT_LT(ran.load(), static_cast<int>(kUnits / 2)) << threads << " threads";
   }
 }
 
