@@ -65,8 +65,7 @@ struct RenderCliOptions {
 
 /// spp of the images the contact sheet shows (supplement Figs. S.7–S.8), those ≤ the run's spp.
 constexpr int kSheetSpp[] = {2, 8, 64, 128, 512};
-/// --quick: the longest image side and the series' spp.
-constexpr int kQuickSide = 48;
+/// --quick: the series' spp (its film: render::kQuickFilmSide).
 constexpr int kQuickSpp = 128;
 
 /// A path that exists is a scene file; otherwise the name of a built-in scene.
@@ -150,12 +149,7 @@ int run(const RenderCliOptions& o, const Context& ctx) {
     label = "render_study";
   }
   for (const std::string& w : render::scene_warnings(scene)) ctx.warn(w);
-  if (o.quick && !matrix) {
-    // Same view, a small film: the longest side kQuickSide pixels.
-    const double f = static_cast<double>(kQuickSide) / std::max(scene.camera.width, scene.camera.height);
-    scene.camera.width = std::max(1, static_cast<int>(std::lround(scene.camera.width * f)));
-    scene.camera.height = std::max(1, static_cast<int>(std::lround(scene.camera.height * f)));
-  }
+  if (o.quick && !matrix) render::shrink_film(scene.camera, render::kQuickFilmSide);  // same view
   if (o.print_scene) {
     if (dist::is_root()) fmt::print("{}", render::scene_to_json(scene));
     return 0;

@@ -33,9 +33,8 @@ namespace {
 namespace fs = std::filesystem;
 namespace st = weft::study;
 
-// The library's defaults are the CLI's (study::default_study_spec, default_matrix_spec); only
-// --quick's small film of a single study is the front end's own, as the CLI's.
-constexpr int kQuickSide = 48;  ///< --quick: a single study's film, its longest side
+// The library's defaults are the CLI's (study::default_study_spec, default_matrix_spec, and
+// --quick's film, render::shrink_film with render::kQuickFilmSide).
 
 template <typename T>
 std::optional<T> get(const py::dict& o, const char* key) {
@@ -137,11 +136,7 @@ render::SceneDesc study_scene(const py::dict& o, const char* call) {
   render::SceneDesc scene =
       scene_of(o["kind"].cast<std::string>(), o["text"].cast<std::string>(), o["base_dir"].cast<std::string>());
   argument(call, "scene", [&] { st::check_study_scene(scene); });
-  if (get<bool>(o, "quick").value_or(false)) {
-    const double f = static_cast<double>(kQuickSide) / std::max(scene.camera.width, scene.camera.height);
-    scene.camera.width = std::max(1, static_cast<int>(std::lround(scene.camera.width * f)));
-    scene.camera.height = std::max(1, static_cast<int>(std::lround(scene.camera.height * f)));
-  }
+  if (get<bool>(o, "quick").value_or(false)) render::shrink_film(scene.camera, render::kQuickFilmSide);
   return scene;
 }
 

@@ -21,6 +21,12 @@
 
 namespace weft::render {
 
+void shrink_film(CameraDesc& camera, int longest) {
+  const double f = static_cast<double>(longest) / std::max(camera.width, camera.height);
+  camera.width = std::max(1, static_cast<int>(std::lround(camera.width * f)));
+  camera.height = std::max(1, static_cast<int>(std::lround(camera.height * f)));
+}
+
 using nlohmann::json;
 
 TextPosition position_of(std::string_view text, std::size_t offset) {

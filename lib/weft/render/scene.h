@@ -41,6 +41,13 @@ struct CameraDesc {
   int height = 256;
 };
 
+/// The longest film side of a `--quick` render (the CLI's and Python's quick studies).
+inline constexpr int kQuickFilmSide = 48;
+
+/// The same view on a smaller film: the longest side `longest` pixels, the aspect ratio kept to
+/// the nearest pixel (each side at least 1).
+void shrink_film(CameraDesc& camera, int longest);
+
 /// How pixels are estimated.
 struct IntegratorDesc {
   int spp = 64;

@@ -190,3 +190,26 @@ TEST(BoxMesh, TrianglesFaceOutward) {
 
 }  // namespace
 }  // namespace weft::render
+
+TEST(ShrinkFilm, KeepsTheViewAndTheAspectOnTheLongestSide) {
+  // --quick's film (docs/render.md §6c): the longest side as asked, the other side rounded to
+  // the same aspect, never below one pixel; a film already that size is unchanged.
+  weft::render::CameraDesc wide;
+  wide.width = 640;
+  wide.height = 480;
+  weft::render::shrink_film(wide, 48);
+  EXPECT_EQ(wide.width, 48);
+  EXPECT_EQ(wide.height, 36);
+  weft::render::CameraDesc tall;
+  tall.width = 100;
+  tall.height = 1000;
+  weft::render::shrink_film(tall, 48);
+  EXPECT_EQ(tall.width, 5);
+  EXPECT_EQ(tall.height, 48);
+  weft::render::CameraDesc sliver;
+  sliver.width = 1000;
+  sliver.height = 1;
+  weft::render::shrink_film(sliver, 48);
+  EXPECT_EQ(sliver.width, 48);
+  EXPECT_EQ(sliver.height, 1);
+}
