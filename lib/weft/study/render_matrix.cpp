@@ -181,6 +181,7 @@ MatrixCaseResult decode(const MatrixCase& c, const dist::Bytes& b) {
   for (const auto& f : j.at("albedo_factors"))
     r.albedo_factors.emplace_back(f.at("factor").get<int>(), f.at("albedo_multiplier").get<double>());
   for (const auto& cj : j.at("candidates")) r.candidates.push_back(candidate_from(cj));
+  for (const auto& fj : j.at("resolution_floors")) r.resolution_floors.push_back(resolution_floor_from_json(fj));
   return r;
 }
 
@@ -205,6 +206,7 @@ MatrixCaseResult run_case(const MatrixSpec& spec, const MatrixCase& c, const Fac
   out.cloth_mean = r.cloth_mean;
   out.reference_seconds = r.reference_seconds;
   out.albedo_factors = factors;
+  out.resolution_floors = r.resolution_floors;
   for (const StudyCandidate& sc : r.candidates) {
     MatrixCandidate mc;
     mc.study = sc;
@@ -262,6 +264,8 @@ json matrix_case_json(const MatrixCaseResult& r) {
   for (const auto& c : r.candidates) cands.push_back(candidate_json(c));
   json factors = json::array();
   for (const auto& [f, a] : r.albedo_factors) factors.push_back({{"factor", f}, {"albedo_multiplier", a}});
+  json floors = json::array();
+  for (const auto& f : r.resolution_floors) floors.push_back(resolution_floor_json(f));
   return {{"case", r.c.name},
           {"cloth", r.c.pattern},
           {"lighting", render::cloth_lighting_name(r.c.lighting)},
@@ -275,6 +279,7 @@ json matrix_case_json(const MatrixCaseResult& r) {
           {"cloth_mean", r.cloth_mean},
           {"reference_seconds", r.reference_seconds},
           {"albedo_factors", factors},
+          {"resolution_floors", floors},
           {"candidates", cands}};
 }
 

@@ -98,6 +98,7 @@ struct MatrixCaseResult {
   double reference_seconds = 0.0;
   std::vector<std::pair<int, double>> albedo_factors;  ///< what the case's study was given
   std::vector<MatrixCandidate> candidates;
+  std::vector<ResolutionFloor> resolution_floors;  ///< the case's study's (resolution_floor.h)
 };
 
 /// @brief A case as JSON, written once: what a stored case holds and crosses ranks as (MessagePack,

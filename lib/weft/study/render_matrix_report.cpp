@@ -53,7 +53,11 @@ std::string scales_markdown(const std::vector<MatrixHeadline>& headlines) {
   }
   md += " level |\n" + rule + "---|\n";
   for (const auto& h : headlines) {
-    for (const auto& v : h.verdicts) {
+    std::vector<const MatrixVerdict*> rows;
+    for (const auto& v : h.verdicts) rows.push_back(&v);
+    for (const auto& v : h.floors) rows.push_back(&v);
+    for (const MatrixVerdict* row : rows) {
+      const MatrixVerdict& v = *row;
       md += fmt::format("| {} | {} |", h.cloth, v.name);
       for (const double b : v.worst_relative_bias_by_block)
         md += b < 0.0 ? std::string(" – |") : fmt::format(" {:.1f} |", 100.0 * b);
@@ -61,6 +65,45 @@ std::string scales_markdown(const std::vector<MatrixHeadline>& headlines) {
     }
   }
   return md;
+}
+
+/// Each factor's resolution floor over one cloth's set-ups, as a verdict (worst and mean
+/// relative bias at 1 px and at every block size, the level of largest magnitude).
+std::vector<MatrixVerdict> floor_verdicts(const MatrixSpec& spec, const std::vector<MatrixCaseResult>& results,
+                                          const std::string& cloth) {
+  std::vector<MatrixVerdict> out;
+  for (const int f : spec.study.factors) {
+    MatrixVerdict v;
+    v.name = fmt::format("resolution-floor-{}x", f);
+    v.model = "resolution floor";
+    v.factor = f;
+    v.worst_relative_bias = -1.0;
+    int n = 0;
+    for (const auto& r : results) {
+      if (r.c.pattern != cloth) continue;
+      for (const ResolutionFloor& rf : r.resolution_floors) {
+        if (rf.factor != f || rf.scales.blocks.empty()) continue;
+        const double rb = relative(rf.scales.blocks.front().bias(), r.cloth_mean);
+        if (rb > v.worst_relative_bias) {
+          v.worst_relative_bias = rb;
+          v.worst_case = r.c.name;
+        }
+        v.mean_relative_bias += rb;
+        ++n;
+        v.worst_relative_bias_by_block.resize(rf.scales.blocks.size(), -1.0);
+        for (std::size_t i = 0; i < rf.scales.blocks.size(); ++i)
+          if (rf.scales.blocks[i].blocks >= kMinBiasBlocks)
+            v.worst_relative_bias_by_block[i] =
+                std::max(v.worst_relative_bias_by_block[i], relative(rf.scales.blocks[i].bias(), r.cloth_mean));
+        const double level = relative(rf.scales.level.difference, r.cloth_mean);
+        if (std::abs(level) > std::abs(v.worst_relative_level)) v.worst_relative_level = level;
+      }
+    }
+    if (n == 0) continue;
+    v.mean_relative_bias /= n;
+    out.push_back(std::move(v));
+  }
+  return out;
 }
 
 /// Per case, each split candidate's bias (level) over the cloth: full, and its transmission,
@@ -157,6 +200,7 @@ std::vector<MatrixHeadline> matrix_headlines(const MatrixSpec& spec, const std::
         ++counted[c.name];
       }
     }
+    h.floors = floor_verdicts(spec, results, h.cloth);
     for (auto& v : h.verdicts) {
       const int n = std::max(1, counted[v.name]);
       v.mean_relative_bias /= n;
@@ -180,6 +224,9 @@ std::vector<MatrixHeadline> matrix_headlines(const MatrixSpec& spec, const std::
           i > 0 ? "; " : "", coarser(b.factor), b.name, 100.0 * b.worst_relative_bias, b.worst_case, b.memory_ratio,
           b.cost_ratio, b.speedup);
     }
+    for (const auto& v : h.floors)
+      text += fmt::format("; resolution floor at {}: {:.1f}% ({})", coarser(v.factor), 100.0 * v.worst_relative_bias,
+                          v.worst_case);
     h.text = text;
     out.push_back(std::move(h));
   }
@@ -281,10 +328,13 @@ std::string matrix_json(const MatrixSpec& spec, const std::vector<MatrixCaseResu
     for (const auto& v : h.verdicts) verdicts.push_back(verdict(v));
     json best = json::array();
     for (const auto& v : h.best) best.push_back(verdict(v));
+    json floors = json::array();
+    for (const auto& v : h.floors) floors.push_back(verdict(v));
     j["headlines"].push_back({{"cloth", h.cloth},
                               {"judged_cases", h.judged_cases},
                               {"best", best},
                               {"representations", verdicts},
+                              {"resolution_floors", floors},
                               {"text", h.text}});
   }
   return j.dump(2) + "\n";
@@ -318,6 +368,10 @@ std::string matrix_markdown(const std::vector<MatrixHeadline>& headlines,
                              b.memory_ratio >= 40.0 ? "met" : "missed", b.cost_ratio,
                              b.cost_ratio <= 0.5 ? "met" : "missed");
       goals += fmt::format("; speed-up {:.2f}x {}", b.speedup, b.speedup >= 3.0 ? "met" : "missed");
+      const auto floor =
+          std::find_if(h.floors.begin(), h.floors.end(), [&](const MatrixVerdict& f) { return f.factor == b.factor; });
+      if (floor != h.floors.end())
+        goals += fmt::format("; resolution floor {:.1f} %", 100.0 * floor->worst_relative_bias);
       md += fmt::format("- {} at {}x: best {}: {}\n", h.cloth, b.factor, b.name, goals);
     }
   }

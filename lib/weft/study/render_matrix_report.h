@@ -48,6 +48,9 @@ struct MatrixHeadline {
   std::vector<MatrixVerdict> verdicts;  ///< every coarse representation, in candidate order
   /// Per factor of the study, the representation with the smallest worst-case bias.
   std::vector<MatrixVerdict> best;
+  /// Per factor, the resolution floor (resolution_floor.h) judged like a representation over
+  /// every set-up: named "resolution-floor-Nx", no memory, cost or speed-up.
+  std::vector<MatrixVerdict> floors;
   std::string text;
 };
 

@@ -501,6 +501,10 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
       if (result.cloth_mask[i / 3]) c.cloth_difference += 0.5 * (a.image.rgb[i] + b.image.rgb[i]) - reference.rgb[i];
     if (result.cloth_pixels > 0) c.cloth_difference /= 3.0 * result.cloth_pixels;
     c.cloth_scales = bias_by_scale(a.image, b.image, reference, result.cloth_mask);
+    if (c.factor == 1)  // the fine grid's own images, smoothed to each factor's block
+      result.resolution_floors =
+          resolution_floors(a.image, b.image, reference, result.cloth_mask, scene.camera,
+                            0.5 * (target.box.min + target.box.max), fine.voxel_size(), spec.factors);
     c.error_map = abs_difference(a.image, reference);
     if (split)
       c.components = component_biases(a.image, b.image, reference, ca, cb, reference_components, result.cloth_mask);

@@ -59,6 +59,7 @@
 #include "weft/render/scene.h"
 #include "weft/study/bias_scales.h"
 #include "weft/study/render_components.h"
+#include "weft/study/resolution_floor.h"
 
 namespace weft::study {
 
@@ -180,6 +181,9 @@ struct StudyResult {
   std::uint64_t reference_seed = 0;
   std::string mode;  ///< "time budget of S s per candidate" or "fixed N spp per candidate"
   std::vector<StudyCandidate> candidates;
+  /// Per coarsening factor, the fine grid's images smoothed over one block's footprint, judged as
+  /// a candidate (resolution_floor.h): what the block size alone costs, whatever the law.
+  std::vector<ResolutionFloor> resolution_floors;
   /// Best predictive model of the validation per axis ("+x": "local-gamma", …), the model the
   /// study takes (most axes; ties by the smaller mean ratio) and what became of it.
   std::vector<std::pair<std::string, std::string>> best_predictive_per_axis;

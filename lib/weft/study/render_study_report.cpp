@@ -103,6 +103,8 @@ std::string study_json(const StudyResult& result) {
                    {"alpha", num(result.slab_alpha)},
                    {"scale", result.scale}};
   j["notes"] = result.notes;
+  j["resolution_floors"] = json::array();
+  for (const auto& f : result.resolution_floors) j["resolution_floors"].push_back(resolution_floor_json(f));
   j["candidates"] = json::array();
   for (const auto& c : result.candidates) {
     json curve = json::array();
