@@ -67,6 +67,25 @@ std::string scales_markdown(const std::vector<MatrixHeadline>& headlines) {
   return md;
 }
 
+/// One case's cloth bias and its scales into a verdict: the worst and the sum (for the mean) of
+/// the relative bias, the worst at each block size, the level of largest magnitude.
+void take_case(MatrixVerdict& v, const MatrixCaseResult& r, double cloth_bias, const ScaleBias& scales) {
+  const double rb = relative(cloth_bias, r.cloth_mean);
+  if (rb > v.worst_relative_bias) {
+    v.worst_relative_bias = rb;
+    v.worst_case = r.c.name;
+  }
+  v.mean_relative_bias += rb;
+  // −1: too few blocks of that size lie wholly on the cloth in every judged case (a small film).
+  v.worst_relative_bias_by_block.resize(scales.blocks.size(), -1.0);
+  for (std::size_t i = 0; i < scales.blocks.size(); ++i)
+    if (scales.blocks[i].blocks >= kMinBiasBlocks)
+      v.worst_relative_bias_by_block[i] =
+          std::max(v.worst_relative_bias_by_block[i], relative(scales.blocks[i].bias(), r.cloth_mean));
+  const double level = relative(scales.level.difference, r.cloth_mean);
+  if (std::abs(level) > std::abs(v.worst_relative_level)) v.worst_relative_level = level;
+}
+
 /// Each factor's resolution floor over one cloth's set-ups, as a verdict (worst and mean
 /// relative bias at 1 px and at every block size, the level of largest magnitude).
 std::vector<MatrixVerdict> floor_verdicts(const MatrixSpec& spec, const std::vector<MatrixCaseResult>& results,
@@ -83,20 +102,8 @@ std::vector<MatrixVerdict> floor_verdicts(const MatrixSpec& spec, const std::vec
       if (r.c.pattern != cloth) continue;
       for (const ResolutionFloor& rf : r.resolution_floors) {
         if (rf.factor != f || rf.scales.blocks.empty()) continue;
-        const double rb = relative(rf.scales.blocks.front().bias(), r.cloth_mean);
-        if (rb > v.worst_relative_bias) {
-          v.worst_relative_bias = rb;
-          v.worst_case = r.c.name;
-        }
-        v.mean_relative_bias += rb;
+        take_case(v, r, rf.scales.blocks.front().bias(), rf.scales);
         ++n;
-        v.worst_relative_bias_by_block.resize(rf.scales.blocks.size(), -1.0);
-        for (std::size_t i = 0; i < rf.scales.blocks.size(); ++i)
-          if (rf.scales.blocks[i].blocks >= kMinBiasBlocks)
-            v.worst_relative_bias_by_block[i] =
-                std::max(v.worst_relative_bias_by_block[i], relative(rf.scales.blocks[i].bias(), r.cloth_mean));
-        const double level = relative(rf.scales.level.difference, r.cloth_mean);
-        if (std::abs(level) > std::abs(v.worst_relative_level)) v.worst_relative_level = level;
       }
     }
     if (n == 0) continue;
@@ -180,20 +187,7 @@ std::vector<MatrixHeadline> matrix_headlines(const MatrixSpec& spec, const std::
           h.verdicts.push_back(v);
         }
         MatrixVerdict& v = h.verdicts[it->second];
-        const double rb = relative(c.cloth_bias, r.cloth_mean);
-        if (rb > v.worst_relative_bias) {
-          v.worst_relative_bias = rb;
-          v.worst_case = r.c.name;
-        }
-        v.mean_relative_bias += rb;
-        // −1: too few blocks of that size lie wholly on the cloth in every judged case (a small film).
-        v.worst_relative_bias_by_block.resize(c.cloth_scales.blocks.size(), -1.0);
-        for (std::size_t i = 0; i < c.cloth_scales.blocks.size(); ++i)
-          if (c.cloth_scales.blocks[i].blocks >= kMinBiasBlocks)
-            v.worst_relative_bias_by_block[i] =
-                std::max(v.worst_relative_bias_by_block[i], relative(c.cloth_scales.blocks[i].bias(), r.cloth_mean));
-        const double level = relative(c.cloth_scales.level.difference, r.cloth_mean);
-        if (std::abs(level) > std::abs(v.worst_relative_level)) v.worst_relative_level = level;
+        take_case(v, r, c.cloth_bias, c.cloth_scales);
         const double f_cost = cost_per_sample(fine->study, r.width * r.height);
         v.cost_ratio += f_cost > 0.0 ? cost_per_sample(c, r.width * r.height) / f_cost : 0.0;
         v.speedup = std::min(v.speedup, equal_error_speedup(c, fine->study, r.cloth_mean));
