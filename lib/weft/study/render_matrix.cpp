@@ -359,8 +359,8 @@ std::string matrix_key(const MatrixSpec& spec) {
                     {"scale", spec.study.scale},
                     {"albedo_fit", true},
                     {"components", spec.study.components},
-                    // What a stored case holds (candidate_json); bumped when it changes.
-                    {"case_format", 3}};
+                    // What a stored case holds (candidate_json, the resolution floors); bumped when it changes.
+                    {"case_format", 4}};
   return key.dump(2) + "\n";
 }
 
