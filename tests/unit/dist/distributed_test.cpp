@@ -106,13 +106,16 @@ TEST(RunUnits, NoUnitsIsNoWork) {
   EXPECT_TRUE(out.empty());
 }
 
+/// The last count a stage reached.
+struct Counter : ProgressSink {
+  std::atomic<std::uint64_t> last{0};
+  void begin(std::string_view, std::uint64_t) override {}
+  void advance(std::uint64_t done) override { last = std::max<std::uint64_t>(last, done); }
+  void end() noexcept override {}
+};
+
 TEST(RunUnits, ProgressCountsEveryUnit) {
-  struct Counter : ProgressSink {
-    std::atomic<std::uint64_t> last{0};
-    void begin(std::string_view, std::uint64_t) override {}
-    void advance(std::uint64_t done) override { last = std::max<std::uint64_t>(last, done); }
-    void end() noexcept override {}
-  } sink;
+  Counter sink;
   {
     ProgressTask task(sink, "units", 20);
     UnitsOptions how;
@@ -126,12 +129,6 @@ TEST(RunUnits, ProgressCountsEveryUnit) {
 // UnitsOptions::unit_weight (docs/render.md §6e): the body steps its own units as it goes, and
 // run_units adds the weight of each resumed unit, never a unit's weight twice.
 TEST(RunUnits, AWeightedUnitIsCountedOnceWhetherRunOrResumed) {
-  struct Counter : ProgressSink {
-    std::atomic<std::uint64_t> last{0};
-    void begin(std::string_view, std::uint64_t) override {}
-    void advance(std::uint64_t done) override { last = std::max<std::uint64_t>(last, done); }
-    void end() noexcept override {}
-  };
   const fs::path dir = fresh_dir("weighted");
   {
     UnitStore store(dir, "key W", false);
