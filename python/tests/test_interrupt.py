@@ -32,8 +32,7 @@ LONG_CALLS = {
                     "progress=cb)",
     "render_study": "weft.render_study(small.scene(lighting='back', width=32, height=24), spp=1, "
                     "reference_spp=1 << 16, factors=(2,), progress=cb)",
-    # The matrix reports once per case (its first report after the cloths and the albedo fits):
-    # Ctrl-C stops it at the end of the case it is in, one of six.
+    # The matrix's first reports come from its cloth's generation; inside a case: below.
     "render_matrix": "weft.render_matrix(quick=True, cloths='plain', tilts=(45, 8), progress=cb)",
 }
 
@@ -166,3 +165,74 @@ def test_cli_ctrl_c_stops_without_a_half_written_file(tmp_path, weft_bin):
     assert child.returncode in (-signal.SIGINT, 128 + signal.SIGINT, 130), (child.returncode, err)
     left = sorted(p.name for p in out.rglob("*")) if out.exists() else []
     assert not any(name.endswith((".vdb", ".json")) or ".tmp" in name for name in left), left
+
+
+MATRIX_CHILD = textwrap.dedent("""
+    import os, sys, time, weft
+    def cb(label, done, total):
+        # The first report inside the first case's renders (docs/render.md §6e: 1000 per case).
+        if label == "study cases x1000" and 0 < done < 1000 and not getattr(cb, "said", False):
+            cb.said = True
+            print("in case", flush=True)
+    try:
+        weft.render_matrix(quick=True, cloths="plain", lightings="back", tilts=(45, 8), out=sys.argv[1],
+                           progress=cb)
+        print("finished uninterrupted", flush=True)
+        sys.exit(3)
+    except KeyboardInterrupt:
+        print("interrupted", flush=True)
+    print("stored %d" % len([n for n in os.listdir(os.path.join(sys.argv[1], "matrix.units"))
+                             if n.startswith("unit-")]), flush=True)
+""")
+
+
+def test_ctrl_c_stops_the_matrix_inside_a_case(tmp_path):
+    """Ctrl-C in the middle of a case's renders raises KeyboardInterrupt before the case ends:
+    the case is not stored (docs/render.md §6e, docs/python.md)."""
+    script = tmp_path / "matrix_child.py"
+    script.write_text(MATRIX_CHILD)
+    out = tmp_path / "m"
+    child = subprocess.Popen([sys.executable, str(script), str(out)], stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, text=True, env=child_env(), cwd=tmp_path)
+    try:
+        first = child.stdout.readline()
+        assert first == "in case\n", first + child.stderr.read()
+        child.send_signal(signal.SIGINT)
+        sent = time.monotonic()
+        rest, err = child.communicate(timeout=120)
+        seconds = time.monotonic() - sent
+    finally:
+        if child.poll() is None:
+            child.kill()
+            child.wait()
+    assert child.returncode == 0, "exit %d\n%s\n%s" % (child.returncode, rest, err)
+    assert rest.splitlines() == ["interrupted", "stored 0"], rest + err
+    assert "terminate called" not in err, err
+    assert seconds < 30, "took %.1f s to stop" % seconds
+    assert not list(out.glob("cases/*/reference.study.json"))
+
+
+def test_cli_ctrl_c_in_the_matrix_keeps_the_finished_cases_for_resume(tmp_path, weft_bin):
+    """`weft render --study` (the matrix) stopped by Ctrl-C in its second case: killed by SIGINT
+    (the CLI's default action), no aggregate file and no half-written one, the first case stored;
+    `--resume` takes it and renders the other (docs/render.md §6e)."""
+    out = tmp_path / "m"
+    args = [weft_bin, "--quiet", "render", "--study", "--quick", "--study-cloths", "plain", "--study-lightings", "back",
+            "--study-tilts", "45,8", "--out", str(out)]
+    child = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    units = out / "matrix.units"
+    deadline = time.monotonic() + 240
+    while time.monotonic() < deadline and child.poll() is None:
+        if units.exists() and any(p.name.startswith("unit-") for p in units.iterdir()):
+            break
+        time.sleep(0.05)
+    assert child.poll() is None, "the matrix ended before its first case was stored: %s" % child.communicate()[1]
+    child.send_signal(signal.SIGINT)
+    _, err = child.communicate(timeout=60)
+    assert child.returncode in (-signal.SIGINT, 128 + signal.SIGINT, 130), (child.returncode, err)
+    left = sorted(p.name for p in out.rglob("*"))
+    assert not any(name.startswith("matrix.") and name != "matrix.units" for name in left), left
+    assert not any(".tmp" in name and not name.startswith(".unit-") for name in left), left
+    resumed = subprocess.run(args + ["--resume"], capture_output=True, text=True, timeout=300)
+    assert resumed.returncode == 0, resumed.stderr
+    assert (out / "matrix.json").exists()

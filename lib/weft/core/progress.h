@@ -63,4 +63,32 @@ class ProgressTask {
   std::atomic<std::uint64_t> done_{0};
 };
 
+/// @brief Shows an inner computation as a share of an outer stage (docs/render.md §6e: the study
+/// matrix's cases, a study's renders): every stage begun on this sink (with `only` given, every
+/// stage of that label; others count nothing) moves `outer` by `weight` units, in proportion to
+/// its progress as it goes. A stage's unreported rest is stepped at the next `begin` or `finish`.
+/// Every `begin` and `advance` steps `outer`, so the outer sink's Cancelled stops the inner
+/// computation at its next report. Thread-safe like ProgressTask.
+class ProgressShare final : public ProgressSink {
+ public:
+  ProgressShare(ProgressTask& outer, std::uint64_t weight, std::string only = {});
+  void begin(std::string_view label, std::uint64_t total) override;
+  void advance(std::uint64_t done_so_far) override;
+  void end() noexcept override {}
+  /// Steps `outer` to `weight` × the counted stages begun so far (may throw Cancelled).
+  void finish();
+
+ private:
+  /// Steps `outer` up to `target` units of this share (never back), or by 0 to let it stop us.
+  void reach(std::uint64_t target);
+
+  ProgressTask& outer_;
+  std::uint64_t weight_;
+  std::string only_;
+  std::atomic<bool> counting_{false};
+  std::atomic<std::uint64_t> total_{0};
+  std::atomic<std::uint64_t> stages_{0};   ///< counted stages begun
+  std::atomic<std::uint64_t> counted_{0};  ///< units stepped on `outer` so far
+};
+
 }  // namespace weft

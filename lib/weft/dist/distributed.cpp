@@ -343,7 +343,8 @@ std::vector<Bytes> run_units(std::size_t count, const std::function<Bytes(std::s
         }
         options.store->set_found(found);
       }
-      if (options.progress != nullptr && found > 0) options.progress->step(found);
+      if (options.progress != nullptr && found > 0)
+        options.progress->step(found * std::max<std::uint64_t>(1, options.unit_weight));
       std::vector<std::uint64_t> pending;
       for (std::size_t u = 0; u < count; ++u) {
         if (!have[u]) pending.push_back(u);
@@ -420,7 +421,7 @@ std::vector<Bytes> run_units(std::size_t count, const std::function<Bytes(std::s
         unit_seconds[k] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         if (record_at_once) record(u, out[k]);
         ok[k] = 1;
-        if (root && options.progress != nullptr) options.progress->step();
+        if (root && options.progress != nullptr && options.unit_weight == 0) options.progress->step();
         return;
       } catch (const Cancelled& e) {
         cancelled.store(true, std::memory_order_relaxed);
@@ -500,7 +501,8 @@ std::vector<Bytes> run_units(std::size_t count, const std::function<Bytes(std::s
             if (costs) costs->unit(u, r, seconds, results[u].size(), cpu);
             finished.push_back(u);
           }
-          if (r > 0 && options.progress != nullptr) options.progress->step(n);
+          if (r > 0 && options.progress != nullptr)
+            options.progress->step(n * std::max<std::uint64_t>(1, options.unit_weight));
         }
         // Units finished this round are recorded even when another one failed: a rerun with
         // --resume then only redoes what is missing.

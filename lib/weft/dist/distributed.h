@@ -114,6 +114,10 @@ struct UnitsOptions {
   std::function<std::string(std::size_t)> name;
   /// Stepped on rank 0 with the units finished on all ranks (may be null).
   ProgressTask* progress = nullptr;
+  /// 0: `progress` counts 1 per unit. > 0: it counts this many per unit, and the body steps it
+  /// itself for the units its rank runs, as they go (ProgressShare: the study matrix's cases,
+  /// docs/render.md §6e); run_units steps it for the units resumed and those other ranks finished.
+  std::uint64_t unit_weight = 0;
   /// Rank 0 records each finished unit here and, on --resume, skips those it already holds.
   UnitStore* store = nullptr;
   /// Units per rank per round; 0 = chosen from the unit count, the ranks and the threads.

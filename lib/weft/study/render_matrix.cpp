@@ -91,74 +91,22 @@ MatrixMemory memory_of(const fs::path& scene_file) {
   return m;
 }
 
+/// The study's candidate JSON (study_candidate_json) with the memory of MatrixMemory, without
+/// the scene path: it names the run's folder, and a case's bytes must not depend on where it ran.
 json candidate_json(const MatrixCandidate& mc) {
-  const StudyCandidate& c = mc.study;
-  json curve = json::array();
-  for (const auto& p : c.curve) curve.push_back({p.spp, p.seconds, p.rmse});
-  return {{"name", c.name},
-          {"model", c.model},
-          {"factor", c.factor},
-          {"seed_a", c.seed_a},
-          {"seed_b", c.seed_b},
-          {"spp", c.spp},
-          {"image_seconds", c.seconds},
-          {"cpu_seconds", c.cpu_seconds},
-          {"rmse", c.rmse},
-          {"rmse_raw", c.rmse_raw},
-          {"noise", c.noise},
-          {"bias", c.bias},
-          {"bias_sq", c.bias_sq},
-          {"bias_sq_stderr", c.bias_sq_stderr},
-          {"cloth_bias", c.cloth_bias},
-          {"cloth_bias_sq", c.cloth_bias_sq},
-          {"cloth_bias_sq_stderr", c.cloth_bias_sq_stderr},
-          {"cloth_difference", c.cloth_difference},
-          {"cloth_rmse", c.cloth_rmse},
-          {"cloth_noise", c.cloth_noise},
-          {"study_speedup", c.speedup},
-          {"albedo_factor", c.albedo_factor},
-          {"fitted_to_images", c.fitted_to_images},
-          {"curve", curve},
-          {"memory_bytes", mc.memory.values},
-          {"memory_tree_bytes", mc.memory.tree},
-          {"memory_channels", mc.memory.channels},
-          {"cloth_scales", scale_bias_json(c.cloth_scales)},
-          {"components", component_biases_json(c.components)}};
+  json j = study_candidate_json(mc.study);
+  j.erase("scene");
+  j["memory_bytes"] = mc.memory.values;
+  j["memory_tree_bytes"] = mc.memory.tree;
+  j["memory_channels"] = mc.memory.channels;
+  return j;
 }
 
 MatrixCandidate candidate_from(const json& j) {
   MatrixCandidate mc;
-  StudyCandidate& c = mc.study;
-  c.name = j.at("name").get<std::string>();
-  c.model = j.at("model").get<std::string>();
-  c.factor = j.at("factor").get<int>();
-  c.seed_a = j.at("seed_a").get<std::uint64_t>();
-  c.seed_b = j.at("seed_b").get<std::uint64_t>();
-  c.spp = j.at("spp").get<int>();
-  c.seconds = j.at("image_seconds").get<double>();
-  c.cpu_seconds = j.at("cpu_seconds").get<double>();
-  c.rmse = j.at("rmse").get<double>();
-  c.rmse_raw = j.at("rmse_raw").get<double>();
-  c.noise = j.at("noise").get<double>();
-  c.bias = j.at("bias").get<double>();
-  c.bias_sq = j.at("bias_sq").get<double>();
-  c.bias_sq_stderr = j.at("bias_sq_stderr").get<double>();
-  c.cloth_bias = j.at("cloth_bias").get<double>();
-  c.cloth_bias_sq = j.at("cloth_bias_sq").get<double>();
-  c.cloth_bias_sq_stderr = j.at("cloth_bias_sq_stderr").get<double>();
-  c.cloth_difference = j.at("cloth_difference").get<double>();
-  c.cloth_rmse = j.at("cloth_rmse").get<double>();
-  c.cloth_noise = j.at("cloth_noise").get<double>();
-  // NaN (the fine grid's speedup) crosses MessagePack as NaN but reads back through json as null.
-  c.speedup = j.at("study_speedup").is_number() ? j.at("study_speedup").get<double>() : std::nan("");
-  c.albedo_factor = j.at("albedo_factor").get<double>();
-  c.fitted_to_images = j.at("fitted_to_images").get<bool>();
-  for (const auto& p : j.at("curve"))
-    c.curve.push_back({p.at(0).get<int>(), p.at(1).get<double>(), p.at(2).get<double>()});
+  mc.study = study_candidate_from_json(j);
   mc.memory = {j.at("memory_bytes").get<std::uint64_t>(), j.at("memory_tree_bytes").get<std::uint64_t>(),
                j.at("memory_channels").get<int>()};
-  c.cloth_scales = scale_bias_from_json(j.at("cloth_scales"));
-  c.components = component_biases_from_json(j.at("components"));
   return mc;
 }
 
@@ -186,15 +134,19 @@ MatrixCaseResult decode(const MatrixCase& c, const dist::Bytes& b) {
 }
 
 /// One case: the study of its scene on this rank, its files in its folder, the memory of each
-/// representation from the files the study wrote.
-MatrixCaseResult run_case(const MatrixSpec& spec, const MatrixCase& c, const Factors& factors) {
+/// representation from the files the study wrote. Its renders move `cases` by kMatrixCaseUnits as
+/// they go (ProgressShare), and a stop requested there (Cancelled) leaves the case unfinished:
+/// no files of its report, nothing stored.
+MatrixCaseResult run_case(const MatrixSpec& spec, const MatrixCase& c, const Factors& factors, ProgressTask& cases) {
   const dist::RankLocal local;  // the study's renders stay on this rank
   const fs::path dir = matrix_case_dir(spec, c);
   StudySpec s = spec.study;
   s.work_dir = dir / "study";
   s.log = nullptr;
   s.albedo_factors = factors;
-  const StudyResult r = run_study(case_scene(spec, c), s, null_progress());
+  ProgressShare share(cases, kMatrixCaseUnits, std::string(kStudyRendersStage));
+  const StudyResult r = run_study(case_scene(spec, c), s, share);
+  share.finish();
   (void)write_study_files(r, dir / "reference.exr", s.work_dir, 1.0);
   MatrixCaseResult out;
   out.c = c;
@@ -220,7 +172,8 @@ MatrixCaseResult run_case(const MatrixSpec& spec, const MatrixCase& c, const Fac
 
 /// Per cloth, the albedo factors fitted on its first lighting × first view (docs/render.md §6d
 /// (b)): one unit per cloth, gathered on rank 0 and broadcast, so every rank takes the same numbers.
-std::vector<Factors> fit_factors(const MatrixSpec& spec, const std::vector<MatrixCase>& cases, dist::UnitStore* store) {
+std::vector<Factors> fit_factors(const MatrixSpec& spec, const std::vector<MatrixCase>& cases, dist::UnitStore* store,
+                                 ProgressSink& progress) {
   std::vector<Factors> out(spec.cloths.size());
   std::vector<const MatrixCase*> fitted(spec.cloths.size(), nullptr);
   for (const auto& c : cases)
@@ -239,8 +192,7 @@ std::vector<Factors> fit_factors(const MatrixSpec& spec, const std::vector<Matri
         s.work_dir = spec.study.work_dir / "fits" / spec.cloths[u];
         s.log = nullptr;
         json j = json::array();
-        for (const auto& [f, a] : fit_albedo_factors(case_scene(spec, *fitted[u]), s, null_progress()))
-          j.push_back({f, a});
+        for (const auto& [f, a] : fit_albedo_factors(case_scene(spec, *fitted[u]), s, progress)) j.push_back({f, a});
         return json::to_msgpack(j);
       },
       how);
@@ -359,8 +311,9 @@ std::string matrix_key(const MatrixSpec& spec) {
                     {"scale", spec.study.scale},
                     {"albedo_fit", true},
                     {"components", spec.study.components},
-                    // What a stored case holds (candidate_json, the resolution floors); bumped when it changes.
-                    {"case_format", 4}};
+                    // What a stored case holds (the study's candidate JSON, the resolution floors);
+                    // bumped when it changes.
+                    {"case_format", 5}};
   return key.dump(2) + "\n";
 }
 
@@ -379,24 +332,26 @@ std::vector<MatrixCaseResult> run_matrix(const MatrixSpec& spec, ProgressSink& p
       [&](std::size_t u) {
         const dist::RankLocal local;
         const fs::path file = cloth_file(spec, spec.cloths[u]);
-        if (!fs::exists(file)) cloth::build_cloth(cloth_spec(spec, spec.cloths[u]), null_progress()).grid.save(file);
+        if (!fs::exists(file)) cloth::build_cloth(cloth_spec(spec, spec.cloths[u]), progress).grid.save(file);
         return dist::Bytes{};
       },
       gen);
 
   // 2. The albedo factors per cloth, fitted on one set-up.
-  const std::vector<Factors> factors = fit_factors(spec, cases, store);
+  const std::vector<Factors> factors = fit_factors(spec, cases, store, progress);
 
   // 3. The cases, each on one rank. One at a time per rank, so a case's CPU time per sample (the
   // process's clock around its renders) is its own.
-  ProgressTask task(progress, "render study cases", cases.size());
+  ProgressTask task(progress, kMatrixCasesStage, cases.size() * kMatrixCaseUnits);
   dist::UnitsOptions how;
   how.batch = 1;
   how.progress = &task;
+  how.unit_weight = kMatrixCaseUnits;  // run_case steps its own case as it renders
   how.store = store;
   how.name = [&](std::size_t u) { return fmt::format("study case {} ({})", u, cases[u].name); };
   const std::vector<dist::Bytes> units = dist::run_units(
-      cases.size(), [&](std::size_t u) { return encode(run_case(spec, cases[u], factors[cases[u].cloth])); }, how);
+      cases.size(), [&](std::size_t u) { return encode(run_case(spec, cases[u], factors[cases[u].cloth], task)); },
+      how);
   std::vector<MatrixCaseResult> out;
   if (!dist::is_root()) return out;
   for (std::size_t u = 0; u < units.size(); ++u) out.push_back(decode(cases[u], units[u]));

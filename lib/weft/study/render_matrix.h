@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -103,8 +104,9 @@ struct MatrixCaseResult {
 
 /// @brief A case as JSON, written once: what a stored case holds and crosses ranks as (MessagePack,
 /// doubles exact), and what matrix.json reports per case, whose reports add the judged figures
-/// (render_matrix_report.h). Per candidate every field of StudyCandidate but the images, its
-/// memory, its cloth bias against image scale and its components.
+/// (render_matrix_report.h). Per candidate the study's own JSON (study_candidate_json,
+/// render_study_report.h: the one writer of a candidate) less its scene path, with its memory
+/// (MatrixMemory: memory_bytes = values, memory_tree_bytes, memory_channels).
 [[nodiscard]] nlohmann::json matrix_case_json(const MatrixCaseResult& r);
 
 /// The folder of case `c` under the matrix's work_dir (its study's files and images).
@@ -114,11 +116,20 @@ struct MatrixCaseResult {
 /// --resume stores, so a changed spec is refused rather than mixed with old cases.
 [[nodiscard]] std::string matrix_key(const MatrixSpec& spec);
 
+/// The progress stage of the matrix's cases: kMatrixCaseUnits per case, moved by each case's
+/// renders in proportion to their pixel samples (kStudyRendersStage) as they go, so a bar has
+/// its rate and ETA within a case (docs/render.md §6e).
+inline constexpr std::string_view kMatrixCasesStage = "study cases x1000";
+inline constexpr std::uint64_t kMatrixCaseUnits = 1000;
+
 /// @brief Runs every case (collective: every rank calls it). Cloths are generated first (one
 /// unit per cloth, kept under work_dir/cloths/ by a hash of their generator spec), then each
 /// case runs run_study rank-locally (dist::RankLocal) and writes its study's files into
 /// matrix_case_dir. Returns the cases in order on rank 0, an empty vector elsewhere.
-/// `progress` counts cases over all ranks; `store` (may be null) records each finished case.
+/// `progress` gets the cloths' and the albedo fits' stages, then kMatrixCasesStage over all
+/// ranks; `store` (may be null) records each finished case. A Cancelled from `progress`
+/// (Ctrl-C in Python) stops the case being rendered at its next report and reaches the caller:
+/// the cases finished before stay in `store`, the one stopped is not stored.
 [[nodiscard]] std::vector<MatrixCaseResult> run_matrix(const MatrixSpec& spec, ProgressSink& progress = null_progress(),
                                                        dist::UnitStore* store = nullptr);
 

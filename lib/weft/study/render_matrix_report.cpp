@@ -283,18 +283,17 @@ std::string matrix_json(const MatrixSpec& spec, const std::vector<MatrixCaseResu
     const MatrixCandidate* fine_mc = fine_entry(r);
     const int pixels = r.width * r.height;
     // The case as it is stored (matrix_case_json), less what depends on timing beyond the
-    // "_seconds" keys (the curve's seconds, the single study's speedup), plus what is judged here.
+    // "seconds" keys (the curve's seconds), plus what is judged here: "speedup" is the
+    // equal-error speed-up, not the single study's.
     json cj = matrix_case_json(r);
     for (std::size_t i = 0; i < r.candidates.size(); ++i) {
       const MatrixCandidate& mc = r.candidates[i];
       const StudyCandidate& c = mc.study;
       json& o = cj["candidates"][i];
       o.erase("curve");
-      o.erase("study_speedup");
       o["cloth_bias_z"] = bias_z(c);
       o["cloth_relative_bias"] = relative(c.cloth_bias, r.cloth_mean);
       o["cloth_relative_rmse"] = relative(c.cloth_rmse, r.cloth_mean);
-      o["bias_z"] = c.bias_z();
       o["memory_ratio"] = fine_mc != nullptr && mc.memory.values > 0
                               ? static_cast<double>(fine_mc->memory.values) / mc.memory.values
                               : 0.0;

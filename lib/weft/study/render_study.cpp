@@ -6,6 +6,7 @@
 #include <ctime>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
 
 #include <fmt/format.h>
@@ -26,6 +27,7 @@
 #include "weft/study/albedo_fit.h"
 #include "weft/study/bias_estimate.h"
 #include "weft/study/render_study_report.h"
+#include "weft/study/study_target.h"
 #include "weft/volume/downsample.h"
 #include "weft/volume/grid_io.h"
 #include "weft/volume/provenance.h"
@@ -40,78 +42,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 constexpr std::uint64_t kSeedStep = kStudySeedStep;
-
-struct Box {
-  Vec3 min;
-  Vec3 max;
-};
-
-/// World box of a grid's active voxels: index i covers origin + h·[i, i + 1).
-Box world_box(const volume::Grid& grid) {
-  const volume::IndexBox b = grid.active_bbox();
-  const auto o = grid.origin();
-  const double h = grid.voxel_size();
-  Box w;
-  for (int a = 0; a < 3; ++a) {
-    w.min[a] = o[static_cast<std::size_t>(a)] + h * b.min[static_cast<std::size_t>(a)];
-    w.max[a] = o[static_cast<std::size_t>(a)] + h * (static_cast<double>(b.max[static_cast<std::size_t>(a)]) + 1.0);
-  }
-  return w;
-}
-
-json vec_json(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
-
-/// Where the study's grid medium is in the scene.
-struct Target {
-  std::string medium;  ///< its name
-  std::size_t shape = 0;
-  json scene;  ///< the scene as canonical JSON, to edit per candidate
-  json medium_json;
-  double sigma_stats = 1.0;  ///< σ that turns grid values into extinction (1 for extinction grids)
-  Box box;                   ///< the bounding box shape
-};
-
-Target find_target(const SceneDesc& scene) {
-  Target t;
-  std::vector<std::string> grids;
-  for (const auto& [name, m] : scene.media)
-    if (m.kind == MediumKind::grid) grids.push_back(name);
-  if (grids.size() != 1)
-    fail("study: the scene needs exactly one grid medium (the fine grid), it has {}", grids.size());
-  t.medium = grids.front();
-  const MediumDesc& m = scene.media.at(t.medium);
-  const std::shared_ptr<const Medium> built = build_medium(scene, t.medium);
-  if (built->traits().law != "exponential")
-    fail("study: medium '{}' must have the exponential law (the reference is exponential per voxel), it has '{}'",
-         t.medium, built->traits().law);
-  int found = 0;
-  for (std::size_t i = 0; i < scene.shapes.size(); ++i) {
-    const ShapeDesc& s = scene.shapes[i];
-    if (s.interior != t.medium && s.exterior != t.medium) continue;
-    ++found;
-    if (s.kind != ShapeKind::box || s.interior != t.medium)
-      fail("study: medium '{}' must fill one box shape (shapes[{}] is not a box holding it inside)", t.medium, i);
-    t.shape = i;
-    t.box = {s.min, s.max};
-  }
-  if (found != 1) fail("study: medium '{}' must fill exactly one box shape, {} shapes name it", t.medium, found);
-  t.scene = json::parse(scene_to_json(scene));
-  t.medium_json = t.scene["media"][t.medium];
-  t.sigma_stats = m.concentration ? m.sigma : 1.0;
-  return t;
-}
-
-/// The scene with the target medium replaced and its box grown to `box` (the box is an
-/// index-matched boundary, so a larger one changes nothing but what it may hold).
-json candidate_scene(const Target& t, const json& medium, const Box& box) {
-  json j = t.scene;
-  j["media"][t.medium] = medium;
-  j["shapes"][t.shape]["min"] = vec_json(box.min);
-  j["shapes"][t.shape]["max"] = vec_json(box.max);
-  return j;
-}
-
-Box union_box(const Box& a, const Box& b) { return {a.min.cwiseMin(b.min), a.max.cwiseMax(b.max)}; }
 
 double mean_square(const Image& a, const Image& b) {
   const double e = rmse(a, b);
@@ -139,6 +69,28 @@ Image abs_difference(const Image& a, const Image& b) {
 void say(const StudySpec& spec, const std::string& line) {
   if (spec.log) spec.log(line);
 }
+
+/// The study's renders as one stage kStudyRendersStage in pixel samples (render_study.h), when
+/// their samples are known beforehand (a fixed spp); with a time budget each render is a stage.
+class RenderProgress {
+ public:
+  RenderProgress(ProgressSink& progress, std::uint64_t total_samples) : progress_(progress) {
+    if (total_samples > 0) task_.emplace(progress, kStudyRendersStage, total_samples);
+  }
+  /// fn(sink) for renders of `samples` pixel samples in all.
+  template <typename Fn>
+  auto run(std::uint64_t samples, Fn&& fn) {
+    if (!task_) return fn(progress_);
+    ProgressShare share(*task_, samples);
+    auto out = fn(static_cast<ProgressSink&>(share));
+    share.finish();
+    return out;
+  }
+
+ private:
+  ProgressSink& progress_;
+  std::optional<ProgressTask> task_;
+};
 
 }  // namespace
 
@@ -396,6 +348,19 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
     write_text_atomically(path, w.dump(2) + "\n");
   };
 
+  // Every render's pixel samples, known beforehand with a fixed spp: the reference (and its
+  // components), the background, images A and B of each candidate and their components.
+  const int background_spp = std::max(16, spec.reference_spp / 4);
+  const bool components = !spec.components.empty();
+  std::uint64_t spp_sum = 0;
+  if (spec.spp > 0) {
+    spp_sum = static_cast<std::uint64_t>(spec.reference_spp) * (components ? 3 : 1) + background_spp;
+    for (const Plan& p : plans)
+      spp_sum += static_cast<std::uint64_t>(spec.spp) * (splits_components(spec.components, p.c.name) ? 6 : 2);
+  }
+  const auto pixels = static_cast<std::uint64_t>(scene.camera.width) * static_cast<std::uint64_t>(scene.camera.height);
+  RenderProgress renders(progress, pixels * spp_sum);
+
   // The reference: the fine grid, many samples, its own seed.
   result.reference_seed = spec.seed + 2 * kSeedStep;
   {
@@ -403,7 +368,9 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
     RenderOptions ro;
     ro.spp = spec.reference_spp;
     ro.seed = result.reference_seed;
-    const RenderResult r = render::render(parse(target.scene, "reference"), ro, progress);
+    const RenderResult r = renders.run(pixels * spec.reference_spp, [&](ProgressSink& sink) {
+      return render::render(parse(target.scene, "reference"), ro, sink);
+    });
     result.reference = r.image;
     result.reference_seconds = r.stats.seconds;
     result.reference_mean = image_mean(r.image);
@@ -411,10 +378,12 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
     write_scene(target.scene, spec.reference_spp, result.reference_seed, result.reference_scene);
   }
   ComponentRenders reference_components;
-  if (!spec.components.empty()) {
+  if (components) {
     say(spec, "rendering the reference's components (albedo 0, at most one scattering event)");
-    reference_components = render_components(target.scene, target.medium, spec.reference_spp, result.reference_seed,
-                                             scene.base_dir, progress);
+    reference_components = renders.run(pixels * spec.reference_spp, [&](ProgressSink& sink) {
+      return render_components(target.scene, target.medium, spec.reference_spp, result.reference_seed, scene.base_dir,
+                               sink);
+    });
   }
   const Image& reference = result.reference;
   {
@@ -423,9 +392,12 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
     json bare = target.scene;
     bare["shapes"].erase(target.shape);
     RenderOptions ro;
-    ro.spp = std::max(16, spec.reference_spp / 4);
+    ro.spp = background_spp;
     ro.seed = result.reference_seed + kSeedStep;
-    const Image bg = render::render(parse(bare, "background"), ro, progress).image;
+    const Image bg = renders
+                         .run(pixels * background_spp,
+                              [&](ProgressSink& sink) { return render::render(parse(bare, "background"), ro, sink); })
+                         .image;
     const std::size_t pixels = reference.rgb.size() / 3;
     result.cloth_mask.assign(pixels, false);
     double sum = 0.0;
@@ -462,22 +434,28 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
     say(spec, fmt::format("rendering {} ({})", c.name,
                           spec.spp > 0 ? fmt::format("{} spp", spec.spp) : fmt::format("{:.3g} s", spec.seconds)));
     const std::clock_t cpu0 = std::clock();
-    const RenderResult a = render::render(s, oa, progress);
+    const auto samples = pixels * static_cast<std::uint64_t>(spec.spp);  // per image (fixed spp)
+    const RenderResult a = renders.run(samples, [&](ProgressSink& sink) { return render::render(s, oa, sink); });
     c.cpu_seconds = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
     c.spp = a.stats.spp;
     c.seconds = a.stats.seconds;
     RenderOptions ob;
     ob.seed = c.seed_b;
     ob.spp = c.spp;
-    const RenderResult b = render::render(s, ob, progress);
+    const RenderResult b = renders.run(samples, [&](ProgressSink& sink) { return render::render(s, ob, sink); });
     // The components of A and B (collective renders, on every rank).
     const bool split = splits_components(spec.components, c.name);
     ComponentRenders ca;
     ComponentRenders cb;
     if (split) {
       say(spec, fmt::format("rendering {}'s components", c.name));
-      ca = render_components(p.scene, target.medium, c.spp, c.seed_a, scene.base_dir, progress);
-      cb = render_components(p.scene, target.medium, c.spp, c.seed_b, scene.base_dir, progress);
+      const auto split_renders = [&](std::uint64_t seed) {
+        return renders.run(samples, [&](ProgressSink& sink) {
+          return render_components(p.scene, target.medium, c.spp, seed, scene.base_dir, sink);
+        });
+      };
+      ca = split_renders(c.seed_a);
+      cb = split_renders(c.seed_b);
     }
     c.scene_file = fs::absolute(spec.work_dir / (c.name + ".json"));
     write_scene(p.scene, c.spp, c.seed_a, c.scene_file);

@@ -51,6 +51,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -68,6 +69,13 @@ namespace weft::study {
 /// + 8 and + 16 from that image's own (stream_for hashes (seed, index), so any distinct seed
 /// gives independent noise).
 constexpr std::uint64_t kStudySeedStep = 0x9E3779B97F4A7C15ULL;
+
+/// With a fixed spp (StudySpec::spp > 0), run_study reports all its renders as one stage of this
+/// label, counted in pixel samples (width × height × spp of every render), after the stages of
+/// its preparation (validation, window statistics, local fields); with a time budget each render
+/// is its own stage. A caller running many studies shows that stage as their share of one bar
+/// (ProgressShare: the study matrix, docs/render.md §6e).
+inline constexpr std::string_view kStudyRendersStage = "study renders";
 
 struct StudySpec {
   std::vector<int> factors{2, 4, 8, 16};  ///< coarsening factors, each in [2, 4096], no repeats

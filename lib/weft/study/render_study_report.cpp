@@ -79,8 +79,82 @@ std::string study_curves_csv(const StudyResult& result) {
   return csv;
 }
 
+namespace {
+json finite_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+}  // namespace
+
+json study_candidate_json(const StudyCandidate& c) {
+  json curve = json::array();
+  for (const auto& p : c.curve) curve.push_back({{"spp", p.spp}, {"seconds", p.seconds}, {"rmse", p.rmse}});
+  return {{"name", c.name},
+          {"model", c.model},
+          {"factor", c.factor},
+          {"spp", c.spp},
+          {"seconds", c.seconds},
+          {"cpu_seconds", c.cpu_seconds},
+          {"rmse", c.rmse},
+          {"rmse_raw", c.rmse_raw},
+          {"bias", c.bias},
+          {"bias_sq", c.bias_sq},
+          {"bias_sq_stderr", c.bias_sq_stderr},
+          {"bias_z", c.bias_z()},
+          {"cloth_bias", c.cloth_bias},
+          {"cloth_bias_sq", c.cloth_bias_sq},
+          {"cloth_bias_sq_stderr", c.cloth_bias_sq_stderr},
+          {"cloth_difference", c.cloth_difference},
+          {"cloth_rmse", c.cloth_rmse},
+          {"cloth_noise", c.cloth_noise},
+          {"noise", c.noise},
+          {"speedup", finite_or_null(c.speedup)},
+          {"seed", c.seed_a},
+          {"second_seed", c.seed_b},
+          {"scene", c.scene_file.string()},
+          {"memory_bytes", c.memory_bytes},
+          {"memory_channels", c.memory_channels},
+          {"albedo_factor", c.albedo_factor},
+          {"fitted_to_images", c.fitted_to_images},
+          {"uses_ground_truth", c.fitted_to_images},
+          {"cloth_scales", scale_bias_json(c.cloth_scales)},
+          {"components", component_biases_json(c.components)},
+          {"curve", curve}};
+}
+
+StudyCandidate study_candidate_from_json(const json& j) {
+  StudyCandidate c;
+  c.name = j.at("name").get<std::string>();
+  c.model = j.at("model").get<std::string>();
+  c.factor = j.at("factor").get<int>();
+  c.spp = j.at("spp").get<int>();
+  c.seconds = j.at("seconds").get<double>();
+  c.cpu_seconds = j.at("cpu_seconds").get<double>();
+  c.rmse = j.at("rmse").get<double>();
+  c.rmse_raw = j.at("rmse_raw").get<double>();
+  c.bias = j.at("bias").get<double>();
+  c.bias_sq = j.at("bias_sq").get<double>();
+  c.bias_sq_stderr = j.at("bias_sq_stderr").get<double>();
+  c.cloth_bias = j.at("cloth_bias").get<double>();
+  c.cloth_bias_sq = j.at("cloth_bias_sq").get<double>();
+  c.cloth_bias_sq_stderr = j.at("cloth_bias_sq_stderr").get<double>();
+  c.cloth_difference = j.at("cloth_difference").get<double>();
+  c.cloth_rmse = j.at("cloth_rmse").get<double>();
+  c.cloth_noise = j.at("cloth_noise").get<double>();
+  c.noise = j.at("noise").get<double>();
+  c.speedup = j.at("speedup").is_number() ? j.at("speedup").get<double>() : std::numeric_limits<double>::quiet_NaN();
+  c.seed_a = j.at("seed").get<std::uint64_t>();
+  c.seed_b = j.at("second_seed").get<std::uint64_t>();
+  if (const auto s = j.find("scene"); s != j.end()) c.scene_file = s->get<std::string>();
+  c.memory_bytes = j.at("memory_bytes").get<std::uint64_t>();
+  c.memory_channels = j.at("memory_channels").get<int>();
+  c.albedo_factor = j.at("albedo_factor").get<double>();
+  c.fitted_to_images = j.at("fitted_to_images").get<bool>();
+  c.cloth_scales = scale_bias_from_json(j.at("cloth_scales"));
+  c.components = component_biases_from_json(j.at("components"));
+  for (const auto& p : j.at("curve"))
+    c.curve.push_back({p.at("spp").get<int>(), p.at("seconds").get<double>(), p.at("rmse").get<double>()});
+  return c;
+}
+
 std::string study_json(const StudyResult& result) {
-  const auto num = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
   json j;
   j["mode"] = result.mode;
   j["headline"] = result.headline;
@@ -100,47 +174,13 @@ std::string study_json(const StudyResult& result) {
   j["slab_law"] = {{"sigma", result.sigma},
                    {"mean_concentration", result.slab_mean_concentration},
                    {"var_concentration", result.slab_var_concentration},
-                   {"alpha", num(result.slab_alpha)},
+                   {"alpha", finite_or_null(result.slab_alpha)},
                    {"scale", result.scale}};
   j["notes"] = result.notes;
   j["resolution_floors"] = json::array();
   for (const auto& f : result.resolution_floors) j["resolution_floors"].push_back(resolution_floor_json(f));
   j["candidates"] = json::array();
-  for (const auto& c : result.candidates) {
-    json curve = json::array();
-    for (const auto& p : c.curve) curve.push_back({{"spp", p.spp}, {"seconds", p.seconds}, {"rmse", p.rmse}});
-    j["candidates"].push_back({{"name", c.name},
-                               {"model", c.model},
-                               {"factor", c.factor},
-                               {"spp", c.spp},
-                               {"seconds", c.seconds},
-                               {"cpu_seconds", c.cpu_seconds},
-                               {"rmse", c.rmse},
-                               {"rmse_raw", c.rmse_raw},
-                               {"bias", c.bias},
-                               {"bias_sq", c.bias_sq},
-                               {"bias_sq_stderr", c.bias_sq_stderr},
-                               {"bias_z", c.bias_z()},
-                               {"cloth_bias", c.cloth_bias},
-                               {"cloth_bias_sq", c.cloth_bias_sq},
-                               {"cloth_bias_sq_stderr", c.cloth_bias_sq_stderr},
-                               {"cloth_difference", c.cloth_difference},
-                               {"cloth_rmse", c.cloth_rmse},
-                               {"cloth_noise", c.cloth_noise},
-                               {"noise", c.noise},
-                               {"speedup", num(c.speedup)},
-                               {"seed", c.seed_a},
-                               {"second_seed", c.seed_b},
-                               {"scene", c.scene_file.string()},
-                               {"memory_bytes", c.memory_bytes},
-                               {"memory_channels", c.memory_channels},
-                               {"albedo_factor", c.albedo_factor},
-                               {"fitted_to_images", c.fitted_to_images},
-                               {"uses_ground_truth", c.fitted_to_images},
-                               {"cloth_scales", scale_bias_json(c.cloth_scales)},
-                               {"components", component_biases_json(c.components)},
-                               {"curve", curve}});
-  }
+  for (const auto& c : result.candidates) j["candidates"].push_back(study_candidate_json(c));
   return j.dump(2) + "\n";
 }
 

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "weft/render/contact_sheet.h"
 #include "weft/study/render_study.h"
 
@@ -21,6 +23,14 @@ void judge_study(StudyResult& result);
 [[nodiscard]] std::string study_csv(const StudyResult& result);
 /// Long form of the curves: candidate,spp,seconds,rmse.
 [[nodiscard]] std::string study_curves_csv(const StudyResult& result);
+/// @brief A candidate as JSON, written once: `candidates[i]` of the study's JSON and, less its
+/// scene path and with the matrix's memory, of a matrix case (render_matrix.h: what crosses ranks,
+/// the --resume store and matrix.json). Every field of StudyCandidate but the images, plus the
+/// derived bias_z and uses_ground_truth (= fitted_to_images); the fine grid's speedup (NaN) as
+/// null; the curve as [{spp, seconds, rmse}] (docs/render.md §6c).
+[[nodiscard]] nlohmann::json study_candidate_json(const StudyCandidate& c);
+/// The candidate back (images empty; derived fields ignored; no "scene": an empty path).
+[[nodiscard]] StudyCandidate study_candidate_from_json(const nlohmann::json& j);
 /// Everything above as pretty-printed JSON (images excluded).
 [[nodiscard]] std::string study_json(const StudyResult& result);
 

@@ -106,13 +106,16 @@ TEST(RunUnits, NoUnitsIsNoWork) {
   EXPECT_TRUE(out.empty());
 }
 
+/// The last count a stage reached.
+struct Counter : ProgressSink {
+  std::atomic<std::uint64_t> last{0};
+  void begin(std::string_view, std::uint64_t) override {}
+  void advance(std::uint64_t done) override { last = std::max<std::uint64_t>(last, done); }
+  void end() noexcept override {}
+};
+
 TEST(RunUnits, ProgressCountsEveryUnit) {
-  struct Counter : ProgressSink {
-    std::atomic<std::uint64_t> last{0};
-    void begin(std::string_view, std::uint64_t) override {}
-    void advance(std::uint64_t done) override { last = std::max<std::uint64_t>(last, done); }
-    void end() noexcept override {}
-  } sink;
+  Counter sink;
   {
     ProgressTask task(sink, "units", 20);
     UnitsOptions how;
@@ -121,6 +124,36 @@ TEST(RunUnits, ProgressCountsEveryUnit) {
         20, [](std::size_t) { return Bytes{1}; }, how);
   }
   EXPECT_EQ(sink.last.load(), 20U);
+}
+
+// UnitsOptions::unit_weight (docs/render.md §6e): the body steps its own units as it goes, and
+// run_units adds the weight of each resumed unit, never a unit's weight twice.
+TEST(RunUnits, AWeightedUnitIsCountedOnceWhetherRunOrResumed) {
+  const fs::path dir = fresh_dir("weighted");
+  {
+    UnitStore store(dir, "key W", false);
+    store.open();
+    for (const std::size_t u : {std::size_t{1}, std::size_t{3}}) store.save(u, bytes_of("done"));
+  }
+  Counter sink;
+  UnitStore store(dir, "key W", true);
+  {
+    ProgressTask task(sink, "weighted units", 5 * 10);
+    UnitsOptions how;
+    how.progress = &task;
+    how.unit_weight = 10;
+    how.store = &store;
+    (void)run_units(
+        5,
+        [&](std::size_t) {
+          for (int i = 0; i < 10; ++i) task.step();
+          return bytes_of("run");
+        },
+        how);
+  }
+  EXPECT_EQ(store.found(), 2U);
+  EXPECT_EQ(sink.last.load(), 50U);
+  store.remove();
 }
 
 TEST(RunUnits, AFailingUnitIsNamedAndLowestFirst) {

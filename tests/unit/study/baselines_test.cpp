@@ -4,9 +4,12 @@
 // albedo fit reaches its target within its tolerance on the scene it is fitted on.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <functional>
+#include <mutex>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -14,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "weft/core/error.h"
+#include "weft/core/progress.h"
 #include "weft/render/scene.h"
 #include "weft/study/albedo_fit.h"
 #include "weft/study/render_study.h"
@@ -126,6 +130,48 @@ TEST(StudyBaselines, NewCandidatesAppearWithMemoryAndLabels) {
   }
   EXPECT_TRUE(seen);
   EXPECT_NE(study_csv(r).find(",memory_bytes,memory_channels,albedo_factor,fitted_to_images,"), std::string::npos);
+}
+
+/// Records the stages a study reports and the last count of each.
+struct StageLog : ProgressSink {
+  void begin(std::string_view label, std::uint64_t total) override {
+    const std::lock_guard lock(mutex);
+    stages.push_back({std::string(label), total, 0});
+  }
+  void advance(std::uint64_t done) override {
+    const std::lock_guard lock(mutex);
+    stages.back().done = std::max(stages.back().done, done);
+  }
+  void end() noexcept override {}
+  struct Stage {
+    std::string label;
+    std::uint64_t total;
+    std::uint64_t done;
+  };
+  std::mutex mutex;
+  std::vector<Stage> stages;
+};
+
+// With a fixed spp every render of the study (reference, its components, background, A, B and
+// their components) reports into one stage of pixel samples (render_study.h), the last stage,
+// which ends at exactly its total: no render uncounted or counted twice (docs/render.md §6c).
+TEST(StudyProgress, TheRendersAreOneStageThatEndsAtItsTotal) {
+  const TempDir tmp("progress");
+  const render::SceneDesc scene = cube_scene(tmp.path, columns);
+  StudySpec spec = small_spec(tmp.path);
+  spec.factors = {2};
+  spec.spp = 2;
+  spec.reference_spp = 16;
+  spec.components = {"exponential"};
+  spec.albedo_factors = {{2, 1.1}};
+  StageLog log;
+  (void)run_study(scene, spec, log);
+  ASSERT_FALSE(log.stages.empty());
+  const StageLog::Stage& last = log.stages.back();
+  EXPECT_EQ(last.label, kStudyRendersStage);
+  EXPECT_GT(last.total, 20U * 20U * 16U);
+  EXPECT_EQ(last.done, last.total);
+  for (std::size_t i = 0; i + 1 < log.stages.size(); ++i) EXPECT_NE(log.stages[i].label, kStudyRendersStage);
 }
 
 TEST(StudyBaselines, ShadowCorrectedEqualsExponentialOnAUniformGrid) {

@@ -2,14 +2,21 @@
 // formula, and every representation's memory against the grids' own counts on a tiny run.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "weft/core/error.h"
+#include "weft/core/progress.h"
+#include "weft/dist/unit_store.h"
 #include "weft/fit/local_fields.h"
 #include "weft/study/render_matrix.h"
 #include "weft/study/render_matrix_report.h"
+#include "weft/study/render_study_report.h"
 #include "weft/volume/grid.h"
 #include "weft/volume/grid_io.h"
 
@@ -61,6 +68,52 @@ TEST(MatrixSpec, RefusesWhatCannotRun) {
   tilt.tilts = {95.0};
   EXPECT_THROW(check_matrix_spec(tilt), Error);
   EXPECT_EQ(matrix_cases(s).size(), 3U * 3U * 2U);
+}
+
+// A candidate's JSON is written once (study_candidate_json): the single study's report and a
+// matrix case hold the same keys and values, the case without the scene path and with its memory;
+// what is read back writes the same JSON again (the --resume store relies on it).
+TEST(MatrixJson, ACaseHoldsTheStudysCandidateJson) {
+  StudyCandidate c = candidate(4, 0.25, 0.5, 16, 3.0);
+  c.name = "exponential-4x";
+  c.model = "exponential";
+  c.seed_a = 11;
+  c.seed_b = 12;
+  c.seconds = 1.5;
+  c.rmse = 0.75;
+  c.bias_sq = 0.0625;
+  c.bias_sq_stderr = 0.01;
+  c.speedup = 2.5;
+  c.scene_file = "/somewhere/exponential-4x.json";
+  c.memory_bytes = 999;
+  c.memory_channels = 1;
+  c.curve = {{1, 0.25, 0.5}, {16, 1.5, 0.75}};
+  StudyCandidate fine = candidate(1, 0.0, 0.5, 16, 6.0);
+  fine.name = "fine";
+  fine.speedup = std::numeric_limits<double>::quiet_NaN();
+
+  const nlohmann::json study = study_candidate_json(c);
+  EXPECT_EQ(study.at("seed"), 11);
+  EXPECT_EQ(study.at("second_seed"), 12);
+  EXPECT_EQ(study.at("curve").at(1).at("spp"), 16);
+  EXPECT_EQ(study_candidate_json(study_candidate_from_json(study)), study);
+  EXPECT_TRUE(study_candidate_json(fine).at("speedup").is_null());
+  EXPECT_TRUE(std::isnan(study_candidate_from_json(study_candidate_json(fine)).speedup));
+
+  StudyResult single;
+  single.candidates = {fine, c};
+  EXPECT_EQ(nlohmann::json::parse(study_json(single)).at("candidates").at(1), study);
+
+  MatrixCaseResult r;
+  r.candidates.push_back({fine, {}});
+  r.candidates.push_back({c, {40, 2000, 1}});
+  const nlohmann::json stored = matrix_case_json(r).at("candidates").at(1);
+  nlohmann::json expected = study;
+  expected.erase("scene");
+  expected["memory_bytes"] = 40;
+  expected["memory_tree_bytes"] = 2000;
+  expected["memory_channels"] = 1;
+  EXPECT_EQ(stored, expected);
 }
 
 /// Bytes of every float value of the four local-field grids the medium reads (the study writes
@@ -119,6 +172,80 @@ TEST(MatrixRun, MemoryIsTheGridsOwnCount) {
   }
   EXPECT_EQ(seen, 5);
   EXPECT_GT(r[0].cloth_pixels, 0);
+  fs::remove_all(s.study.work_dir);
+}
+
+/// Asks to stop (Cancelled, as Ctrl-C in Python) at the first report of the matrix's cases stage
+/// past `after` units, and from then on at every report.
+struct StopInCase : ProgressSink {
+  explicit StopInCase(std::uint64_t after) : after(after) {}
+  void begin(std::string_view label, std::uint64_t /*total*/) override {
+    if (stop) throw Cancelled();
+    in_cases = label == kMatrixCasesStage;
+  }
+  void advance(std::uint64_t done) override {
+    if (!stop && in_cases && done > after) {
+      stop = true;
+      stopped_at = done;
+    }
+    if (stop) throw Cancelled();
+  }
+  void end() noexcept override {}
+  std::uint64_t after;
+  std::atomic<bool> in_cases{false};
+  std::atomic<bool> stop{false};
+  std::atomic<std::uint64_t> stopped_at{0};
+};
+
+MatrixSpec tiny_matrix(const std::string& folder) {
+  MatrixSpec s;
+  s.cloths = {"plain"};
+  s.yarns = 2;
+  s.voxel_size = 0.02;
+  s.lightings = {render::ClothLighting::back};
+  s.tilts = {30.0, 60.0};
+  s.width = 16;
+  s.height = 12;
+  s.study.factors = {2};
+  s.study.spp = 2;
+  s.study.reference_spp = 64;
+  s.study.work_dir = fs::path(testing::TempDir()) / folder;
+  fs::remove_all(s.study.work_dir);
+  return s;
+}
+
+// A stop asked for inside a case's renders stops that case there (its first render, the
+// reference, is not finished: its scene file is written after it), reaches the caller as
+// Cancelled, and stores nothing of it; the case finished before stays stored, and a rerun with
+// --resume takes it and renders the other.
+TEST(MatrixRun, AStopInsideACaseStopsItThereAndStoresNothingOfIt) {
+  const MatrixSpec s = tiny_matrix("weft_render_matrix_stop");
+  const std::vector<MatrixCase> cases = matrix_cases(s);
+  ASSERT_EQ(cases.size(), 2U);
+  {
+    dist::UnitStore store(s.study.work_dir / "matrix.units", matrix_key(s), false);
+    StopInCase sink(0);  // the first report inside case 0
+    EXPECT_THROW((void)run_matrix(s, sink, &store), Cancelled);
+    EXPECT_GT(sink.stopped_at.load(), 0U);
+    EXPECT_LT(sink.stopped_at.load(), kMatrixCaseUnits);
+    EXPECT_FALSE(store.load(0).has_value());
+    EXPECT_FALSE(fs::exists(matrix_case_dir(s, cases[0]) / "study" / "reference.json"));
+    EXPECT_FALSE(fs::exists(matrix_case_dir(s, cases[0]) / "reference.study.json"));
+  }
+  {
+    dist::UnitStore store(s.study.work_dir / "matrix.units", matrix_key(s), false);
+    StopInCase sink(kMatrixCaseUnits);  // inside case 1, case 0 done
+    EXPECT_THROW((void)run_matrix(s, sink, &store), Cancelled);
+    EXPECT_LT(sink.stopped_at.load(), 2 * kMatrixCaseUnits);
+    EXPECT_TRUE(store.load(0).has_value());
+    EXPECT_FALSE(store.load(1).has_value());
+    EXPECT_FALSE(fs::exists(matrix_case_dir(s, cases[1]) / "study" / "reference.json"));
+  }
+  dist::UnitStore store(s.study.work_dir / "matrix.units", matrix_key(s), true);
+  const std::vector<MatrixCaseResult> r = run_matrix(s, null_progress(), &store);
+  EXPECT_EQ(store.found(), 1U);
+  ASSERT_EQ(r.size(), 2U);
+  EXPECT_TRUE(fs::exists(matrix_case_dir(s, cases[1]) / "reference.study.json"));
   fs::remove_all(s.study.work_dir);
 }
 

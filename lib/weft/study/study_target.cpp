@@ -1,0 +1,72 @@
+// The image study's fine grid in its scene and the candidates' scenes (study_target.h).
+#include "weft/study/study_target.h"
+
+#include <memory>
+#include <vector>
+
+#include "weft/core/error.h"
+#include "weft/render/medium.h"
+#include "weft/render/world.h"
+
+namespace weft::study {
+
+using namespace weft::render;  // NOLINT(google-build-using-namespace)
+using nlohmann::json;
+
+Box world_box(const volume::Grid& grid) {
+  const volume::IndexBox b = grid.active_bbox();
+  const auto o = grid.origin();
+  const double h = grid.voxel_size();
+  Box w;
+  for (int a = 0; a < 3; ++a) {
+    w.min[a] = o[static_cast<std::size_t>(a)] + h * b.min[static_cast<std::size_t>(a)];
+    w.max[a] = o[static_cast<std::size_t>(a)] + h * (static_cast<double>(b.max[static_cast<std::size_t>(a)]) + 1.0);
+  }
+  return w;
+}
+
+namespace {
+json vec_json(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+}  // namespace
+
+Target find_target(const SceneDesc& scene) {
+  Target t;
+  std::vector<std::string> grids;
+  for (const auto& [name, m] : scene.media)
+    if (m.kind == MediumKind::grid) grids.push_back(name);
+  if (grids.size() != 1)
+    fail("study: the scene needs exactly one grid medium (the fine grid), it has {}", grids.size());
+  t.medium = grids.front();
+  const MediumDesc& m = scene.media.at(t.medium);
+  const std::shared_ptr<const Medium> built = build_medium(scene, t.medium);
+  if (built->traits().law != "exponential")
+    fail("study: medium '{}' must have the exponential law (the reference is exponential per voxel), it has '{}'",
+         t.medium, built->traits().law);
+  int found = 0;
+  for (std::size_t i = 0; i < scene.shapes.size(); ++i) {
+    const ShapeDesc& s = scene.shapes[i];
+    if (s.interior != t.medium && s.exterior != t.medium) continue;
+    ++found;
+    if (s.kind != ShapeKind::box || s.interior != t.medium)
+      fail("study: medium '{}' must fill one box shape (shapes[{}] is not a box holding it inside)", t.medium, i);
+    t.shape = i;
+    t.box = {s.min, s.max};
+  }
+  if (found != 1) fail("study: medium '{}' must fill exactly one box shape, {} shapes name it", t.medium, found);
+  t.scene = json::parse(scene_to_json(scene));
+  t.medium_json = t.scene["media"][t.medium];
+  t.sigma_stats = m.concentration ? m.sigma : 1.0;
+  return t;
+}
+
+json candidate_scene(const Target& t, const json& medium, const Box& box) {
+  json j = t.scene;
+  j["media"][t.medium] = medium;
+  j["shapes"][t.shape]["min"] = vec_json(box.min);
+  j["shapes"][t.shape]["max"] = vec_json(box.max);
+  return j;
+}
+
+Box union_box(const Box& a, const Box& b) { return {a.min.cwiseMin(b.min), a.max.cwiseMax(b.max)}; }
+
+}  // namespace weft::study
