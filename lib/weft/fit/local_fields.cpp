@@ -299,8 +299,8 @@ LocalFields local_fields(const volume::Grid& grid, int block, ProgressSink& prog
     out.beta[static_cast<std::size_t>(a)] = make(fmt::format("beta_{}", axis));
   }
   // One accessor per grid for the whole loop: Grid::set_value makes (and registers with the tree)
-  // an accessor per call and walks from the root, which was about half of local_fields' time at
-  // block 2 (docs/benchmarks.md "Every core busy: the sweep's serial pieces"). The trees are the same.
+  // an accessor per call and walks from the root, 40 % of the local fields' CPU in `weft validate
+  // --sweep` (docs/benchmarks.md "Every core busy: the sweep's serial pieces"). Same trees.
   using Accessor = openvdb::FloatGrid::Accessor;
   Accessor mean_acc = out.mean.impl().grid->getAccessor();
   std::array<std::array<Accessor, 3>, 3> axis_acc{{
