@@ -32,8 +32,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
+using media2d::Curve;
+using media2d::EtaResult;
+using media2d::SimulationResult;
+using media2d::SimulationSpec;
+
 /// Realization 0 of the first eta as points for ParaView, with each particle's radius and cluster.
-viz::PointSet particle_points(const media2d::SimulationSpec& spec) {
+viz::PointSet particle_points(const SimulationSpec& spec) {
   const media2d::Medium m = media2d::realization(spec, 0, 0);
   viz::PointSet points;
   points.points.reserve(m.centers.size());
@@ -47,10 +52,6 @@ viz::PointSet particle_points(const media2d::SimulationSpec& spec) {
   points.point_scalars["cluster"] = std::move(cluster);
   return points;
 }
-using media2d::Curve;
-using media2d::EtaResult;
-using media2d::SimulationResult;
-using media2d::SimulationSpec;
 
 struct Sim2dOptions {
   std::vector<double> etas{-0.5, 0.0, 0.5};
