@@ -3,15 +3,18 @@
 // and one realization's particles as .vtp.
 #include <array>
 #include <cmath>
+#include <exception>
 #include <filesystem>
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include <fmt/format.h>
+#include <tbb/task_group.h>
 #include <nlohmann/json.hpp>
 
 #include "command.h"
@@ -28,10 +31,27 @@ namespace weft::app {
 namespace {
 
 namespace fs = std::filesystem;
+
 using media2d::Curve;
 using media2d::EtaResult;
 using media2d::SimulationResult;
 using media2d::SimulationSpec;
+
+/// Realization 0 of the first eta as points for ParaView, with each particle's radius and cluster.
+viz::PointSet particle_points(const SimulationSpec& spec) {
+  const media2d::Medium m = media2d::realization(spec, 0, 0);
+  viz::PointSet points;
+  points.points.reserve(m.centers.size());
+  std::vector<double> cluster;
+  cluster.reserve(m.centers.size());
+  for (std::size_t i = 0; i < m.centers.size(); ++i) {
+    points.points.push_back({m.centers[i].x, m.centers[i].y, 0.0});
+    cluster.push_back(m.cluster_size > 0 ? static_cast<double>(i / m.cluster_size) : 0.0);
+  }
+  points.point_scalars["radius"] = std::vector<double>(m.centers.size(), m.radius);
+  points.point_scalars["cluster"] = std::move(cluster);
+  return points;
+}
 
 struct Sim2dOptions {
   std::vector<double> etas{-0.5, 0.0, 0.5};
@@ -389,8 +409,28 @@ const Registrar kSim2d{Command{
         const fs::path out(o->out);
         if (dist::is_root()) ensure_directory(out);
 
+        // One realization's particles (realization 0 of the first eta) for ParaView, made and
+        // compressed in memory beside the realizations' units on rank 0, by a thread they leave
+        // free: done after them, it was the longest serial step of a run (docs/benchmarks.md
+        // "Every core busy: the sweep's serial pieces"). Written with the other files once every
+        // unit succeeded; an exception in the units cancels and waits for it.
+        const std::string particles_name = fmt::format("particles_{}.vtp", eta_tag(spec.etas.front()));
+        std::optional<std::string> particles;
+        std::exception_ptr particles_failure;
+        tbb::task_group beside;
+        if (dist::is_root()) {
+          beside.run([&] {
+            try {
+              particles = viz::vtp_bytes(particle_points(spec), out / particles_name);
+            } catch (...) {
+              particles_failure = std::current_exception();
+            }
+          });
+        }
         const SimulationResult result = media2d::simulate(spec, ctx.progress);
+        beside.wait();
         if (!dist::is_root()) return 0;  // rank 0 reduced the realizations and writes everything
+        if (particles_failure) std::rethrow_exception(particles_failure);
 
         nlohmann::json outputs;
         WrittenFiles files;
@@ -398,24 +438,9 @@ const Registrar kSim2d{Command{
         files.add(out / "curves.csv", "curves per eta");
         outputs["curves"] = "curves.csv";
 
-        // One realization's particles (realization 0 of the first eta) for ParaView.
-        {
-          const media2d::Medium m = media2d::realization(spec, 0, 0);
-          viz::PointSet points;
-          points.points.reserve(m.centers.size());
-          std::vector<double> cluster;
-          cluster.reserve(m.centers.size());
-          for (std::size_t i = 0; i < m.centers.size(); ++i) {
-            points.points.push_back({m.centers[i].x, m.centers[i].y, 0.0});
-            cluster.push_back(m.cluster_size > 0 ? static_cast<double>(i / m.cluster_size) : 0.0);
-          }
-          points.point_scalars["radius"] = std::vector<double>(m.centers.size(), m.radius);
-          points.point_scalars["cluster"] = std::move(cluster);
-          const std::string name = fmt::format("particles_{}.vtp", eta_tag(spec.etas.front()));
-          viz::write_vtp(points, out / name);
-          files.add(out / name, "one realization's particles");
-          outputs["particles"] = name;
-        }
+        write_text_atomically(out / particles_name, *particles);
+        files.add(out / particles_name, "one realization's particles");
+        outputs["particles"] = particles_name;
 
         // The data files are complete before any picture is attempted.
         outputs["charts"] = nlohmann::json::array();

@@ -7,6 +7,7 @@
 #include "weft/fit/local_fields.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <unordered_map>
@@ -297,18 +298,29 @@ LocalFields local_fields(const volume::Grid& grid, int block, ProgressSink& prog
     out.alpha[static_cast<std::size_t>(a)] = make(fmt::format("alpha_{}", axis));
     out.beta[static_cast<std::size_t>(a)] = make(fmt::format("beta_{}", axis));
   }
+  // One accessor per grid for the whole loop: Grid::set_value makes (and registers with the tree)
+  // an accessor per call and walks from the root, 40 % of the local fields' CPU in `weft validate
+  // --sweep` (docs/benchmarks.md "Every core busy: the sweep's serial pieces"). Same trees.
+  using Accessor = openvdb::FloatGrid::Accessor;
+  Accessor mean_acc = out.mean.impl().grid->getAccessor();
+  std::array<std::array<Accessor, 3>, 3> axis_acc{{
+      {out.variance[0].impl().grid->getAccessor(), out.variance[1].impl().grid->getAccessor(),
+       out.variance[2].impl().grid->getAccessor()},
+      {out.alpha[0].impl().grid->getAccessor(), out.alpha[1].impl().grid->getAccessor(),
+       out.alpha[2].impl().grid->getAccessor()},
+      {out.beta[0].impl().grid->getAccessor(), out.beta[1].impl().grid->getAccessor(),
+       out.beta[2].impl().grid->getAccessor()},
+  }};
   for (const auto& r : results) {
     if (!(r.mean > 0.0)) continue;
-    const int i = static_cast<int>(r.key[0]);
-    const int j = static_cast<int>(r.key[1]);
-    const int k = static_cast<int>(r.key[2]);
-    out.mean.set_value(i, j, k, static_cast<float>(r.mean));
+    const openvdb::Coord ijk(static_cast<int>(r.key[0]), static_cast<int>(r.key[1]), static_cast<int>(r.key[2]));
+    mean_acc.setValue(ijk, static_cast<float>(r.mean));
     for (std::size_t a = 0; a < 3; ++a) {
       const double var = r.variance[a];
-      out.variance[a].set_value(i, j, k, static_cast<float>(var));
+      axis_acc[0][a].setValue(ijk, static_cast<float>(var));
       const transmittance::ShapeRate s = transmittance::gamma_shape_rate(r.mean, var);
-      out.alpha[a].set_value(i, j, k, static_cast<float>(s.alpha));
-      out.beta[a].set_value(i, j, k, static_cast<float>(s.beta));
+      axis_acc[1][a].setValue(ijk, static_cast<float>(s.alpha));
+      axis_acc[2][a].setValue(ijk, static_cast<float>(s.beta));
     }
     ++out.blocks;
   }

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <optional>
 
 #include <fmt/core.h>
@@ -113,8 +114,23 @@ std::vector<double> coarse_beam_log_t(const volume::Grid& mean, const volume::Gr
     return static_cast<double>(std::max<std::int64_t>(0, hi - lo + 1));
   };
   const auto cols = static_cast<std::size_t>(nu * nv);
-  std::vector<double> H(cols * K);  // H[col·K + k] = −log T of the column at t_k
+  std::vector<double> weight(cols);
+  double wsum = 0.0;
+  for (std::int64_t iu = 0; iu < nu; ++iu) {
+    for (std::int64_t iv = 0; iv < nv; ++iv) {
+      const double w = overlap(cu0 + iu, ua) * overlap(cv0 + iv, va);
+      weight[static_cast<std::size_t>(iu * nv + iv)] = w;
+      wsum += w;
+    }
+  }
+  // H[col·K + k] = −log T of the column at t_k, every element written below (not zeroed first: at
+  // the finest factor it is megabytes per call). row_lo[iu·K + k] = the smallest H[·, k] of the
+  // columns of row iu, so the log-sum-exp below needs one pass over H, not two.
+  const auto H = std::make_unique_for_overwrite<double[]>(cols * K);
+  const auto row_lo = std::make_unique_for_overwrite<double[]>(static_cast<std::size_t>(nu) * K);
   parallel_units(static_cast<std::size_t>(nu), [&](std::size_t iu) {
+    double* rlo = row_lo.get() + iu * K;
+    std::fill(rlo, rlo + K, std::numeric_limits<double>::infinity());
     // Inactive voxels read 0, the grids' background (volume::VoxelReader).
     volume::VoxelReader macc(mean);
     std::optional<volume::VoxelReader> vacc;
@@ -140,7 +156,8 @@ std::vector<double> coarse_beam_log_t(const volume::Grid& mean, const volume::Gr
         g.var = vacc ? static_cast<double>(vacc->value(c)) : 0.0;
         segs.push_back(g);
       }
-      double* h = H.data() + (iu * static_cast<std::size_t>(nv) + static_cast<std::size_t>(iv)) * K;
+      const std::size_t col = iu * static_cast<std::size_t>(nv) + static_cast<std::size_t>(iv);
+      double* h = H.get() + col * K;
       // The coarse voxels' hazard with memory (transmittance::GammaHazard, the render medium's).
       transmittance::GammaHazard hazard(memory_rule(law), transmittance::Origin::source);
       const auto enter = [&](const Segment& g) {
@@ -156,30 +173,28 @@ std::vector<double> coarse_beam_log_t(const volume::Grid& mean, const volume::Gr
         }
         h[k] = hazard.hazard() + hazard.piece(segs[s].a, std::max(segs[s].a, std::min(t, segs[s].b)));
       }
+      if (weight[col] > 0.0) {
+        for (std::size_t k = 0; k < K; ++k) rlo[k] = std::min(rlo[k], h[k]);
+      }
     }
   });
-  // log of the weighted mean of exp(−H) per depth, about the smallest H (log-sum-exp).
-  std::vector<double> weight(cols);
-  double wsum = 0.0;
-  for (std::int64_t iu = 0; iu < nu; ++iu) {
-    for (std::int64_t iv = 0; iv < nv; ++iv) {
-      const double w = overlap(cu0 + iu, ua) * overlap(cv0 + iv, va);
-      weight[static_cast<std::size_t>(iu * nv + iv)] = w;
-      wsum += w;
-    }
+  // log of the weighted mean of exp(−H) per depth, about the smallest H (log-sum-exp). The minimum
+  // is exact in any grouping; each depth's sum is taken in column order (the bits of a depth-by-
+  // depth loop), column by column: H is read in its own order, not one cache line per column and
+  // depth, which on the finest factor's tens of thousands of columns cost more than the exponentials.
+  std::vector<double> lo(K, std::numeric_limits<double>::infinity());
+  for (std::size_t iu = 0; iu < static_cast<std::size_t>(nu); ++iu) {
+    const double* rlo = row_lo.get() + iu * K;
+    for (std::size_t k = 0; k < K; ++k) lo[k] = std::min(lo[k], rlo[k]);
+  }
+  std::vector<double> s(K, 0.0);
+  for (std::size_t c = 0; c < cols; ++c) {
+    if (!(weight[c] > 0.0)) continue;
+    const double* h = H.get() + c * K;
+    for (std::size_t k = 0; k < K; ++k) s[k] += weight[c] * std::exp(lo[k] - h[k]);
   }
   std::vector<double> log_t(K);
-  for (std::size_t k = 0; k < K; ++k) {
-    double lo = std::numeric_limits<double>::infinity();
-    for (std::size_t c = 0; c < cols; ++c) {
-      if (weight[c] > 0.0) lo = std::min(lo, H[c * K + k]);
-    }
-    double s = 0.0;
-    for (std::size_t c = 0; c < cols; ++c) {
-      if (weight[c] > 0.0) s += weight[c] * std::exp(lo - H[c * K + k]);
-    }
-    log_t[k] = -lo + std::log(s / wsum);
-  }
+  for (std::size_t k = 0; k < K; ++k) log_t[k] = -lo[k] + std::log(s[k] / wsum);
   return log_t;
 }
 

@@ -19,6 +19,7 @@
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
 #include <vtkStreamingDemandDrivenPipeline.h>
 #include <vtkTypeInt32Array.h>
 #include <vtkTypeInt64Array.h>
@@ -255,14 +256,16 @@ void write_vtp(const PolylineSet& lines, const fs::path& path) {
   });
 }
 
-void write_vtp(const PointSet& points, const fs::path& path) {
+namespace {
+
+// The particles as VTK poly data: one vertex cell per point, so ParaView draws them without a
+// glyph filter. `path` names the file in errors.
+vtkSmartPointer<vtkPolyData> point_poly(const PointSet& points, const fs::path& path) {
   detail::quiet_vtk_messages();
   std::set<std::string> names;
   check_arrays(points.point_scalars, points.points.size(), "point", names, path);
-
-  vtkNew<vtkPolyData> poly;
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
   poly->SetPoints(make_points(points.points));
-  // One vertex cell per point, so ParaView draws them without a glyph filter.
   vtkNew<vtkCellArray> verts;
   verts->AllocateExact(static_cast<vtkIdType>(points.points.size()), static_cast<vtkIdType>(points.points.size()));
   for (std::size_t i = 0; i < points.points.size(); ++i) {
@@ -271,12 +274,32 @@ void write_vtp(const PointSet& points, const fs::path& path) {
   }
   poly->SetVerts(verts);
   add_doubles(*poly->GetPointData(), points.point_scalars);
+  return poly;
+}
 
+}  // namespace
+
+void write_vtp(const PointSet& points, const fs::path& path) {
+  const vtkSmartPointer<vtkPolyData> poly = point_poly(points, path);
   write_atomically(path, [&](const fs::path& tmp) {
     vtkNew<vtkXMLPolyDataWriter> writer;
     writer->SetInputData(poly);
     write_with(*writer, tmp, path);
   });
+}
+
+std::string vtp_bytes(const PointSet& points, const fs::path& path) {
+  const vtkSmartPointer<vtkPolyData> poly = point_poly(points, path);
+  vtkNew<vtkXMLPolyDataWriter> writer;
+  writer->SetInputData(poly);
+  configure(*writer);
+  writer->WriteToOutputStringOn();
+  (void)detail::take_vtk_message();
+  if (writer->Write() != 1 || writer->GetErrorCode() != 0) {
+    const std::string detail = detail::take_vtk_message();
+    fail("{}: cannot write VTK file{}{}", path.string(), detail.empty() ? "" : ": ", detail);
+  }
+  return writer->GetOutputString();
 }
 
 void write_vti(const volume::Grid& grid, const fs::path& path, std::uint64_t max_voxels, std::uint64_t piece_voxels) {

@@ -34,6 +34,10 @@ struct PointSet {
 
 void write_vtp(const PolylineSet& lines, const std::filesystem::path& path);
 void write_vtp(const PointSet& points, const std::filesystem::path& path);
+/// The bytes write_vtp would write to `path` (which names the file in errors), made in memory:
+/// for a caller that makes them beside other work and writes them once that work succeeded
+/// (`weft sim2d`'s particles, compressed while the realizations run).
+[[nodiscard]] std::string vtp_bytes(const PointSet& points, const std::filesystem::path& path);
 
 /// The grid's active bounding box as dense image data (cell values = voxel values), named
 /// after the grid. Throws weft::Error when the box would exceed `max_voxels`. Written in pieces

@@ -13,8 +13,11 @@
 #include <vtkXMLImageDataReader.h>
 #include <vtkXMLPolyDataReader.h>
 
+#include <cmath>
 #include <fstream>
 #include <iterator>
+#include <string>
+#include <vector>
 
 #include "image_probe.h"
 #include "weft/core/error.h"
@@ -100,6 +103,26 @@ TEST(VtkFiles, PointsRoundTripAsVertices) {
   EXPECT_DOUBLE_EQ(p[2], 4.0);
   ASSERT_NE(poly->GetPointData()->GetArray("radius"), nullptr);
   EXPECT_DOUBLE_EQ(poly->GetPointData()->GetArray("radius")->GetTuple1(1), 0.2);
+  test::cleanup(dir);
+}
+
+// vtp_bytes (sim2d makes its particles' file in memory beside the units) is the file write_vtp
+// writes, byte for byte, and refuses what write_vtp refuses.
+TEST(VtkFiles, PointBytesAreTheWrittenFile) {
+  const auto dir = test::scratch_dir("vtp_bytes");
+  const auto file = dir / "particles.vtp";
+  PointSet pts;
+  for (int i = 0; i < 5000; ++i) pts.points.push_back({0.001 * i, std::sin(0.01 * i), 0.0});
+  pts.point_scalars["radius"] = std::vector<double>(pts.points.size(), 0.25);
+  pts.point_scalars["cluster"] = std::vector<double>(pts.points.size(), 3.0);
+  write_vtp(pts, file);
+  std::ifstream in(file, std::ios::binary);
+  const std::string written((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string bytes = vtp_bytes(pts, file);
+  EXPECT_GT(bytes.size(), 1000U);
+  EXPECT_TRUE(bytes == written) << "vtp_bytes " << bytes.size() << " bytes, write_vtp " << written.size();
+  pts.point_scalars["r"] = {};
+  EXPECT_THROW((void)vtp_bytes(pts, file), weft::Error);
   test::cleanup(dir);
 }
 
