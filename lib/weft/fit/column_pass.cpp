@@ -35,69 +35,37 @@ struct ShardBlocks {
   }
 };
 
-/// The columns of one face patch as their non-zero voxels: depth index k (from the box's lower
-/// face) and value, in increasing k, column c = iu·nv + iv at [start[c], start[c + 1]).
-struct PatchColumns {
-  std::int64_t u0 = 0, v0 = 0;
-  int nu = 0, nv = 0, depth = 0;
-  std::array<std::uint32_t, 65> start{};
-  std::vector<int> k;
-  std::vector<float> value;
-};
-
-void gather(const volume::ColumnReader& reader, std::size_t unit, volume::SparseColumnTile& sparse,
-            volume::ColumnTile& dense, PatchColumns& out) {
-  std::array<std::uint32_t, 64> count{};
-  if (reader.read_sparse(unit, sparse)) {
-    out.u0 = sparse.u0;
-    out.v0 = sparse.v0;
-    out.nu = sparse.nu;
-    out.nv = sparse.nv;
-    out.depth = sparse.depth;
-    for (const auto& sl : sparse.slices) {
-      for (std::uint32_t i = sl.begin; i < sl.end; ++i) count[sparse.column[i]] += sparse.value[i] != 0.0f ? 1U : 0U;
-    }
-    out.start[0] = 0;
-    for (std::size_t c = 0; c < 64; ++c) out.start[c + 1] = out.start[c] + count[c];
-    out.k.resize(out.start[64]);
-    out.value.resize(out.start[64]);
-    std::array<std::uint32_t, 64> next{};
-    std::copy(out.start.begin(), out.start.begin() + 64, next.begin());
-    // Slices come in increasing depth and hold a column at most once: each column's voxels come
-    // out in increasing k.
-    for (const auto& sl : sparse.slices) {
-      for (std::uint32_t i = sl.begin; i < sl.end; ++i) {
-        if (sparse.value[i] == 0.0f) continue;
-        const std::uint32_t at = next[sparse.column[i]]++;
-        out.k[at] = sl.k;
-        out.value[at] = sparse.value[i];
-      }
-    }
-    return;
-  }
-  // A patch under an active tile: its dense columns, non-zero voxels kept.
+/// The columns of one face patch as their active voxels (volume::SparseColumns): read straight
+/// from the leaves, or, for a patch under an active tile, from its dense columns. A voxel of
+/// value 0 adds exactly 0 to every sum and is skipped by the passes below.
+void gather(const volume::ColumnReader& reader, std::size_t unit, volume::ColumnTile& dense,
+            volume::SparseColumns& out) {
+  if (reader.read_columns(unit, out)) return;
   reader.read(unit, dense);
   out.u0 = dense.u0;
   out.v0 = dense.v0;
   out.nu = dense.nu;
   out.nv = dense.nv;
+  out.depth0 = dense.depth0;
   out.depth = dense.depth;
-  out.k.clear();
-  out.value.clear();
-  out.start[0] = 0;
+  out.count.fill(0U);
+  const auto depth = static_cast<std::size_t>(out.depth);
+  if (out.k.size() < 64 * depth) {
+    out.k.resize(64 * depth);
+    out.value.resize(64 * depth);
+  }
   std::size_t c = 0;
   for (int iu = 0; iu < dense.nu; ++iu) {
     for (int iv = 0; iv < dense.nv; ++iv, ++c) {
       const float* col = dense.column(iu, iv);
       for (int k = 0; k < dense.depth; ++k) {
         if (col[k] == 0.0f) continue;
-        out.k.push_back(k);
-        out.value.push_back(col[k]);
+        const std::size_t at = c * depth + out.count[c]++;
+        out.k[at] = k;
+        out.value[at] = col[k];
       }
-      out.start[c + 1] = static_cast<std::uint32_t>(out.k.size());
     }
   }
-  for (; c < 64; ++c) out.start[c + 1] = out.start[c];
 }
 
 /// Two lanes of doubles (GCC and Clang vector extension): the four-lane sums below as two such
@@ -205,7 +173,9 @@ void add_windows(const int* k, const float* value, std::size_t count, int n, int
     for (std::size_t i = 0; i < count; ++i) run[i + 1] = run[i] + static_cast<double>(value[i]);
     // The voxels' positions as bits, padded so that bits_at reads whole words past the span.
     std::vector<std::uint64_t>& voxel = scratch.voxel;
-    voxel.assign((windows + wu + 63) / 64 + 2, 0U);
+    const std::size_t words = (windows + wu + 63) / 64 + 2;
+    if (voxel.size() < words) voxel.resize(words);
+    std::fill_n(voxel.begin(), words, std::uint64_t{0});
     std::size_t ahead = 0;  // voxels before position w: the count at window 0's far end
     for (std::size_t i = 0; i < count; ++i) {
       const auto x = static_cast<std::size_t>(k[i] - s_lo);
@@ -218,6 +188,18 @@ void add_windows(const int* k, const float* value, std::size_t count, int n, int
     }
     double* mean = scratch.mean.data();
     double* length = scratch.length.data();
+    double* lanes = scratch.lanes.data();
+    // A piece into the arrays and the histogram (without a branch: a piece of mean 0, a gap inside
+    // the span, goes to kZeroBin).
+    const auto emit = [&](double x, double len) {
+      mean[pieces] = x;
+      length[pieces] = len;
+      const std::size_t b = x > 0.0 ? static_cast<std::size_t>(bin_of_positive(x)) : kZeroBin;
+      const std::size_t at = (b * kLanes + (pieces & (kLanes - 1))) * 2;
+      lanes[at] += len;
+      lanes[at + 1] += len * x;
+      ++pieces;
+    };
     std::size_t behind = 0;  // voxels before the piece's first window
     std::size_t start = 0;
     double m = (run[ahead] - run[behind]) / w;
@@ -232,18 +214,14 @@ void add_windows(const int* k, const float* value, std::size_t count, int n, int
       for (; starts != 0; starts &= starts - 1) {
         const auto t = static_cast<unsigned>(__builtin_ctzll(starts));
         const std::size_t i = word * 64 + t;
-        mean[pieces] = m;
-        length[pieces] = static_cast<double>(i - start);
-        ++pieces;
+        emit(m, static_cast<double>(i - start));
         behind += (leave >> t) & 1U;
         ahead += (enter >> t) & 1U;
         m = (run[ahead] - run[behind]) / w;
         start = i;
       }
     }
-    mean[pieces] = m;
-    length[pieces] = static_cast<double>(windows - start);
-    ++pieces;
+    emit(m, static_cast<double>(windows - start));
   }
   const double* mean = scratch.mean.data();
   const double* length = scratch.length.data();
@@ -255,15 +233,6 @@ void add_windows(const int* k, const float* value, std::size_t count, int n, int
   part.all.n += empty;
   g.windows.n += empty;
   part.zeros += empty;
-  // The histogram without a branch: a piece of mean 0 (a gap inside the span) goes to kZeroBin.
-  double* lanes = scratch.lanes.data();
-  for (std::size_t i = 0; i < pieces; ++i) {
-    const double x = mean[i];
-    const std::size_t b = x > 0.0 ? static_cast<std::size_t>(bin_of_positive(x)) : kZeroBin;
-    const std::size_t at = (b * kLanes + (i & (kLanes - 1))) * 2;
-    lanes[at] += length[i];
-    lanes[at + 1] += length[i] * x;
-  }
   // The column's moments about its own mean, merged pairwise into the shard's (moments.h); four
   // partial sums of the squared deviations, and the empty windows' (0 − mean)² at once.
   Moments column;
@@ -352,9 +321,8 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
   std::vector<ShardBlocks> blocks(shards);
   ProgressTask task(progress, fmt::format("statistics {}", "xyz"[axis]), units);
   parallel_units(shards, [&](std::size_t shard) {
-    volume::SparseColumnTile sparse;
     volume::ColumnTile dense;
-    PatchColumns cols;
+    volume::SparseColumns cols;
     WindowScratch scratch;
     auto& part = parts[shard];
     scratch.lanes.assign((kZeroBin + 1) * kLanes * 2, 0.0);
@@ -363,13 +331,13 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
     Group* group = nullptr;
     GroupKey group_key{};
     for (std::size_t unit = shard * units / shards; unit < (shard + 1) * units / shards; ++unit) {
-      gather(reader, unit, sparse, dense, cols);
+      gather(reader, unit, dense, cols);
       for (int iu = 0; iu < cols.nu; ++iu) {
         for (int iv = 0; iv < cols.nv; ++iv) {
           const auto c = static_cast<std::size_t>(iu * cols.nv + iv);
-          const int* k = cols.k.data() + cols.start[c];
-          const float* value = cols.value.data() + cols.start[c];
-          const std::size_t count = cols.start[c + 1] - cols.start[c];
+          const int* k = cols.k.data() + c * static_cast<std::size_t>(cols.depth);
+          const float* value = cols.value.data() + c * static_cast<std::size_t>(cols.depth);
+          const std::size_t count = cols.count[c];
           // Groups and coarse columns anchored at the active box's lower corner.
           const std::int64_t gu = (cols.u0 + iu - box.min[au]) / w;
           const std::int64_t gv = (cols.v0 + iv - box.min[av]) / w;
