@@ -28,6 +28,20 @@ struct ColumnReader::Impl {
   };
   std::vector<ActiveTile> tiles;             // active tiles above leaf level (rare)
   std::vector<std::uint8_t> patch_has_tile;  // per patch: overlapped by one of `tiles`
+
+  /// Where patch `tile` lies: its columns clipped to the active box, the box's whole depth.
+  [[nodiscard]] PatchFrame frame(std::size_t tile) const {
+    const auto tu = static_cast<std::int64_t>(tile) / tiles_v;
+    const auto tv = static_cast<std::int64_t>(tile) % tiles_v;
+    PatchFrame f;
+    f.u0 = std::max<std::int64_t>(base_u + tu * kPatch, box.min[ua]);
+    f.v0 = std::max<std::int64_t>(base_v + tv * kPatch, box.min[va]);
+    f.nu = static_cast<int>(std::min<std::int64_t>(base_u + (tu + 1) * kPatch - 1, box.max[ua]) - f.u0 + 1);
+    f.nv = static_cast<int>(std::min<std::int64_t>(base_v + (tv + 1) * kPatch - 1, box.max[va]) - f.v0 + 1);
+    f.depth0 = box.min[axis];
+    f.depth = static_cast<int>(box.max[axis] - box.min[axis] + 1);
+    return f;
+  }
 };
 
 namespace {}  // namespace
@@ -151,15 +165,8 @@ bool ColumnReader::read_sparse(std::size_t tile, SparseColumnTile& out) const {
   const auto& m = *impl_;
   if (tile >= tile_count()) fail("column reader: patch {} out of range ({} patches)", tile, tile_count());
   if (m.patch_has_tile[tile] != 0) return false;
-  const auto tu = static_cast<std::int64_t>(tile) / m.tiles_v;
-  const auto tv = static_cast<std::int64_t>(tile) % m.tiles_v;
   out.axis = m.axis;
-  out.u0 = std::max<std::int64_t>(m.base_u + tu * kPatch, m.box.min[m.ua]);
-  out.v0 = std::max<std::int64_t>(m.base_v + tv * kPatch, m.box.min[m.va]);
-  out.nu = static_cast<int>(std::min<std::int64_t>(m.base_u + (tu + 1) * kPatch - 1, m.box.max[m.ua]) - out.u0 + 1);
-  out.nv = static_cast<int>(std::min<std::int64_t>(m.base_v + (tv + 1) * kPatch - 1, m.box.max[m.va]) - out.v0 + 1);
-  out.depth0 = m.box.min[m.axis];
-  out.depth = static_cast<int>(m.box.max[m.axis] - m.box.min[m.axis] + 1);
+  static_cast<PatchFrame&>(out) = m.frame(tile);
   out.slices.clear();
   std::uint32_t used = 0;  // entries written; the vectors only grow (no clearing, no per-entry checks)
   // A leaf lies in one patch and spans 8 depth slices (leaf-local coordinate `sl` along the
@@ -217,14 +224,7 @@ bool ColumnReader::read_columns(std::size_t tile, SparseColumns& out) const {
   const auto& m = *impl_;
   if (tile >= tile_count()) fail("column reader: patch {} out of range ({} patches)", tile, tile_count());
   if (m.patch_has_tile[tile] != 0) return false;
-  const auto tu = static_cast<std::int64_t>(tile) / m.tiles_v;
-  const auto tv = static_cast<std::int64_t>(tile) % m.tiles_v;
-  out.u0 = std::max<std::int64_t>(m.base_u + tu * kPatch, m.box.min[m.ua]);
-  out.v0 = std::max<std::int64_t>(m.base_v + tv * kPatch, m.box.min[m.va]);
-  out.nu = static_cast<int>(std::min<std::int64_t>(m.base_u + (tu + 1) * kPatch - 1, m.box.max[m.ua]) - out.u0 + 1);
-  out.nv = static_cast<int>(std::min<std::int64_t>(m.base_v + (tv + 1) * kPatch - 1, m.box.max[m.va]) - out.v0 + 1);
-  out.depth0 = m.box.min[m.axis];
-  out.depth = static_cast<int>(m.box.max[m.axis] - m.box.min[m.axis] + 1);
+  static_cast<PatchFrame&>(out) = m.frame(tile);
   out.count.fill(0U);
   const auto depth = static_cast<std::size_t>(out.depth);
   if (out.k.size() < kPatch * kPatch * depth) {
