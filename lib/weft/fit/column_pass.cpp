@@ -35,69 +35,37 @@ struct ShardBlocks {
   }
 };
 
-/// The columns of one face patch as their non-zero voxels: depth index k (from the box's lower
-/// face) and value, in increasing k, column c = iu·nv + iv at [start[c], start[c + 1]).
-struct PatchColumns {
-  std::int64_t u0 = 0, v0 = 0;
-  int nu = 0, nv = 0, depth = 0;
-  std::array<std::uint32_t, 65> start{};
-  std::vector<int> k;
-  std::vector<float> value;
-};
-
-void gather(const volume::ColumnReader& reader, std::size_t unit, volume::SparseColumnTile& sparse,
-            volume::ColumnTile& dense, PatchColumns& out) {
-  std::array<std::uint32_t, 64> count{};
-  if (reader.read_sparse(unit, sparse)) {
-    out.u0 = sparse.u0;
-    out.v0 = sparse.v0;
-    out.nu = sparse.nu;
-    out.nv = sparse.nv;
-    out.depth = sparse.depth;
-    for (const auto& sl : sparse.slices) {
-      for (std::uint32_t i = sl.begin; i < sl.end; ++i) count[sparse.column[i]] += sparse.value[i] != 0.0f ? 1U : 0U;
-    }
-    out.start[0] = 0;
-    for (std::size_t c = 0; c < 64; ++c) out.start[c + 1] = out.start[c] + count[c];
-    out.k.resize(out.start[64]);
-    out.value.resize(out.start[64]);
-    std::array<std::uint32_t, 64> next{};
-    std::copy(out.start.begin(), out.start.begin() + 64, next.begin());
-    // Slices come in increasing depth and hold a column at most once: each column's voxels come
-    // out in increasing k.
-    for (const auto& sl : sparse.slices) {
-      for (std::uint32_t i = sl.begin; i < sl.end; ++i) {
-        if (sparse.value[i] == 0.0f) continue;
-        const std::uint32_t at = next[sparse.column[i]]++;
-        out.k[at] = sl.k;
-        out.value[at] = sparse.value[i];
-      }
-    }
-    return;
-  }
-  // A patch under an active tile: its dense columns, non-zero voxels kept.
+/// The columns of one face patch as their active voxels (volume::SparseColumns): read straight
+/// from the leaves, or, for a patch under an active tile, from its dense columns. A voxel of
+/// value 0 adds exactly 0 to every sum and is skipped by the passes below.
+void gather(const volume::ColumnReader& reader, std::size_t unit, volume::ColumnTile& dense,
+            volume::SparseColumns& out) {
+  if (reader.read_columns(unit, out)) return;
   reader.read(unit, dense);
   out.u0 = dense.u0;
   out.v0 = dense.v0;
   out.nu = dense.nu;
   out.nv = dense.nv;
+  out.depth0 = dense.depth0;
   out.depth = dense.depth;
-  out.k.clear();
-  out.value.clear();
-  out.start[0] = 0;
+  out.count.fill(0U);
+  const auto depth = static_cast<std::size_t>(out.depth);
+  if (out.k.size() < 64 * depth) {
+    out.k.resize(64 * depth);
+    out.value.resize(64 * depth);
+  }
   std::size_t c = 0;
   for (int iu = 0; iu < dense.nu; ++iu) {
     for (int iv = 0; iv < dense.nv; ++iv, ++c) {
       const float* col = dense.column(iu, iv);
       for (int k = 0; k < dense.depth; ++k) {
         if (col[k] == 0.0f) continue;
-        out.k.push_back(k);
-        out.value.push_back(col[k]);
+        const std::size_t at = c * depth + out.count[c]++;
+        out.k[at] = k;
+        out.value[at] = col[k];
       }
-      out.start[c + 1] = static_cast<std::uint32_t>(out.k.size());
     }
   }
-  for (; c < 64; ++c) out.start[c + 1] = out.start[c];
 }
 
 /// Two lanes of doubles (GCC and Clang vector extension): the four-lane sums below as two such
@@ -110,112 +78,182 @@ Lanes2 load2(const double* x) {
   return v;
 }
 
-/// Σx and Σx² of xs in four lanes (lane j holds the elements i ≡ j mod 4 of the full groups of
-/// four; the rest goes to lane 0): a sum in one running order would wait on the adder at every
-/// window.
-Sums lane_sums(const std::vector<double>& xs) {
+/// Σ len·x, Σ len·x² over `count` pieces (a window mean x held by len windows) in four lanes
+/// (lane j holds the pieces i ≡ j mod 4 of the full groups of four; the rest goes to lane 0): a
+/// sum in one running order would wait on the adder at every piece.
+std::pair<double, double> lane_sums(const double* x, const double* len, std::size_t count) {
   Lanes2 s01{0.0, 0.0}, s23{0.0, 0.0}, q01{0.0, 0.0}, q23{0.0, 0.0};
   std::size_t i = 0;
-  for (; i + 4 <= xs.size(); i += 4) {
-    const Lanes2 a = load2(&xs[i]);
-    const Lanes2 b = load2(&xs[i + 2]);
-    s01 += a;
-    s23 += b;
-    q01 += a * a;
-    q23 += b * b;
+  for (; i + 4 <= count; i += 4) {
+    const Lanes2 a = load2(&x[i]);
+    const Lanes2 b = load2(&x[i + 2]);
+    const Lanes2 la = load2(&len[i]) * a;
+    const Lanes2 lb = load2(&len[i + 2]) * b;
+    s01 += la;
+    s23 += lb;
+    q01 += la * a;
+    q23 += lb * b;
   }
-  for (; i < xs.size(); ++i) {
-    s01[0] += xs[i];
-    q01[0] += xs[i] * xs[i];
+  for (; i < count; ++i) {
+    const double l = len[i] * x[i];
+    s01[0] += l;
+    q01[0] += l * x[i];
   }
-  return Sums{static_cast<double>(xs.size()), (s01[0] + s01[1]) + (s23[0] + s23[1]),
-              (q01[0] + q01[1]) + (q23[0] + q23[1])};
+  return {(s01[0] + s01[1]) + (s23[0] + s23[1]), (q01[0] + q01[1]) + (q23[0] + q23[1])};
 }
 
-/// Σ(x − c)² over xs in the lanes of lane_sums.
-double lane_squared_deviations(const std::vector<double>& xs, double c) {
+/// Σ len·(x − c)² over the pieces in the lanes of lane_sums.
+double lane_squared_deviations(const double* x, const double* len, std::size_t count, double c) {
   const Lanes2 cc{c, c};
   Lanes2 q01{0.0, 0.0}, q23{0.0, 0.0};
   std::size_t i = 0;
-  for (; i + 4 <= xs.size(); i += 4) {
-    const Lanes2 a = load2(&xs[i]) - cc;
-    const Lanes2 b = load2(&xs[i + 2]) - cc;
-    q01 += a * a;
-    q23 += b * b;
+  for (; i + 4 <= count; i += 4) {
+    const Lanes2 a = load2(&x[i]) - cc;
+    const Lanes2 b = load2(&x[i + 2]) - cc;
+    q01 += load2(&len[i]) * a * a;
+    q23 += load2(&len[i + 2]) * b * b;
   }
-  for (; i < xs.size(); ++i) {
-    const double dev = xs[i] - c;
-    q01[0] += dev * dev;
+  for (; i < count; ++i) {
+    const double dev = x[i] - c;
+    q01[0] += len[i] * dev * dev;
   }
   return (q01[0] + q01[1]) + (q23[0] + q23[1]);
 }
 
+/// The histogram of a shard while its columns are read: kLanes copies of every bin, piece i
+/// of a column going to copy i mod kLanes, plus one bin for the windows of mean 0 inside a
+/// column's span. Neighbouring pieces often share a bin: in one copy each update would wait for
+/// the previous one's store. Folded into the shard's (count, sum) per bin when the shard ends:
+/// the counts are exact, the sums added in a fixed order.
+inline constexpr std::size_t kLanes = 2;
+inline constexpr std::size_t kZeroBin = kBins;
+
 /// Per-thread buffers of add_windows, reused from column to column.
 struct WindowScratch {
   std::vector<double> run;
-  std::vector<std::uint32_t> rank;
-  std::vector<double> means;
+  std::vector<std::uint64_t> voxel;  ///< bit x: a voxel at position s_lo + x of the column
+  std::vector<double> mean;          ///< per piece: the mean of its windows
+  std::vector<double> length;        ///< per piece: its windows
+  std::vector<double> lanes;         ///< [(bin·kLanes + lane)·2]: count, sum; bins 0 … kZeroBin
 };
+
+/// Bits [x, x + 64) of a bit string as one word (the string padded with a zero word).
+std::uint64_t bits_at(const std::uint64_t* words, std::size_t x) {
+  const std::size_t q = x >> 6U;
+  const std::size_t b = x & 63U;
+  return b == 0 ? words[q] : (words[q] >> b) | (words[q + 1] << (64U - b));
+}
 
 /// Every window of w voxels of one column (positions 0 … n − w). Windows that cannot hold a
 /// voxel — before the first voxel's reach or after the last voxel — have mean exactly 0 and are
-/// counted, not visited. Between them a window's sum is a difference of the running sum over
-/// the column's voxels in order, read at each end's rank (how many voxels lie before it): that
-/// is the dense pass's prefix sum there (a zero voxel adds exactly 0), so every window mean has
-/// the same bits as a dense pass's, with no branch per window on where the next voxel is. The
-/// column's sums over windows are taken in four lanes and added to the shard's and the group's
-/// once per column (docs/benchmarks.md "Validate: predictions against the truth").
+/// counted, not visited. Between them a window's sum changes only where a voxel enters it or
+/// leaves it, so the span's windows fall into pieces of equal means, and each piece is visited
+/// once with its number of windows (on a knit 43 % of the windows start a piece). A window's sum
+/// is the difference of the running sum over the column's voxels in order, read at the number of
+/// voxels before each end — the dense pass's prefix sums there (a zero voxel adds exactly 0) — so
+/// every window mean has the same bits as a dense pass's; those counts change only at a piece's
+/// start, by the voxel leaving and the voxel entering there. The column's sums over windows are
+/// Σ len·m and Σ len·m² over pieces, in four lanes, added to the shard's and the group's once per
+/// column (docs/benchmarks.md "Validate: cheaper predictions, continued").
 void add_windows(const int* k, const float* value, std::size_t count, int n, int w, WindowSummary& part, Group& g,
                  WindowScratch& scratch) {
   const int positions = n - w + 1;
   if (positions <= 0) return;
-  std::vector<double>& means = scratch.means;
-  if (count == 0) means.clear();  // (resized below without clearing: no zero fill per column)
+  std::size_t pieces = 0;
+  std::size_t windows = 0;  // in the span
   if (count > 0) {
     const int s_lo = std::max(0, k[0] - w + 1);
     const int s_hi = std::min(positions - 1, k[count - 1]);
-    const auto span = static_cast<std::size_t>(s_hi - s_lo + w);  // voxels s_lo … s_hi + w − 1
-    // run[i]: Σ of the first i voxels; rank[x]: how many voxels lie before position s_lo + x.
-    // run[rank[x]] is the dense prefix sum at x, without a branch or a chain of additions per
-    // position.
+    windows = static_cast<std::size_t>(s_hi - s_lo + 1);
+    const auto wu = static_cast<std::size_t>(w);
+    // run[i]: Σ of the first i voxels.
     std::vector<double>& run = scratch.run;
     run.resize(count + 1);
     run[0] = 0.0;
     for (std::size_t i = 0; i < count; ++i) run[i + 1] = run[i] + static_cast<double>(value[i]);
-    std::vector<std::uint32_t>& rank = scratch.rank;
-    rank.assign(span + 1, 0U);
-    for (std::size_t i = 0; i < count; ++i) rank[static_cast<std::size_t>(k[i] - s_lo) + 1] = 1U;
-    for (std::size_t x = 1; x <= span; ++x) rank[x] += rank[x - 1];
-    means.resize(static_cast<std::size_t>(s_hi - s_lo + 1));
-    const auto wu = static_cast<std::size_t>(w);
-    for (std::size_t i = 0; i < means.size(); ++i) means[i] = (run[rank[i + wu]] - run[rank[i]]) / w;
+    // The voxels' positions as bits, padded so that bits_at reads whole words past the span.
+    std::vector<std::uint64_t>& voxel = scratch.voxel;
+    const std::size_t words = (windows + wu + 63) / 64 + 2;
+    if (voxel.size() < words) voxel.resize(words);
+    std::fill_n(voxel.begin(), words, std::uint64_t{0});
+    std::size_t ahead = 0;  // voxels before position w: the count at window 0's far end
+    for (std::size_t i = 0; i < count; ++i) {
+      const auto x = static_cast<std::size_t>(k[i] - s_lo);
+      voxel[x >> 6U] |= std::uint64_t{1} << (x & 63U);
+      ahead += x < wu ? 1U : 0U;
+    }
+    if (scratch.mean.size() < windows) {
+      scratch.mean.resize(windows);
+      scratch.length.resize(windows);
+    }
+    double* mean = scratch.mean.data();
+    double* length = scratch.length.data();
+    double* lanes = scratch.lanes.data();
+    // A piece into the arrays and the histogram (without a branch: a piece of mean 0, a gap inside
+    // the span, goes to kZeroBin).
+    const auto emit = [&](double x, double len) {
+      mean[pieces] = x;
+      length[pieces] = len;
+      const std::size_t b = x > 0.0 ? static_cast<std::size_t>(bin_of_positive(x)) : kZeroBin;
+      const std::size_t at = (b * kLanes + (pieces & (kLanes - 1))) * 2;
+      lanes[at] += len;
+      lanes[at + 1] += len * x;
+      ++pieces;
+    };
+    std::size_t behind = 0;  // voxels before the piece's first window
+    std::size_t start = 0;
+    double m = (run[ahead] - run[behind]) / w;
+    const std::uint64_t* bits = voxel.data();
+    for (std::size_t word = 0; word * 64 < windows; ++word) {
+      // Window i = 64·word + t starts a piece when voxel i + w − 1 enters or voxel i − 1 leaves.
+      const std::uint64_t enter = bits_at(bits, word * 64 + wu - 1);
+      const std::uint64_t leave = word == 0 ? bits[0] << 1U : bits_at(bits, word * 64 - 1);
+      std::uint64_t starts = enter | leave;
+      if (word == 0) starts &= ~std::uint64_t{1};  // window 0's piece is open already
+      if (windows - word * 64 < 64) starts &= (std::uint64_t{1} << (windows - word * 64)) - 1;
+      for (; starts != 0; starts &= starts - 1) {
+        const auto t = static_cast<unsigned>(__builtin_ctzll(starts));
+        const std::size_t i = word * 64 + t;
+        emit(m, static_cast<double>(i - start));
+        behind += (leave >> t) & 1U;
+        ahead += (enter >> t) & 1U;
+        m = (run[ahead] - run[behind]) / w;
+        start = i;
+      }
+    }
+    emit(m, static_cast<double>(windows - start));
   }
-  const double empty = positions - static_cast<double>(means.size());  // windows without a voxel
-  const Sums column_sums = lane_sums(means);
+  const double* mean = scratch.mean.data();
+  const double* length = scratch.length.data();
+  const double empty = positions - static_cast<double>(windows);  // windows without a voxel
+  const auto [sum, sum2] = lane_sums(mean, length, pieces);
+  const Sums column_sums{static_cast<double>(windows), sum, sum2};
   part.all.merge(column_sums);
   g.windows.merge(column_sums);
   part.all.n += empty;
   g.windows.n += empty;
-  // The histogram as (count, sum) pairs, one cache line for both; windows of mean 0 inside the
-  // span (gaps between yarns come in runs, so the branch is predictable) are counted.
-  double* hist = part.histogram.data();
-  std::size_t positive = 0;
-  for (const double m : means) {
-    if (m > 0.0) {
-      const auto b = 2 * static_cast<std::size_t>(bin_of_positive(m));
-      hist[b] += 1.0;
-      hist[b + 1] += m;
-      ++positive;
-    }
-  }
-  part.zeros += empty + static_cast<double>(means.size() - positive);
+  part.zeros += empty;
   // The column's moments about its own mean, merged pairwise into the shard's (moments.h); four
   // partial sums of the squared deviations, and the empty windows' (0 − mean)² at once.
   Moments column;
   column.n = static_cast<std::uint64_t>(positions);
   column.mean = column_sums.s / positions;
-  column.m2 = lane_squared_deviations(means, column.mean) + empty * column.mean * column.mean;
+  column.m2 = lane_squared_deviations(mean, length, pieces, column.mean) + empty * column.mean * column.mean;
   part.moments.merge(column);
+}
+
+/// The shard's lanes into its histogram (count and sum per bin, the lanes added in a fixed
+/// order) and its windows of mean 0 inside spans into `zeros`.
+void fold_lanes(const std::vector<double>& lanes, WindowSummary& part) {
+  static_assert(kLanes == 2, "the fold below adds two lanes");
+  part.histogram.assign(2 * static_cast<std::size_t>(kBins), 0.0);
+  for (std::size_t b = 0; b < static_cast<std::size_t>(kBins); ++b) {
+    const double* l = &lanes[b * kLanes * 2];
+    part.histogram[2 * b] = l[0] + l[2];
+    part.histogram[2 * b + 1] = l[1] + l[3];
+  }
+  const double* z = &lanes[kZeroBin * kLanes * 2];
+  part.zeros += z[0] + z[2];
 }
 
 /// The column's block means (blocks of B from the entry face) into its coarse column: s, s2 and
@@ -283,24 +321,23 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
   std::vector<ShardBlocks> blocks(shards);
   ProgressTask task(progress, fmt::format("statistics {}", "xyz"[axis]), units);
   parallel_units(shards, [&](std::size_t shard) {
-    volume::SparseColumnTile sparse;
     volume::ColumnTile dense;
-    PatchColumns cols;
+    volume::SparseColumns cols;
     WindowScratch scratch;
     auto& part = parts[shard];
-    part.histogram.assign(2 * static_cast<std::size_t>(kBins), 0.0);
+    scratch.lanes.assign((kZeroBin + 1) * kLanes * 2, 0.0);
     auto& sb = blocks[shard];
     sb.slot.assign(coarse, -1);
     Group* group = nullptr;
     GroupKey group_key{};
     for (std::size_t unit = shard * units / shards; unit < (shard + 1) * units / shards; ++unit) {
-      gather(reader, unit, sparse, dense, cols);
+      gather(reader, unit, dense, cols);
       for (int iu = 0; iu < cols.nu; ++iu) {
         for (int iv = 0; iv < cols.nv; ++iv) {
           const auto c = static_cast<std::size_t>(iu * cols.nv + iv);
-          const int* k = cols.k.data() + cols.start[c];
-          const float* value = cols.value.data() + cols.start[c];
-          const std::size_t count = cols.start[c + 1] - cols.start[c];
+          const int* k = cols.k.data() + c * static_cast<std::size_t>(cols.depth);
+          const float* value = cols.value.data() + c * static_cast<std::size_t>(cols.depth);
+          const std::size_t count = cols.count[c];
           // Groups and coarse columns anchored at the active box's lower corner.
           const std::int64_t gu = (cols.u0 + iu - box.min[au]) / w;
           const std::int64_t gv = (cols.v0 + iv - box.min[av]) / w;
@@ -318,6 +355,7 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
       }
       task.step();
     }
+    fold_lanes(scratch.lanes, part);
   });
   // Shard by shard in shard order: the same sums for any thread count. A shard that does not
   // touch a coarse column would add exact zeros to it.

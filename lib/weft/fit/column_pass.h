@@ -6,9 +6,10 @@
 ///
 /// Why one pass, and why sparse: a cloth fills a small part of its active box (a knit about an
 /// eighth), and most windows of a column hold no fibre. The pass reads each face patch once as
-/// its active voxels (volume::ColumnReader::read_sparse), so it costs the active voxels and the
-/// windows that hold one, not the box: a window without a voxel is counted, not visited
-/// (docs/benchmarks.md "Validate: predictions against the truth").
+/// its active voxels column by column (volume::ColumnReader::read_columns), so it costs the
+/// active voxels and the pieces of equal window means, not the box: a window without a voxel is
+/// counted, not visited (docs/benchmarks.md "Validate: predictions against the truth", "Validate:
+/// cheaper predictions, continued").
 
 #include <cstdint>
 #include <cstring>

@@ -45,21 +45,6 @@ std::vector<double> mean_over_columns(const std::vector<std::vector<double>>& lo
 
 }  // namespace
 
-double log_sum_exp_mean(const std::vector<double>& log_terms, const std::vector<double>& weights) {
-  double hi = -std::numeric_limits<double>::infinity();
-  double wsum = 0.0;
-  for (std::size_t i = 0; i < log_terms.size(); ++i) {
-    if (weights[i] > 0.0) hi = std::max(hi, log_terms[i]);
-    wsum += weights[i];
-  }
-  if (!(wsum > 0.0) || !std::isfinite(hi)) return hi;
-  double s = 0.0;
-  for (std::size_t i = 0; i < log_terms.size(); ++i) {
-    if (weights[i] > 0.0) s += weights[i] * std::exp(log_terms[i] - hi);
-  }
-  return hi + std::log(s / wsum);
-}
-
 /// log T on `depths` of the beam through block fields: per coarse column the hazard of each
 /// block integrated exactly, T the ray-weighted mean over coarse columns.
 std::vector<double> block_field_curve(int n, int B, double h, double sigma, const BlockStats& st, Memory memory,
@@ -86,11 +71,14 @@ std::vector<double> block_field_curve(int n, int B, double h, double sigma, cons
         const Sums b = st.at(cu, cv, k / B);
         hazard.enter(sigma, b.mean(), memory == Memory::none ? 0.0 : b.var(), s0);
       }
+      // The slice's hazard once: at its end (where the beam's depths lie) H after advance() is
+      // H before plus the same piece, bit for bit; a depth inside the slice looks ahead.
+      const double before = hazard.hazard();
+      hazard.advance(s0, s0 + h);
       while (d < depths.size() && depths[d] <= s0 + h) {
         const double t = std::max(depths[d], s0);
-        log_terms[d++][c] = -(hazard.hazard() + hazard.piece(s0, t));
+        log_terms[d++][c] = t == s0 + h ? -hazard.hazard() : -(before + hazard.piece(s0, t));
       }
-      hazard.advance(s0, s0 + h);
     }
   });
   return mean_over_columns(log_terms, st.rays);

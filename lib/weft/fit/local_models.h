@@ -38,9 +38,6 @@ struct Sums {
   }
 };
 
-/// log of the weighted mean of exp(log_terms) (weights ≥ 0), without overflow or underflow.
-[[nodiscard]] double log_sum_exp_mean(const std::vector<double>& log_terms, const std::vector<double>& weights);
-
 enum class Memory { none, from_entry, per_block };
 
 /// Block statistics of the beam's columns: blocks of B voxels anchored to the cloth, not to the

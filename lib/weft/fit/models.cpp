@@ -11,6 +11,7 @@
 #include "weft/core/stage_clock.h"
 #include "weft/fit/column_pass.h"
 #include "weft/fit/local_models.h"
+#include "weft/fit/node_kernels.h"
 #include "weft/fit/window_stats.h"
 #include "weft/transmittance/gamma_mixture.h"
 #include "weft/transmittance/gap_gamma.h"

@@ -1,12 +1,14 @@
 #pragma once
 /// @file
 /// @brief The per-node arithmetic of the two-scale prediction (fit/local_models.h,
-/// two_scale_curve) as loops over the quadrature nodes, vectorised where the compiler and the
+/// two_scale_curve) as loops over the quadrature nodes, and the weighted log-mean-exp every
+/// model's mean over columns or bins uses, vectorised where the compiler and the
 /// C library allow it (glibc's vector exp and log1p with GCC on x86-64; plain loops elsewhere):
 /// per coarse column and slice every node needs one log1p and one exp, and with 32 nodes these
 /// are most of the prediction's cost (docs/benchmarks.md "Validate: predictions against the truth").
 
 #include <cstddef>
+#include <vector>
 
 namespace weft::fit::detail {
 
@@ -27,5 +29,10 @@ void node_hazards(const double* p, std::size_t live, double sigma_mean, double v
 /// `live` can contribute (the others are kNegligibleHazard below the first); `scratch` holds
 /// `live` doubles.
 [[nodiscard]] double log_mean_exp_nodes(const double* at, std::size_t live, std::size_t nodes, double* scratch);
+
+/// log of the weighted mean of exp(log_terms) (weights ≥ 0), without overflow or underflow: the
+/// mean over coarse columns of every local model and the empirical model's mean over histogram
+/// bins, one exp per term at every depth (vectorised like the node loops).
+[[nodiscard]] double log_sum_exp_mean(const std::vector<double>& log_terms, const std::vector<double>& weights);
 
 }  // namespace weft::fit::detail

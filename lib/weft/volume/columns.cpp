@@ -28,6 +28,20 @@ struct ColumnReader::Impl {
   };
   std::vector<ActiveTile> tiles;             // active tiles above leaf level (rare)
   std::vector<std::uint8_t> patch_has_tile;  // per patch: overlapped by one of `tiles`
+
+  /// Where patch `tile` lies: its columns clipped to the active box, the box's whole depth.
+  [[nodiscard]] PatchFrame frame(std::size_t tile) const {
+    const auto tu = static_cast<std::int64_t>(tile) / tiles_v;
+    const auto tv = static_cast<std::int64_t>(tile) % tiles_v;
+    PatchFrame f;
+    f.u0 = std::max<std::int64_t>(base_u + tu * kPatch, box.min[ua]);
+    f.v0 = std::max<std::int64_t>(base_v + tv * kPatch, box.min[va]);
+    f.nu = static_cast<int>(std::min<std::int64_t>(base_u + (tu + 1) * kPatch - 1, box.max[ua]) - f.u0 + 1);
+    f.nv = static_cast<int>(std::min<std::int64_t>(base_v + (tv + 1) * kPatch - 1, box.max[va]) - f.v0 + 1);
+    f.depth0 = box.min[axis];
+    f.depth = static_cast<int>(box.max[axis] - box.min[axis] + 1);
+    return f;
+  }
 };
 
 namespace {}  // namespace
@@ -151,15 +165,8 @@ bool ColumnReader::read_sparse(std::size_t tile, SparseColumnTile& out) const {
   const auto& m = *impl_;
   if (tile >= tile_count()) fail("column reader: patch {} out of range ({} patches)", tile, tile_count());
   if (m.patch_has_tile[tile] != 0) return false;
-  const auto tu = static_cast<std::int64_t>(tile) / m.tiles_v;
-  const auto tv = static_cast<std::int64_t>(tile) % m.tiles_v;
   out.axis = m.axis;
-  out.u0 = std::max<std::int64_t>(m.base_u + tu * kPatch, m.box.min[m.ua]);
-  out.v0 = std::max<std::int64_t>(m.base_v + tv * kPatch, m.box.min[m.va]);
-  out.nu = static_cast<int>(std::min<std::int64_t>(m.base_u + (tu + 1) * kPatch - 1, m.box.max[m.ua]) - out.u0 + 1);
-  out.nv = static_cast<int>(std::min<std::int64_t>(m.base_v + (tv + 1) * kPatch - 1, m.box.max[m.va]) - out.v0 + 1);
-  out.depth0 = m.box.min[m.axis];
-  out.depth = static_cast<int>(m.box.max[m.axis] - m.box.min[m.axis] + 1);
+  static_cast<PatchFrame&>(out) = m.frame(tile);
   out.slices.clear();
   std::uint32_t used = 0;  // entries written; the vectors only grow (no clearing, no per-entry checks)
   // A leaf lies in one patch and spans 8 depth slices (leaf-local coordinate `sl` along the
@@ -208,6 +215,69 @@ bool ColumnReader::read_sparse(std::size_t tile, SparseColumnTile& out) const {
       }
       if (used > begin)
         out.slices.push_back({static_cast<int>(o[m.axis] + static_cast<int>(sl) - out.depth0), begin, used});
+    }
+  }
+  return true;
+}
+
+bool ColumnReader::read_columns(std::size_t tile, SparseColumns& out) const {
+  const auto& m = *impl_;
+  if (tile >= tile_count()) fail("column reader: patch {} out of range ({} patches)", tile, tile_count());
+  if (m.patch_has_tile[tile] != 0) return false;
+  static_cast<PatchFrame&>(out) = m.frame(tile);
+  out.count.fill(0U);
+  const auto depth = static_cast<std::size_t>(out.depth);
+  if (out.k.size() < kPatch * kPatch * depth) {
+    out.k.resize(kPatch * kPatch * depth);
+    out.value.resize(kPatch * kPatch * depth);
+  }
+  // Active voxels of value 0 are left out (written, then overwritten: no branch per voxel):
+  // they add nothing to a sum, and a column of only such voxels is empty to every pass.
+  // A leaf's active voxels in offset order (x·64 + y·8 + z) come, for every column across any
+  // axis, in increasing depth (the column fixes the two other coordinates); leaves are in depth
+  // order and do not overlap along a column: so each column's voxels come out in depth order,
+  // without slices or a sort. Along z a column is one byte of a mask word (its 8 depths).
+  const auto nv = static_cast<std::size_t>(out.nv);
+  int* ks = out.k.data();
+  float* vs = out.value.data();
+  for (const auto* leaf : m.leaves[tile]) {
+    const openvdb::Coord o = leaf->origin();
+    const float* data = leaf->buffer().data();
+    const auto& mask = leaf->getValueMask();
+    const auto cu0 = static_cast<std::size_t>(o[m.ua] - out.u0);
+    const auto cv0 = static_cast<std::size_t>(o[m.va] - out.v0);
+    const auto k0 = static_cast<int>(o[m.axis] - out.depth0);
+    for (std::uint32_t x = 0; x < 8; ++x) {
+      const auto word = mask.getWord<std::uint64_t>(x);
+      if (m.axis == 2) {  // (u, v) = (x, y): byte y of word x is the column's 8 depths
+        for (std::uint32_t y = 0; y < 8; ++y) {
+          std::uint64_t z_bits = (word >> (8 * y)) & 0xffU;
+          if (z_bits == 0) continue;
+          const std::size_t c = (cu0 + x) * nv + cv0 + y;
+          std::size_t at = c * depth + out.count[c];
+          for (; z_bits != 0; z_bits &= z_bits - 1) {
+            const auto z = static_cast<std::uint32_t>(__builtin_ctzll(z_bits));
+            const float v = data[(x << 6U) | (y << 3U) | z];
+            ks[at] = k0 + static_cast<int>(z);
+            vs[at] = v;
+            at += v != 0.0f ? 1U : 0U;
+          }
+          out.count[c] = static_cast<std::uint32_t>(at - c * depth);
+        }
+        continue;
+      }
+      for (std::uint64_t w = word; w != 0; w &= w - 1) {
+        const auto b = static_cast<std::uint32_t>(__builtin_ctzll(w));  // y·8 + z
+        const std::uint32_t y = b >> 3U;
+        const std::uint32_t z = b & 7U;
+        // Along x: (u, v) = (y, z), depth x; along y: (u, v) = (z, x), depth y.
+        const std::size_t c = m.axis == 0 ? (cu0 + y) * nv + cv0 + z : (cu0 + z) * nv + cv0 + x;
+        const std::size_t at = c * depth + out.count[c];
+        const float v = data[(x << 6U) | b];
+        ks[at] = k0 + static_cast<int>(m.axis == 0 ? x : y);
+        vs[at] = v;
+        out.count[c] += v != 0.0f ? 1U : 0U;
+      }
     }
   }
   return true;

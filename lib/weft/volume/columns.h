@@ -36,16 +36,21 @@ struct ColumnTile {
   }
 };
 
-/// The active voxels of one face patch, depth slice by depth slice: the sparse counterpart of
-/// ColumnTile for passes whose work should follow the active voxels, not the box.
-struct SparseColumnTile {
-  int axis = 2;
-  std::int64_t u0 = 0;  ///< as in ColumnTile
+/// Where a face patch lies, as in ColumnTile: its first column's transverse index coordinates,
+/// its columns along each transverse axis, the box's lower face and depth along the axis.
+struct PatchFrame {
+  std::int64_t u0 = 0;
   std::int64_t v0 = 0;
   int nu = 0;
   int nv = 0;
   std::int64_t depth0 = 0;
   int depth = 0;
+};
+
+/// The active voxels of one face patch, depth slice by depth slice: the sparse counterpart of
+/// ColumnTile for passes whose work should follow the active voxels, not the box.
+struct SparseColumnTile : PatchFrame {
+  int axis = 2;
   /// A depth slice holding active voxels: its index k along the axis (from depth0) and its
   /// voxels' range [begin, end) in `column`/`value`.
   struct Slice {
@@ -57,6 +62,18 @@ struct SparseColumnTile {
   /// iu·nv + iv of each active voxel, and its value; entries past the last slice's end are
   /// unused (the storage is reused from patch to patch and only grows).
   std::vector<std::uint16_t> column;
+  std::vector<float> value;
+};
+
+/// The active voxels of non-zero value of one face patch, column by column: the layout a pass
+/// over each column's voxels in depth order wants (fit's statistics pass), read straight from
+/// the leaves.
+struct SparseColumns : PatchFrame {
+  /// Column c = iu·nv + iv holds count[c] active voxels, in increasing depth: index k along the
+  /// axis (from depth0) at k[c·depth + j] and value at value[c·depth + j], j < count[c]. The
+  /// storage is reused from patch to patch and only grows.
+  std::array<std::uint32_t, 64> count{};
+  std::vector<int> k;
   std::vector<float> value;
 };
 
@@ -81,6 +98,10 @@ class ColumnReader {
   /// proportional to them. Returns false, and leaves `out` unspecified, when an active tile
   /// above leaf level (a constant 8³ block or larger) overlaps the patch: `read` handles those.
   [[nodiscard]] bool read_sparse(std::size_t tile, SparseColumnTile& out) const;
+  /// Fills `out` with the active voxels of non-zero value of patch `tile` column by column, in
+  /// work proportional to them; false, as read_sparse, when an active tile above leaf level
+  /// overlaps the patch.
+  [[nodiscard]] bool read_columns(std::size_t tile, SparseColumns& out) const;
 
  private:
   struct Impl;
