@@ -6,6 +6,7 @@
 #include <string>
 
 #include "weft/core/error.h"
+#include "weft/volume/majorants.h"
 
 namespace weft::render {
 
@@ -69,6 +70,19 @@ double LocalGammaField::log_transmittance(const volume::Ray& ray, double t0, dou
     return true;
   });
   return -hazard.hazard();
+}
+
+double LocalGammaField::transmittance(const volume::Ray& ray, double t0, double t1, transmittance::Origin origin,
+                                      Pcg32& rng) {
+  transmittance::GammaHazard hazard(memory_, origin);
+  volume::ShadowRoulette roulette;
+  bool ended = false;
+  walk(ray, t0, t1, hazard, [&](double a, double b) {
+    hazard.advance(a, b);
+    ended = !roulette.keep_depth(hazard.hazard(), rng);
+    return !ended;
+  });
+  return ended ? 0.0 : roulette.estimate(hazard.hazard());
 }
 
 double LocalGammaField::sample_distance(const volume::Ray& ray, double t0, double t1, double h,

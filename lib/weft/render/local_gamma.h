@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "weft/core/rng.h"
 #include "weft/transmittance/gamma_hazard.h"
 #include "weft/transmittance/pair.h"
 #include "weft/volume/dda.h"
@@ -45,6 +46,10 @@ class LocalGammaField {
   /// T_Q for segments from a source or surface, T_S for segments from a scattering event.
   [[nodiscard]] double log_transmittance(const volume::Ray& ray, double t0, double t1,
                                          transmittance::Origin origin = transmittance::Origin::source);
+  /// T = e^{−H} over [t0, t1] for a shadow ray, the walk ended early by volume::ShadowRoulette
+  /// once T is small: an unbiased estimate, exact while T stays above ShadowRoulette::kBelow.
+  [[nodiscard]] double transmittance(const volume::Ray& ray, double t0, double t1, transmittance::Origin origin,
+                                     Pcg32& rng);
   /// The distance t in (t0, t1] where H reaches `h` (h = −log u samples the free flight),
   /// or +∞ when H(t1) < h.
   [[nodiscard]] double sample_distance(const volume::Ray& ray, double t0, double t1, double h,

@@ -162,6 +162,22 @@ struct DepthScratch final : MediumScratch {
   volume::DepthTracker tracker;
   explicit DepthScratch(const volume::Grid& g) : tracker(g) {}
 };
+
+/// Voxels a ray crosses per voxel length, averaged over directions (E|ω_x| + E|ω_y| + E|ω_z|).
+constexpr double kVoxelCrossings = 1.5;
+
+/// Whether a grid's voxels are optically thick enough that walking them exactly costs less than
+/// tracking against its majorants (docs/render.md §5): delta and ratio tracking make
+/// ≈ μ̄ tentative collisions per unit length (μ̄ the majorant), each a draw, a logarithm and a
+/// point lookup; the exact walk one DDA step per voxel, ≈ 1.5/h per unit length. The mean
+/// majorant over the active cells stands for μ̄. Only the cost depends on the answer: both
+/// estimate e^{−∫μ} without bias. Dimensionless (μ̄h), so no voxel size or origin decides it.
+bool walk_exactly(const volume::MajorantGrid& m, double scale, double voxel_size, std::size_t channels) {
+  const std::uint64_t cells = m.active_cells();
+  if (channels != 1 || cells == 0 || !(scale > 0.0)) return false;
+  const double mean_majorant = scale * m.cells().sum() / static_cast<double>(cells);
+  return mean_majorant * voxel_size > kVoxelCrossings;
+}
 }  // namespace
 
 DeltaTrackingGridMedium::DeltaTrackingGridMedium(std::shared_ptr<const volume::Grid> grid, double scale, Rgb albedo,
@@ -179,11 +195,22 @@ DeltaTrackingGridMedium::DeltaTrackingGridMedium(std::vector<std::shared_ptr<con
       majorants_(std::make_shared<const volume::MajorantGrid>(pointers(channels_))),
       scale_(scale),
       empty_(scale_ == 0.0 ||
-             std::all_of(channels_.begin(), channels_.end(), [](const auto& c) { return c->sum() == 0.0; })) {}
+             std::all_of(channels_.begin(), channels_.end(), [](const auto& c) { return c->sum() == 0.0; })),
+      exact_(walk_exactly(*majorants_, scale_, channels_.front()->voxel_size(), channels_.size())) {}
 DeltaTrackingGridMedium::~DeltaTrackingGridMedium() = default;
 
 Flight DeltaTrackingGridMedium::sample_flight(const Vec3& o, const Vec3& d, double t_max, Origin, Pcg32& rng,
                                               MediumScratch* scratch) const {
+  Flight f;
+  if (exact_) {
+    // The exponential free flight in optical depth, τ* = −log ξ, placed by the exact walk.
+    const double tau_star = -std::log(rng.uniform_open());
+    const volume::DepthHit hit =
+        static_cast<DepthScratch*>(scratch)->tracker.march_to(to_ray(o, d), 0.0, t_max, scale_, tau_star);
+    f.collided = hit.reached && hit.t < t_max;
+    f.t = f.collided ? hit.t : t_max;
+    return f;
+  }
   auto& s = *static_cast<MajorantScratch*>(scratch);
   volume::TrackedCollision c;
   if (directional()) {
@@ -192,7 +219,6 @@ Flight DeltaTrackingGridMedium::sample_flight(const Vec3& o, const Vec3& d, doub
   } else {
     c = s.tracker.delta_track(to_ray(o, d), 0.0, t_max, scale_, rng);
   }
-  Flight f;
   f.collided = c.collided;
   f.t = c.collided ? c.t : t_max;
   return f;
@@ -200,6 +226,7 @@ Flight DeltaTrackingGridMedium::sample_flight(const Vec3& o, const Vec3& d, doub
 
 double DeltaTrackingGridMedium::transmittance(const Vec3& o, const Vec3& d, double t, Origin, Pcg32& rng,
                                               MediumScratch* scratch) const {
+  if (exact_) return static_cast<DepthScratch*>(scratch)->tracker.transmittance(to_ray(o, d), 0.0, t, scale_, rng);
   auto& s = *static_cast<MajorantScratch*>(scratch);
   if (!directional()) return s.tracker.ratio_track(to_ray(o, d), 0.0, t, scale_, rng);
   s.set_direction(d);
@@ -207,12 +234,14 @@ double DeltaTrackingGridMedium::transmittance(const Vec3& o, const Vec3& d, doub
 }
 
 std::unique_ptr<MediumScratch> DeltaTrackingGridMedium::make_scratch() const {
+  if (exact_) return std::make_unique<DepthScratch>(*channels_.front());
   return std::make_unique<MajorantScratch>(pointers(channels_), *majorants_);
 }
 
 MediumWork DeltaTrackingGridMedium::work(const MediumScratch* scratch) const {
   if (scratch == nullptr) return {};
-  const auto& c = static_cast<const MajorantScratch*>(scratch)->tracker.counters();
+  const auto& c = exact_ ? static_cast<const DepthScratch*>(scratch)->tracker.counters()
+                         : static_cast<const MajorantScratch*>(scratch)->tracker.counters();
   return {c.cells, c.lookups};
 }
 
@@ -221,6 +250,7 @@ MediumTraits DeltaTrackingGridMedium::traits() const {
   t.kind = "grid";
   t.law = "exponential";
   t.estimator = directional() ? "delta + ratio tracking, direction-dependent extinction (3 axis grids)"
+                : exact_      ? "exact voxel walk (optically thick voxels)"
                               : "delta + ratio tracking";
   t.heterogeneous = true;
   t.empty = empty_;
@@ -298,10 +328,9 @@ Flight LocalGammaMedium::sample_flight(const Vec3& o, const Vec3& d, double t_ma
   return f;
 }
 
-double LocalGammaMedium::transmittance(const Vec3& o, const Vec3& d, double t, Origin origin, Pcg32&,
+double LocalGammaMedium::transmittance(const Vec3& o, const Vec3& d, double t, Origin origin, Pcg32& rng,
                                        MediumScratch* scratch) const {
-  LocalGammaField& field = *static_cast<FieldScratch*>(scratch)->field;
-  return std::exp(field.log_transmittance(to_ray(o, d), 0.0, t, origin));
+  return static_cast<FieldScratch*>(scratch)->field->transmittance(to_ray(o, d), 0.0, t, origin, rng);
 }
 
 std::unique_ptr<MediumScratch> LocalGammaMedium::make_scratch() const {

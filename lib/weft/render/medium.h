@@ -212,6 +212,9 @@ class DeltaTrackingGridMedium final : public Medium {
   std::shared_ptr<const volume::MajorantGrid> majorants_;
   double scale_;
   bool empty_;  ///< MediumTraits::empty, found once when the medium is built
+  /// Voxels so thick that walking them (volume::DepthTracker: the exponential flight placed at
+  /// τ* = −log ξ, shadows e^{−τ} exactly) is cheaper than tracking (docs/render.md §5).
+  bool exact_;
 };
 
 /// A voxel grid with any law in optical depth τ: the flight samples τ* from the law of its

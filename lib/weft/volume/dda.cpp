@@ -12,9 +12,10 @@ struct Tracer::Impl {
   openvdb::FloatGrid::ConstPtr grid;
   detail::Accessor acc;
   detail::CellBox box;
+  detail::CellMap map;
   detail::CellWalk walk;  // the pull-style march of start/next
   explicit Impl(openvdb::FloatGrid::ConstPtr g)
-      : grid(std::move(g)), acc(grid->getConstAccessor()), box(detail::active_cell_box(*grid)) {}
+      : grid(std::move(g)), acc(grid->getConstAccessor()), box(detail::active_cell_box(*grid)), map(*grid) {}
 };
 
 Tracer::Tracer(const Grid& grid) : impl_(std::make_unique<Impl>(grid.impl().grid)) {}
@@ -30,7 +31,7 @@ void require_range(double tmin, double tmax) {
 
 void Tracer::march(const Ray& ray, double tmin, double tmax, const SegmentVisitor& visit) {
   require_range(tmin, tmax);
-  const detail::CellRay r = detail::to_cell_ray(*impl_->grid, ray);
+  const detail::CellRay r = detail::to_cell_ray(impl_->map, ray);
   detail::march_cells(impl_->acc, r, impl_->box, tmin, tmax,
                       [&](double t0, double t1, float v, const std::int64_t* cell, int size) {
                         Segment s;
@@ -46,7 +47,7 @@ void Tracer::march(const Ray& ray, double tmin, double tmax, const SegmentVisito
 void Tracer::start(const Ray& ray, double tmin, double tmax) {
   require_range(tmin, tmax);
   impl_->walk.done = true;
-  (void)impl_->walk.start(detail::to_cell_ray(*impl_->grid, ray), impl_->box, tmin, tmax);
+  (void)impl_->walk.start(detail::to_cell_ray(impl_->map, ray), impl_->box, tmin, tmax);
 }
 
 bool Tracer::next(Segment& s) {
@@ -62,7 +63,7 @@ bool Tracer::next(Segment& s) {
 
 double Tracer::optical_depth(const Ray& ray, double tmin, double tmax, double scale) {
   require_range(tmin, tmax);
-  const detail::CellRay r = detail::to_cell_ray(*impl_->grid, ray);
+  const detail::CellRay r = detail::to_cell_ray(impl_->map, ray);
   double tau = 0.0;
   detail::march_cells(impl_->acc, r, impl_->box, tmin, tmax,
                       [&](double t0, double t1, float v, const std::int64_t*, int) {
@@ -80,7 +81,7 @@ std::vector<double> Tracer::optical_depth_profile(const Ray& ray, const std::vec
   }
   std::vector<double> tau(depths.size(), 0.0);
   if (depths.empty()) return tau;
-  const detail::CellRay r = detail::to_cell_ray(*impl_->grid, ray);
+  const detail::CellRay r = detail::to_cell_ray(impl_->map, ray);
   std::size_t k = 0;
   double acc = 0.0;
   detail::march_cells(impl_->acc, r, impl_->box, 0.0, depths.back(),
@@ -100,7 +101,7 @@ std::vector<double> Tracer::optical_depth_profile(const Ray& ray, const std::vec
 }
 
 BoxHit Tracer::intersect_active_box(const Ray& ray, double tmin) const {
-  const detail::CellRay r = detail::to_cell_ray(*impl_->grid, ray);
+  const detail::CellRay r = detail::to_cell_ray(impl_->map, ray);
   BoxHit hit;
   double t0 = tmin;
   double t1 = std::numeric_limits<double>::infinity();

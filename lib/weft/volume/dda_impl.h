@@ -28,7 +28,35 @@ struct CellRay {
   int sgn[3];     ///< −1, 0, +1; −0.0 counts as 0
 };
 
-inline CellRay to_cell_ray(const openvdb::FloatGrid& grid, const Ray& ray) {
+/// A grid's world → index map, read once per tracer: the transform's virtual map behind a
+/// shared pointer costs a pointer copy and two virtual calls per ray otherwise. Scale-translate
+/// maps (every grid weft writes) are applied here with the map's own arithmetic, bit for bit
+/// (openvdb ScaleTranslateMap::applyInverseMap / applyInverseJacobian); any other map is asked.
+struct CellMap {
+  openvdb::math::MapBase::ConstPtr map;
+  bool scale_translate = false;
+  openvdb::Vec3d translation{0.0};
+  openvdb::Vec3d inv_scale{1.0};
+  explicit CellMap(const openvdb::FloatGrid& grid) : map(grid.transform().baseMap()) {
+    if (map->isType<openvdb::math::ScaleTranslateMap>() || map->isType<openvdb::math::UniformScaleTranslateMap>()) {
+      const auto& st = static_cast<const openvdb::math::ScaleTranslateMap&>(*map);
+      scale_translate = true;
+      translation = st.getTranslation();
+      inv_scale = st.getInvScale();
+    }
+  }
+  [[nodiscard]] openvdb::Vec3d to_index(const openvdb::Vec3d& p) const {
+    if (!scale_translate) return map->applyInverseMap(p);
+    return {(p.x() - translation.x()) * inv_scale.x(), (p.y() - translation.y()) * inv_scale.y(),
+            (p.z() - translation.z()) * inv_scale.z()};
+  }
+  [[nodiscard]] openvdb::Vec3d to_index_direction(const openvdb::Vec3d& d) const {
+    if (!scale_translate) return map->applyInverseJacobian(d);
+    return d * inv_scale;
+  }
+};
+
+inline CellRay to_cell_ray(const CellMap& map, const Ray& ray) {
   const auto& o = ray.origin;
   const auto& d = ray.direction;
   for (int a = 0; a < 3; ++a) {
@@ -37,9 +65,8 @@ inline CellRay to_cell_ray(const openvdb::FloatGrid& grid, const Ray& ray) {
   }
   const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
   if (!(len > 0.0) || !std::isfinite(len)) fail("ray: direction ({}, {}, {}) has no length", d[0], d[1], d[2]);
-  const openvdb::Vec3d oi = grid.transform().worldToIndex(openvdb::Vec3d(o[0], o[1], o[2]));
-  const openvdb::Vec3d di =
-      grid.transform().baseMap()->applyInverseJacobian(openvdb::Vec3d(d[0] / len, d[1] / len, d[2] / len));
+  const openvdb::Vec3d oi = map.to_index(openvdb::Vec3d(o[0], o[1], o[2]));
+  const openvdb::Vec3d di = map.to_index_direction(openvdb::Vec3d(d[0] / len, d[1] / len, d[2] / len));
   CellRay r{};
   for (int a = 0; a < 3; ++a) {
     r.o[a] = oi[a] + 0.5;
@@ -49,6 +76,8 @@ inline CellRay to_cell_ray(const openvdb::FloatGrid& grid, const Ray& ray) {
   }
   return r;
 }
+
+inline CellRay to_cell_ray(const openvdb::FloatGrid& grid, const Ray& ray) { return to_cell_ray(CellMap(grid), ray); }
 
 /// Cell-space box of the active voxels: u ∈ [lo, hi).
 struct CellBox {

@@ -175,9 +175,9 @@ float Grid::value(int i, int j, int k) const {
 void Grid::set_value(int i, int j, int k, float v) { impl_->grid->getAccessor().setValue(openvdb::Coord(i, j, k), v); }
 
 struct VoxelReader::Impl {
-  openvdb::FloatGrid::ConstPtr grid;  // keeps the tree alive for the accessor
-  openvdb::FloatGrid::ConstAccessor acc;
-  explicit Impl(openvdb::FloatGrid::ConstPtr g) : grid(std::move(g)), acc(grid->getConstAccessor()) {}
+  openvdb::FloatGrid::ConstPtr grid;  // keeps the tree alive for the reader
+  LeafCachedReader reader;
+  explicit Impl(openvdb::FloatGrid::ConstPtr g) : grid(std::move(g)), reader(*grid) {}
 };
 
 VoxelReader::VoxelReader(const Grid& grid) : impl_(std::make_unique<Impl>(grid.impl().grid)) {}
@@ -186,8 +186,7 @@ VoxelReader::VoxelReader(VoxelReader&&) noexcept = default;
 VoxelReader& VoxelReader::operator=(VoxelReader&&) noexcept = default;
 
 float VoxelReader::value(const std::array<int, 3>& ijk) {
-  float v = 0.0f;
-  return impl_->acc.probeValue(openvdb::Coord(ijk[0], ijk[1], ijk[2]), v) ? v : 0.0f;
+  return impl_->reader.value(openvdb::Coord(ijk[0], ijk[1], ijk[2]));
 }
 
 double Grid::sum() const {

@@ -16,6 +16,36 @@ struct Grid::Impl {
 Grid make_grid(std::shared_ptr<Grid::Impl> impl);
 Grid wrap_openvdb(openvdb::FloatGrid::Ptr grid);
 
+/// @brief Voxel reads by index through an accessor that keep the last leaf's buffer and mask:
+/// a ray's reads come leaf after leaf, so most skip the accessor's own cache check and node
+/// probing (the trackers' point lookups, VoxelReader). Values are the voxel's or its tile's,
+/// 0 where inactive. One per thread.
+struct LeafCachedReader {
+  using LeafT = openvdb::FloatTree::LeafNodeType;
+  openvdb::FloatGrid::ConstAccessor acc;
+  openvdb::Coord leaf_origin{openvdb::Coord::max()};  // never a leaf's origin (those are multiples of 8)
+  const float* data = nullptr;
+  const LeafT::NodeMaskType* mask = nullptr;
+  explicit LeafCachedReader(const openvdb::FloatGrid& grid) : acc(grid.getConstAccessor()) {}
+  float value(const openvdb::Coord& c) {
+    constexpr openvdb::Int32 kMask = ~static_cast<openvdb::Int32>(LeafT::DIM - 1);
+    const openvdb::Coord org(c.x() & kMask, c.y() & kMask, c.z() & kMask);
+    if (org != leaf_origin) {
+      const LeafT* leaf = acc.probeConstLeaf(c);
+      if (leaf == nullptr) {  // a tile or empty space: no buffer to keep
+        leaf_origin = openvdb::Coord::max();
+        float v = 0.0F;
+        return acc.probeValue(c, v) ? v : 0.0F;
+      }
+      leaf_origin = org;
+      data = leaf->buffer().data();
+      mask = &leaf->getValueMask();
+    }
+    const openvdb::Index off = LeafT::coordToOffset(c);
+    return mask->isOn(off) ? data[off] : 0.0F;
+  }
+};
+
 /// Calls openvdb::initialize() once per process.
 void ensure_openvdb_initialized();
 

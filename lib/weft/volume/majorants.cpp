@@ -102,45 +102,25 @@ MajorantGrid& MajorantGrid::operator=(MajorantGrid&&) noexcept = default;
 std::uint64_t MajorantGrid::active_cells() const { return cells_->active_voxel_count(); }
 
 namespace {
-/// World-space lookups of the voxel containing a point. The last leaf found is kept with its
-/// buffer and mask: a majorant cell is one leaf of the density tree, so the tentative
-/// collisions inside it read that leaf's buffer directly, and the accessor (whose own cache
-/// check and node probing were ~30 % of a cloth render's time, perf) is asked only when a point
-/// falls in another leaf (a new cell, or rounding across the cell's face) or in a tile.
+/// World-space lookups of the voxel containing a point, through a LeafCachedReader: a majorant
+/// cell is one leaf of the density tree, so the tentative collisions inside it read that leaf's
+/// buffer directly, and the accessor (whose own cache check and node probing were ~30 % of a
+/// cloth render's time, perf) is asked only when a point falls in another leaf (a new cell, or
+/// rounding across the cell's face) or in a tile.
 struct PointLookup {
-  using LeafT = detail::LeafT;
-  detail::Accessor acc;
+  LeafCachedReader reader;
   double origin[3];
   double inv_h;
-  const LeafT* leaf = nullptr;
-  openvdb::Coord leaf_origin{openvdb::Coord::max()};
-  const float* data = nullptr;
-  const LeafT::NodeMaskType* mask = nullptr;
-  explicit PointLookup(const Grid& grid) : acc(grid.impl().grid->getConstAccessor()) {
+  explicit PointLookup(const Grid& grid) : reader(*grid.impl().grid) {
     const auto o = grid.origin();
     for (int a = 0; a < 3; ++a) origin[a] = o[a];
     inv_h = 1.0 / grid.voxel_size();
   }
   double operator()(double x, double y, double z) {
-    const openvdb::Coord c(static_cast<openvdb::Int32>(std::floor((x - origin[0]) * inv_h)),
-                           static_cast<openvdb::Int32>(std::floor((y - origin[1]) * inv_h)),
-                           static_cast<openvdb::Int32>(std::floor((z - origin[2]) * inv_h)));
-    constexpr openvdb::Int32 kMask = ~static_cast<openvdb::Int32>(LeafT::DIM - 1);
-    const openvdb::Coord org(c.x() & kMask, c.y() & kMask, c.z() & kMask);
-    if (org != leaf_origin) {
-      leaf = acc.probeConstLeaf(c);
-      if (leaf == nullptr) {
-        // A tile or empty space: no buffer to keep.
-        leaf_origin = openvdb::Coord::max();
-        float v = 0.0F;
-        return acc.probeValue(c, v) ? static_cast<double>(v) : 0.0;
-      }
-      leaf_origin = org;
-      data = leaf->buffer().data();
-      mask = &leaf->getValueMask();
-    }
-    const openvdb::Index off = LeafT::coordToOffset(c);
-    return mask->isOn(off) ? static_cast<double>(data[off]) : 0.0;
+    return static_cast<double>(
+        reader.value(openvdb::Coord(static_cast<openvdb::Int32>(std::floor((x - origin[0]) * inv_h)),
+                                    static_cast<openvdb::Int32>(std::floor((y - origin[1]) * inv_h)),
+                                    static_cast<openvdb::Int32>(std::floor((z - origin[2]) * inv_h)))));
   }
 };
 
@@ -156,9 +136,13 @@ struct MajorantTracker::Impl {
   openvdb::FloatGrid::ConstPtr coarse;
   detail::Accessor coarse_acc;
   detail::CellBox box;
+  detail::CellMap map;
   std::vector<PointLookup> lookups;  // one per channel
   Impl(const std::vector<const Grid*>& channels, const MajorantGrid& m)
-      : coarse(m.cells().impl().grid), coarse_acc(coarse->getConstAccessor()), box(detail::active_cell_box(*coarse)) {
+      : coarse(m.cells().impl().grid),
+        coarse_acc(coarse->getConstAccessor()),
+        box(detail::active_cell_box(*coarse)),
+        map(*coarse) {
     lookups.reserve(channels.size());
     for (const Grid* c : channels) lookups.emplace_back(*c);
   }
@@ -173,7 +157,7 @@ MajorantTracker::MajorantTracker(MajorantTracker&&) noexcept = default;
 MajorantTracker& MajorantTracker::operator=(MajorantTracker&&) noexcept = default;
 
 void MajorantTracker::walk(const Ray& ray, double t0, double t1, FunctionRef<bool(double, double, double)> visit) {
-  const detail::CellRay r = detail::to_cell_ray(*impl_->coarse, ray);
+  const detail::CellRay r = detail::to_cell_ray(impl_->map, ray);
   detail::march_cells(impl_->coarse_acc, r, impl_->box, t0, t1,
                       [&](double a, double b, float v, const std::int64_t*, int) {
                         ++counters_.cells;
@@ -210,9 +194,6 @@ void for_each_tentative(const detail::CellRay& r, detail::Accessor& coarse_acc, 
     }
   });
 }
-
-constexpr double kRouletteBelow = 0.05;
-constexpr double kRouletteStop = 0.75;
 
 /// Σ_c w_c·value_c(x): the weighted channels of a direction-dependent grid.
 struct WeightedLookup {
@@ -258,17 +239,7 @@ double ratio_track_impl(const detail::CellRay& r, detail::Accessor& coarse_acc, 
                      [&](double, double mu, double majorant) {
                        tr *= std::max(0.0, 1.0 - mu / majorant);
                        if (tr <= 0.0) return false;
-                       // Russian roulette once the estimate is small (pbrt-v4's ratio tracking):
-                       // end with probability q, else divide by 1 − q; unbiased, and a shadow
-                       // ray through a dense yarn stops after a few lookups, not after all.
-                       if (tr < kRouletteBelow) {
-                         if (rng.uniform() < kRouletteStop) {
-                           tr = 0.0;
-                           return false;
-                         }
-                         tr /= 1.0 - kRouletteStop;
-                       }
-                       return true;
+                       return ShadowRoulette::keep(tr, rng);
                      });
   return tr;
 }
@@ -277,21 +248,21 @@ double ratio_track_impl(const detail::CellRay& r, detail::Accessor& coarse_acc, 
 
 TrackedCollision MajorantTracker::delta_track(const Ray& ray, double t0, double t1, double scale, Pcg32& rng) {
   Impl& m = *impl_;
-  return delta_track_impl(detail::to_cell_ray(*m.coarse, ray), m.coarse_acc, m.box, ray, t0, t1, scale, rng,
-                          m.lookups[0], counters_);
+  return delta_track_impl(detail::to_cell_ray(m.map, ray), m.coarse_acc, m.box, ray, t0, t1, scale, rng, m.lookups[0],
+                          counters_);
 }
 
 double MajorantTracker::ratio_track(const Ray& ray, double t0, double t1, double scale, Pcg32& rng) {
   Impl& m = *impl_;
-  return ratio_track_impl(detail::to_cell_ray(*m.coarse, ray), m.coarse_acc, m.box, ray, t0, t1, scale, rng,
-                          m.lookups[0], counters_);
+  return ratio_track_impl(detail::to_cell_ray(m.map, ray), m.coarse_acc, m.box, ray, t0, t1, scale, rng, m.lookups[0],
+                          counters_);
 }
 
 TrackedCollision MajorantTracker::delta_track(const Ray& ray, double t0, double t1, double scale,
                                               const std::vector<double>& weights, Pcg32& rng) {
   Impl& m = *impl_;
   check_weights(weights, m.lookups.size());
-  return delta_track_impl(detail::to_cell_ray(*m.coarse, ray), m.coarse_acc, m.box, ray, t0, t1, scale, rng,
+  return delta_track_impl(detail::to_cell_ray(m.map, ray), m.coarse_acc, m.box, ray, t0, t1, scale, rng,
                           WeightedLookup{m.lookups, weights}, counters_);
 }
 
@@ -299,7 +270,7 @@ double MajorantTracker::ratio_track(const Ray& ray, double t0, double t1, double
                                     const std::vector<double>& weights, Pcg32& rng) {
   Impl& m = *impl_;
   check_weights(weights, m.lookups.size());
-  return ratio_track_impl(detail::to_cell_ray(*m.coarse, ray), m.coarse_acc, m.box, ray, t0, t1, scale, rng,
+  return ratio_track_impl(detail::to_cell_ray(m.map, ray), m.coarse_acc, m.box, ray, t0, t1, scale, rng,
                           WeightedLookup{m.lookups, weights}, counters_);
 }
 
@@ -307,8 +278,9 @@ struct DepthTracker::Impl {
   openvdb::FloatGrid::ConstPtr grid;
   detail::Accessor acc;
   detail::CellBox box;
+  detail::CellMap map;
   explicit Impl(const Grid& g)
-      : grid(g.impl().grid), acc(grid->getConstAccessor()), box(detail::active_cell_box(*grid)) {}
+      : grid(g.impl().grid), acc(grid->getConstAccessor()), box(detail::active_cell_box(*grid)), map(*grid) {}
 };
 
 DepthTracker::DepthTracker(const Grid& grid) : impl_(std::make_unique<Impl>(grid)) {}
@@ -319,7 +291,7 @@ DepthTracker& DepthTracker::operator=(DepthTracker&&) noexcept = default;
 DepthHit DepthTracker::march_to(const Ray& ray, double t0, double t1, double scale, double tau_star) {
   DepthHit hit;
   hit.t = t1;
-  const detail::CellRay r = detail::to_cell_ray(*impl_->grid, ray);
+  const detail::CellRay r = detail::to_cell_ray(impl_->map, ray);
   double tau = 0.0;
   detail::march_cells(impl_->acc, r, impl_->box, t0, t1, [&](double a, double b, float v, const std::int64_t*, int) {
     ++counters_.cells;
@@ -339,7 +311,7 @@ DepthHit DepthTracker::march_to(const Ray& ray, double t0, double t1, double sca
 }
 
 double DepthTracker::optical_depth(const Ray& ray, double t0, double t1, double scale) {
-  const detail::CellRay r = detail::to_cell_ray(*impl_->grid, ray);
+  const detail::CellRay r = detail::to_cell_ray(impl_->map, ray);
   double tau = 0.0;
   detail::march_cells(impl_->acc, r, impl_->box, t0, t1, [&](double a, double b, float v, const std::int64_t*, int) {
     ++counters_.cells;
@@ -347,6 +319,21 @@ double DepthTracker::optical_depth(const Ray& ray, double t0, double t1, double 
     return true;
   });
   return tau * scale;
+}
+
+double DepthTracker::transmittance(const Ray& ray, double t0, double t1, double scale, Pcg32& rng) {
+  const detail::CellRay r = detail::to_cell_ray(impl_->map, ray);
+  ShadowRoulette roulette;
+  double tau = 0.0;
+  bool ended = false;
+  detail::march_cells(impl_->acc, r, impl_->box, t0, t1, [&](double a, double b, float v, const std::int64_t*, int) {
+    ++counters_.cells;
+    if (!(v > 0.0F)) return true;
+    tau += scale * static_cast<double>(v) * (b - a);
+    ended = !roulette.keep_depth(tau, rng);
+    return !ended;
+  });
+  return ended ? 0.0 : roulette.estimate(tau);
 }
 
 }  // namespace weft::volume

@@ -10,6 +10,7 @@
 /// (dda_impl.h), so empty space is skipped a tree node at a time on the coarse tree as well.
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <type_traits>
@@ -75,6 +76,44 @@ class MajorantGrid {
  private:
   std::unique_ptr<Grid> cells_;
   double max_value_ = 0.0;
+};
+
+/// @brief Russian roulette of a shadow estimate that only falls along its segment (pbrt-v4's
+/// ratio tracking): once the estimate is below kBelow it ends (0) with probability kStop, else
+/// is divided by 1 − kStop. Unbiased, and a shadow ray through a dense yarn stops after a few
+/// steps instead of crossing the whole cloth (docs/render.md §6). The one rule of every tracked
+/// or walked shadow: ratio tracking's product, and estimates e^{−τ} of an exact walk, held as
+/// the survivals' weight in log space (no exponential per step).
+class ShadowRoulette {
+ public:
+  static constexpr double kBelow = 0.05;
+  static constexpr double kStop = 0.75;
+
+  /// Ratio tracking's running product tr: false when the roulette ended it (tr = 0).
+  static bool keep(double& tr, Pcg32& rng) {
+    if (!(tr < kBelow)) return true;
+    if (rng.uniform() < kStop) {
+      tr = 0.0;
+      return false;
+    }
+    tr /= 1.0 - kStop;
+    return true;
+  }
+  /// An exact walk that has reached depth τ (estimate e^{−τ}·the survivals' weight): false
+  /// when the roulette ended it.
+  bool keep_depth(double tau, Pcg32& rng) {
+    if (!(tau - log_weight_ > kLogBelow)) return true;
+    if (rng.uniform() < kStop) return false;
+    log_weight_ += kLogSurvive;
+    return true;
+  }
+  /// The estimate of a walk that kept going to depth τ.
+  [[nodiscard]] double estimate(double tau) const { return std::exp(log_weight_ - tau); }
+
+ private:
+  static inline const double kLogBelow = -std::log(kBelow);
+  static inline const double kLogSurvive = -std::log(1.0 - kStop);
+  double log_weight_ = 0.0;
 };
 
 /// A real collision found by delta tracking.
@@ -160,6 +199,9 @@ class DepthTracker {
   [[nodiscard]] DepthHit march_to(const Ray& ray, double t0, double t1, double scale, double tau_star);
   /// τ over [t0, t1].
   [[nodiscard]] double optical_depth(const Ray& ray, double t0, double t1, double scale);
+  /// e^{−τ} over [t0, t1], the walk ended early by ShadowRoulette once it is small (an
+  /// unbiased estimate; exact while it stays above ShadowRoulette::kBelow).
+  [[nodiscard]] double transmittance(const Ray& ray, double t0, double t1, double scale, Pcg32& rng);
 
   [[nodiscard]] const TrackerCounters& counters() const { return counters_; }
 

@@ -12,6 +12,7 @@
 #include "weft/core/rng.h"
 #include "weft/volume/grid.h"
 #include "weft/volume/grid_io.h"
+#include "weft/volume/majorants.h"
 
 namespace weft::render {
 namespace {
@@ -98,6 +99,34 @@ TEST(LocalGamma, SamplingMatchesAccumulatedHazardCdf) {
     for (const double s : ts) hits += s <= t ? 1 : 0;
     const double se = std::sqrt(p * (1 - p) / n);
     EXPECT_NEAR(hits / n, p, 5 * se + 1e-12) << "t=" << t;
+  }
+}
+
+// A shadow's transmittance is e^{−H} exactly while it stays above ShadowRoulette::kBelow and an
+// unbiased estimate of it below (the walk ended early by Russian roulette): mean within 5σ.
+TEST(LocalGamma, ShadowTransmittanceIsExactWhileLargeAndUnbiasedBelow) {
+  LocalGammaField f(write_fields("roulette", {0.5, 2.0, 0.2, 3.0}, {0.1, 1.5, 0.05, 2.0}), 3.0);
+  Pcg32 rng = stream_for(5, 0);
+  for (const auto origin : {transmittance::Origin::source, transmittance::Origin::scatterer}) {
+    for (const double t : {0.3, 1.5, 2.5, 4.0}) {
+      const double exact = std::exp(f.log_transmittance(kRayZ, 0.0, t, origin));
+      if (exact > volume::ShadowRoulette::kBelow) {
+        EXPECT_NEAR(f.transmittance(kRayZ, 0.0, t, origin, rng), exact, 1e-12 * exact) << t;
+        continue;
+      }
+      constexpr int kN = 40000;
+      double sum = 0.0;
+      double sum2 = 0.0;
+      for (int i = 0; i < kN; ++i) {
+        const double tr = f.transmittance(kRayZ, 0.0, t, origin, rng);
+        sum += tr;
+        sum2 += tr * tr;
+      }
+      const double mean = sum / kN;
+      const double se = std::sqrt(std::max(0.0, sum2 / kN - mean * mean) / kN);
+      EXPECT_GT(se, 0.0) << t;  // the roulette ran
+      EXPECT_NEAR(mean, exact, 5.0 * se) << t;
+    }
   }
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -360,16 +361,19 @@ TEST(Features, SurfaceSpecialisationMatchesGeneralIntegrator) {
 }
 
 /// A 10³ grid of constant concentration 0.5 filling [-0.5, 0.5]³, saved as .vdb.
-std::string constant_grid_file() {
-  const auto path = std::filesystem::temp_directory_path() / "weft_render_constant_grid.vdb";
-  volume::Grid grid(0.1, "density");
-  for (int i = 0; i < 10; ++i)
-    for (int j = 0; j < 10; ++j)
-      for (int k = 0; k < 10; ++k) grid.set_value(i, j, k, 0.5f);
+/// n³ voxels of `value` filling the cube [-0.5, 0.5]³, saved as `name`.vdb.
+std::string cube_grid_file(const std::string& name, int n, float value) {
+  const auto path = std::filesystem::temp_directory_path() / (name + ".vdb");
+  volume::Grid grid(1.0 / n, "density");
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k) grid.set_value(i, j, k, value);
   grid.set_origin({-0.5, -0.5, -0.5});
   grid.save(path);
   return path.string();
 }
+
+std::string constant_grid_file() { return cube_grid_file("weft_render_constant_grid", 10, 0.5f); }
 
 /// A cube [-0.5, 0.5]³ of `medium` (JSON), lit by the environment and a point light.
 std::string cube_scene(const std::string& medium, int spp) {
@@ -420,6 +424,25 @@ TEST(GridMedium, DeltaTrackingEqualsOpticalDepthSampling) {
   const RenderResult depth =
       render(scene_from(cube_scene(fmt::format(fmt::runtime(medium), file, "optical-depth"), 64)), other_seed);
   expect_same_image(delta.image, depth.image);
+}
+
+// Voxels so thick (μh = 3 > 1.5 crossings per voxel length) that the medium walks them exactly
+// instead of tracking against majorants: same image as the homogeneous medium; the constant
+// grid above (μh = 0.3) keeps tracking.
+TEST(GridMedium, OpticallyThickVoxelsAreWalkedExactly) {
+  const std::string path = cube_grid_file("weft_render_thick_voxels", 2, 1.0f);
+  const auto shared = std::make_shared<const volume::Grid>(volume::Grid::load(path, "density"));
+  EXPECT_EQ(DeltaTrackingGridMedium(shared, 6.0, Rgb(0.8, 0.8, 0.8), 0.0).traits().estimator,
+            "exact voxel walk (optically thick voxels)");
+  const auto thin = std::make_shared<const volume::Grid>(volume::Grid::load(constant_grid_file(), "density"));
+  EXPECT_EQ(DeltaTrackingGridMedium(thin, 6.0, Rgb(0.8, 0.8, 0.8), 0.0).traits().estimator, "delta + ratio tracking");
+  const RenderResult grid = render(scene_from(
+      cube_scene(fmt::format(R"({{"type": "grid", "file": "{}", "sigma": 6, "albedo": 0.8, "g": 0.3}})", path), 64)));
+  RenderOptions other_seed;
+  other_seed.seed = 99;
+  const RenderResult homogeneous = render(
+      scene_from(cube_scene(R"({"law": {"name": "exponential", "mu": 6}, "albedo": 0.8, "g": 0.3})", 64)), other_seed);
+  expect_same_image(grid.image, homogeneous.image);
 }
 
 // Non-exponential by optical depth: a gamma law in τ over a constant grid (τ = σC·t) is the

@@ -243,5 +243,37 @@ TEST(DepthTracker, MarchStopsWhereTheOpticalDepthIsReached) {
   EXPECT_NEAR(total, optical_depth(g, unit, 0.0, 5.0, 4.0), 1e-12);
 }
 
+// A walked shadow ended by Russian roulette once e^{−τ} < ShadowRoulette::kBelow: exact above
+// that, unbiased below (mean e^{−τ} within 5σ, and some walks do end early).
+TEST(DepthTracker, RouletteTransmittanceIsExactWhileLargeAndUnbiasedBelow) {
+  const Grid g = varying_grid();
+  DepthTracker tracker(g);
+  Ray ray{{-0.7, -0.6, -0.8}, {0.5, 0.45, 0.74}};
+  const double len = std::hypot(ray.direction[0], ray.direction[1], ray.direction[2]);
+  for (double& x : ray.direction) x /= len;
+  Pcg32 rng = stream_for(11, 0);
+  for (const double scale : {0.5, 5.0, 9.0}) {
+    const double exact = std::exp(-tracker.optical_depth(ray, 0.0, 1.6, scale));
+    if (exact > ShadowRoulette::kBelow) {
+      EXPECT_NEAR(tracker.transmittance(ray, 0.0, 1.6, scale, rng), exact, 1e-12 * exact) << scale;
+      continue;
+    }
+    constexpr int kN = 40000;
+    double sum = 0.0;
+    double sum2 = 0.0;
+    int ended = 0;
+    for (int i = 0; i < kN; ++i) {
+      const double tr = tracker.transmittance(ray, 0.0, 1.6, scale, rng);
+      ended += tr == 0.0 ? 1 : 0;
+      sum += tr;
+      sum2 += tr * tr;
+    }
+    const double mean = sum / kN;
+    const double se = std::sqrt(std::max(0.0, sum2 / kN - mean * mean) / kN);
+    EXPECT_GT(ended, 0) << scale;
+    EXPECT_NEAR(mean, exact, 5.0 * se + 1e-15) << scale;
+  }
+}
+
 }  // namespace
 }  // namespace weft::volume
