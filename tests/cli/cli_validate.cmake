@@ -19,6 +19,12 @@ add_test(NAME cli.validate.user_grid
 set_tests_properties(cli.validate.user_grid PROPERTIES LABELS cli FIXTURES_REQUIRED weft_grids
                      PASS_REGULAR_EXPRESSION "predicted [(]local-gamma-two-scale, fixed before measuring[)]: [+]x .* -z ")
 
+# --no-vti: the dense ParaView copy is not written, and report.json says why.
+add_test(NAME cli.validate.no_vti
+         COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DGRID=${WEFT_CLI_GRIDS}/good.vdb
+                 -DOUT=${CMAKE_CURRENT_BINARY_DIR}/validate_no_vti -P ${CMAKE_CURRENT_SOURCE_DIR}/check_no_vti.cmake)
+set_tests_properties(cli.validate.no_vti PROPERTIES LABELS cli FIXTURES_REQUIRED weft_grids)
+
 # Bad input: one line, non-zero exit, no output folder.
 function(weft_bad_input name expect)
   add_test(NAME cli.validate.bad.${name}
