@@ -317,7 +317,8 @@ const Registrar kValidate{Command{
         ctx.say(fmt::format("timings: {}", stages));
         for (auto it = skipped.begin(); it != skipped.end(); ++it) {
           const std::string why = it.value().get<std::string>();
-          if (why != "--no-plot") fmt::print(stderr, "weft validate: note: {} {}\n", it.key(), why);
+          if (why != "--no-plot" && why != "--no-vti")
+            fmt::print(stderr, "weft validate: note: {} {}\n", it.key(), why);
         }
         outputs.say(ctx);
         return 0;
