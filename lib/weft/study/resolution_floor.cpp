@@ -49,10 +49,11 @@ void convolve(Image& img, const std::vector<double>& w, bool along_x) {
       for (int c = 0; c < 3; ++c) {
         double v = 0.0;
         double s = 0.0;
-        for (int k = -r; k <= r; ++k) {
+        for (std::size_t j = 0; j < w.size(); ++j) {
+          const int k = static_cast<int>(j) - r;
           const int xx = along_x ? std::clamp(x + k, 0, img.width - 1) : x;
           const int yy = along_x ? y : std::clamp(y + k, 0, img.height - 1);
-          const double wk = w[static_cast<std::size_t>(k + r)];
+          const double wk = w[j];
           v += wk * rgb[index(xx, yy, c)];
           if (!var.empty()) s += wk * wk * var[index(xx, yy, c)];
         }
