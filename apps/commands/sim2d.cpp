@@ -46,7 +46,8 @@ viz::PointSet particle_points(const SimulationSpec& spec) {
   cluster.reserve(m.centers.size());
   for (std::size_t i = 0; i < m.centers.size(); ++i) {
     points.points.push_back({m.centers[i].x, m.centers[i].y, 0.0});
-    cluster.push_back(m.cluster_size > 0 ? static_cast<double>(i / m.cluster_size) : 0.0);
+    const std::size_t index = m.cluster_size > 0 ? i / m.cluster_size : 0;  // the cluster a centre belongs to
+    cluster.push_back(static_cast<double>(index));
   }
   points.point_scalars["radius"] = std::vector<double>(m.centers.size(), m.radius);
   points.point_scalars["cluster"] = std::move(cluster);

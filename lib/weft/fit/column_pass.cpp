@@ -164,7 +164,7 @@ void add_windows(const int* k, const float* value, std::size_t count, int n, int
   if (count > 0) {
     const int s_lo = std::max(0, k[0] - w + 1);
     const int s_hi = std::min(positions - 1, k[count - 1]);
-    windows = static_cast<std::size_t>(s_hi - s_lo + 1);
+    windows = static_cast<std::size_t>(s_hi - s_lo) + 1U;
     const auto wu = static_cast<std::size_t>(w);
     // run[i]: Σ of the first i voxels.
     std::vector<double>& run = scratch.run;
@@ -334,7 +334,8 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
       gather(reader, unit, dense, cols);
       for (int iu = 0; iu < cols.nu; ++iu) {
         for (int iv = 0; iv < cols.nv; ++iv) {
-          const auto c = static_cast<std::size_t>(iu * cols.nv + iv);
+          const std::size_t c =
+              static_cast<std::size_t>(iu) * static_cast<std::size_t>(cols.nv) + static_cast<std::size_t>(iv);
           const int* k = cols.k.data() + c * static_cast<std::size_t>(cols.depth);
           const float* value = cols.value.data() + c * static_cast<std::size_t>(cols.depth);
           const std::size_t count = cols.count[c];

@@ -207,6 +207,7 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
   // (d) The slab's law: pooled window statistics of the three axes at scale L (the isotropic
   // gamma law of `weft validate`), over the grid's active box.
   std::vector<fit::ConcentrationStats> per_axis;
+  per_axis.reserve(3);
   for (int a = 0; a < 3; ++a)
     per_axis.push_back(fit::window_stats(fine, a, scale.length[static_cast<std::size_t>(a)], progress));
   const fit::ConcentrationStats pooled = fit::pool(per_axis);

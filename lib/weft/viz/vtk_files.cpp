@@ -172,18 +172,17 @@ class GridImageSource : public vtkImageAlgorithm {
     // Cells of the point extent e, in grid index coordinates.
     const openvdb::CoordBBox cells(openvdb::Coord(box.min[0] + e[0], box.min[1] + e[2], box.min[2] + e[4]),
                                    openvdb::Coord(box.min[0] + e[1] - 1, box.min[1] + e[3] - 1, box.min[2] + e[5] - 1));
-    const std::int64_t nx = std::max(0, e[1] - e[0]);
-    const std::int64_t ny = std::max(0, e[3] - e[2]);
-    const std::int64_t nz = std::max(0, e[5] - e[4]);
+    const vtkIdType nx = std::max(0, e[1] - e[0]);
+    const vtkIdType ny = std::max(0, e[3] - e[2]);
+    const vtkIdType nz = std::max(0, e[5] - e[4]);
     vtkNew<vtkFloatArray> values;
     values->SetName(name.c_str());
-    values->SetNumberOfValues(static_cast<vtkIdType>(nx * ny * nz));
+    values->SetNumberOfValues(nx * ny * nz);
     values->FillValue(0.0f);
     const auto set = [&](const openvdb::Coord& c, float v) {
-      values->SetValue(
-          static_cast<vtkIdType>((c.x() - cells.min().x()) +
-                                 nx * ((c.y() - cells.min().y()) + ny * std::int64_t{c.z() - cells.min().z()})),
-          v);
+      values->SetValue(vtkIdType{c.x() - cells.min().x()} +
+                           nx * (vtkIdType{c.y() - cells.min().y()} + ny * vtkIdType{c.z() - cells.min().z()}),
+                       v);
     };
     if (!cells.empty()) {
       for (const auto* leaf : leaves_) {

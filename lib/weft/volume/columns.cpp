@@ -227,9 +227,10 @@ bool ColumnReader::read_columns(std::size_t tile, SparseColumns& out) const {
   static_cast<PatchFrame&>(out) = m.frame(tile);
   out.count.fill(0U);
   const auto depth = static_cast<std::size_t>(out.depth);
-  if (out.k.size() < kPatch * kPatch * depth) {
-    out.k.resize(kPatch * kPatch * depth);
-    out.value.resize(kPatch * kPatch * depth);
+  const std::size_t need = std::size_t{kPatch} * std::size_t{kPatch} * depth;
+  if (out.k.size() < need) {
+    out.k.resize(need);
+    out.value.resize(need);
   }
   // Active voxels of value 0 are left out (written, then overwritten: no branch per voxel):
   // they add nothing to a sum, and a column of only such voxels is empty to every pass.
