@@ -173,6 +173,10 @@ def test_matrix_rows_headlines_and_resume(matrix):
     assert headline.cloth == "plain" and [v.factor for v in headline.best] == [2, 4, 0]
     # Judged on the set-ups it was not fitted on: none here.
     assert not any(v.name.startswith("albedo-corrected") for v in headline.representations)
+    # One floor per factor, its name and factor matching; a bias is a non-negative fraction.
+    assert [(v.name, v.factor) for v in headline.resolution_floors] == [
+        ("resolution-floor-2x", 2), ("resolution-floor-4x", 4)]
+    assert all(v.worst_relative_bias >= 0.0 for v in headline.resolution_floors)
     assert result.spec["film"] == [32, 24] and result.spec["spp"] == 8 and result.spec["reference_spp"] == 128
     # The finished case is kept in out/matrix.units: resume takes it, and the report is the same.
     again = weft.render_matrix(quick=True, cloths="plain", lightings="back", tilts=45, factors=(2, 4), out=out,

@@ -195,13 +195,16 @@ class MatrixVerdict(_Record):
 
 
 class MatrixHeadline(_Record):
-    """The verdict on one cloth: ``cloth``, ``judged_cases``, ``text``, ``best`` (per factor)
-    and ``representations`` (every coarse one), as MatrixVerdict."""
+    """The verdict on one cloth: ``cloth``, ``judged_cases``, ``text``, ``best`` (per factor),
+    ``representations`` (every coarse one) and ``resolution_floors`` (per factor), as MatrixVerdict."""
 
     best = property(lambda self: [MatrixVerdict(v) for v in self._fields["best"]],
                     doc="Per factor, the representation with the smallest worst-case bias.")
     representations = property(lambda self: [MatrixVerdict(v) for v in self._fields["representations"]],
                                doc="Every coarse representation, in candidate order.")
+    resolution_floors = property(lambda self: [MatrixVerdict(v) for v in self._fields["resolution_floors"]],
+                                 doc="Per factor, the resolution floor judged like a representation "
+                                     "(docs/render.md §6e, 'The resolution floor').")
 
     def __repr__(self):
         f = self._fields
