@@ -9,6 +9,7 @@
 #include <fmt/core.h>
 
 #include "command.h"
+#include "interrupt.h"
 #include "terminal_progress.h"
 #include "usage.h"
 #include "weft/core/error.h"
@@ -115,6 +116,7 @@ int main(int argc, char** argv) {
   std::string error;
   try {
     const weft::ThreadLimit limit(globals.threads);
+    const InterruptGuard interrupt;
     TerminalProgress progress(!globals.quiet);
     const Context context{globals, progress};
     bool ran = false;
@@ -127,6 +129,10 @@ int main(int argc, char** argv) {
       }
     }
     if (!ran && weft::dist::is_root()) fmt::print("{}", app.help());
+  } catch (const weft::Cancelled&) {
+    // Ctrl-C: the computation unwound at its next report; atomic writes removed their temporaries.
+    code = kInterruptedExitCode;
+    error = "weft: interrupted";
   } catch (const weft::dist::UnitFailure& e) {
     // Every rank has it; rank 0 prints it once.
     code = e.internal() ? 3 : 1;

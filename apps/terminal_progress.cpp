@@ -6,11 +6,15 @@
 #include <fmt/core.h>
 #include <unistd.h>
 
+#include "interrupt.h"
+
 namespace weft::app {
 
 TerminalProgress::TerminalProgress(bool enabled) : enabled_(enabled && ::isatty(STDERR_FILENO) != 0) {}
 
 void TerminalProgress::begin(std::string_view label, std::uint64_t total) {
+  // Ctrl-C stops the computation at its next report, drawn or not (apps/interrupt.h).
+  stop_if_interrupted();
   if (!enabled_) return;
   const std::lock_guard lock(mutex_);
   label_ = std::string(label);
@@ -22,6 +26,7 @@ void TerminalProgress::begin(std::string_view label, std::uint64_t total) {
 }
 
 void TerminalProgress::advance(std::uint64_t done_so_far) {
+  stop_if_interrupted();
   if (!enabled_) return;
   // Workers must never wait on the terminal: skip the redraw if another thread is drawing.
   const std::unique_lock lock(mutex_, std::try_to_lock);
