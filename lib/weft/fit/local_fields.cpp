@@ -16,10 +16,10 @@
 #include <tbb/parallel_sort.h>
 
 #include "weft/core/error.h"
-#include "weft/core/floor_div.h"
 #include "weft/core/memory.h"
 #include "weft/core/parallel.h"
 #include "weft/transmittance/shape_rate.h"
+#include "weft/volume/block_lattice.h"
 #include "weft/volume/grid_io.h"
 #include "weft/volume/grid_openvdb.h"
 
@@ -78,9 +78,9 @@ std::vector<Item> tree_items(const openvdb::FloatGrid& vdb) {
   return items;
 }
 
-std::array<std::int64_t, 6> block_range(const openvdb::CoordBBox& box, std::int64_t block) {
-  return {floor_div(box.min().x(), block), floor_div(box.min().y(), block), floor_div(box.min().z(), block),
-          floor_div(box.max().x(), block), floor_div(box.max().y(), block), floor_div(box.max().z(), block)};
+std::array<std::int64_t, 6> block_range(const openvdb::CoordBBox& box, const volume::BlockLattice& lattice) {
+  return {lattice.block_of(0, box.min().x()), lattice.block_of(1, box.min().y()), lattice.block_of(2, box.min().z()),
+          lattice.block_of(0, box.max().x()), lattice.block_of(1, box.max().y()), lattice.block_of(2, box.max().z())};
 }
 
 std::uint64_t range_count(const std::array<std::int64_t, 6>& r) {
@@ -153,10 +153,11 @@ std::pair<std::int64_t, std::int64_t> column_of(int axis, const std::array<std::
 }
 
 // Adds `item`'s part of block `key` to the block's total and columns.
-void accumulate(const Item& item, const Key& key, int block, double& total, Columns& cols) {
-  const std::int64_t B = block;
-  const openvdb::Coord lo(static_cast<int>(key[0] * B), static_cast<int>(key[1] * B), static_cast<int>(key[2] * B));
-  const openvdb::CoordBBox bounds(lo, lo.offsetBy(block - 1));
+void accumulate(const Item& item, const Key& key, const volume::BlockLattice& lattice, double& total, Columns& cols) {
+  const openvdb::Coord lo(static_cast<int>(lattice.first_voxel(0, key[0])),
+                          static_cast<int>(lattice.first_voxel(1, key[1])),
+                          static_cast<int>(lattice.first_voxel(2, key[2])));
+  const openvdb::CoordBBox bounds(lo, lo.offsetBy(lattice.factor - 1));
   if (item.leaf != nullptr) {
     for (auto v = item.leaf->cbeginValueOn(); v; ++v) {
       const openvdb::Coord c = v.getCoord();
@@ -189,14 +190,17 @@ void accumulate(const Item& item, const Key& key, int block, double& total, Colu
   }
 }
 
-LocalFieldsEstimate estimate(const std::vector<Item>& items, std::uint64_t active_voxels, int block) {
+LocalFieldsEstimate estimate(const std::vector<Item>& items, std::uint64_t active_voxels,
+                             const volume::BlockLattice& lattice) {
+  const int block = lattice.factor;
+  const volume::BlockLattice coarse_leaf{lattice.anchor, block * 8};
   LocalFieldsEstimate e;
   std::uint64_t coarse_leaves = 0;
   std::uint64_t tile_columns = 0;
   for (const Item& item : items) {
-    const auto r = block_range(item.box, block);
+    const auto r = block_range(item.box, lattice);
     e.leaf_entries += range_count(r);
-    coarse_leaves += range_count(block_range(item.box, static_cast<std::int64_t>(block) * 8));
+    coarse_leaves += range_count(block_range(item.box, coarse_leaf));
     if (item.leaf == nullptr) {
       const auto d = item.box.dim();
       tile_columns += static_cast<std::uint64_t>(d.x()) * d.y() + static_cast<std::uint64_t>(d.y()) * d.z() +
@@ -224,7 +228,8 @@ void check_local_block(int block) {
 
 LocalFieldsEstimate estimate_local_fields(const volume::Grid& grid, int block) {
   check_local_block(block);
-  return estimate(tree_items(*grid.impl().grid), grid.active_voxel_count(), block);
+  return estimate(tree_items(*grid.impl().grid), grid.active_voxel_count(),
+                  volume::block_lattice(grid.active_bbox(), block));
 }
 
 LocalFields local_fields(const volume::Grid& grid, int block, ProgressSink& progress) {
@@ -233,7 +238,9 @@ LocalFields local_fields(const volume::Grid& grid, int block, ProgressSink& prog
   const auto& vdb = *grid.impl().grid;
   const std::vector<Item> items = tree_items(vdb);
   if (items.size() > std::numeric_limits<std::uint32_t>::max()) fail("local fields: too many leaves");
-  const LocalFieldsEstimate e = estimate(items, grid.active_voxel_count(), block);
+  // Blocks anchored to the cloth (volume/block_lattice.h), as volume::downsample's.
+  const volume::BlockLattice lattice = volume::block_lattice(grid.active_bbox(), block);
+  const LocalFieldsEstimate e = estimate(items, grid.active_voxel_count(), lattice);
   const std::uint64_t budget = default_memory_budget();
   if (e.bytes > budget) {
     fail(
@@ -245,7 +252,7 @@ LocalFields local_fields(const volume::Grid& grid, int block, ProgressSink& prog
   std::vector<Entry> entries;
   entries.reserve(e.leaf_entries);
   for (std::size_t i = 0; i < items.size(); ++i) {
-    const auto r = block_range(items[i].box, block);
+    const auto r = block_range(items[i].box, lattice);
     for (std::int64_t x = r[0]; x <= r[3]; ++x) {
       for (std::int64_t y = r[1]; y <= r[4]; ++y) {
         for (std::int64_t z = r[2]; z <= r[5]; ++z) entries.push_back({{x, y, z}, static_cast<std::uint32_t>(i)});
@@ -271,7 +278,7 @@ LocalFields local_fields(const volume::Grid& grid, int block, ProgressSink& prog
     r.key = entries[starts[u]].block;
     double total = 0.0;
     for (std::size_t i = starts[u]; i < starts[u + 1]; ++i)
-      accumulate(items[entries[i].item], r.key, block, total, cols);
+      accumulate(items[entries[i].item], r.key, lattice, total, cols);
     r.mean = total / volume;
     for (int a = 0; a < 3; ++a) r.variance[static_cast<std::size_t>(a)] = cols.variance(a, r.mean);
     results[u] = r;
@@ -281,7 +288,7 @@ LocalFields local_fields(const volume::Grid& grid, int block, ProgressSink& prog
   LocalFields out;
   out.block = block;
   const double coarse = grid.voxel_size() * block;
-  const auto origin = grid.origin();
+  const auto origin = lattice.coarse_origin(grid.origin(), grid.voxel_size());
   auto make = [&](const std::string& name) {
     volume::Grid g(coarse, name);
     g.set_origin(origin);

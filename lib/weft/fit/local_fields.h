@@ -36,7 +36,8 @@ struct LocalFieldsEstimate {
 };
 [[nodiscard]] LocalFieldsEstimate estimate_local_fields(const volume::Grid& grid, int block);
 
-/// Local statistic fields: per block of B³ voxels (aligned to multiples of B in index space),
+/// Local statistic fields: per block of B³ voxels (anchored to the cloth, at the active box's
+/// lower corner: volume/block_lattice.h; the grids' index 0 and origin are that corner's),
 /// the block mean C̄ and, per axis, the variance of the B² column means across the block and
 /// the (α, β) they give. Blocks without any concentration are left inactive. α = β = +∞ mark
 /// blocks with zero variance (exponential).

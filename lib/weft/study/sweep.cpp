@@ -13,13 +13,13 @@
 #include <nlohmann/json.hpp>
 
 #include "weft/core/error.h"
-#include "weft/core/floor_div.h"
 #include "weft/core/parallel.h"
 #include "weft/dist/distributed.h"
 #include "weft/fit/gamma_moments.h"
 #include "weft/fit/local_fields.h"
 #include "weft/transmittance/gamma_hazard.h"
 #include "weft/volume/beam.h"
+#include "weft/volume/block_lattice.h"
 #include "weft/volume/downsample.h"
 #include "weft/volume/grid.h"
 
@@ -98,19 +98,21 @@ std::vector<double> coarse_beam_log_t(const volume::Grid& mean, const volume::Gr
   const std::int64_t f = factor;
   const auto fext = fine_box.extent();
   const std::int64_t n = fext[static_cast<std::size_t>(axis)];
-  const std::int64_t cu0 = floor_div(fine_box.min[ua], f);
-  const std::int64_t cu1 = floor_div(fine_box.max[ua], f);
-  const std::int64_t cv0 = floor_div(fine_box.min[va], f);
-  const std::int64_t cv1 = floor_div(fine_box.max[va], f);
-  const std::int64_t ca0 = floor_div(fine_box.min[axis], f);
-  const std::int64_t ca1 = floor_div(fine_box.max[axis], f);
+  // The coarse grids' blocks are anchored at the fine box's lower corner (volume/block_lattice.h).
+  const volume::BlockLattice lattice = volume::block_lattice(fine_box, factor);
+  const std::int64_t cu0 = 0;
+  const std::int64_t cu1 = lattice.block_of(ua, fine_box.max[ua]);
+  const std::int64_t cv0 = 0;
+  const std::int64_t cv1 = lattice.block_of(va, fine_box.max[va]);
+  const std::int64_t ca0 = 0;
+  const std::int64_t ca1 = lattice.block_of(axis, fine_box.max[axis]);
   const std::int64_t nu = cu1 - cu0 + 1;
   const std::int64_t nv = cv1 - cv0 + 1;
   const auto K = static_cast<std::size_t>(n) + 1;
   // A coarse column stands for the fine columns of the fine face it covers.
   const auto overlap = [&](std::int64_t c, int ax) {
-    const std::int64_t lo = std::max<std::int64_t>(c * f, fine_box.min[ax]);
-    const std::int64_t hi = std::min<std::int64_t>(c * f + f - 1, fine_box.max[ax]);
+    const std::int64_t lo = std::max<std::int64_t>(lattice.first_voxel(ax, c), fine_box.min[ax]);
+    const std::int64_t hi = std::min<std::int64_t>(lattice.first_voxel(ax, c) + f - 1, fine_box.max[ax]);
     return static_cast<double>(std::max<std::int64_t>(0, hi - lo + 1));
   };
   const auto cols = static_cast<std::size_t>(nu * nv);
@@ -146,8 +148,8 @@ std::vector<double> coarse_beam_log_t(const volume::Grid& mean, const volume::Gr
         c[static_cast<std::size_t>(va)] = static_cast<int>(cv0 + iv);
         Segment g;
         // Fine-index extent of the block along the ray, as distances from the entry face.
-        const std::int64_t z0 = ca * f;
-        const std::int64_t z1 = ca * f + f;
+        const std::int64_t z0 = lattice.first_voxel(axis, ca);
+        const std::int64_t z1 = z0 + f;
         const std::int64_t d0 = reverse ? fine_box.max[axis] + 1 - z1 : z0 - fine_box.min[axis];
         const std::int64_t d1 = reverse ? fine_box.max[axis] + 1 - z0 : z1 - fine_box.min[axis];
         g.a = fine_voxel * static_cast<double>(std::max<std::int64_t>(d0, 0));

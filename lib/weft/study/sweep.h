@@ -45,7 +45,8 @@ enum class CoarseLaw { exponential, gamma_independent, gamma_memory };
 /// log T(t_k) of an axis beam through coarse fields, t_k = k·h (k = 0 … n, n the fine active
 /// box's extent along the axis, h the fine voxel size), for one ray per fine column of the fine
 /// active face. `mean` (and `variance`, ignored for the exponential law) have voxel size f·h, the
-/// fine grid's origin and blocks aligned to multiples of f (volume::downsample, local_fields).
+/// blocks anchored at the fine active box's lower corner, index 0 there (volume/block_lattice.h:
+/// volume::downsample, local_fields).
 /// `direction` is an axis direction (either sense). Throws weft::Error for a non-axis direction,
 /// σ ≤ 0, an empty fine box, or coarse grids whose voxel size is not f·h.
 [[nodiscard]] std::vector<double> coarse_beam_log_t(const volume::Grid& mean, const volume::Grid* variance,

@@ -8,11 +8,13 @@ namespace weft::volume {
 
 /// @brief The grid at `factor`× coarser voxels, conserving the amount of what it holds.
 ///
-/// Coarse voxel (I, J, K) covers the fine voxels [f·I, f·I + f)³ in index space (blocks aligned
-/// to multiples of f, as `weft fit --block`), and its value is the mean of those f³ fine values,
+/// Coarse voxel (I, J, K) covers the fine voxels [a + f·I, a + f·I + f)³ in index space, a the
+/// active box's lower corner (blocks anchored to the cloth, volume/block_lattice.h, as `weft fit
+/// --block`), and its value is the mean of those f³ fine values,
 /// inactive fine voxels counting as 0: Σ_coarse C·(f·h)³ = Σ_fine C·h³ to float rounding, for
 /// any extent (blocks straddling the active box are simply partly empty). A coarse voxel is
-/// active when any of its fine voxels is. Same origin; voxel size f·h; metadata kept. This is
+/// active when any of its fine voxels is. Index 0 at the anchor (origin moved there); voxel size f·h;
+/// metadata kept. This is
 /// the exponential (RTE) model of the coarse resolution: each coarse voxel a homogeneous medium
 /// with the mean concentration. Sums are in double, per block in a fixed order, so the result
 /// does not depend on the thread count.

@@ -10,8 +10,8 @@
 #include <fmt/format.h>
 
 #include "weft/core/error.h"
-#include "weft/core/floor_div.h"
 #include "weft/core/parallel.h"
+#include "weft/volume/block_lattice.h"
 #include "weft/volume/grid_openvdb.h"
 
 namespace weft::volume {
@@ -54,12 +54,11 @@ ShadowedGrids shadowed_downsample(const Grid& fine, int factor, double scale) {
   const double kappa = scale * fine.voxel_size();  // optical depth of one fine voxel per unit value
   const double columns = static_cast<double>(f) * static_cast<double>(f);
   const double cells = columns * static_cast<double>(f);
-  std::array<int, 3> lo_block{};
+  // Blocks anchored to the cloth (volume/block_lattice.h): block 0 starts at the box's corner.
+  const BlockLattice lattice = block_lattice(box, f);
   std::array<int, 3> blocks{};
-  for (std::size_t a = 0; a < 3; ++a) {
-    lo_block[a] = floor_div(box.min[a], f);
-    blocks[a] = floor_div(box.max[a], f) - lo_block[a] + 1;
-  }
+  for (std::size_t a = 0; a < 3; ++a)
+    blocks[a] = static_cast<int>(lattice.block_of(static_cast<int>(a), box.max[a])) + 1;
 
   // One work unit per slab of blocks (fixed I): each block is computed alone, in index order,
   // so the values do not depend on the thread count.
@@ -69,12 +68,12 @@ ShadowedGrids shadowed_downsample(const Grid& fine, int factor, double scale) {
     std::array<std::vector<double>, 3> depth;  // per axis a: the column sums over the clipped block
     for (int bj = 0; bj < blocks[1]; ++bj) {
       for (int bk = 0; bk < blocks[2]; ++bk) {
-        const std::array<int, 3> b{lo_block[0] + static_cast<int>(unit), lo_block[1] + bj, lo_block[2] + bk};
+        const std::array<int, 3> b{static_cast<int>(unit), bj, bk};
         std::array<int, 3> lo{};
         std::array<int, 3> n{};  // the block clipped to the active box: voxels outside are 0
         for (std::size_t a = 0; a < 3; ++a) {
-          lo[a] = std::max(b[a] * f, box.min[a]);
-          n[a] = std::min(b[a] * f + f - 1, box.max[a]) - lo[a] + 1;
+          lo[a] = static_cast<int>(lattice.first_voxel(static_cast<int>(a), b[a]));
+          n[a] = std::min(lo[a] + f - 1, box.max[a]) - lo[a] + 1;
         }
         // depth[a] is indexed by the two other coordinates (u, v) in increasing axis order.
         depth[0].assign(static_cast<std::size_t>(n[1]) * static_cast<std::size_t>(n[2]), 0.0);
@@ -128,7 +127,7 @@ ShadowedGrids shadowed_downsample(const Grid& fine, int factor, double scale) {
 
   const auto make = [&](const std::string& name) {
     Grid g(fine.voxel_size() * f, name);
-    g.set_origin(fine.origin());
+    g.set_origin(lattice.coarse_origin(fine.origin(), fine.voxel_size()));
     for (const auto& [k, v] : fine.metadata()) {
       if (k.rfind("weft:", 0) == 0) g.set_metadata(k, v);
     }

@@ -37,8 +37,9 @@ struct ShadowedGrids {
 /// block of uniform value equals volume::downsample's coarse voxel bit for bit.
 ///
 /// Physical, hence independent of the voxel size for the same cloth (refining h by 2 and
-/// doubling the factor gives the same grid) and of the world origin; like downsample, blocks
-/// are aligned to the index origin. Same origin, voxel size f·h and metadata as downsample
+/// doubling the factor gives the same grid), of the world origin and of the index origin: like
+/// downsample, blocks are anchored to the cloth (volume/block_lattice.h). Origin, voxel size f·h
+/// and metadata as downsample
 /// (`weft:downsample_factor`), plus `weft:downsample_rule` = `shadowed` and the scale used
 /// (`weft:shadow_scale`). Blocks are independent work units, so the result does not depend on
 /// the thread count.

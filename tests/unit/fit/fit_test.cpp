@@ -246,7 +246,9 @@ struct Reference {
   double mean = 0.0;
   std::array<double, 3> variance{};
 };
+// Block `key` of side B anchored at the active box's lower corner (volume/block_lattice.h).
 Reference reference_block(const Grid& g, int B, std::array<int, 3> key) {
+  const std::array<int, 3> a = g.active_bbox().min;
   Reference r;
   const double n = static_cast<double>(B) * B * B;
   std::array<std::vector<double>, 3> cols;
@@ -254,7 +256,7 @@ Reference reference_block(const Grid& g, int B, std::array<int, 3> key) {
   for (int i = 0; i < B; ++i) {
     for (int j = 0; j < B; ++j) {
       for (int k = 0; k < B; ++k) {
-        const double v = g.value(key[0] * B + i, key[1] * B + j, key[2] * B + k);
+        const double v = g.value(a[0] + key[0] * B + i, a[1] + key[1] * B + j, a[2] + key[2] * B + k);
         r.mean += v / n;
         cols[0][static_cast<std::size_t>(j * B + k)] += v / B;
         cols[1][static_cast<std::size_t>(i * B + k)] += v / B;
@@ -271,8 +273,9 @@ Reference reference_block(const Grid& g, int B, std::array<int, 3> key) {
 }
 
 TEST(Fit, LocalFieldsDenseAndSparseBlocksMatchTheDefinition) {
-  // A scatter of voxels over [−20, 40)³: blocks of 7 (dense columns, several blocks, negative
-  // keys) and of 70 (sparse columns; the data spans 2³ blocks) against the dense definition.
+  // A scatter of voxels over [−20, 40)³: blocks of 7 (dense columns, several blocks) and of 70
+  // (sparse columns; one block holds the data) against the dense definition, blocks anchored at
+  // the active box's lower corner.
   Grid g(0.1);
   for (int n = 0; n < 4000; ++n) {
     const int i = (n * 37) % 60 - 20;
@@ -283,17 +286,60 @@ TEST(Fit, LocalFieldsDenseAndSparseBlocksMatchTheDefinition) {
   for (const int B : {7, 70}) {
     const LocalFields f = local_fields(g, B);
     EXPECT_GT(f.blocks, 0U);
-    // The blocks of a few of the voxels (keys negative and positive).
+    const std::array<int, 3> anchor = g.active_bbox().min;
+    for (std::size_t a = 0; a < 3; ++a) EXPECT_NEAR(f.mean.origin()[a], g.origin()[a] + 0.1 * anchor[a], 1e-12);
+    // The blocks of a few of the voxels.
     for (const int n : {0, 1, 2, 7, 100, 2001}) {
       const std::array<int, 3> voxel{(n * 37) % 60 - 20, (n * 53) % 60 - 20, (n * 71 + n / 7) % 60 - 20};
       std::array<int, 3> key{};
-      for (std::size_t a = 0; a < 3; ++a) key[a] = static_cast<int>(std::floor(static_cast<double>(voxel[a]) / B));
+      for (std::size_t a = 0; a < 3; ++a)
+        key[a] = static_cast<int>(std::floor(static_cast<double>(voxel[a] - anchor[a]) / B));
       const Reference r = reference_block(g, B, key);
       SCOPED_TRACE(testing::Message() << "B = " << B << ", block " << key[0] << "," << key[1] << "," << key[2]);
       ASSERT_GT(r.mean, 0.0);
       EXPECT_NEAR(f.mean.value(key[0], key[1], key[2]), r.mean, 1e-6 * r.mean);
       for (std::size_t a = 0; a < 3; ++a) {
         EXPECT_NEAR(f.variance[a].value(key[0], key[1], key[2]), r.variance[a], 1e-5 * r.variance[a] + 1e-12);
+      }
+    }
+  }
+}
+
+TEST(Fit, LocalFieldsDoNotMoveWithTheIndexOrigin) {
+  // The same voxels at other index origins (shifts that are not multiples of the block) with the
+  // origin moved back: blocks anchored to the cloth (volume/block_lattice.h) give the same
+  // fields at the same coarse indices and world positions, to float rounding of the sums.
+  Grid g(0.1);
+  for (int n = 0; n < 3000; ++n) {
+    g.set_value((n * 37) % 45 - 20, (n * 53) % 41 - 10, (n * 71 + n / 7) % 23, 0.05f + 0.009f * ((n * 29) % 100));
+  }
+  const int B = 6;
+  const LocalFields f = local_fields(g, B);
+  for (const std::array<int, 3> shift : {std::array<int, 3>{1, 0, 0}, {0, 5, 2}, {-7, -3, -1}, {1001, -513, 37}}) {
+    Grid moved(g.voxel_size());
+    std::array<double, 3> o = g.origin();
+    for (std::size_t a = 0; a < 3; ++a) o[a] -= shift[a] * g.voxel_size();
+    moved.set_origin(o);
+    const auto box = g.active_bbox();
+    for (int i = box.min[0]; i <= box.max[0]; ++i)
+      for (int j = box.min[1]; j <= box.max[1]; ++j)
+        for (int k = box.min[2]; k <= box.max[2]; ++k)
+          if (const float v = g.value(i, j, k); v > 0.0F) moved.set_value(i + shift[0], j + shift[1], k + shift[2], v);
+    const LocalFields m = local_fields(moved, B);
+    SCOPED_TRACE(testing::Message() << "shift " << shift[0] << "," << shift[1] << "," << shift[2]);
+    EXPECT_EQ(m.blocks, f.blocks);
+    for (std::size_t a = 0; a < 3; ++a) EXPECT_NEAR(m.mean.origin()[a], f.mean.origin()[a], 1e-9);
+    const auto cb = f.mean.active_bbox();
+    for (int i = cb.min[0]; i <= cb.max[0]; ++i) {
+      for (int j = cb.min[1]; j <= cb.max[1]; ++j) {
+        for (int k = cb.min[2]; k <= cb.max[2]; ++k) {
+          const float mean = f.mean.value(i, j, k);
+          EXPECT_NEAR(m.mean.value(i, j, k), mean, 1e-6F * mean);
+          for (std::size_t a = 0; a < 3; ++a) {
+            const float var = f.variance[a].value(i, j, k);
+            EXPECT_NEAR(m.variance[a].value(i, j, k), var, 1e-5F * var + 1e-9F);
+          }
+        }
       }
     }
   }

@@ -42,7 +42,10 @@ TEST(Downsample, ConservesTheTotalToFloatRounding) {
   for (int f : {1, 2, 3, 4, 5, 8, 16}) {
     const Grid coarse = downsample(fine, f);
     EXPECT_DOUBLE_EQ(coarse.voxel_size(), fine.voxel_size() * f);
-    for (int a = 0; a < 3; ++a) EXPECT_NEAR(coarse.origin()[a], fine.origin()[a], 1e-12);
+    // Index 0 at the anchor, the active box's lower corner (volume/block_lattice.h).
+    const IndexBox box = fine.active_bbox();
+    for (int a = 0; a < 3; ++a)
+      EXPECT_NEAR(coarse.origin()[a], fine.origin()[a] + box.min[a] * fine.voxel_size(), 1e-12);
     const double cells = static_cast<double>(f) * f * f;
     // Each coarse value is a double mean rounded once to float: relative error ≤ 2^−24 each.
     EXPECT_NEAR(coarse.sum() * cells, total, total * std::ldexp(1.0, -23)) << "factor " << f;
@@ -57,7 +60,7 @@ TEST(Downsample, EveryBlockIsTheMeanOfItsFineVoxelsWithEmptyOnesAsZero) {
     for (int i = box.min[0]; i <= box.max[0]; ++i) {
       for (int j = box.min[1]; j <= box.max[1]; ++j) {
         for (int k = box.min[2]; k <= box.max[2]; ++k) {
-          sums[{block(i, f), block(j, f), block(k, f)}] += fine.value(i, j, k);
+          sums[{block(i - box.min[0], f), block(j - box.min[1], f), block(k - box.min[2], f)}] += fine.value(i, j, k);
         }
       }
     }
@@ -69,8 +72,8 @@ TEST(Downsample, EveryBlockIsTheMeanOfItsFineVoxelsWithEmptyOnesAsZero) {
     // Blocks straddling the box: the non-divisible extents leave partly empty coarse voxels.
     const IndexBox cbox = coarse.active_bbox();
     for (int a = 0; a < 3; ++a) {
-      EXPECT_EQ(cbox.min[a], block(box.min[a], f));
-      EXPECT_EQ(cbox.max[a], block(box.max[a], f));
+      EXPECT_EQ(cbox.min[a], 0);
+      EXPECT_EQ(cbox.max[a], block(box.max[a] - box.min[a], f));
     }
   }
 }
