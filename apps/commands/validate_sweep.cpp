@@ -115,7 +115,10 @@ int run_sweep(const SweepOutputOptions& o, const Context& ctx, const volume::Gri
                     {"seed", spec.seed},
                     {"repetitions", spec.repetitions},
                     {"factors", spec.factors},
-                    {"ray_strides", spec.ray_strides}};
+                    {"ray_strides", spec.ray_strides},
+                    // Where the coarse blocks fall (docs/render.md §5 "Coarse grids anchored to
+                    // the cloth"): a store made with the index-aligned blocks is refused.
+                    {"coarse_blocks", "anchored"}};
   dist::UnitStore store(out / "units", key.dump(2) + "\n", o.resume);
   if (dist::is_root()) ensure_directory(out);
   auto t0 = std::chrono::steady_clock::now();

@@ -311,9 +311,10 @@ std::string matrix_key(const MatrixSpec& spec) {
                     {"scale", spec.study.scale},
                     {"albedo_fit", true},
                     {"components", spec.study.components},
-                    // What a stored case holds (the study's candidate JSON, the resolution floors);
-                    // bumped when it changes.
-                    {"case_format", 5}};
+                    // What a stored case holds (the study's candidate JSON, the resolution floors)
+                    // and what its coarse grids are (6: blocks anchored to the cloth, docs/render.md
+                    // §5); bumped when either changes.
+                    {"case_format", 6}};
   return key.dump(2) + "\n";
 }
 
