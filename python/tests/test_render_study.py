@@ -224,6 +224,28 @@ def test_shadowed_downsample_closed_forms():
     assert "ShadowedGrids" in repr(s)
 
 
+def test_coarse_grids_do_not_move_with_the_index_origin(small_cloth):
+    """docs/render.md §5 "Coarse grids anchored to the cloth": the cloth's voxels stored from
+    index (0, 0, 0) by Grid.from_numpy (the origin moved so the world is the same) coarsen to the
+    same values at the same world positions as the generated grid, whose box starts elsewhere."""
+    g = small_cloth.grid
+    lo, _ = g.bbox
+    assert lo != (0, 0, 0)
+    h = g.voxel_size
+    moved = weft.Grid.from_numpy(g.to_numpy(), voxel_size=h,
+                                 origin=tuple(o + i * h for o, i in zip(g.origin, lo)))
+    assert moved.bbox[0] == (0, 0, 0)
+    for f in (2, 3, 4):
+        a, b = weft.downsample(g, f), weft.downsample(moved, f)
+        assert a.origin == pytest.approx(b.origin, abs=1e-12)
+        np.testing.assert_allclose(b.to_numpy(), a.to_numpy(), rtol=1e-6)
+        sa, sb = weft.shadowed_downsample(g, f, sigma=g.sigma), weft.shadowed_downsample(moved, f, sigma=g.sigma)
+        np.testing.assert_allclose(sb.isotropic.to_numpy(), sa.isotropic.to_numpy(), rtol=1e-6)
+        fa, fb = weft.local_fields(g, f), weft.local_fields(moved, f)
+        np.testing.assert_allclose(fb.mean.to_numpy(), fa.mean.to_numpy(), rtol=1e-6)
+        np.testing.assert_allclose(fb.variance[2].to_numpy(), fa.variance[2].to_numpy(), rtol=1e-5, atol=1e-9)
+
+
 def test_shadowed_downsample_takes_sigma_from_the_provenance(small_cloth):
     g = small_cloth.grid
     assert np.array_equal(weft.shadowed_downsample(g, 2).isotropic.to_numpy(),
