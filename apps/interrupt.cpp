@@ -1,5 +1,6 @@
 #include "interrupt.h"
 
+#include <array>
 #include <atomic>
 #include <csignal>
 
@@ -12,35 +13,47 @@ namespace weft::app {
 namespace {
 
 // A lock-free atomic is the one thing a signal handler may set besides volatile sig_atomic_t.
-std::atomic<bool> g_requested{false};
-static_assert(std::atomic<bool>::is_always_lock_free);
+std::atomic<int> g_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free);
 
-struct sigaction g_previous {};
-bool g_installed = false;
+constexpr std::array<int, 2> kSignals{SIGINT, SIGTERM};
+std::array<struct sigaction, kSignals.size()> g_previous{};
+std::array<bool, kSignals.size()> g_installed{};
 
-extern "C" void on_sigint(int /*signal*/) { g_requested.store(true, std::memory_order_relaxed); }
+extern "C" void on_signal(int signal) {
+  int none = 0;
+  g_signal.compare_exchange_strong(none, signal, std::memory_order_relaxed);
+}
 
 }  // namespace
 
 InterruptGuard::InterruptGuard() {
   if (dist::size() > 1) return;
   struct sigaction action {};
-  action.sa_handler = on_sigint;
+  action.sa_handler = on_signal;
   sigemptyset(&action.sa_mask);
-  // One-shot: the handler resets itself to the default, so a second Ctrl-C kills the process.
+  // One-shot: the handler resets itself to the default, so a second signal kills the process.
   action.sa_flags = SA_RESETHAND | SA_RESTART;
-  g_installed = ::sigaction(SIGINT, &action, &g_previous) == 0;
+  for (std::size_t i = 0; i < kSignals.size(); ++i) {
+    g_installed[i] = ::sigaction(kSignals[i], &action, &g_previous[i]) == 0;
+  }
 }
 
 InterruptGuard::~InterruptGuard() {
-  if (g_installed) ::sigaction(SIGINT, &g_previous, nullptr);
-  g_installed = false;
+  for (std::size_t i = 0; i < kSignals.size(); ++i) {
+    if (g_installed[i]) ::sigaction(kSignals[i], &g_previous[i], nullptr);
+    g_installed[i] = false;
+  }
 }
 
-bool interrupt_requested() noexcept { return g_requested.load(std::memory_order_relaxed); }
+int interrupt_signal() noexcept { return g_signal.load(std::memory_order_relaxed); }
 
 void stop_if_interrupted() {
-  if (interrupt_requested()) throw Cancelled();
+  if (interrupt_signal() != 0) throw Cancelled();
 }
+
+int interrupted_exit_code(int signal) noexcept { return 128 + signal; }
+
+std::string_view interrupted_word(int signal) noexcept { return signal == SIGTERM ? "terminated" : "interrupted"; }
 
 }  // namespace weft::app

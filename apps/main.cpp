@@ -1,5 +1,6 @@
 // weft: how light gets through cloth. One binary, one subcommand per stage (docs/architecture.md §1).
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <memory>
@@ -130,9 +131,11 @@ int main(int argc, char** argv) {
     }
     if (!ran && weft::dist::is_root()) fmt::print("{}", app.help());
   } catch (const weft::Cancelled&) {
-    // Ctrl-C: the computation unwound at its next report; atomic writes removed their temporaries.
-    code = kInterruptedExitCode;
-    error = "weft: interrupted";
+    // Ctrl-C or SIGTERM: the computation unwound at its next report; atomic writes removed their
+    // temporaries (apps/interrupt.h).
+    const int signal = interrupt_signal() != 0 ? interrupt_signal() : SIGINT;
+    code = interrupted_exit_code(signal);
+    error = fmt::format("weft: {}", interrupted_word(signal));
   } catch (const weft::dist::UnitFailure& e) {
     // Every rank has it; rank 0 prints it once.
     code = e.internal() ? 3 : 1;

@@ -13,7 +13,7 @@ namespace weft::app {
 TerminalProgress::TerminalProgress(bool enabled) : enabled_(enabled && ::isatty(STDERR_FILENO) != 0) {}
 
 void TerminalProgress::begin(std::string_view label, std::uint64_t total) {
-  // Ctrl-C stops the computation at its next report, drawn or not (apps/interrupt.h).
+  // Ctrl-C or SIGTERM stops the computation at its next report, drawn or not (apps/interrupt.h).
   stop_if_interrupted();
   if (!enabled_) return;
   const std::lock_guard lock(mutex_);

@@ -1,7 +1,7 @@
 #pragma once
 /// @file
 /// @brief A progress bar with rate and ETA on a terminal; silent when stderr is not a TTY. Either
-/// way it stops the computation with weft::Cancelled once Ctrl-C was pressed (apps/interrupt.h).
+/// way it stops the computation with weft::Cancelled once Ctrl-C or SIGTERM came (apps/interrupt.h).
 
 #include <chrono>
 #include <memory>

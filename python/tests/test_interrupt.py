@@ -153,7 +153,8 @@ def test_callback_raising_on_the_final_report_is_raised_too(small):
     assert weft.window_stats(small.grid, "x", window=0.05).mean > 0
 
 
-def test_cli_ctrl_c_stops_without_a_half_written_file(tmp_path, weft_bin):
+@pytest.mark.parametrize("sig, code, word", [(signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143, "terminated")])
+def test_cli_ctrl_c_stops_without_a_half_written_file(sig, code, word, tmp_path, weft_bin):
     spec = tmp_path / "big.json"
     spec.write_text(repr(BIG_CLOTH).replace("'", '"'))
     out = tmp_path / "out"
@@ -161,10 +162,10 @@ def test_cli_ctrl_c_stops_without_a_half_written_file(tmp_path, weft_bin):
                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     time.sleep(2.0)  # inside the generation: the big cloth takes over a minute
     assert child.poll() is None, "the big cloth finished in under 2 s: make it bigger"
-    child.send_signal(signal.SIGINT)
+    child.send_signal(sig)
     _, err = child.communicate(timeout=60)
-    assert child.returncode == 130, (child.returncode, err)
-    assert err.replace("\r", "\n").rstrip().splitlines()[-1] == "weft: interrupted", err
+    assert child.returncode == code, (child.returncode, err)
+    assert err.replace("\r", "\n").rstrip().splitlines()[-1] == "weft: " + word, err
     left = sorted(p.name for p in out.rglob("*")) if out.exists() else []
     assert not any(name.endswith((".vdb", ".json")) or ".tmp" in name for name in left), left
 
