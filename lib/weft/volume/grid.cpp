@@ -7,6 +7,7 @@
 #include <openvdb/tools/ValueTransformer.h>
 #include <openvdb/tree/LeafManager.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
@@ -186,10 +187,29 @@ std::uint64_t Grid::active_voxel_count() const { return impl_->grid->activeVoxel
 
 std::uint64_t Grid::memory_bytes() const { return impl_->grid->tree().memUsage(); }
 
+openvdb::CoordBBox active_voxel_bbox(const openvdb::FloatGrid& grid) {
+  using Leaves = openvdb::tree::LeafManager<const openvdb::FloatTree>;
+  const Leaves leaves(grid.tree());
+  openvdb::CoordBBox box = tbb::parallel_reduce(
+      leaves.leafRange(), openvdb::CoordBBox(),
+      [](const Leaves::LeafRange& r, openvdb::CoordBBox b) {
+        for (auto leaf = r.begin(); leaf; ++leaf) leaf->evalActiveBoundingBox(b, true);
+        return b;
+      },
+      [](openvdb::CoordBBox a, const openvdb::CoordBBox& b) {
+        a.expand(b);
+        return a;
+      });
+  auto tile = grid.cbeginValueOn();
+  tile.setMaxDepth(tile.getLeafDepth() - 1);  // tiles only: leaf voxels are in the box already
+  for (; tile; ++tile) box.expand(tile.getBoundingBox());
+  return box;
+}
+
 IndexBox Grid::active_bbox() const {
   IndexBox box;
   if (impl_->grid->activeVoxelCount() == 0) return box;
-  const openvdb::CoordBBox b = impl_->grid->evalActiveVoxelBoundingBox();
+  const openvdb::CoordBBox b = active_voxel_bbox(*impl_->grid);
   box.min = {b.min().x(), b.min().y(), b.min().z()};
   box.max = {b.max().x(), b.max().y(), b.max().z()};
   return box;
