@@ -135,7 +135,8 @@ void write_with(Writer& writer, const fs::path& tmp, const fs::path& target) {
 // all its blocks at once, spread over the threads; the writer then finds each block it asks for
 // done. The blocks are compressed by vtkZLibDataCompressor's own call at the same level, so the
 // bytes are those of a plain write for any thread count; a block that is not the next one
-// expected (another cut, a converted copy) is compressed on the spot as VTK would.
+// expected (another cut, a converted copy) is compressed on the spot as VTK would; the writer
+// usually hands the array's own memory, which then needs no comparison.
 // No vtkTypeMacro: GetClassName() stays "vtkZLibDataCompressor", the name the writer puts in the
 // file's `compressor` attribute and by which readers choose the decompressor.
 class BlockParallelZLib : public vtkZLibDataCompressor {
@@ -165,7 +166,7 @@ class BlockParallelZLib : public vtkZLibDataCompressor {
     if (next_ < blocks_.size()) {
       const std::vector<unsigned char>& done = blocks_[next_];
       if (size == block_length(next_) && !done.empty() && done.size() <= space &&
-          std::memcmp(data, base_ + next_ * block_, size) == 0) {
+          (data == base_ + next_ * block_ || std::memcmp(data, base_ + next_ * block_, size) == 0)) {
         std::memcpy(out, done.data(), done.size());
         ++next_;
         return done.size();
