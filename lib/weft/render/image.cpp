@@ -8,6 +8,10 @@
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfThreading.h>
+#include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPNGWriter.h>
@@ -18,6 +22,27 @@
 #include "weft/core/parallel.h"
 
 namespace weft::render {
+namespace {
+
+// Threads OpenEXR may compress on: TBB's limit (`--threads`), its global pool resized to it;
+// 0 (the calling thread alone) under one thread.
+int exr_threads() {
+  const auto limit = static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+  const int threads = limit > 1 ? limit : 0;
+  if (Imf::globalThreadCount() != threads) Imf::setGlobalThreadCount(threads);
+  return threads;
+}
+
+std::vector<unsigned char> srgb8_pixels(const Image& image, double exposure) {
+  std::vector<unsigned char> rgb(image.rgb.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rgb.size(), 1U << 14U),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i != r.end(); ++i) rgb[i] = srgb8(image.rgb[i], exposure);
+                    });
+  return rgb;
+}
+
+}  // namespace
 
 void write_exr(const std::filesystem::path& path, const Image& image) {
   if (image.width <= 0 || image.height <= 0) fail("cannot write empty image to '{}'", path.string());
@@ -26,7 +51,10 @@ void write_exr(const std::filesystem::path& path, const Image& image) {
       Imf::Header header(image.width, image.height);
       const char* names[3] = {"R", "G", "B"};
       for (const char* n : names) header.channels().insert(n, Imf::Channel(Imf::FLOAT));
-      Imf::OutputFile file(tmp.c_str(), header);
+      // The ZIP blocks (16 rows each) are compressed on OpenEXR's pool, as many as weft's thread
+      // limit; the file writes them in row order, so its bytes do not depend on the count.
+      const int threads = exr_threads();
+      Imf::OutputFile file(tmp.c_str(), header, threads);
       Imf::FrameBuffer fb;
       const std::size_t xs = 3 * sizeof(float);
       const std::size_t ys = xs * static_cast<std::size_t>(image.width);
@@ -96,18 +124,19 @@ void write_rgb8_png(const std::filesystem::path& path, int width, int height, co
 
 void write_png(const std::filesystem::path& path, const Image& image, double exposure) {
   if (image.width <= 0 || image.height <= 0) fail("cannot write empty image to '{}'", path.string());
-  std::vector<unsigned char> rgb(image.rgb.size());
-  for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = srgb8(image.rgb[i], exposure);
-  write_rgb8_png(path, image.width, image.height, rgb);
+  write_rgb8_png(path, image.width, image.height, srgb8_pixels(image, exposure));
 }
 
 void write_exr_and_png(const std::filesystem::path& exr, const std::filesystem::path& png, const Image& image,
                        double exposure) {
+  // The sRGB codes first, on every thread (a pow per value: as long as the PNG's compression),
+  // then the two files side by side.
+  const std::vector<unsigned char> rgb = srgb8_pixels(image, exposure);
   parallel_units(2, [&](std::size_t i) {
     if (i == 0) {
       write_exr(exr, image);
     } else {
-      write_png(png, image, exposure);
+      write_rgb8_png(png, image.width, image.height, rgb);
     }
   });
 }

@@ -32,8 +32,10 @@ void write_rgb8_png(const std::filesystem::path& path, int width, int height, co
 /// Writes an 8-bit sRGB PNG (clamped, scaled by `exposure`), atomically.
 void write_png(const std::filesystem::path& path, const Image& image, double exposure = 1.0);
 /// write_exr and write_png of one image at the same time, on two threads when there are: each
-/// is a serial zlib compression (a quarter of a 1-spp 1024×768 render's CPU), which otherwise
-/// runs after the parallel render with every other core idle. Same bytes as one after the other.
+/// is a zlib compression (a quarter of a 1-spp 1024×768 render's CPU) that would otherwise run
+/// after the parallel render with every other core idle. The PNG's sRGB codes are made first on
+/// all threads, and the EXR's 16-row ZIP blocks are compressed on OpenEXR's pool, sized to the
+/// TBB thread limit (`--threads`). Same bytes as one after the other, on any thread count.
 void write_exr_and_png(const std::filesystem::path& exr, const std::filesystem::path& png, const Image& image,
                        double exposure = 1.0);
 

@@ -1,6 +1,7 @@
 #include "weft/viz/vtk_files.h"
 
 #include <algorithm>
+#include <cstring>
 #include <set>
 #include <utility>
 #include <vector>
@@ -25,6 +26,9 @@
 #include <vtkTypeInt64Array.h>
 #include <vtkXMLImageDataWriter.h>
 #include <vtkXMLPolyDataWriter.h>
+#include <vtkZLibDataCompressor.h>
+
+#include <tbb/parallel_for.h>
 
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
@@ -108,9 +112,9 @@ void configure(Writer& writer) {
   writer.SetCompressorTypeToZLib();
 }
 
+// Writes a configured writer's file to `tmp`; errors name `target`.
 template <typename Writer>
-void write_with(Writer& writer, const fs::path& tmp, const fs::path& target) {
-  configure(writer);
+void run_writer(Writer& writer, const fs::path& tmp, const fs::path& target) {
   writer.SetFileName(tmp.c_str());
   (void)detail::take_vtk_message();
   if (writer.Write() != 1 || writer.GetErrorCode() != 0) {
@@ -118,6 +122,69 @@ void write_with(Writer& writer, const fs::path& tmp, const fs::path& target) {
     fail("{}: cannot write VTK file{}{}", target.string(), detail.empty() ? "" : ": ", detail);
   }
 }
+
+template <typename Writer>
+void write_with(Writer& writer, const fs::path& tmp, const fs::path& target) {
+  configure(writer);
+  run_writer(writer, tmp, target);
+}
+
+// VTK's XML writer compresses an array in blocks of BlockSize bytes, one after the other, each
+// with zlib's compress2 at the writer's level; for a dense .vti that is most of the write, on one
+// thread. This compressor is handed a piece's bytes as soon as the piece is made and compresses
+// all its blocks at once, spread over the threads; the writer then finds each block it asks for
+// done. The blocks are compressed by vtkZLibDataCompressor's own call at the same level, so the
+// bytes are those of a plain write for any thread count; a block that is not the next one
+// expected (another cut, a converted copy) is compressed on the spot as VTK would; the writer
+// usually hands the array's own memory, which then needs no comparison.
+// No vtkTypeMacro: GetClassName() stays "vtkZLibDataCompressor", the name the writer puts in the
+// file's `compressor` attribute and by which readers choose the decompressor.
+class BlockParallelZLib : public vtkZLibDataCompressor {
+ public:
+  static BlockParallelZLib* New();
+
+  // Compresses the blocks of `bytes` (valid until the next call) as the writer will cut them.
+  void prepare(const unsigned char* bytes, std::size_t size, std::size_t block) {
+    base_ = bytes;
+    size_ = size;
+    block_ = std::max<std::size_t>(block, 1);
+    next_ = 0;
+    const std::size_t count = (size + block_ - 1) / block_;
+    blocks_.assign(count, {});
+    tbb::parallel_for(std::size_t{0}, count, [&](std::size_t b) {
+      const std::size_t n = block_length(b);
+      std::vector<unsigned char>& out = blocks_[b];
+      out.resize(GetMaximumCompressionSpace(n));
+      out.resize(vtkZLibDataCompressor::CompressBuffer(base_ + b * block_, n, out.data(), out.size()));
+    });
+  }
+
+ protected:
+  BlockParallelZLib() = default;
+
+  size_t CompressBuffer(unsigned char const* data, size_t size, unsigned char* out, size_t space) override {
+    if (next_ < blocks_.size()) {
+      const std::vector<unsigned char>& done = blocks_[next_];
+      if (size == block_length(next_) && !done.empty() && done.size() <= space &&
+          (data == base_ + next_ * block_ || std::memcmp(data, base_ + next_ * block_, size) == 0)) {
+        std::memcpy(out, done.data(), done.size());
+        ++next_;
+        return done.size();
+      }
+    }
+    return vtkZLibDataCompressor::CompressBuffer(data, size, out, space);
+  }
+
+ private:
+  std::size_t block_length(std::size_t b) const { return std::min(block_, size_ - b * block_); }
+
+  const unsigned char* base_ = nullptr;
+  std::size_t size_ = 0;
+  std::size_t block_ = 1;
+  std::size_t next_ = 0;
+  std::vector<std::vector<unsigned char>> blocks_;
+};
+vtkStandardNewMacro(BlockParallelZLib);
 
 // The grid's active box as vtkImageData, made one requested extent at a time: with
 // vtkXMLImageDataWriter::SetNumberOfPieces(n) the writer streams the image through the pipeline,
@@ -135,6 +202,10 @@ class GridImageSource : public vtkImageAlgorithm {
   double h = 1.0;
   std::array<double, 3> origin{};
   std::string name;
+  // When set, each piece's bytes are handed to it as soon as they are made (in blocks of
+  // block_size bytes, the writer's).
+  BlockParallelZLib* compressor = nullptr;
+  std::size_t block_size = 0;
 
   // Leaves and active tiles with their boxes, once: each piece then visits only the nodes that
   // overlap it.
@@ -178,23 +249,29 @@ class GridImageSource : public vtkImageAlgorithm {
     vtkNew<vtkFloatArray> values;
     values->SetName(name.c_str());
     values->SetNumberOfValues(nx * ny * nz);
-    values->FillValue(0.0f);
+    float* const dense = values->GetPointer(0);
+    const vtkIdType count = nx * ny * nz;
+    // Filled on all threads: nodes never overlap, so each voxel is written by one of them.
+    tbb::parallel_for(
+        tbb::blocked_range<vtkIdType>(0, count, vtkIdType{1} << 16),
+        [&](const tbb::blocked_range<vtkIdType>& r) { std::fill(dense + r.begin(), dense + r.end(), 0.0f); });
     const auto set = [&](const openvdb::Coord& c, float v) {
-      values->SetValue(vtkIdType{c.x() - cells.min().x()} +
-                           nx * (vtkIdType{c.y() - cells.min().y()} + ny * vtkIdType{c.z() - cells.min().z()}),
-                       v);
+      dense[vtkIdType{c.x() - cells.min().x()} +
+            nx * (vtkIdType{c.y() - cells.min().y()} + ny * vtkIdType{c.z() - cells.min().z()})] = v;
     };
     if (!cells.empty()) {
-      for (const auto* leaf : leaves_) {
-        if (!cells.hasOverlap(leaf->getNodeBoundingBox())) continue;
+      tbb::parallel_for(std::size_t{0}, leaves_.size(), [&](std::size_t l) {
+        const auto* leaf = leaves_[l];
+        if (!cells.hasOverlap(leaf->getNodeBoundingBox())) return;
         for (auto it = leaf->cbeginValueOn(); it; ++it) {
           const openvdb::Coord c = it.getCoord();
           if (cells.isInside(c)) set(c, *it);
         }
-      }
+      });
       // Active tiles stand for a whole block of voxels with one value: expand their overlap.
-      for (const auto& [tile, v] : tiles_) {
-        if (!cells.hasOverlap(tile)) continue;
+      tbb::parallel_for(std::size_t{0}, tiles_.size(), [&](std::size_t t) {
+        const auto& [tile, v] = tiles_[t];
+        if (!cells.hasOverlap(tile)) return;
         const openvdb::Coord lo = openvdb::Coord::maxComponent(tile.min(), cells.min());
         const openvdb::Coord hi = openvdb::Coord::minComponent(tile.max(), cells.max());
         for (int k = lo.z(); k <= hi.z(); ++k) {
@@ -202,9 +279,13 @@ class GridImageSource : public vtkImageAlgorithm {
             for (int i = lo.x(); i <= hi.x(); ++i) set(openvdb::Coord(i, j, k), v);
           }
         }
-      }
+      });
     }
     image->GetCellData()->SetScalars(values);
+    if (compressor != nullptr) {
+      compressor->prepare(reinterpret_cast<const unsigned char*>(dense),
+                          static_cast<std::size_t>(count) * sizeof(float), block_size);
+    }
     return 1;
   }
 
@@ -327,7 +408,14 @@ void write_vti(const volume::Grid& grid, const fs::path& path, std::uint64_t max
     vtkNew<vtkXMLImageDataWriter> writer;
     writer->SetInputConnection(source->GetOutputPort());
     writer->SetNumberOfPieces(static_cast<int>(pieces));
-    write_with(*writer, tmp, path);
+    configure(*writer);
+    vtkNew<BlockParallelZLib> compressor;
+    compressor->SetCompressionLevel(writer->GetCompressor()->GetCompressionLevel());
+    writer->SetCompressor(compressor);
+    source->compressor = compressor;
+    source->block_size = writer->GetBlockSize();
+    run_writer(*writer, tmp, path);
+    source->compressor = nullptr;
   });
 }
 

@@ -12,6 +12,7 @@
 
 #include "weft/core/error.h"
 #include "weft/volume/dda.h"
+#include "weft/volume/grid_openvdb.h"
 
 namespace weft::volume::detail {
 
@@ -89,7 +90,7 @@ struct CellBox {
 inline CellBox active_cell_box(const openvdb::FloatGrid& grid) {
   CellBox box{};
   if (grid.activeVoxelCount() == 0) return box;
-  const openvdb::CoordBBox b = grid.evalActiveVoxelBoundingBox();
+  const openvdb::CoordBBox b = active_voxel_bbox(grid);
   for (int a = 0; a < 3; ++a) {
     box.lo[a] = b.min()[a];
     box.hi[a] = std::int64_t{b.max()[a]} + 1;

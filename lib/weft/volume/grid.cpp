@@ -1,9 +1,13 @@
+#include <atomic>
 #include <cmath>
 #include <mutex>
 #include <new>
 
 #include <openvdb/io/File.h>
 #include <openvdb/tools/ValueTransformer.h>
+#include <openvdb/tree/LeafManager.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
@@ -38,13 +42,37 @@ void require_uniform_scale(const openvdb::FloatGrid& grid, const std::string& wh
     fail("{}: grid '{}' has voxel size {}", where, grid.getName(), size[0]);
 }
 
+bool valid_value(float v) { return std::isfinite(v) && v >= 0.0f; }
+
+// True when every active value is finite and >= 0: the leaves on all threads, then the tiles.
+bool all_values_valid(const openvdb::FloatGrid& grid) {
+  const openvdb::tree::LeafManager<const openvdb::FloatTree> leaves(grid.tree());
+  std::atomic<bool> valid{true};
+  tbb::parallel_for(leaves.leafRange(), [&](const openvdb::tree::LeafManager<const openvdb::FloatTree>::LeafRange& r) {
+    for (auto leaf = r.begin(); leaf; ++leaf) {
+      for (auto it = leaf->cbeginValueOn(); it; ++it) {
+        if (!valid_value(*it)) valid.store(false, std::memory_order_relaxed);
+      }
+    }
+  });
+  auto tile = grid.cbeginValueOn();
+  tile.setMaxDepth(tile.getLeafDepth() - 1);  // tiles only
+  for (; tile; ++tile) {
+    if (!valid_value(*tile)) return false;
+  }
+  return valid.load();
+}
+
 void require_valid_values(const openvdb::FloatGrid& grid, const std::string& where) {
-  for (auto it = grid.cbeginValueOn(); it; ++it) {
-    const float v = *it;
-    if (!std::isfinite(v) || v < 0.0f) {
-      const auto c = it.getCoord();
-      fail("{}: grid '{}' has invalid value {} at voxel ({}, {}, {}); values must be finite and >= 0", where,
-           grid.getName(), v, c.x(), c.y(), c.z());
+  // Only a grid that fails the parallel check is walked in tree order, so the voxel named is the
+  // same for any thread count.
+  if (!all_values_valid(grid)) {
+    for (auto it = grid.cbeginValueOn(); it; ++it) {
+      if (!valid_value(*it)) {
+        const auto c = it.getCoord();
+        fail("{}: grid '{}' has invalid value {} at voxel ({}, {}, {}); values must be finite and >= 0", where,
+             grid.getName(), *it, c.x(), c.y(), c.z());
+      }
     }
   }
   const float bg = grid.background();
@@ -159,10 +187,29 @@ std::uint64_t Grid::active_voxel_count() const { return impl_->grid->activeVoxel
 
 std::uint64_t Grid::memory_bytes() const { return impl_->grid->tree().memUsage(); }
 
+openvdb::CoordBBox active_voxel_bbox(const openvdb::FloatGrid& grid) {
+  using Leaves = openvdb::tree::LeafManager<const openvdb::FloatTree>;
+  const Leaves leaves(grid.tree());
+  openvdb::CoordBBox box = tbb::parallel_reduce(
+      leaves.leafRange(), openvdb::CoordBBox(),
+      [](const Leaves::LeafRange& r, openvdb::CoordBBox b) {
+        for (auto leaf = r.begin(); leaf; ++leaf) leaf->evalActiveBoundingBox(b, true);
+        return b;
+      },
+      [](openvdb::CoordBBox a, const openvdb::CoordBBox& b) {
+        a.expand(b);
+        return a;
+      });
+  auto tile = grid.cbeginValueOn();
+  tile.setMaxDepth(tile.getLeafDepth() - 1);  // tiles only: leaf voxels are in the box already
+  for (; tile; ++tile) box.expand(tile.getBoundingBox());
+  return box;
+}
+
 IndexBox Grid::active_bbox() const {
   IndexBox box;
   if (impl_->grid->activeVoxelCount() == 0) return box;
-  const openvdb::CoordBBox b = impl_->grid->evalActiveVoxelBoundingBox();
+  const openvdb::CoordBBox b = active_voxel_bbox(*impl_->grid);
   box.min = {b.min().x(), b.min().y(), b.min().z()};
   box.max = {b.max().x(), b.max().y(), b.max().z()};
   return box;

@@ -46,6 +46,11 @@ struct LeafCachedReader {
   }
 };
 
+/// The bounding box of the active voxels (and active tiles), as
+/// openvdb::FloatGrid::evalActiveVoxelBoundingBox gives it, with the leaves visited on all
+/// threads (a union of boxes: the same box for any thread count). Empty when nothing is active.
+openvdb::CoordBBox active_voxel_bbox(const openvdb::FloatGrid& grid);
+
 /// Calls openvdb::initialize() once per process.
 void ensure_openvdb_initialized();
 

@@ -11,6 +11,7 @@
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 #include <vtkXMLImageDataReader.h>
+#include <vtkXMLImageDataWriter.h>
 #include <vtkXMLPolyDataReader.h>
 
 #include <cmath>
@@ -21,6 +22,7 @@
 
 #include "image_probe.h"
 #include "weft/core/error.h"
+#include "weft/core/parallel.h"
 #include "weft/volume/grid_openvdb.h"
 
 namespace weft::viz {
@@ -264,6 +266,54 @@ TEST(VtkFiles, GridWrittenInPiecesReadsBackAsTheSameImage) {
     sum += v2->GetTuple1(c);
   }
   EXPECT_NEAR(sum, grid.sum(), 1e-6 * grid.sum());
+  test::cleanup(dir);
+}
+
+std::string file_bytes(const std::filesystem::path& f) {
+  std::ifstream in(f, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST(VtkFiles, GridCompressedOnAnyThreadCountIsVtksOwnFile) {
+  // write_vti compresses each piece's zlib blocks on all threads before VTK's writer asks for
+  // them: the file must be the one VTK writes alone (same blocks, same level), for any thread count.
+  const auto dir = test::scratch_dir("vti_threads");
+  volume::Grid grid(0.5, "density");
+  // 70 x 40 x 30 voxels: 336 kB dense, about ten 32 kB blocks, values that compress unevenly.
+  for (int k = 0; k < 30; ++k) {
+    for (int j = 0; j < 40; ++j) {
+      for (int i = 0; i < 70; ++i) {
+        if ((i * 7 + j * 3 + k) % 5 != 0) grid.set_value(i, j, k, static_cast<float>(((i * j + k * 13) % 97) / 97.0));
+      }
+    }
+  }
+  {
+    const ThreadLimit one(1);
+    write_vti(grid, dir / "t1.vti");
+    write_vti(grid, dir / "t1_pieces.vti", 256ULL << 20U, 20000);
+  }
+  {
+    const ThreadLimit two(2);
+    write_vti(grid, dir / "t2.vti");
+    write_vti(grid, dir / "t2_pieces.vti", 256ULL << 20U, 20000);
+  }
+  EXPECT_EQ(file_bytes(dir / "t1.vti"), file_bytes(dir / "t2.vti"));
+  EXPECT_EQ(file_bytes(dir / "t1_pieces.vti"), file_bytes(dir / "t2_pieces.vti"));
+  // The same image written by VTK's writer with its own compressor, in one piece.
+  vtkNew<vtkXMLImageDataReader> reader;
+  reader->SetFileName((dir / "t2.vti").c_str());
+  reader->Update();
+  ASSERT_EQ(reader->GetOutput()->GetCellData()->GetArray("density")->GetNumberOfTuples(), 70 * 40 * 30);
+  vtkNew<vtkXMLImageDataWriter> plain;
+  plain->SetInputData(reader->GetOutput());
+  plain->SetDataModeToAppended();
+  plain->EncodeAppendedDataOff();
+  plain->SetCompressorTypeToZLib();
+  plain->SetFileName((dir / "plain.vti").c_str());
+  ASSERT_EQ(plain->Write(), 1);
+  const std::string ours = file_bytes(dir / "t2.vti");
+  EXPECT_GT(ours.size(), 30000U);
+  EXPECT_EQ(ours, file_bytes(dir / "plain.vti"));
   test::cleanup(dir);
 }
 
