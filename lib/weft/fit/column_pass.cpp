@@ -177,11 +177,21 @@ void add_windows(const int* k, const float* value, std::size_t count, int n, int
     if (voxel.size() < words) voxel.resize(words);
     std::fill_n(voxel.begin(), words, std::uint64_t{0});
     std::size_t ahead = 0;  // voxels before position w: the count at window 0's far end
+    // The positions increase, so a word is built in a register and stored when the next voxel
+    // lies past it (an OR into memory per voxel would wait on the previous voxel's store).
+    std::uint64_t word_bits = 0;
+    std::size_t word_at = 0;
     for (std::size_t i = 0; i < count; ++i) {
       const auto x = static_cast<std::size_t>(k[i] - s_lo);
-      voxel[x >> 6U] |= std::uint64_t{1} << (x & 63U);
+      if ((x >> 6U) != word_at) {
+        voxel[word_at] = word_bits;
+        word_bits = 0;
+        word_at = x >> 6U;
+      }
+      word_bits |= std::uint64_t{1} << (x & 63U);
       ahead += x < wu ? 1U : 0U;
     }
+    voxel[word_at] = word_bits;
     if (scratch.mean.size() < windows) {
       scratch.mean.resize(windows);
       scratch.length.resize(windows);
@@ -195,9 +205,11 @@ void add_windows(const int* k, const float* value, std::size_t count, int n, int
       mean[pieces] = x;
       length[pieces] = len;
       const std::size_t b = x > 0.0 ? static_cast<std::size_t>(bin_of_positive(x)) : kZeroBin;
-      const std::size_t at = (b * kLanes + (pieces & (kLanes - 1))) * 2;
-      lanes[at] += len;
-      lanes[at + 1] += len * x;
+      // (count, sum) of the bin's copy as one pair: one load and one store per piece.
+      double* slot = &lanes[(b * kLanes + (pieces & (kLanes - 1))) * 2];
+      Lanes2 pair = load2(slot);
+      pair += Lanes2{len, len * x};
+      std::memcpy(slot, &pair, sizeof pair);
       ++pieces;
     };
     std::size_t behind = 0;  // voxels before the piece's first window
