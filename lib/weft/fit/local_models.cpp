@@ -6,10 +6,9 @@
 #include <cmath>
 #include <limits>
 
-#include <boost/math/special_functions/gamma.hpp>
-
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
+#include "weft/fit/gamma_nodes.h"
 #include "weft/fit/node_kernels.h"
 #include "weft/transmittance/gamma_hazard.h"
 
@@ -93,22 +92,25 @@ std::vector<double> block_field_curve(int n, int B, double h, double sigma, cons
 /// per coarse column, E_P by kNodes equal-probability quantiles of P.
 std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const BlockStats& st,
                                     const std::vector<double>& depths) {
-  constexpr int kNodes = 32;
   const std::size_t columns = static_cast<std::size_t>(st.nu * st.nv);
   std::vector<std::vector<double>> log_terms(depths.size(), std::vector<double>(columns, 0.0));
+  // Every column's v_p first: the nodes' table is built once for all their shapes 1/v_p.
+  std::vector<double> persistent(columns, 0.0);
+  std::vector<double> shapes;
+  for (std::size_t c = 0; c < columns; ++c) {
+    persistent[c] =
+        persistent_relative_variance(st, static_cast<std::int64_t>(c) / st.nv, static_cast<std::int64_t>(c) % st.nv);
+    if (persistent[c] > 0.0) shapes.push_back(1.0 / persistent[c]);
+  }
+  const GammaNodes table(shapes);
   parallel_units(columns, [&](std::size_t c) {
     const auto cu = static_cast<std::int64_t>(c) / st.nv;
     const auto cv = static_cast<std::int64_t>(c) % st.nv;
-    const double vp = persistent_relative_variance(st, cu, cv);
+    const double vp = persistent[c];
     std::vector<double> p{1.0};
     if (vp > 0.0) {
       p.resize(kNodes);
-      const double shape = 1.0 / vp;
-      // In double precision (Boost's default promotes to long double, 5x the cost for the last
-      // bit of a node: docs/benchmarks.md "Validate: predictions against the truth").
-      using Double = boost::math::policies::policy<boost::math::policies::promote_double<false>>;
-      for (int j = 0; j < kNodes; ++j)
-        p[static_cast<std::size_t>(j)] = boost::math::gamma_p_inv(shape, (j + 0.5) / kNodes, Double()) / shape;
+      table.nodes(1.0 / vp, p.data());
     }
     // Nodes are in increasing P, so every slice adds at least as much hazard to node j + 1 as to
     // node j: once node j is kNegligibleHazard above node 0 it stays there, and it and every
