@@ -168,17 +168,18 @@ void add_windows(const int* k, const float* value, std::size_t count, int n, int
     const auto wu = static_cast<std::size_t>(w);
     // run[i]: Σ of the first i voxels.
     std::vector<double>& run = scratch.run;
-    run.resize(count + 1);
+    if (run.size() < count + 1) run.resize(count + 1);  // grown only: a resize up zero-fills
     run[0] = 0.0;
     for (std::size_t i = 0; i < count; ++i) run[i + 1] = run[i] + static_cast<double>(value[i]);
     // The voxels' positions as bits, padded so that bits_at reads whole words past the span.
     std::vector<std::uint64_t>& voxel = scratch.voxel;
     const std::size_t words = (windows + wu + 63) / 64 + 2;
-    if (voxel.size() < words) voxel.resize(words);
-    std::fill_n(voxel.begin(), words, std::uint64_t{0});
+    if (voxel.size() < words + 4) voxel.resize(words + 4);
     std::size_t ahead = 0;  // voxels before position w: the count at window 0's far end
     // The positions increase, so a word is built in a register and stored when the next voxel
-    // lies past it (an OR into memory per voxel would wait on the previous voxel's store).
+    // lies past it (an OR into memory per voxel would wait on the previous voxel's store), and
+    // every word is written once, the words without a voxel as 0 (no memset of the string: on a
+    // short column the call cost as much as the bits).
     std::uint64_t word_bits = 0;
     std::size_t word_at = 0;
     for (std::size_t i = 0; i < count; ++i) {
@@ -186,12 +187,20 @@ void add_windows(const int* k, const float* value, std::size_t count, int n, int
       if ((x >> 6U) != word_at) {
         voxel[word_at] = word_bits;
         word_bits = 0;
-        word_at = x >> 6U;
+        while (++word_at < (x >> 6U)) voxel[word_at] = 0;
       }
       word_bits |= std::uint64_t{1} << (x & 63U);
       ahead += x < wu ? 1U : 0U;
     }
     voxel[word_at] = word_bits;
+    // The words past the last voxel's up to `words` (at most (w + 63)/64 + 2): four stores
+    // without a loop cover a window of up to 128 voxels (a loop GCC turns into a memset call).
+    std::uint64_t* tail = voxel.data() + word_at + 1;
+    tail[0] = 0;
+    tail[1] = 0;
+    tail[2] = 0;
+    tail[3] = 0;
+    if (word_at + 5 < words) std::fill(tail + 4, voxel.data() + words, std::uint64_t{0});
     if (scratch.mean.size() < windows) {
       scratch.mean.resize(windows);
       scratch.length.resize(windows);
