@@ -209,14 +209,11 @@ void add_windows(const int* k, const float* value, std::size_t count, int n, int
     double* length = scratch.length.data();
     double* lanes = scratch.lanes.data();
     // A piece into the arrays and the histogram (without a branch: a piece of mean 0, a gap inside
-    // the span, goes to kZeroBin). The bin of x is computed for every x and replaced by a mask, not
-    // a select: GCC compiled the select as a branch, mispredicted wherever gaps and fibre alternate.
+    // the span, goes to kZeroBin).
     const auto emit = [&](double x, double len) {
       mean[pieces] = x;
       length[pieces] = len;
-      const auto positive_bin = static_cast<std::size_t>(bin_of_positive(x));
-      const std::size_t zero_mask = std::size_t{0} - static_cast<std::size_t>(!(x > 0.0));
-      const std::size_t b = positive_bin ^ ((positive_bin ^ kZeroBin) & zero_mask);
+      const std::size_t b = x > 0.0 ? static_cast<std::size_t>(bin_of_positive(x)) : kZeroBin;
       // (count, sum) of the bin's copy as one pair: one load and one store per piece.
       double* slot = &lanes[(b * kLanes + (pieces & (kLanes - 1))) * 2];
       Lanes2 pair = load2(slot);

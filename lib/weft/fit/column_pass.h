@@ -53,8 +53,7 @@ struct WindowSummary {
 /// The histogram bin of a window mean m > 0: kSub bins per octave of m (the octave from the
 /// binary exponent), so no range has to be known before the pass; means below the lowest octave
 /// share bin 0, above the highest the last bin (each bin is evaluated at its own mean).
-/// bin_of(m) for m > 0 without a branch (what a pass over many windows wants; the same bin); any
-/// other m gives some bin in range.
+/// bin_of(m) for m > 0 without a branch (what a pass over many windows wants; the same bin).
 [[nodiscard]] inline int bin_of_positive(double m) {
   std::uint64_t bits = 0;
   std::memcpy(&bits, &m, sizeof bits);
