@@ -235,7 +235,7 @@ void add_windows(const int* k, const float* value, std::size_t count, int n, int
       for (; starts != 0; starts &= starts - 1) {
         const auto t = static_cast<unsigned>(__builtin_ctzll(starts));
         const std::size_t i = word * 64 + t;
-        emit(m, static_cast<double>(i - start));
+        emit(m, static_cast<double>(static_cast<std::int64_t>(i - start)));  // signed: one conversion, no branch
         behind += (leave >> t) & 1U;
         ahead += (enter >> t) & 1U;
         m = (run[ahead] - run[behind]) / w;
