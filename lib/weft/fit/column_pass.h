@@ -47,7 +47,14 @@ struct WindowSummary {
   std::map<GroupKey, Group> groups;  ///< transverse cells of w × w columns
   std::vector<double> bin_count;     ///< per bin of bin_of
   std::vector<double> bin_sum;
-  std::vector<double> histogram;  ///< a shard's: (count, sum) per bin
+  /// A shard's bins that hold windows, in increasing bin: (bin, count, sum). Only those: a bin
+  /// without windows adds exact zeros at the merge, and the shards' full histograms were 128 KB each.
+  struct BinSums {
+    std::size_t bin = 0;
+    double count = 0.0;
+    double sum = 0.0;
+  };
+  std::vector<BinSums> histogram;
 };
 
 /// The histogram bin of a window mean m > 0: kSub bins per octave of m (the octave from the
