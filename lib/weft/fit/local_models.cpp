@@ -59,15 +59,17 @@ std::vector<double> block_field_curve(int n, int B, double h, double sigma, cons
         memory == Memory::per_block ? transmittance::MemoryRule::renewal : transmittance::MemoryRule::segment,
         transmittance::Origin::source);
     std::size_t d = 0;
+    int block = -1;  // the block of slice k: k / B, counted (no division per slice)
     for (int k = 0; k <= n && d < depths.size(); ++k) {
       const double s0 = k * h;
       if (k == n) {
         while (d < depths.size()) log_terms[d++][c] = -hazard.hazard();  // past the box: nothing more
         break;
       }
-      if (k % B == 0) {
+      if (k == (block + 1) * B) {
+        ++block;
         // Blocks are anchored at the entry face (docs/validate.md "Blocks anchored to the cloth").
-        const Sums b = st.at(cu, cv, k / B);
+        const Sums b = st.at(cu, cv, block);
         hazard.enter(sigma, b.mean(), memory == Memory::none ? 0.0 : b.var(), s0);
       }
       // The slice's hazard once: at its end (where the beam's depths lie) H after advance() is
@@ -138,6 +140,7 @@ std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const 
       if (!(f_open > 0.0)) return log_closed;
       return std::log(f_open + (1.0 - f_open) * std::exp(log_closed));
     };
+    int block = -1;
     for (int k = 0; k <= n && d < depths.size(); ++k) {
       const double s0 = k * h;
       if (k == n) {
@@ -147,8 +150,9 @@ std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const 
         while (d < depths.size()) log_terms[d++][c] = past;
         break;
       }
-      if (k % B == 0) {
-        const Sums& b = st.closed(cu, cv, k / B);
+      if (k == (block + 1) * B) {  // k % B == 0, counted as above
+        ++block;
+        const Sums& b = st.closed(cu, cv, block);
         mean = b.mean();
         const double rel = mean > 0.0 ? b.var() / (mean * mean) : 0.0;
         vb = std::max(0.0, (1.0 + rel) / (1.0 + vp) - 1.0);
