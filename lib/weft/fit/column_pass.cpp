@@ -123,12 +123,13 @@ double lane_squared_deviations(const double* x, const double* len, std::size_t c
   return (q01[0] + q01[1]) + (q23[0] + q23[1]);
 }
 
-/// The histogram of a shard while its columns are read: kLanes copies of every bin, piece i
-/// of a column going to copy i mod kLanes, plus one bin for the windows of mean 0 inside a
-/// column's span. Neighbouring pieces often share a bin: in one copy each update would wait for
-/// the previous one's store. Folded into the shard's (count, sum) per bin when the shard ends:
-/// the counts are exact, the sums added in a fixed order.
-inline constexpr std::size_t kLanes = 2;
+/// The histogram of a shard while its columns are read: (count, sum) per bin, plus one bin for
+/// the windows of mean 0 inside a column's span. One copy per bin: consecutive pieces differ by
+/// a voxel entering or leaving and share a bin for 0.6 % of the pieces on the 12×12 knit, so a
+/// second copy (kept while the pass visited windows, which often share one) only doubled the
+/// histogram's footprint and its cache misses (docs/benchmarks.md "Validate: cheaper predictions,
+/// third pass"). Folded into the shard's bins with windows when the shard ends: the counts are
+/// exact, the sums added in piece order.
 inline constexpr std::size_t kZeroBin = kBins;
 
 /// Per-thread buffers of add_windows, reused from column to column.
@@ -137,7 +138,7 @@ struct WindowScratch {
   std::vector<std::uint64_t> voxel;  ///< bit x: a voxel at position s_lo + x of the column
   std::vector<double> mean;          ///< per piece: the mean of its windows
   std::vector<double> length;        ///< per piece: its windows
-  std::vector<double> lanes;         ///< [(bin·kLanes + lane)·2]: count, sum; bins 0 … kZeroBin
+  std::vector<double> bins;          ///< [bin·2]: count, sum; bins 0 … kZeroBin
 };
 
 /// Bits [x, x + 64) of a bit string as one word (the string padded with a zero word).
@@ -210,15 +211,15 @@ void add_windows(const int* k, const float* value, std::size_t count, int n, int
     }
     double* mean = scratch.mean.data();
     double* length = scratch.length.data();
-    double* lanes = scratch.lanes.data();
+    double* bins = scratch.bins.data();
     // A piece into the arrays and the histogram (without a branch: a piece of mean 0, a gap inside
     // the span, goes to kZeroBin).
     const auto emit = [&](double x, double len) {
       mean[pieces] = x;
       length[pieces] = len;
       const std::size_t b = x > 0.0 ? static_cast<std::size_t>(bin_of_positive(x)) : kZeroBin;
-      // (count, sum) of the bin's copy as one pair: one load and one store per piece.
-      double* slot = &lanes[(b * kLanes + (pieces & (kLanes - 1))) * 2];
+      // (count, sum) of the bin as one pair: one load and one store per piece.
+      double* slot = &bins[b * 2];
       Lanes2 pair = load2(slot);
       pair += Lanes2{len, len * x};
       std::memcpy(slot, &pair, sizeof pair);
@@ -266,23 +267,22 @@ void add_windows(const int* k, const float* value, std::size_t count, int n, int
   part.moments.merge(column);
 }
 
-/// The shard's lanes into its histogram (count and sum per bin, the lanes added in a fixed
-/// order; the bins with windows only) and its windows of mean 0 inside spans into `zeros`. The
-/// lanes are left zero for the thread's next shard.
-void fold_lanes(std::vector<double>& lanes, WindowSummary& part) {
-  static_assert(kLanes == 2, "the fold below adds two lanes");
+/// The shard's bins with windows into its histogram and its windows of mean 0 inside spans into
+/// `zeros`; the bins are left zero for the thread's next shard.
+void fold_bins(std::vector<double>& bins, WindowSummary& part) {
   part.histogram.clear();
   for (std::size_t b = 0; b < static_cast<std::size_t>(kBins); ++b) {
-    double* l = &lanes[b * kLanes * 2];
-    const double count = l[0] + l[2];
-    if (count > 0.0) {
-      part.histogram.push_back({b, count, l[1] + l[3]});
-      std::fill_n(l, kLanes * 2, 0.0);
+    double* cs = &bins[b * 2];
+    if (cs[0] > 0.0) {
+      part.histogram.push_back({b, cs[0], cs[1]});
+      cs[0] = 0.0;
+      cs[1] = 0.0;
     }
   }
-  double* z = &lanes[kZeroBin * kLanes * 2];
-  part.zeros += z[0] + z[2];
-  std::fill_n(z, kLanes * 2, 0.0);
+  double* z = &bins[kZeroBin * 2];
+  part.zeros += z[0];
+  z[0] = 0.0;
+  z[1] = 0.0;
 }
 
 /// The column's block means (blocks of B from the entry face) into its coarse column: s, s2 and
@@ -350,7 +350,7 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
   std::vector<ShardBlocks> blocks(shards);
   ProgressTask task(progress, fmt::format("statistics {}", "xyz"[axis]), units);
   // A thread's buffers, reused from shard to shard (their contents never reach a result: every
-  // column fills what it reads, and the lanes are zero between shards): fresh ones per shard were
+  // column fills what it reads, and the histogram bins are zero between shards): fresh ones per shard were
   // 0.4 MB and more to allocate and zero, 64 times per axis.
   struct Buffers {
     volume::ColumnTile dense;
@@ -364,7 +364,7 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
     volume::SparseColumns& cols = own.cols;
     WindowScratch& scratch = own.scratch;
     auto& part = parts[shard];
-    if (scratch.lanes.empty()) scratch.lanes.assign((kZeroBin + 1) * kLanes * 2, 0.0);
+    if (scratch.bins.empty()) scratch.bins.assign((kZeroBin + 1) * 2, 0.0);
     auto& sb = blocks[shard];
     sb.slot.assign(coarse, -1);
     Group* group = nullptr;
@@ -399,7 +399,7 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
       }
       task.step();
     }
-    fold_lanes(scratch.lanes, part);
+    fold_bins(scratch.bins, part);
   });
   // Shard by shard in shard order: the same sums for any thread count. A shard that does not
   // touch a coarse column would add exact zeros to it.
