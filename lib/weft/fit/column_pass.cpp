@@ -350,8 +350,8 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
   std::vector<ShardBlocks> blocks(shards);
   ProgressTask task(progress, fmt::format("statistics {}", "xyz"[axis]), units);
   // A thread's buffers, reused from shard to shard (their contents never reach a result: every
-  // column fills what it reads, and the histogram bins are zero between shards): fresh ones per shard were
-  // 0.4 MB and more to allocate and zero, 64 times per axis.
+  // column fills what it reads, and the histogram bins are zero between shards): fresh ones per
+  // shard were 0.4 MB and more to allocate and zero, 64 times per axis.
   struct Buffers {
     volume::ColumnTile dense;
     volume::SparseColumns cols;
