@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <array>
+#include <tuple>
+
+#include <tbb/enumerable_thread_specific.h>
 
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
@@ -120,12 +123,13 @@ double lane_squared_deviations(const double* x, const double* len, std::size_t c
   return (q01[0] + q01[1]) + (q23[0] + q23[1]);
 }
 
-/// The histogram of a shard while its columns are read: kLanes copies of every bin, piece i
-/// of a column going to copy i mod kLanes, plus one bin for the windows of mean 0 inside a
-/// column's span. Neighbouring pieces often share a bin: in one copy each update would wait for
-/// the previous one's store. Folded into the shard's (count, sum) per bin when the shard ends:
-/// the counts are exact, the sums added in a fixed order.
-inline constexpr std::size_t kLanes = 2;
+/// The histogram of a shard while its columns are read: (count, sum) per bin, plus one bin for
+/// the windows of mean 0 inside a column's span. One copy per bin: consecutive pieces differ by
+/// a voxel entering or leaving and share a bin for 0.6 % of the pieces on the 12×12 knit, so a
+/// second copy (kept while the pass visited windows, which often share one) only doubled the
+/// histogram's footprint and its cache misses (docs/benchmarks.md "Validate: cheaper predictions,
+/// third pass"). Folded into the shard's bins with windows when the shard ends: the counts are
+/// exact, the sums added in piece order.
 inline constexpr std::size_t kZeroBin = kBins;
 
 /// Per-thread buffers of add_windows, reused from column to column.
@@ -134,7 +138,7 @@ struct WindowScratch {
   std::vector<std::uint64_t> voxel;  ///< bit x: a voxel at position s_lo + x of the column
   std::vector<double> mean;          ///< per piece: the mean of its windows
   std::vector<double> length;        ///< per piece: its windows
-  std::vector<double> lanes;         ///< [(bin·kLanes + lane)·2]: count, sum; bins 0 … kZeroBin
+  std::vector<double> bins;          ///< [bin·2]: count, sum; bins 0 … kZeroBin
 };
 
 /// Bits [x, x + 64) of a bit string as one word (the string padded with a zero word).
@@ -168,36 +172,57 @@ void add_windows(const int* k, const float* value, std::size_t count, int n, int
     const auto wu = static_cast<std::size_t>(w);
     // run[i]: Σ of the first i voxels.
     std::vector<double>& run = scratch.run;
-    run.resize(count + 1);
+    if (run.size() < count + 1) run.resize(count + 1);  // grown only: a resize up zero-fills
     run[0] = 0.0;
     for (std::size_t i = 0; i < count; ++i) run[i + 1] = run[i] + static_cast<double>(value[i]);
     // The voxels' positions as bits, padded so that bits_at reads whole words past the span.
     std::vector<std::uint64_t>& voxel = scratch.voxel;
     const std::size_t words = (windows + wu + 63) / 64 + 2;
-    if (voxel.size() < words) voxel.resize(words);
-    std::fill_n(voxel.begin(), words, std::uint64_t{0});
+    if (voxel.size() < words + 4) voxel.resize(words + 4);
     std::size_t ahead = 0;  // voxels before position w: the count at window 0's far end
+    // The positions increase, so a word is built in a register and stored when the next voxel
+    // lies past it (an OR into memory per voxel would wait on the previous voxel's store), and
+    // every word is written once, the words without a voxel as 0 (no memset of the string: on a
+    // short column the call cost as much as the bits).
+    std::uint64_t word_bits = 0;
+    std::size_t word_at = 0;
     for (std::size_t i = 0; i < count; ++i) {
       const auto x = static_cast<std::size_t>(k[i] - s_lo);
-      voxel[x >> 6U] |= std::uint64_t{1} << (x & 63U);
+      if ((x >> 6U) != word_at) {
+        voxel[word_at] = word_bits;
+        word_bits = 0;
+        while (++word_at < (x >> 6U)) voxel[word_at] = 0;
+      }
+      word_bits |= std::uint64_t{1} << (x & 63U);
       ahead += x < wu ? 1U : 0U;
     }
+    voxel[word_at] = word_bits;
+    // The words past the last voxel's up to `words` (at most (w + 63)/64 + 2): four stores
+    // without a loop cover a window of up to 128 voxels (a loop GCC turns into a memset call).
+    std::uint64_t* tail = voxel.data() + word_at + 1;
+    tail[0] = 0;
+    tail[1] = 0;
+    tail[2] = 0;
+    tail[3] = 0;
+    if (word_at + 5 < words) std::fill(tail + 4, voxel.data() + words, std::uint64_t{0});
     if (scratch.mean.size() < windows) {
       scratch.mean.resize(windows);
       scratch.length.resize(windows);
     }
     double* mean = scratch.mean.data();
     double* length = scratch.length.data();
-    double* lanes = scratch.lanes.data();
+    double* bins = scratch.bins.data();
     // A piece into the arrays and the histogram (without a branch: a piece of mean 0, a gap inside
     // the span, goes to kZeroBin).
     const auto emit = [&](double x, double len) {
       mean[pieces] = x;
       length[pieces] = len;
       const std::size_t b = x > 0.0 ? static_cast<std::size_t>(bin_of_positive(x)) : kZeroBin;
-      const std::size_t at = (b * kLanes + (pieces & (kLanes - 1))) * 2;
-      lanes[at] += len;
-      lanes[at + 1] += len * x;
+      // (count, sum) of the bin as one pair: one load and one store per piece.
+      double* slot = &bins[b * 2];
+      Lanes2 pair = load2(slot);
+      pair += Lanes2{len, len * x};
+      std::memcpy(slot, &pair, sizeof pair);
       ++pieces;
     };
     std::size_t behind = 0;  // voxels before the piece's first window
@@ -214,7 +239,7 @@ void add_windows(const int* k, const float* value, std::size_t count, int n, int
       for (; starts != 0; starts &= starts - 1) {
         const auto t = static_cast<unsigned>(__builtin_ctzll(starts));
         const std::size_t i = word * 64 + t;
-        emit(m, static_cast<double>(i - start));
+        emit(m, static_cast<double>(static_cast<std::int64_t>(i - start)));  // signed: one conversion, no branch
         behind += (leave >> t) & 1U;
         ahead += (enter >> t) & 1U;
         m = (run[ahead] - run[behind]) / w;
@@ -242,18 +267,22 @@ void add_windows(const int* k, const float* value, std::size_t count, int n, int
   part.moments.merge(column);
 }
 
-/// The shard's lanes into its histogram (count and sum per bin, the lanes added in a fixed
-/// order) and its windows of mean 0 inside spans into `zeros`.
-void fold_lanes(const std::vector<double>& lanes, WindowSummary& part) {
-  static_assert(kLanes == 2, "the fold below adds two lanes");
-  part.histogram.assign(2 * static_cast<std::size_t>(kBins), 0.0);
+/// The shard's bins with windows into its histogram and its windows of mean 0 inside spans into
+/// `zeros`; the bins are left zero for the thread's next shard.
+void fold_bins(std::vector<double>& bins, WindowSummary& part) {
+  part.histogram.clear();
   for (std::size_t b = 0; b < static_cast<std::size_t>(kBins); ++b) {
-    const double* l = &lanes[b * kLanes * 2];
-    part.histogram[2 * b] = l[0] + l[2];
-    part.histogram[2 * b + 1] = l[1] + l[3];
+    double* cs = &bins[b * 2];
+    if (cs[0] > 0.0) {
+      part.histogram.push_back({b, cs[0], cs[1]});
+      cs[0] = 0.0;
+      cs[1] = 0.0;
+    }
   }
-  const double* z = &lanes[kZeroBin * kLanes * 2];
-  part.zeros += z[0] + z[2];
+  double* z = &bins[kZeroBin * 2];
+  part.zeros += z[0];
+  z[0] = 0.0;
+  z[1] = 0.0;
 }
 
 /// The column's block means (blocks of B from the entry face) into its coarse column: s, s2 and
@@ -320,28 +349,42 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
   std::vector<WindowSummary> parts(shards);
   std::vector<ShardBlocks> blocks(shards);
   ProgressTask task(progress, fmt::format("statistics {}", "xyz"[axis]), units);
-  parallel_units(shards, [&](std::size_t shard) {
+  // A thread's buffers, reused from shard to shard (their contents never reach a result: every
+  // column fills what it reads, and the histogram bins are zero between shards): fresh ones per
+  // shard were 0.4 MB and more to allocate and zero, 64 times per axis.
+  struct Buffers {
     volume::ColumnTile dense;
     volume::SparseColumns cols;
     WindowScratch scratch;
+  };
+  tbb::enumerable_thread_specific<Buffers> buffers;
+  parallel_units(shards, [&](std::size_t shard) {
+    Buffers& own = buffers.local();
+    volume::ColumnTile& dense = own.dense;
+    volume::SparseColumns& cols = own.cols;
+    WindowScratch& scratch = own.scratch;
     auto& part = parts[shard];
-    scratch.lanes.assign((kZeroBin + 1) * kLanes * 2, 0.0);
+    if (scratch.bins.empty()) scratch.bins.assign((kZeroBin + 1) * 2, 0.0);
     auto& sb = blocks[shard];
     sb.slot.assign(coarse, -1);
     Group* group = nullptr;
     GroupKey group_key{};
     for (std::size_t unit = shard * units / shards; unit < (shard + 1) * units / shards; ++unit) {
       gather(reader, unit, dense, cols);
+      // Groups and coarse columns anchored at the active box's lower corner: a patch's row and
+      // column indices divided once (two integer divisions per column were a wait of tens of
+      // cycles each on the z axis's short columns).
+      std::array<std::int64_t, std::tuple_size_v<decltype(cols.count)>> group_v{};
+      for (int iv = 0; iv < cols.nv; ++iv) group_v[static_cast<std::size_t>(iv)] = (cols.v0 + iv - box.min[av]) / w;
       for (int iu = 0; iu < cols.nu; ++iu) {
+        const std::int64_t gu = (cols.u0 + iu - box.min[au]) / w;
         for (int iv = 0; iv < cols.nv; ++iv) {
           const std::size_t c =
               static_cast<std::size_t>(iu) * static_cast<std::size_t>(cols.nv) + static_cast<std::size_t>(iv);
           const int* k = cols.k.data() + c * static_cast<std::size_t>(cols.depth);
           const float* value = cols.value.data() + c * static_cast<std::size_t>(cols.depth);
           const std::size_t count = cols.count[c];
-          // Groups and coarse columns anchored at the active box's lower corner.
-          const std::int64_t gu = (cols.u0 + iu - box.min[au]) / w;
-          const std::int64_t gv = (cols.v0 + iv - box.min[av]) / w;
+          const std::int64_t gv = group_v[static_cast<std::size_t>(iv)];
           // Neighbouring columns share a group: the map is searched only when it changes.
           if (group == nullptr || gu != group_key.first || gv != group_key.second) {
             group_key = {gu, gv};
@@ -356,7 +399,7 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
       }
       task.step();
     }
-    fold_lanes(scratch.lanes, part);
+    fold_bins(scratch.bins, part);
   });
   // Shard by shard in shard order: the same sums for any thread count. A shard that does not
   // touch a coarse column would add exact zeros to it.
@@ -375,9 +418,9 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
     ws.zeros += zeros;
     // The non-zero windows' sums are the sums of all windows (a zero window adds exactly 0).
     ws.nonzero.merge(Sums{p.all.n - zeros, p.all.s, p.all.s2});
-    for (std::size_t b = 0; b < static_cast<std::size_t>(kBins); ++b) {
-      ws.bin_count[b] += p.histogram[2 * b];
-      ws.bin_sum[b] += p.histogram[2 * b + 1];
+    for (const auto& h : p.histogram) {
+      ws.bin_count[h.bin] += h.count;
+      ws.bin_sum[h.bin] += h.sum;
     }
     for (const auto& [key, g] : p.groups) {
       auto& dst = ws.groups[key];

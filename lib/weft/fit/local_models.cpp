@@ -6,10 +6,9 @@
 #include <cmath>
 #include <limits>
 
-#include <boost/math/special_functions/gamma.hpp>
-
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
+#include "weft/fit/gamma_nodes.h"
 #include "weft/fit/node_kernels.h"
 #include "weft/transmittance/gamma_hazard.h"
 
@@ -60,15 +59,17 @@ std::vector<double> block_field_curve(int n, int B, double h, double sigma, cons
         memory == Memory::per_block ? transmittance::MemoryRule::renewal : transmittance::MemoryRule::segment,
         transmittance::Origin::source);
     std::size_t d = 0;
+    int block = -1;  // the block of slice k: k / B, counted (no division per slice)
     for (int k = 0; k <= n && d < depths.size(); ++k) {
       const double s0 = k * h;
       if (k == n) {
         while (d < depths.size()) log_terms[d++][c] = -hazard.hazard();  // past the box: nothing more
         break;
       }
-      if (k % B == 0) {
+      if (k == (block + 1) * B) {
+        ++block;
         // Blocks are anchored at the entry face (docs/validate.md "Blocks anchored to the cloth").
-        const Sums b = st.at(cu, cv, k / B);
+        const Sums b = st.at(cu, cv, block);
         hazard.enter(sigma, b.mean(), memory == Memory::none ? 0.0 : b.var(), s0);
       }
       // The slice's hazard once: at its end (where the beam's depths lie) H after advance() is
@@ -93,22 +94,25 @@ std::vector<double> block_field_curve(int n, int B, double h, double sigma, cons
 /// per coarse column, E_P by kNodes equal-probability quantiles of P.
 std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const BlockStats& st,
                                     const std::vector<double>& depths) {
-  constexpr int kNodes = 32;
   const std::size_t columns = static_cast<std::size_t>(st.nu * st.nv);
   std::vector<std::vector<double>> log_terms(depths.size(), std::vector<double>(columns, 0.0));
+  // Every column's v_p first: the nodes' table is built once for all their shapes 1/v_p.
+  std::vector<double> persistent(columns, 0.0);
+  std::vector<double> shapes;
+  for (std::size_t c = 0; c < columns; ++c) {
+    persistent[c] =
+        persistent_relative_variance(st, static_cast<std::int64_t>(c) / st.nv, static_cast<std::int64_t>(c) % st.nv);
+    if (persistent[c] > 0.0) shapes.push_back(1.0 / persistent[c]);
+  }
+  const GammaNodes table(shapes);
   parallel_units(columns, [&](std::size_t c) {
     const auto cu = static_cast<std::int64_t>(c) / st.nv;
     const auto cv = static_cast<std::int64_t>(c) % st.nv;
-    const double vp = persistent_relative_variance(st, cu, cv);
+    const double vp = persistent[c];
     std::vector<double> p{1.0};
     if (vp > 0.0) {
       p.resize(kNodes);
-      const double shape = 1.0 / vp;
-      // In double precision (Boost's default promotes to long double, 5x the cost for the last
-      // bit of a node: docs/benchmarks.md "Validate: predictions against the truth").
-      using Double = boost::math::policies::policy<boost::math::policies::promote_double<false>>;
-      for (int j = 0; j < kNodes; ++j)
-        p[static_cast<std::size_t>(j)] = boost::math::gamma_p_inv(shape, (j + 0.5) / kNodes, Double()) / shape;
+      table.nodes(1.0 / vp, p.data());
     }
     // Nodes are in increasing P, so every slice adds at least as much hazard to node j + 1 as to
     // node j: once node j is kNegligibleHazard above node 0 it stays there, and it and every
@@ -136,6 +140,7 @@ std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const 
       if (!(f_open > 0.0)) return log_closed;
       return std::log(f_open + (1.0 - f_open) * std::exp(log_closed));
     };
+    int block = -1;
     for (int k = 0; k <= n && d < depths.size(); ++k) {
       const double s0 = k * h;
       if (k == n) {
@@ -145,8 +150,9 @@ std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const 
         while (d < depths.size()) log_terms[d++][c] = past;
         break;
       }
-      if (k % B == 0) {
-        const Sums& b = st.closed(cu, cv, k / B);
+      if (k == (block + 1) * B) {  // k % B == 0, counted as above
+        ++block;
+        const Sums& b = st.closed(cu, cv, block);
         mean = b.mean();
         const double rel = mean > 0.0 ? b.var() / (mean * mean) : 0.0;
         vb = std::max(0.0, (1.0 + rel) / (1.0 + vp) - 1.0);

@@ -241,10 +241,20 @@ bool ColumnReader::read_columns(std::size_t tile, SparseColumns& out) const {
   const auto nv = static_cast<std::size_t>(out.nv);
   int* ks = out.k.data();
   float* vs = out.value.data();
-  for (const auto* leaf : m.leaves[tile]) {
+  const auto& leaves = m.leaves[tile];
+  for (std::size_t i = 0; i < leaves.size(); ++i) {
+    const auto* leaf = leaves[i];
     const openvdb::Coord o = leaf->origin();
     const float* data = leaf->buffer().data();
     const auto& mask = leaf->getValueMask();
+    // The next leaf's values (2 KB, a separate allocation: no hardware prefetcher follows) are
+    // requested while this one's are read: the value loads were where this loop waited.
+    if (i + 1 < leaves.size()) {
+      const char* next = reinterpret_cast<const char*>(leaves[i + 1]->buffer().data());
+      for (std::size_t line = 0; line < sizeof(float) * openvdb::FloatTree::LeafNodeType::SIZE; line += 64) {
+        __builtin_prefetch(next + line);
+      }
+    }
     const auto cu0 = static_cast<std::size_t>(o[m.ua] - out.u0);
     const auto cv0 = static_cast<std::size_t>(o[m.va] - out.v0);
     const auto k0 = static_cast<int>(o[m.axis] - out.depth0);

@@ -5,10 +5,12 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
 #include <vector>
 
 #include "test_grids.h"
 #include "weft/core/parallel.h"
+#include "weft/fit/column_pass.h"
 #include "weft/fit/models.h"
 #include "weft/fit/node_kernels.h"
 #include "weft/fit/report.h"
@@ -157,6 +159,27 @@ TEST(Prediction, StatisticsPassGivesTheSameBitsForAnyThreadCount) {
     EXPECT_NEAR(moments[0].mean, dense.mean, 1e-13 * dense.mean);
     EXPECT_NEAR(moments[0].variance, dense.variance, 1e-11 * dense.variance);
   }
+}
+
+TEST(Prediction, ThePiecesBinIsTheHistogramsBin) {
+  // bin_of_positive (the statistics pass, one per piece) reads the bin from the shifted bits;
+  // bin_of takes exponent and mantissa apart: the same bin for every m > 0, at the octave edges,
+  // below the first octave (subnormals included) and above the last.
+  std::vector<double> ms{std::numeric_limits<double>::denorm_min(), std::numeric_limits<double>::min(),
+                         std::numeric_limits<double>::max(), 1.0, 0.5};
+  for (int e = detail::kMinExponent - 3; e <= detail::kMinExponent + detail::kOctaves + 3; ++e) {
+    const double edge = std::ldexp(1.0, e);
+    ms.insert(ms.end(), {edge, std::nextafter(edge, 0.0), std::nextafter(edge, 2.0 * edge)});
+  }
+  std::mt19937_64 rng(11);
+  std::uniform_int_distribution<std::uint64_t> bits(1, 0x7fefffffffffffffULL);  // every positive finite
+  for (int i = 0; i < 100000; ++i) {
+    const std::uint64_t b = bits(rng);
+    double m = 0.0;
+    std::memcpy(&m, &b, sizeof m);
+    ms.push_back(m);
+  }
+  for (double m : ms) ASSERT_EQ(detail::bin_of_positive(m), detail::bin_of(m)) << m;
 }
 
 TEST(Prediction, NodeHazardsAreTheGammaCellIntegral) {
