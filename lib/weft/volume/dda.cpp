@@ -5,8 +5,23 @@
 
 #include "weft/volume/dda_impl.h"
 #include "weft/volume/grid_openvdb.h"
+#include "weft/volume/voxel_walk.h"
 
 namespace weft::volume {
+
+namespace detail {
+std::array<double, 3> unit_direction(const Ray& ray) {
+  const auto& o = ray.origin;
+  const auto& d = ray.direction;
+  for (std::size_t a = 0; a < 3; ++a) {
+    if (!std::isfinite(o[a])) fail("ray: origin component {} is {}", a, o[a]);
+    if (!std::isfinite(d[a])) fail("ray: direction component {} is {}", a, d[a]);
+  }
+  const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  if (!(len > 0.0) || !std::isfinite(len)) fail("ray: direction ({}, {}, {}) has no length", d[0], d[1], d[2]);
+  return {d[0] / len, d[1] / len, d[2] / len};
+}
+}  // namespace detail
 
 struct Tracer::Impl {
   openvdb::FloatGrid::ConstPtr grid;
@@ -124,6 +139,28 @@ double optical_depth(const Grid& grid, const Ray& ray, double tmin, double tmax,
 std::vector<double> optical_depth_profile(const Grid& grid, const Ray& ray, const std::vector<double>& depths,
                                           double scale) {
   return Tracer(grid).optical_depth_profile(ray, depths, scale);
+}
+
+DenseWalk::DenseWalk(const detail::IndexMap& map, const IndexBox& box) : map_(map) {
+  box_.empty = box.empty();
+  for (std::size_t a = 0; a < 3; ++a) {
+    box_.lo[a] = box.min[a];
+    box_.hi[a] = std::int64_t{box.max[a]} + 1;
+  }
+  ny_ = box_.empty ? 0 : box_.hi[1] - box_.lo[1];
+  nz_ = box_.empty ? 0 : box_.hi[2] - box_.lo[2];
+}
+
+detail::CellRay DenseWalk::cell_ray(const Ray& ray, double tmin, double tmax) const {
+  require_range(tmin, tmax);
+  return detail::to_cell_ray(map_, ray);
+}
+
+bool dense_walk_map(const Grid& grid, detail::IndexMap& map) {
+  const detail::CellMap cell_map(*grid.impl().grid);
+  if (!cell_map.scale_translate) return false;
+  map = cell_map.index;
+  return true;
 }
 
 BoxHit intersect_active_box(const Grid& grid, const Ray& ray, double tmin) {
