@@ -10,16 +10,15 @@
 namespace weft::volume {
 
 namespace detail {
-std::array<double, 3> unit_direction(const Ray& ray) {
+void fail_bad_ray(const Ray& ray, double tmin, double tmax) {
+  if (std::isnan(tmin) || std::isnan(tmax)) fail("ray: t range [{}, {}] is not a number", tmin, tmax);
   const auto& o = ray.origin;
   const auto& d = ray.direction;
   for (std::size_t a = 0; a < 3; ++a) {
     if (!std::isfinite(o[a])) fail("ray: origin component {} is {}", a, o[a]);
     if (!std::isfinite(d[a])) fail("ray: direction component {} is {}", a, d[a]);
   }
-  const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-  if (!(len > 0.0) || !std::isfinite(len)) fail("ray: direction ({}, {}, {}) has no length", d[0], d[1], d[2]);
-  return {d[0] / len, d[1] / len, d[2] / len};
+  fail("ray: direction ({}, {}, {}) has no length", d[0], d[1], d[2]);
 }
 }  // namespace detail
 
@@ -40,7 +39,7 @@ Tracer& Tracer::operator=(Tracer&&) noexcept = default;
 
 namespace {
 void require_range(double tmin, double tmax) {
-  if (std::isnan(tmin) || std::isnan(tmax)) fail("ray: t range [{}, {}] is not a number", tmin, tmax);
+  if (std::isnan(tmin) || std::isnan(tmax)) detail::fail_bad_ray(Ray{}, tmin, tmax);
 }
 }  // namespace
 
@@ -149,11 +148,6 @@ DenseWalk::DenseWalk(const detail::IndexMap& map, const IndexBox& box) : map_(ma
   }
   ny_ = box_.empty ? 0 : box_.hi[1] - box_.lo[1];
   nz_ = box_.empty ? 0 : box_.hi[2] - box_.lo[2];
-}
-
-detail::CellRay DenseWalk::cell_ray(const Ray& ray, double tmin, double tmax) const {
-  require_range(tmin, tmax);
-  return detail::to_cell_ray(map_, ray);
 }
 
 bool dense_walk_map(const Grid& grid, detail::IndexMap& map) {

@@ -90,7 +90,8 @@ struct CellWalk : WalkState {
   /// Begins a walk of `ray` over [t_begin, t_end]; false (and no pieces) when it misses the box.
   bool start(const CellRay& ray, const CellBox& b, double t_begin, double t_end) {
     leaf = nullptr;
-    return begin(ray, b, t_begin, t_end);
+    r = ray;
+    return begin(b, t_begin, t_end);
   }
 
   /// The next piece, or false when the walk has ended.
@@ -113,6 +114,7 @@ struct CellWalk : WalkState {
           }
           data = leaf->buffer().data();
           mask = &leaf->getValueMask();
+          for (int a = 0; a < 3; ++a) exit_face(a);
         } else {
           // A tile or empty space: constant over a block of `size`³ voxels aligned to `size`.
           const int depth = acc.getValueDepth(c);

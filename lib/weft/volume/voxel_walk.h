@@ -33,9 +33,21 @@ struct IndexMap {
   double inv_scale[3] = {1.0, 1.0, 1.0};
 };
 
-/// The ray's direction divided by its length; throws weft::Error (as every march does) for a
-/// non-finite origin or direction, or a direction of no length.
-[[nodiscard]] std::array<double, 3> unit_direction(const Ray& ray);
+/// Throws weft::Error naming what is wrong with `ray` (a non-finite origin or direction, or a
+/// direction of no length) or with the range [tmin, tmax] (NaN).
+[[noreturn]] void fail_bad_ray(const Ray& ray, double tmin, double tmax);
+
+/// The ray's direction divided by its length; throws (fail_bad_ray) as every march does for a
+/// bad ray. Inline: a medium starts a walk per flight and per shadow ray.
+inline std::array<double, 3> unit_direction(const Ray& ray) {
+  const auto& o = ray.origin;
+  const auto& d = ray.direction;
+  const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  if (!(std::isfinite(o[0]) && std::isfinite(o[1]) && std::isfinite(o[2]) && std::isfinite(d[0]) &&
+        std::isfinite(d[1]) && std::isfinite(d[2]) && len > 0.0 && std::isfinite(len)))
+    fail_bad_ray(ray, 0.0, 0.0);
+  return {d[0] / len, d[1] / len, d[2] / len};
+}
 
 /// The cell-space ray of index-space origin `oi` and direction `di`.
 inline CellRay cell_ray(const double* oi, const double* di) {
@@ -86,27 +98,31 @@ inline bool clip(const CellRay& r, const CellBox& box, double& t0, double& t1) {
   return t0 < t1;
 }
 
-/// The cell containing the ray just after parameter t on axis a (the cell being entered).
+/// The cell containing the ray just after parameter t on axis a (the cell being entered):
+/// ⌊p⌋ (⌈p⌉ − 1 going down), written with integer truncation so the walk's start calls no libm
+/// (the same integer as std::floor/std::ceil for every p a grid's index range holds).
 inline std::int64_t cell_at(const CellRay& r, int a, double t) {
   const double p = r.o[a] + r.d[a] * t;
-  if (r.sgn[a] < 0) return static_cast<std::int64_t>(std::ceil(p)) - 1;
-  return static_cast<std::int64_t>(std::floor(p));
+  auto i = static_cast<std::int64_t>(p);  // towards zero
+  if (r.sgn[a] < 0) return static_cast<double>(i) < p ? i : i - 1;
+  return static_cast<double>(i) > p ? i - 1 : i;
 }
 
-/// Where a walk stands: the ray, its box, the cell being entered at t, the end t1.
+/// Where a walk stands: the ray, its box, the cell being entered at t, the end t1, and the
+/// distances where the ray leaves that cell through its face on each axis.
 struct WalkState {
   CellRay r{};
   CellBox box{};
   std::int64_t cell[3] = {0, 0, 0};
+  double exit[3] = {0.0, 0.0, 0.0};
   double t = 0.0;
   double t1 = 0.0;
   std::int64_t budget = 0;
   bool done = true;
 
-  /// Clips the ray to the box over [t_begin, t_end] and finds the first cell; false (and
-  /// done) when it misses.
-  bool begin(const CellRay& ray, const CellBox& b, double t_begin, double t_end) {
-    r = ray;
+  /// Clips the ray `r` (set before) to the box over [t_begin, t_end] and finds the first cell;
+  /// false (and done) when it misses.
+  bool begin(const CellBox& b, double t_begin, double t_end) {
     box = b;
     done = true;
     double t0 = t_begin;
@@ -120,7 +136,14 @@ struct WalkState {
     budget = 8 * ((box.hi[0] - box.lo[0]) + (box.hi[1] - box.lo[1]) + (box.hi[2] - box.lo[2])) + 64;
     t = t0;
     done = false;
+    for (int a = 0; a < 3; ++a) exit_face(a);
     return true;
+  }
+  /// The distance where the ray leaves `cell` through its face on axis a (+∞ along the face).
+  void exit_face(int a) {
+    exit[a] = r.sgn[a] > 0   ? (static_cast<double>(cell[a] + 1) - r.o[a]) * r.inv[a]
+              : r.sgn[a] < 0 ? (static_cast<double>(cell[a]) - r.o[a]) * r.inv[a]
+                             : std::numeric_limits<double>::infinity();
   }
 };
 
@@ -136,18 +159,10 @@ struct VoxelStep {
 
 /// The Amanatides–Woo step: the ray leaves voxel w.cell at the nearest of its three exit faces;
 /// every axis whose face is crossed there moves (an edge or a corner moves several), so a ray
-/// along a face line stays in the upper voxel (the half-open convention of dda.h).
+/// along a face line stays in the upper voxel (the half-open convention of dda.h). Only the
+/// moved axes' exits are computed again (w.exit holds the others, the same numbers).
 inline VoxelStep voxel_step(WalkState& w, const std::int64_t* lo, const std::int64_t* hi) {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  const CellRay& r = w.r;
-  double tn[3];
-  double te = kInf;
-  for (int a = 0; a < 3; ++a) {
-    tn[a] = r.sgn[a] > 0   ? (static_cast<double>(w.cell[a] + 1) - r.o[a]) * r.inv[a]
-            : r.sgn[a] < 0 ? (static_cast<double>(w.cell[a]) - r.o[a]) * r.inv[a]
-                           : kInf;
-    te = std::min(te, tn[a]);
-  }
+  const double te = std::min(std::min(w.exit[0], w.exit[1]), w.exit[2]);
   VoxelStep s;
   s.t0 = w.t;
   s.t1 = std::min(te, w.t1);
@@ -158,9 +173,10 @@ inline VoxelStep voxel_step(WalkState& w, const std::int64_t* lo, const std::int
     return s;
   }
   for (int a = 0; a < 3; ++a) {
-    if (tn[a] == te) {
-      w.cell[a] += r.sgn[a];
+    if (w.exit[a] == te) {
+      w.cell[a] += w.r.sgn[a];
       if (w.cell[a] < lo[a] || w.cell[a] >= hi[a]) s.left = true;
+      w.exit_face(a);
     }
   }
   return s;
@@ -187,7 +203,8 @@ class DenseWalk {
   template <typename Visit>
   void march(const Ray& ray, double tmin, double tmax, Visit&& visit) const {
     detail::WalkState w;
-    if (!w.begin(cell_ray(ray, tmin, tmax), box_, tmin, tmax)) return;
+    w.r = cell_ray(ray, tmin, tmax);
+    if (!w.begin(box_, tmin, tmax)) return;
     for (;;) {
       const std::int64_t index =
           ((w.cell[0] - box_.lo[0]) * ny_ + (w.cell[1] - box_.lo[1])) * nz_ + w.cell[2] - box_.lo[2];
@@ -200,7 +217,10 @@ class DenseWalk {
 
  private:
   /// The checked cell-space ray (throws for a bad ray or range).
-  [[nodiscard]] detail::CellRay cell_ray(const Ray& ray, double tmin, double tmax) const;
+  [[nodiscard]] detail::CellRay cell_ray(const Ray& ray, double tmin, double tmax) const {
+    if (std::isnan(tmin) || std::isnan(tmax)) detail::fail_bad_ray(ray, tmin, tmax);
+    return detail::to_cell_ray(map_, ray);
+  }
 
   detail::IndexMap map_{};
   detail::CellBox box_{};
