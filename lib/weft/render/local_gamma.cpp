@@ -38,17 +38,13 @@ void LocalGammaField::make_dense(std::uint64_t max_dense_bytes) {
   const volume::IndexBox box = mean_->active_bbox();
   const std::uint64_t voxels = volume::dense_bytes(box) / sizeof(float);
   if (voxels > max_dense_bytes / sizeof(Record)) return;
-  // The records hold what the tree walk computes per piece (GammaCell::from_moments of the
-  // voxel's floats), so both walks give the same numbers bit for bit.
+  // The records hold the grids' own floats, so both walks enter the same numbers.
   const std::vector<float> mean = volume::to_dense(*mean_, box, max_dense_bytes);
   auto records = std::make_shared<std::vector<Record>>(mean.size());
+  for (std::size_t i = 0; i < mean.size(); ++i) (*records)[i].mean = mean[i];
   for (std::size_t a = 0; a < 3; ++a) {
     const std::vector<float> var = volume::to_dense(*var_[a], box, max_dense_bytes);
-    for (std::size_t i = 0; i < mean.size(); ++i) {
-      const auto c = transmittance::GammaCell::from_moments(sigma_, mean[i], var[i], transmittance::Origin::source);
-      (*records)[i].mean_extinction = c.mean_extinction;
-      (*records)[i].kappa[a] = c.kappa;
-    }
+    for (std::size_t i = 0; i < mean.size(); ++i) (*records)[i].var[a] = var[i];
   }
   records_ = std::move(records);
   dense_walk_ = volume::DenseWalk(map, box);
@@ -88,8 +84,8 @@ void LocalGammaField::walk(const volume::Ray& ray, double t0, double t1, transmi
     const auto a = static_cast<std::size_t>(axis);
     dense_walk_.march(ray, t0, t1, [&](double b0, double b1, std::int64_t index) {
       const Record& r = records[index];
-      if (!(r.mean_extinction > 0.0)) return true;
-      hazard.enter_rates(r.mean_extinction, r.kappa[a], b0 - t0);
+      if (!(r.mean > 0.0f)) return true;
+      hazard.enter(sigma_, r.mean, r.var[a], b0 - t0);
       return piece(b0 - t0, b1 - t0);
     });
     return;

@@ -33,15 +33,15 @@ namespace weft::render {
 /// make the pair exactly reciprocal where the field varies: §5e).
 ///
 /// A field whose active box fits in `max_dense_bytes` of records is held as one dense array of
-/// per-voxel records {μ̄ = σC̄, κ_x, κ_y, κ_z} and walked by volume::DenseWalk (the trees are
+/// per-voxel records {C̄, V_x, V_y, V_z} (16 bytes) and walked by volume::DenseWalk (the trees are
 /// let go); a larger one keeps its four trees and walks them (volume::Tracer). Both walks give
 /// the same pieces and the same numbers bit for bit (docs/render.md §5b "Dense walk").
 ///
 /// Holds a walker (and voxel readers), so one instance per thread (clone() shares the data).
 class LocalGammaField {
  public:
-  /// Records of 32 bytes per voxel of the mean grid's active box up to this size are walked
-  /// densely: 64 MiB, two million voxels, far above a coarse cloth field's box.
+  /// Records of 16 bytes per voxel of the mean grid's active box up to this size are walked
+  /// densely: 64 MiB, four million voxels, far above a coarse cloth field's box.
   static constexpr std::uint64_t kMaxDenseBytes = std::uint64_t{64} << 20;
 
   /// Reads "mean_concentration" and "var_concentration_{x,y,z}" from the .vdb `weft fit
@@ -72,10 +72,11 @@ class LocalGammaField {
                                        transmittance::Origin origin = transmittance::Origin::source);
 
  private:
-  /// One voxel's law, computed once: μ̄ = σC̄ (0: vacuum) and κ = σV_a/C̄ per axis a.
+  /// One voxel's four channels as the file holds them: the mean C̄ (0: vacuum) and the
+  /// column-mean variance V per axis.
   struct Record {
-    double mean_extinction = 0.0;
-    std::array<double, 3> kappa{0.0, 0.0, 0.0};
+    float mean = 0.0f;
+    std::array<float, 3> var{0.0f, 0.0f, 0.0f};
   };
 
   /// Walks the non-empty coarse cells, entering each into `hazard` and calling piece(a, b) with

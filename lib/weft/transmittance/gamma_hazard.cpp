@@ -32,12 +32,6 @@ std::optional<MemoryRule> parse_memory_rule(std::string_view name) {
   return std::nullopt;
 }
 
-GammaCell GammaCell::from_moments(double sigma, double mean, double var, Origin origin) {
-  if (!(mean > 0.0)) return GammaCell{};
-  // Σ_Q(s) = σα/(β + σs) = σC̄/(1 + κs), κ = σV/C̄ (α = C̄²/V, β = C̄/V).
-  return from_rates(sigma * mean, var > 0.0 ? sigma * var / mean : 0.0, origin);
-}
-
 double GammaCell::length_to(double s, double h) const {
   if (!(rate > 0.0)) return std::numeric_limits<double>::infinity();
   if (kappa == 0.0) return h / rate;
@@ -48,11 +42,6 @@ double GammaCell::length_to(double s, double h) const {
 double GammaCell::memory_for(double hazard) const {
   if (kappa == 0.0 || !(rate > 0.0)) return 0.0;  // memoryless: any memory is the same
   return expm1_or_infinity(hazard * kappa / rate) / kappa;
-}
-
-void GammaHazard::enter(double sigma, double mean, double var, double x) {
-  const GammaCell c = GammaCell::from_moments(sigma, mean, var, Origin::source);
-  enter_rates(c.mean_extinction, c.kappa, x);
 }
 
 }  // namespace weft::transmittance

@@ -80,9 +80,6 @@ class GammaHazard {
 
   /// Enters a cell of moments (mean, var) at σ at distance x.
   void enter(double sigma, double mean, double var, double x);
-  /// Enters a cell of mean extinction μ̄ and κ (GammaCell::from_rates) at distance x: the same
-  /// state as enter(σ, C̄, V, x) with μ̄ = σC̄, κ = σV/C̄.
-  void enter_rates(double mean_extinction, double kappa, double x);
   /// ∫Σ over [a, b] inside the current cell (a ≥ the entry distance).
   [[nodiscard]] double piece(double a, double b) const;
   /// Moves over [a, b] of the current cell: H += piece(a, b).
@@ -97,6 +94,8 @@ class GammaHazard {
 
  private:
   [[nodiscard]] double memory(double x) const { return x - shift_; }
+  /// Enters a cell of mean extinction μ̄ and κ (GammaCell::from_rates) at distance x.
+  void enter_rates(double mean_extinction, double kappa, double x);
 
   MemoryRule rule_;
   Origin origin_;
@@ -109,6 +108,17 @@ class GammaHazard {
 
 // The per-piece steps, inline: a medium walks them once per voxel of every flight and shadow
 // (docs/render.md §6 "Coarse grids").
+
+inline GammaCell GammaCell::from_moments(double sigma, double mean, double var, Origin origin) {
+  if (!(mean > 0.0)) return GammaCell{};
+  // Σ_Q(s) = σα/(β + σs) = σC̄/(1 + κs), κ = σV/C̄ (α = C̄²/V, β = C̄/V).
+  return from_rates(sigma * mean, var > 0.0 ? sigma * var / mean : 0.0, origin);
+}
+
+inline void GammaHazard::enter(double sigma, double mean, double var, double x) {
+  const GammaCell c = GammaCell::from_moments(sigma, mean, var, Origin::source);
+  enter_rates(c.mean_extinction, c.kappa, x);
+}
 
 inline GammaCell GammaCell::from_rates(double mean_extinction, double kappa, Origin origin) {
   // The partner T_S = (1 + κs)^{−(α+1)} has Σ_S = (α + 1)κ/(1 + κs) = (σC̄ + κ)/(1 + κs).
