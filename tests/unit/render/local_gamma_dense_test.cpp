@@ -23,7 +23,7 @@ namespace fs = std::filesystem;
 /// means (a third of the voxels vacuum, some isolated inside the box) and a different random
 /// variance per axis (some 0: exponential voxels), voxels of 0.37 at an odd origin.
 fs::path write_random_fields() {
-  const fs::path path = fs::temp_directory_path() / "weft_local_gamma_dense.vdb";
+  fs::path path = fs::temp_directory_path() / "weft_local_gamma_dense.vdb";
   Pcg32 rng(17, 4);
   volume::Grid mean(0.37, "mean_concentration");
   std::vector<volume::Grid> var;
