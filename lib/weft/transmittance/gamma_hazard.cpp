@@ -32,22 +32,6 @@ std::optional<MemoryRule> parse_memory_rule(std::string_view name) {
   return std::nullopt;
 }
 
-GammaCell GammaCell::from_moments(double sigma, double mean, double var, Origin origin) {
-  GammaCell c;
-  if (!(mean > 0.0)) return c;
-  // Σ_Q(s) = σα/(β + σs) = σC̄/(1 + κs), κ = σV/C̄ (α = C̄²/V, β = C̄/V); the partner
-  // T_S = (1 + κs)^{−(α+1)} has Σ_S = (α + 1)κ/(1 + κs) = (σC̄ + κ)/(1 + κs).
-  c.kappa = var > 0.0 ? sigma * var / mean : 0.0;
-  c.mean_extinction = sigma * mean;
-  c.rate = c.mean_extinction + (origin == Origin::scatterer ? c.kappa : 0.0);
-  return c;
-}
-
-double GammaCell::integral(double s, double length) const {
-  if (kappa == 0.0) return rate * length;
-  return rate / kappa * std::log1p(kappa * length / (1.0 + kappa * s));
-}
-
 double GammaCell::length_to(double s, double h) const {
   if (!(rate > 0.0)) return std::numeric_limits<double>::infinity();
   if (kappa == 0.0) return h / rate;
@@ -58,47 +42,6 @@ double GammaCell::length_to(double s, double h) const {
 double GammaCell::memory_for(double hazard) const {
   if (kappa == 0.0 || !(rate > 0.0)) return 0.0;  // memoryless: any memory is the same
   return expm1_or_infinity(hazard * kappa / rate) / kappa;
-}
-
-void GammaHazard::enter(double sigma, double mean, double var, double x) {
-  // A renewed memory is a fresh start (the cell face acts as a source), so only the first
-  // cell of a renewal segment keeps the scatterer's partner (docs/render.md §5e).
-  const Origin o = rule_ == MemoryRule::renewal && cells_ > 0 ? Origin::source : origin_;
-  cell_ = GammaCell::from_moments(sigma, mean, var, o);
-  ++cells_;
-  switch (rule_) {
-    case MemoryRule::segment:
-      shift_ = 0.0;
-      break;
-    case MemoryRule::renewal:
-      shift_ = x;
-      break;
-    case MemoryRule::optical_depth:
-      // τ so far read as this cell's distance: hazard μ̄/(1 + τ/α), the law in optical depth.
-      shift_ = cell_.mean_extinction > 0.0 ? x - tau_ / cell_.mean_extinction : x;
-      break;
-    case MemoryRule::carried:
-      // The survival e^{−H} so far read as this cell's distance under its own law.
-      shift_ = x - cell_.memory_for(h_);
-      break;
-  }
-}
-
-double GammaHazard::piece(double a, double b) const { return cell_.integral(memory(a), b - a); }
-
-void GammaHazard::advance(double a, double b) {
-  h_ += piece(a, b);
-  tau_ += cell_.mean_extinction * (b - a);
-}
-
-double GammaHazard::advance_until(double a, double b, double target) {
-  const double dh = piece(a, b);
-  if (h_ + dh < target) {
-    h_ += dh;
-    tau_ += cell_.mean_extinction * (b - a);
-    return std::numeric_limits<double>::infinity();
-  }
-  return std::min(a + cell_.length_to(memory(a), target - h_), b);
 }
 
 }  // namespace weft::transmittance

@@ -12,6 +12,9 @@
 /// (T_S = p_Q/p_Q(0) = (1 + κs)^{−(α+1)}) has the same κ and the rate μ̄ + κ. What a ray's
 /// memory is when it crosses from one cell into the next is the memory rule (MemoryRule).
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <optional>
 #include <string_view>
 
@@ -51,6 +54,9 @@ struct GammaCell {
   /// The cell of moments (mean, var) at σ, for segments that start at `origin`; mean ≤ 0 is
   /// vacuum (rate 0).
   [[nodiscard]] static GammaCell from_moments(double sigma, double mean, double var, Origin origin);
+  /// The cell of mean extinction μ̄ = σC̄ and κ = σV/C̄ computed once (a medium's per-voxel
+  /// records): from_moments is from_rates(σC̄, σV/C̄) bit for bit; μ̄ = 0 is vacuum.
+  [[nodiscard]] static GammaCell from_rates(double mean_extinction, double kappa, Origin origin);
   /// ∫ Σ over memories [s, s + length]: (rate/κ)·log1p(κ·length/(1 + κs)), rate·length for κ = 0.
   [[nodiscard]] double integral(double s, double length) const;
   /// The length ℓ ≥ 0 with integral(s, ℓ) = h: (1 + κs)·expm1(hκ/rate)/κ (h/rate for κ = 0;
@@ -88,6 +94,8 @@ class GammaHazard {
 
  private:
   [[nodiscard]] double memory(double x) const { return x - shift_; }
+  /// Enters a cell of mean extinction μ̄ and κ (GammaCell::from_rates) at distance x.
+  void enter_rates(double mean_extinction, double kappa, double x);
 
   MemoryRule rule_;
   Origin origin_;
@@ -97,5 +105,74 @@ class GammaHazard {
   double tau_ = 0.0;    ///< accumulated optical depth ∫μ̄ (optical_depth rule)
   int cells_ = 0;       ///< cells entered
 };
+
+// The per-piece steps, inline: a medium walks them once per voxel of every flight and shadow
+// (docs/render.md §6 "Coarse grids").
+
+inline GammaCell GammaCell::from_moments(double sigma, double mean, double var, Origin origin) {
+  if (!(mean > 0.0)) return GammaCell{};
+  // Σ_Q(s) = σα/(β + σs) = σC̄/(1 + κs), κ = σV/C̄ (α = C̄²/V, β = C̄/V).
+  return from_rates(sigma * mean, var > 0.0 ? sigma * var / mean : 0.0, origin);
+}
+
+inline void GammaHazard::enter(double sigma, double mean, double var, double x) {
+  const GammaCell c = GammaCell::from_moments(sigma, mean, var, Origin::source);
+  enter_rates(c.mean_extinction, c.kappa, x);
+}
+
+inline GammaCell GammaCell::from_rates(double mean_extinction, double kappa, Origin origin) {
+  // The partner T_S = (1 + κs)^{−(α+1)} has Σ_S = (α + 1)κ/(1 + κs) = (σC̄ + κ)/(1 + κs).
+  GammaCell c;
+  c.kappa = kappa;
+  c.mean_extinction = mean_extinction;
+  c.rate = mean_extinction + (origin == Origin::scatterer ? kappa : 0.0);
+  return c;
+}
+
+inline double GammaCell::integral(double s, double length) const {
+  if (kappa == 0.0) return rate * length;
+  return rate / kappa * std::log1p(kappa * length / (1.0 + kappa * s));
+}
+
+inline void GammaHazard::enter_rates(double mean_extinction, double kappa, double x) {
+  // A renewed memory is a fresh start (the cell face acts as a source), so only the first
+  // cell of a renewal segment keeps the scatterer's partner (docs/render.md §5e).
+  const Origin o = rule_ == MemoryRule::renewal && cells_ > 0 ? Origin::source : origin_;
+  cell_ = GammaCell::from_rates(mean_extinction, kappa, o);
+  ++cells_;
+  switch (rule_) {
+    case MemoryRule::segment:
+      shift_ = 0.0;
+      break;
+    case MemoryRule::renewal:
+      shift_ = x;
+      break;
+    case MemoryRule::optical_depth:
+      // τ so far read as this cell's distance: hazard μ̄/(1 + τ/α), the law in optical depth.
+      shift_ = cell_.mean_extinction > 0.0 ? x - tau_ / cell_.mean_extinction : x;
+      break;
+    case MemoryRule::carried:
+      // The survival e^{−H} so far read as this cell's distance under its own law.
+      shift_ = x - cell_.memory_for(h_);
+      break;
+  }
+}
+
+inline double GammaHazard::piece(double a, double b) const { return cell_.integral(memory(a), b - a); }
+
+inline void GammaHazard::advance(double a, double b) {
+  h_ += piece(a, b);
+  tau_ += cell_.mean_extinction * (b - a);
+}
+
+inline double GammaHazard::advance_until(double a, double b, double target) {
+  const double dh = piece(a, b);
+  if (h_ + dh < target) {
+    h_ += dh;
+    tau_ += cell_.mean_extinction * (b - a);
+    return std::numeric_limits<double>::infinity();
+  }
+  return std::min(a + cell_.length_to(memory(a), target - h_), b);
+}
 
 }  // namespace weft::transmittance

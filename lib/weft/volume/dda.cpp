@@ -5,8 +5,22 @@
 
 #include "weft/volume/dda_impl.h"
 #include "weft/volume/grid_openvdb.h"
+#include "weft/volume/voxel_walk.h"
 
 namespace weft::volume {
+
+namespace detail {
+void fail_bad_ray(const Ray& ray, double tmin, double tmax) {
+  if (std::isnan(tmin) || std::isnan(tmax)) fail("ray: t range [{}, {}] is not a number", tmin, tmax);
+  const auto& o = ray.origin;
+  const auto& d = ray.direction;
+  for (std::size_t a = 0; a < 3; ++a) {
+    if (!std::isfinite(o[a])) fail("ray: origin component {} is {}", a, o[a]);
+    if (!std::isfinite(d[a])) fail("ray: direction component {} is {}", a, d[a]);
+  }
+  fail("ray: direction ({}, {}, {}) has no length", d[0], d[1], d[2]);
+}
+}  // namespace detail
 
 struct Tracer::Impl {
   openvdb::FloatGrid::ConstPtr grid;
@@ -25,7 +39,7 @@ Tracer& Tracer::operator=(Tracer&&) noexcept = default;
 
 namespace {
 void require_range(double tmin, double tmax) {
-  if (std::isnan(tmin) || std::isnan(tmax)) fail("ray: t range [{}, {}] is not a number", tmin, tmax);
+  if (std::isnan(tmin) || std::isnan(tmax)) detail::fail_bad_ray(Ray{}, tmin, tmax);
 }
 }  // namespace
 
@@ -124,6 +138,23 @@ double optical_depth(const Grid& grid, const Ray& ray, double tmin, double tmax,
 std::vector<double> optical_depth_profile(const Grid& grid, const Ray& ray, const std::vector<double>& depths,
                                           double scale) {
   return Tracer(grid).optical_depth_profile(ray, depths, scale);
+}
+
+DenseWalk::DenseWalk(const detail::IndexMap& map, const IndexBox& box) : map_(map) {
+  box_.empty = box.empty();
+  for (std::size_t a = 0; a < 3; ++a) {
+    box_.lo[a] = box.min[a];
+    box_.hi[a] = std::int64_t{box.max[a]} + 1;
+  }
+  ny_ = box_.empty ? 0 : box_.hi[1] - box_.lo[1];
+  nz_ = box_.empty ? 0 : box_.hi[2] - box_.lo[2];
+}
+
+bool dense_walk_map(const Grid& grid, detail::IndexMap& map) {
+  const detail::CellMap cell_map(*grid.impl().grid);
+  if (!cell_map.scale_translate) return false;
+  map = cell_map.index;
+  return true;
 }
 
 BoxHit intersect_active_box(const Grid& grid, const Ray& ray, double tmin) {

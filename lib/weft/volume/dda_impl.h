@@ -13,6 +13,7 @@
 #include "weft/core/error.h"
 #include "weft/volume/dda.h"
 #include "weft/volume/grid_openvdb.h"
+#include "weft/volume/voxel_walk.h"
 
 namespace weft::volume::detail {
 
@@ -20,72 +21,35 @@ using FloatTree = openvdb::FloatTree;
 using LeafT = FloatTree::LeafNodeType;
 using Accessor = openvdb::FloatGrid::ConstAccessor;
 
-/// A ray in "cell space" u = index + ½, where voxel i covers u ∈ [i, i+1): the half-open
-/// convention makes face, edge and corner cases a matter of floor().
-struct CellRay {
-  double o[3];
-  double d[3];    ///< cell-space displacement per world unit of t
-  double inv[3];  ///< 1/d, unused where sgn = 0
-  int sgn[3];     ///< −1, 0, +1; −0.0 counts as 0
-};
-
 /// A grid's world → index map, read once per tracer: the transform's virtual map behind a
 /// shared pointer costs a pointer copy and two virtual calls per ray otherwise. Scale-translate
-/// maps (every grid weft writes) are applied here with the map's own arithmetic, bit for bit
-/// (openvdb ScaleTranslateMap::applyInverseMap / applyInverseJacobian); any other map is asked.
+/// maps (every grid weft writes) are applied by IndexMap (voxel_walk.h) with the map's own
+/// arithmetic, bit for bit; any other map is asked.
 struct CellMap {
   openvdb::math::MapBase::ConstPtr map;
   bool scale_translate = false;
-  openvdb::Vec3d translation{0.0};
-  openvdb::Vec3d inv_scale{1.0};
+  IndexMap index;
   explicit CellMap(const openvdb::FloatGrid& grid) : map(grid.transform().baseMap()) {
     if (map->isType<openvdb::math::ScaleTranslateMap>() || map->isType<openvdb::math::UniformScaleTranslateMap>()) {
       const auto& st = static_cast<const openvdb::math::ScaleTranslateMap&>(*map);
       scale_translate = true;
-      translation = st.getTranslation();
-      inv_scale = st.getInvScale();
+      for (int a = 0; a < 3; ++a) {
+        index.translation[a] = st.getTranslation()[a];
+        index.inv_scale[a] = st.getInvScale()[a];
+      }
     }
-  }
-  [[nodiscard]] openvdb::Vec3d to_index(const openvdb::Vec3d& p) const {
-    if (!scale_translate) return map->applyInverseMap(p);
-    return {(p.x() - translation.x()) * inv_scale.x(), (p.y() - translation.y()) * inv_scale.y(),
-            (p.z() - translation.z()) * inv_scale.z()};
-  }
-  [[nodiscard]] openvdb::Vec3d to_index_direction(const openvdb::Vec3d& d) const {
-    if (!scale_translate) return map->applyInverseJacobian(d);
-    return d * inv_scale;
   }
 };
 
 inline CellRay to_cell_ray(const CellMap& map, const Ray& ray) {
-  const auto& o = ray.origin;
-  const auto& d = ray.direction;
-  for (int a = 0; a < 3; ++a) {
-    if (!std::isfinite(o[a])) fail("ray: origin component {} is {}", a, o[a]);
-    if (!std::isfinite(d[a])) fail("ray: direction component {} is {}", a, d[a]);
-  }
-  const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-  if (!(len > 0.0) || !std::isfinite(len)) fail("ray: direction ({}, {}, {}) has no length", d[0], d[1], d[2]);
-  const openvdb::Vec3d oi = map.to_index(openvdb::Vec3d(o[0], o[1], o[2]));
-  const openvdb::Vec3d di = map.to_index_direction(openvdb::Vec3d(d[0] / len, d[1] / len, d[2] / len));
-  CellRay r{};
-  for (int a = 0; a < 3; ++a) {
-    r.o[a] = oi[a] + 0.5;
-    r.d[a] = di[a];
-    r.sgn[a] = di[a] > 0.0 ? 1 : (di[a] < 0.0 ? -1 : 0);
-    r.inv[a] = r.sgn[a] != 0 ? 1.0 / di[a] : 0.0;
-  }
-  return r;
+  if (map.scale_translate) return to_cell_ray(map.index, ray);
+  const std::array<double, 3> u = unit_direction(ray);
+  const openvdb::Vec3d oi = map.map->applyInverseMap(openvdb::Vec3d(ray.origin[0], ray.origin[1], ray.origin[2]));
+  const openvdb::Vec3d di = map.map->applyInverseJacobian(openvdb::Vec3d(u[0], u[1], u[2]));
+  return cell_ray(oi.asPointer(), di.asPointer());
 }
 
 inline CellRay to_cell_ray(const openvdb::FloatGrid& grid, const Ray& ray) { return to_cell_ray(CellMap(grid), ray); }
-
-/// Cell-space box of the active voxels: u ∈ [lo, hi).
-struct CellBox {
-  std::int64_t lo[3];
-  std::int64_t hi[3];
-  bool empty = true;
-};
 
 inline CellBox active_cell_box(const openvdb::FloatGrid& grid) {
   CellBox box{};
@@ -97,32 +61,6 @@ inline CellBox active_cell_box(const openvdb::FloatGrid& grid) {
   }
   box.empty = false;
   return box;
-}
-
-/// Slab test against the box; exact for zero direction components (no division by them).
-inline bool clip(const CellRay& r, const CellBox& box, double& t0, double& t1) {
-  if (box.empty) return false;
-  for (int a = 0; a < 3; ++a) {
-    const auto lo = static_cast<double>(box.lo[a]);
-    const auto hi = static_cast<double>(box.hi[a]);
-    if (r.sgn[a] == 0) {
-      if (!(r.o[a] >= lo && r.o[a] < hi)) return false;
-      continue;
-    }
-    double ta = (lo - r.o[a]) * r.inv[a];
-    double tb = (hi - r.o[a]) * r.inv[a];
-    if (ta > tb) std::swap(ta, tb);
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
-  }
-  return t0 < t1;
-}
-
-/// The cell containing the ray just after parameter t on axis a (the cell being entered).
-inline std::int64_t cell_at(const CellRay& r, int a, double t) {
-  const double p = r.o[a] + r.d[a] * t;
-  if (r.sgn[a] < 0) return static_cast<std::int64_t>(std::ceil(p)) - 1;
-  return static_cast<std::int64_t>(std::floor(p));
 }
 
 /// One piece of a walk: [t0, t1) in world distance inside a cell of `size`³ voxels whose
@@ -142,38 +80,19 @@ struct CellStep {
 /// node (getValueDepth) at once. Callers either pull pieces (Tracer::start/next, for code
 /// outside volume/ that cannot take a template through the header wall) or are called back
 /// (march_cells, inlined for volume's own hot loops). Inactive voxels have value 0.
-struct CellWalk {
-  CellRay r{};
-  CellBox box{};
-  std::int64_t cell[3] = {0, 0, 0};
-  double t = 0.0;
-  double t1 = 0.0;
-  std::int64_t budget = 0;
-  // The leaf being walked (null: probe the tree at `cell` next).
+struct CellWalk : WalkState {
+  // The leaf being walked (null: probe the tree at `cell` next) and its voxels [leaf_lo, leaf_hi).
   const LeafT* leaf = nullptr;
-  openvdb::Coord org;
+  std::int64_t leaf_lo[3] = {0, 0, 0};
+  std::int64_t leaf_hi[3] = {0, 0, 0};
   const float* data = nullptr;
   const LeafT::NodeMaskType* mask = nullptr;
-  bool done = true;
 
   /// Begins a walk of `ray` over [t_begin, t_end]; false (and no pieces) when it misses the box.
   bool start(const CellRay& ray, const CellBox& b, double t_begin, double t_end) {
-    r = ray;
-    box = b;
     leaf = nullptr;
-    done = true;
-    double t0 = t_begin;
-    t1 = t_end;
-    if (!clip(r, box, t0, t1)) return false;
-    for (int a = 0; a < 3; ++a) {
-      cell[a] = cell_at(r, a, t0);
-      if (r.sgn[a] != 0) cell[a] = std::clamp(cell[a], box.lo[a], box.hi[a] - 1);
-    }
-    // Safety net against rounding ping-pong; a correct march needs far fewer steps.
-    budget = 8 * ((box.hi[0] - box.lo[0]) + (box.hi[1] - box.lo[1]) + (box.hi[2] - box.lo[2])) + 64;
-    t = t0;
-    done = false;
-    return true;
+    r = ray;
+    return begin(b, t_begin, t_end);
   }
 
   /// The next piece, or false when the walk has ended.
@@ -189,9 +108,14 @@ struct CellWalk {
                                static_cast<openvdb::Int32>(cell[2]));
         leaf = acc.probeConstLeaf(c);
         if (leaf != nullptr) {
-          org = leaf->origin();
+          const openvdb::Coord org = leaf->origin();
+          for (int a = 0; a < 3; ++a) {
+            leaf_lo[a] = org[a];
+            leaf_hi[a] = std::int64_t{org[a]} + static_cast<std::int64_t>(LeafT::DIM);
+          }
           data = leaf->buffer().data();
           mask = &leaf->getValueMask();
+          for (int a = 0; a < 3; ++a) exit_face(a);
         } else {
           // A tile or empty space: constant over a block of `size`³ voxels aligned to `size`.
           const int depth = acc.getValueDepth(c);
@@ -241,45 +165,29 @@ struct CellWalk {
           continue;
         }
       }
-      // Voxel by voxel inside the leaf.
-      double tn[3];
-      double te = kInf;
-      for (int a = 0; a < 3; ++a) {
-        tn[a] = r.sgn[a] > 0   ? (static_cast<double>(cell[a] + 1) - r.o[a]) * r.inv[a]
-                : r.sgn[a] < 0 ? (static_cast<double>(cell[a]) - r.o[a]) * r.inv[a]
-                               : kInf;
-        te = std::min(te, tn[a]);
-      }
-      const double tend = std::min(te, t1);
-      const bool produced = tend > t;
-      if (produced) {
-        const openvdb::Index off = LeafT::coordToOffset(openvdb::Coord(static_cast<openvdb::Int32>(cell[0]),
-                                                                       static_cast<openvdb::Int32>(cell[1]),
-                                                                       static_cast<openvdb::Int32>(cell[2])));
-        s.t0 = t;
-        s.t1 = tend;
+      // Voxel by voxel inside the leaf: the step shared with the dense walk (voxel_walk.h).
+      const openvdb::Index off = LeafT::coordToOffset(openvdb::Coord(static_cast<openvdb::Int32>(cell[0]),
+                                                                     static_cast<openvdb::Int32>(cell[1]),
+                                                                     static_cast<openvdb::Int32>(cell[2])));
+      const std::int64_t voxel[3] = {cell[0], cell[1], cell[2]};
+      const VoxelStep step = voxel_step(*this, leaf_lo, leaf_hi);
+      if (step.produced) {
+        s.t0 = step.t0;
+        s.t1 = step.t1;
         s.value = mask->isOn(off) ? data[off] : 0.0f;
-        for (int a = 0; a < 3; ++a) s.lo[a] = cell[a];
+        for (int a = 0; a < 3; ++a) s.lo[a] = voxel[a];
         s.size = 1;
-        t = tend;
       }
-      if (te >= t1) {
+      if (step.ended) {
         done = true;
-        return produced;
+        return step.produced;
       }
-      bool inside = true;
-      for (int a = 0; a < 3; ++a) {
-        if (tn[a] == te) {
-          cell[a] += r.sgn[a];
-          if (cell[a] < org[a] || cell[a] >= org[a] + static_cast<std::int64_t>(LeafT::DIM)) inside = false;
-        }
-      }
-      if (!inside) {
+      if (step.left) {
         leaf = nullptr;
       } else if (--budget <= 0) {
         done = true;
       }
-      if (produced) return true;
+      if (step.produced) return true;
     }
     return false;
   }
