@@ -73,7 +73,8 @@ int main(int argc, char** argv) {
 
   GlobalOptions globals;
   app.add_flag("-q,--quiet", globals.quiet, "No progress bar and no summary on stdout");
-  app.add_option("--threads", globals.threads, "Worker threads (0 = all cores); results do not depend on it")
+  app.add_option("--threads", globals.threads,
+                 "Worker threads (0 = all cores; also the EXR writer's pool); results do not depend on it")
       ->check(CLI::Range(0U, 1024U));
 
   auto& commands = registry();
