@@ -88,16 +88,18 @@ TEST(CoarseBeam, ZeroVarianceIsExponentialAndFactorOneIsTheFineBeam) {
     spec.direction = d;
     spec.scale = 7.0;
     const auto ref = volume::measure_beam(fine, spec);
-    // Factor 1: the coarse grid is the fine grid, so the model is the ground truth itself.
-    const auto same = coarse_beam_log_t(fine, nullptr, box, 0.05, 1, d, 7.0, CoarseLaw::exponential);
+    // Factor 1: the coarse grid holds the fine voxels (re-indexed from the box's corner, as every
+    // coarse grid: volume/block_lattice.h), so the model is the ground truth itself.
+    const Grid one = volume::downsample(fine, 1);
+    const auto same = coarse_beam_log_t(one, nullptr, box, 0.05, 1, d, 7.0, CoarseLaw::exponential);
     ASSERT_EQ(same.size(), ref.size());
     for (std::size_t k = 0; k < ref.size(); ++k) EXPECT_NEAR(same[k], ref.log_t[k], 1e-10 * (1 + std::abs(same[k])));
     // A zero variance field makes both gamma compositions the exponential law.
     Grid zero(0.05);
     zero.set_origin(fine.origin());
     for (auto it = box.min[0]; it <= box.max[0]; ++it) zero.set_value(it, box.min[1], box.min[2], 0.0f);
-    const auto g = coarse_beam_log_t(fine, &zero, box, 0.05, 1, d, 7.0, CoarseLaw::gamma_independent);
-    const auto m = coarse_beam_log_t(fine, &zero, box, 0.05, 1, d, 7.0, CoarseLaw::gamma_memory);
+    const auto g = coarse_beam_log_t(one, &zero, box, 0.05, 1, d, 7.0, CoarseLaw::gamma_independent);
+    const auto m = coarse_beam_log_t(one, &zero, box, 0.05, 1, d, 7.0, CoarseLaw::gamma_memory);
     for (std::size_t k = 0; k < ref.size(); ++k) {
       EXPECT_EQ(g[k], same[k]);
       EXPECT_NEAR(m[k], same[k], 1e-12 * (1 + std::abs(same[k])));
