@@ -10,6 +10,7 @@
 #include <boost/math/tools/roots.hpp>
 
 #include "weft/core/parallel.h"
+#include "weft/transmittance/gamma_path.h"
 
 namespace weft::fit::detail {
 namespace {
@@ -19,10 +20,11 @@ namespace {
 using Double = boost::math::policies::policy<boost::math::policies::promote_double<false>>;
 
 constexpr double kPerUnit = 16.0;  // lattice points per unit of ln α
-// Below α = 1/8 gamma_p_inv may ask for more digits (a steep P); above 10⁸ the nodes are 1 to
-// within 10⁻⁴ and no column of a cloth gets there: both are left to gamma_p_inv.
+// Below α = 1/8 gamma_p_inv may ask for more digits (a steep P): left to it. Above 10⁸ (a nearly
+// uniform column) the nodes are 1 to within 10⁻⁴ and the quantile's Cornish–Fisher expansion is
+// exact to rounding (transmittance/gamma_path.h): no table either.
 constexpr double kMinShape = 0.125;
-constexpr double kMaxShape = 1e8;
+constexpr double kMaxShape = transmittance::kLargeGammaShape;
 // The six lattice points around α: offsets −2 … 3 from floor(ln α · 16).
 constexpr int kBefore = 2;
 constexpr int kPoints = 6;
@@ -37,9 +39,7 @@ double shape_at(std::int64_t point) { return std::exp(static_cast<double>(point)
 
 }  // namespace
 
-double exact_gamma_node(double shape, int j) {
-  return boost::math::gamma_p_inv(shape, probability(j), Double()) / shape;
-}
+double exact_gamma_node(double shape, int j) { return transmittance::gamma_p_inverse(shape, probability(j)) / shape; }
 
 GammaNodes::GammaNodes(const std::vector<double>& shapes) {
   for (double a : shapes) {

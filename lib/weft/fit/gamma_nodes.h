@@ -24,8 +24,9 @@ namespace weft::fit::detail {
 /// Nodes per coarse column: P at probabilities (j + ½)/kNodes, j = 0 … kNodes − 1.
 inline constexpr int kNodes = 32;
 
-/// gamma_p_inv(α, (j + ½)/kNodes)/α in double precision (the reference; also every shape
-/// outside the table's range, α < 1/8 or α > 10⁸).
+/// P⁻¹(α, (j + ½)/kNodes)/α in double precision (transmittance::gamma_p_inverse: Boost's
+/// gamma_p_inv up to α = 10⁸, the Cornish–Fisher expansion above); the reference, and every shape
+/// outside the table's range, α < 1/8 or α > 10⁸.
 [[nodiscard]] double exact_gamma_node(double shape, int j);
 
 class GammaNodes {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include <boost/math/special_functions/erf.hpp>
 #include <boost/math/special_functions/gamma.hpp>
 #include <boost/random/normal_distribution.hpp>
 
@@ -42,6 +43,33 @@ double gamma_density(double k, double x) {
   const HeldFpExceptions hold;
   return boost::math::gamma_p_derivative(k, x, kPolicy);
 }
+double gamma_quantile_cornish_fisher(double k, double z) {
+  // Cornish–Fisher for Gamma(k, 1/k): cumulants κ₂ = 1/k, κ₃ = 2/k², κ₄ = 6/k³ (skewness 2/√k,
+  // excess kurtosis 6/k), the expansion carried to the k⁻² term.
+  const double s = 1.0 / std::sqrt(k);
+  const double z2 = z * z;
+  return 1.0 + s * (z + s * ((z2 - 1.0) / 3.0 +
+                             s * ((z2 * z - 7.0 * z) / 36.0 - s * (3.0 * z2 * z2 + 7.0 * z2 - 16.0) / 810.0)));
+}
+
+namespace {
+// z with Φ(z) = p in the lower tail (p < ½ gives z < 0), at full relative accuracy in p.
+double normal_lower_quantile(double p) { return -std::sqrt(2.0) * boost::math::erfc_inv(2.0 * p, kPolicy); }
+}  // namespace
+
+// Boost's inverses iterate on the incomplete gamma functions above, so they too run with FP
+// exceptions held.
+double gamma_p_inverse(double k, double p) {
+  if (k > kLargeGammaShape) return k * gamma_quantile_cornish_fisher(k, normal_lower_quantile(p));
+  const HeldFpExceptions hold;
+  return boost::math::gamma_p_inv(k, p, kPolicy);
+}
+double gamma_q_inverse(double k, double q) {
+  if (k > kLargeGammaShape) return k * gamma_quantile_cornish_fisher(k, -normal_lower_quantile(q));
+  const HeldFpExceptions hold;
+  return boost::math::gamma_q_inv(k, q, kPolicy);
+}
+
 namespace {
 double log_gamma(double k) {
   const HeldFpExceptions hold;
@@ -60,16 +88,31 @@ GammaSampler parse_gamma_sampler(const std::string& text) {
   fail("gamma-path law: unknown sampler '{}' (known: marsaglia-tsang, inversion)", text);
 }
 
+namespace {
+// Boost's incomplete gamma functions give up (series iteration limit) for k beyond about 2·10¹⁰,
+// where the path length is kθ to within 10⁻⁵ relative: refuse such a k at construction rather
+// than fail mid-render.
+constexpr double kMaxShape = 1e10;
+void check_shape(double k) {
+  if (!(std::isfinite(k) && k > 0.0)) fail("gamma-path law: k must be finite and > 0, got {}", k);
+  if (k > kMaxShape)
+    fail(
+        "gamma-path law: k must be at most {:g} (the incomplete gamma function does not converge beyond "
+        "about 2e10; the path length is k*theta within 1e-5 there), got {:g}",
+        kMaxShape, k);
+}
+}  // namespace
+
 GammaPath::GammaPath(double k, double theta, GammaSampler sampler)
     : k_(k), theta_(theta), rate_(0.0), sampler_(sampler) {
-  if (!(std::isfinite(k) && k > 0.0)) fail("gamma-path law: k must be finite and > 0, got {}", k);
+  check_shape(k);
   if (!(std::isfinite(theta) && theta > 0.0)) fail("gamma-path law: theta must be finite and > 0, got {}", theta);
   rate_ = quotient_or_infinity(1.0, theta);
 }
 
 GammaPath::GammaPath(double k, double rate, GammaSampler sampler, RateTag)
     : k_(k), theta_(0.0), rate_(rate), from_rate_(true), sampler_(sampler) {
-  if (!(std::isfinite(k) && k > 0.0)) fail("gamma-path law: k must be finite and > 0, got {}", k);
+  check_shape(k);
   if (!(std::isfinite(rate) && rate > 0.0)) fail("gamma-path law: rate must be finite and > 0, got {}", rate);
   theta_ = quotient_or_infinity(1.0, rate);  // for parameters(); may be subnormal, never used to scale
 }
@@ -188,15 +231,9 @@ double sample_standard_gamma(double k, Pcg32& rng) {
 double GammaPath::sample_marsaglia_tsang(Pcg32& rng) const { return length(sample_standard_gamma(k_, rng)); }
 
 double GammaPath::sample_inversion(Pcg32& rng) const {
-  // Invert whichever tail is smaller, so both tails keep full relative accuracy. The inverses
-  // iterate on the incomplete gamma functions above, so they too run with exceptions held.
+  // Invert whichever tail is smaller, so both tails keep full relative accuracy.
   const double u = rng.uniform_open();
-  double x = 0.0;
-  {
-    const HeldFpExceptions hold;
-    x = u < 0.5 ? boost::math::gamma_q_inv(k_, u, kPolicy) : boost::math::gamma_p_inv(k_, 1.0 - u, kPolicy);
-  }
-  return length(x);
+  return length(u < 0.5 ? gamma_q_inverse(k_, u) : gamma_p_inverse(k_, 1.0 - u));
 }
 
 double GammaPath::sample(Pcg32& rng) const {

@@ -65,9 +65,25 @@ TEST(GammaNodes, DependOnTheShapeAlone) {
   }
 }
 
+TEST(GammaNodes, ANearlyUniformColumnHasNodesNearOne) {
+  // α = 1/v_p beyond 2·10¹⁰ (a column whose persistent factor barely varies) is beyond Boost's
+  // gamma_p_inv; the nodes are 1 + z_j/√α + O(1/α), increasing, within 3/√α of 1.
+  const GammaNodes table(std::vector<double>{3e10, 1e14});
+  for (double a : {3e10, 1e14, 1e300}) {
+    double x[kNodes];
+    ASSERT_NO_THROW(table.nodes(a, x)) << "shape " << a;
+    for (int j = 0; j < kNodes; ++j) {
+      EXPECT_NEAR(x[j], 1.0, 3.0 / std::sqrt(a) + 4e-16) << "shape " << a << " node " << j;
+      if (j > 0) {
+        EXPECT_GE(x[j], x[j - 1]) << "shape " << a << " node " << j;
+      }
+    }
+  }
+}
+
 TEST(GammaNodes, AShapeOutsideTheTableIsGammaPInvItself) {
   const GammaNodes empty(std::vector<double>{});
-  for (double a : {0.01, 0.1, 2.0, 3e8}) {
+  for (double a : {0.01, 0.1, 2.0, 3e8, 3e10, 1e14}) {
     double x[kNodes];
     empty.nodes(a, x);
     for (int j = 0; j < kNodes; ++j) EXPECT_EQ(x[j], exact_gamma_node(a, j)) << "shape " << a << " node " << j;

@@ -52,6 +52,7 @@ TEST(LawValidation, RejectsNanNegativeAndNonPositive) {
   expect_error([] { (void)GammaConcentration::from_concentration(1.0, 0.0, 0.1); }, {"mean 0"});
   expect_error([] { (void)Linear(-0.5); }, {"linear", "mean_extinction"});
   expect_error([] { (void)GammaPath(0.0, 1.0); }, {"gamma-path", "k"});
+  expect_error([] { (void)GammaPath(3e10, 1.0); }, {"gamma-path", "k must be at most 1e+10", "3e+10"});
   expect_error([] { (void)GammaPath(1.0, kNan); }, {"gamma-path", "theta"});
   expect_error([] { (void)Erlang(2.5, 1.0); }, {"erlang", "integer"});
   expect_error([] { (void)Erlang(2.0, 0.0); }, {"erlang", "rate"});
