@@ -9,10 +9,11 @@
 #include <vector>
 
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include "weft/core/error.h"
 #include "weft/core/memory.h"
+#include "weft/core/parallel.h"
+#include "weft/core/progress.h"
 #include "weft/dist/distributed.h"
 #include "weft/volume/grid_openvdb.h"
 
@@ -262,6 +263,84 @@ VoxelizeEstimate estimate_voxelize_memory(const FiberSet& fibers, const Voxelize
   return e;
 }
 
+namespace {
+
+using Bin = std::pair<LeafKey, std::uint64_t>;
+
+// Bins pieces by leaf: the (leaf key, piece id) pairs in increasing order, so each leaf sees its
+// pieces in id order (fibre, segment, run) whatever the thread count. The pairs are scattered
+// into columns of leaves (the key's x and y, its bits above 21; slabs of x where the columns'
+// box would be too large to count), each column a contiguous range of increasing keys, then each
+// column sorted on its own: the same order as one sort of all the pairs, with the columns as the
+// units of a parallel loop that reports as it goes, so the binning stops within a column's time
+// on Ctrl-C instead of after the whole sort. The scatter's second array is the scratch that
+// kBinEntryBytes counts.
+std::vector<Bin> sorted_bins(const FiberSet& fibers, double h, double delta, std::uint64_t entries,
+                             ProgressSink& progress) {
+  std::vector<Bin> bins;
+  bins.reserve(entries);
+  {
+    ProgressTask task(progress, "binning fibre pieces", entries);
+    constexpr std::size_t kReportEvery = std::size_t{1} << 20U;
+    std::size_t reported = 0;
+    for_each_piece(fibers, h, delta, [&](const Piece& p, std::uint64_t id) {
+      const auto box = leaf_box(p, h);
+      for (std::int64_t x = box[0]; x <= box[3]; ++x) {
+        for (std::int64_t y = box[1]; y <= box[4]; ++y) {
+          for (std::int64_t z = box[2]; z <= box[5]; ++z) bins.emplace_back(leaf_key(x, y, z), id);
+        }
+      }
+      if (bins.size() - reported >= kReportEvery) {
+        task.step(bins.size() - reported);
+        reported = bins.size();
+      }
+    });
+    task.step(bins.size() - reported);
+  }
+  if (bins.empty()) return bins;
+  // Column of a key: (x, y) in leaves, numbered x-major over the box the keys span, so column
+  // order is key order; x slabs alone when that box would pass kMaxColumns.
+  constexpr std::uint64_t kField = (1ULL << 21U) - 1;
+  constexpr std::uint64_t kMaxColumns = 1ULL << 22U;
+  std::uint64_t x_lo = kField;
+  std::uint64_t x_hi = 0;
+  std::uint64_t y_lo = kField;
+  std::uint64_t y_hi = 0;
+  for (const Bin& b : bins) {
+    const std::uint64_t x = b.first >> 42U;
+    const std::uint64_t y = (b.first >> 21U) & kField;
+    x_lo = std::min(x_lo, x);
+    x_hi = std::max(x_hi, x);
+    y_lo = std::min(y_lo, y);
+    y_hi = std::max(y_hi, y);
+  }
+  const bool by_column = (x_hi - x_lo + 1) * (y_hi - y_lo + 1) <= kMaxColumns;
+  const std::uint64_t ny = by_column ? y_hi - y_lo + 1 : 1;
+  const auto column = [&](LeafKey k) -> std::size_t {
+    const std::uint64_t x = (k >> 42U) - x_lo;
+    return by_column ? x * ny + (((k >> 21U) & kField) - y_lo) : x;
+  };
+  const std::size_t columns = (x_hi - x_lo + 1) * ny;
+  std::vector<std::size_t> start(columns + 1, 0);
+  for (const Bin& b : bins) ++start[column(b.first) + 1];
+  for (std::size_t c = 0; c < columns; ++c) start[c + 1] += start[c];
+  std::vector<Bin> sorted(bins.size());
+  {
+    std::vector<std::size_t> next(start.begin(), start.end() - 1);
+    for (const Bin& b : bins) sorted[next[column(b.first)]++] = b;
+  }
+  bins = std::vector<Bin>();
+  ProgressTask task(progress, "sorting fibre pieces by leaf", columns);
+  parallel_units(columns, [&](std::size_t c) {
+    std::sort(sorted.begin() + static_cast<std::ptrdiff_t>(start[c]),
+              sorted.begin() + static_cast<std::ptrdiff_t>(start[c + 1]));
+    task.step();
+  });
+  return sorted;
+}
+
+}  // namespace
+
 volume::Grid voxelize(const FiberSet& fibers, const VoxelizeOptions& options, VoxelizeReport& report,
                       ProgressSink& progress) {
   const auto start = std::chrono::steady_clock::now();
@@ -279,20 +358,8 @@ volume::Grid voxelize(const FiberSet& fibers, const VoxelizeOptions& options, Vo
          format_bytes(binning), estimate.pieces, format_bytes(budget), budget_option(options));
   }
 
-  // Bin pieces by leaf: (leaf key, piece id) sorted, so each leaf sees its pieces in id order
-  // (fibre, segment, run) whatever the thread count.
   const double delta = h / options.samples_per_voxel;
-  std::vector<std::pair<LeafKey, std::uint64_t>> bins;
-  bins.reserve(estimate.bin_entries);
-  for_each_piece(fibers, h, delta, [&](const Piece& p, std::uint64_t id) {
-    const auto box = leaf_box(p, h);
-    for (std::int64_t x = box[0]; x <= box[3]; ++x) {
-      for (std::int64_t y = box[1]; y <= box[4]; ++y) {
-        for (std::int64_t z = box[2]; z <= box[5]; ++z) bins.emplace_back(leaf_key(x, y, z), id);
-      }
-    }
-  });
-  tbb::parallel_sort(bins.begin(), bins.end());
+  const std::vector<Bin> bins = sorted_bins(fibers, h, delta, estimate.bin_entries, progress);
   std::vector<std::size_t> starts;
   for (std::size_t i = 0; i < bins.size(); ++i) {
     if (i == 0 || bins[i].first != bins[i - 1].first) starts.push_back(i);
