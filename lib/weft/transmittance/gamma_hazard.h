@@ -98,12 +98,11 @@ class GammaHazard {
   void enter_rates(double mean_extinction, double kappa, double x);
 
   MemoryRule rule_;
-  Origin origin_;
+  Origin origin_;  ///< the origin of the next cell's law (renewal: the segment's for the first only)
   GammaCell cell_{};
   double shift_ = 0.0;  ///< memory(x) = x − shift in the current cell
   double h_ = 0.0;      ///< accumulated hazard
   double tau_ = 0.0;    ///< accumulated optical depth ∫μ̄ (optical_depth rule)
-  int cells_ = 0;       ///< cells entered
 };
 
 // The per-piece steps, inline: a medium walks them once per voxel of every flight and shadow
@@ -137,9 +136,8 @@ inline double GammaCell::integral(double s, double length) const {
 inline void GammaHazard::enter_rates(double mean_extinction, double kappa, double x) {
   // A renewed memory is a fresh start (the cell face acts as a source), so only the first
   // cell of a renewal segment keeps the scatterer's partner (docs/render.md §5e).
-  const Origin o = rule_ == MemoryRule::renewal && cells_ > 0 ? Origin::source : origin_;
-  cell_ = GammaCell::from_rates(mean_extinction, kappa, o);
-  ++cells_;
+  cell_ = GammaCell::from_rates(mean_extinction, kappa, origin_);
+  if (rule_ == MemoryRule::renewal) origin_ = Origin::source;
   switch (rule_) {
     case MemoryRule::segment:
       shift_ = 0.0;

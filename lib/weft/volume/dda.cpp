@@ -140,14 +140,17 @@ std::vector<double> optical_depth_profile(const Grid& grid, const Ray& ray, cons
   return Tracer(grid).optical_depth_profile(ray, depths, scale);
 }
 
-DenseWalk::DenseWalk(const detail::IndexMap& map, const IndexBox& box) : map_(map) {
-  box_.empty = box.empty();
+DenseWalk::DenseWalk(const detail::IndexMap& map, const IndexBox& box) : map_(map), empty_(box.empty()) {
+  if (empty_) return;
   for (std::size_t a = 0; a < 3; ++a) {
-    box_.lo[a] = box.min[a];
-    box_.hi[a] = std::int64_t{box.max[a]} + 1;
+    box_lo_[a] = box.min[a];
+    box_hi_[a] = std::int64_t{box.max[a]} + 1;
+    lo_[a] = static_cast<double>(box_lo_[a]);
+    hi_[a] = static_cast<double>(box_hi_[a]);
   }
-  ny_ = box_.empty ? 0 : box_.hi[1] - box_.lo[1];
-  nz_ = box_.empty ? 0 : box_.hi[2] - box_.lo[2];
+  stride_[2] = 1;
+  stride_[1] = box_hi_[2] - box_lo_[2];
+  stride_[0] = stride_[1] * (box_hi_[1] - box_lo_[1]);
 }
 
 bool dense_walk_map(const Grid& grid, detail::IndexMap& map) {

@@ -2,9 +2,10 @@
 /// @file
 /// @brief The voxel step of weft's one DDA (Amanatides & Woo 1987) without OpenVDB: the ray in
 /// cell space, the clip to a box, the step from voxel to voxel. The tree walk (dda_impl.h,
-/// inside volume/) steps through a leaf with it; the dense walk below steps through a small
-/// grid's active box copied into an array, for hot loops outside volume/ that read several
-/// channels per voxel (the local-gamma medium, docs/render.md §5b "Dense walk").
+/// inside volume/) steps through a leaf with it; the dense walk below takes the same step (the
+/// same clip, first cell and exits) through a small grid's active box copied into an array,
+/// moving a record index, for hot loops outside volume/ that read several channels per voxel
+/// (the local-gamma medium, docs/render.md §5b "Dense walk").
 
 #include <algorithm>
 #include <array>
@@ -43,8 +44,8 @@ inline std::array<double, 3> unit_direction(const Ray& ray) {
   const auto& o = ray.origin;
   const auto& d = ray.direction;
   const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-  if (!(std::isfinite(o[0]) && std::isfinite(o[1]) && std::isfinite(o[2]) && std::isfinite(d[0]) &&
-        std::isfinite(d[1]) && std::isfinite(d[2]) && len > 0.0 && std::isfinite(len)))
+  // A direction component that is infinite or NaN makes len infinite or NaN: no test of its own.
+  if (!(std::isfinite(o[0]) && std::isfinite(o[1]) && std::isfinite(o[2]) && len > 0.0 && std::isfinite(len)))
     fail_bad_ray(ray, 0.0, 0.0);
   return {d[0] / len, d[1] / len, d[2] / len};
 }
@@ -79,23 +80,40 @@ struct CellBox {
   bool empty = true;
 };
 
-/// Slab test against the box; exact for zero direction components (no division by them).
-inline bool clip(const CellRay& r, const CellBox& box, double& t0, double& t1) {
-  if (box.empty) return false;
+/// Slab test against the cell-space box [lo, hi) (as doubles); exact for zero direction
+/// components (no division by them).
+inline bool clip(const CellRay& r, const double* lo, const double* hi, double& t0, double& t1) {
   for (int a = 0; a < 3; ++a) {
-    const auto lo = static_cast<double>(box.lo[a]);
-    const auto hi = static_cast<double>(box.hi[a]);
     if (r.sgn[a] == 0) {
-      if (!(r.o[a] >= lo && r.o[a] < hi)) return false;
+      if (!(r.o[a] >= lo[a] && r.o[a] < hi[a])) return false;
       continue;
     }
-    double ta = (lo - r.o[a]) * r.inv[a];
-    double tb = (hi - r.o[a]) * r.inv[a];
+    double ta = (lo[a] - r.o[a]) * r.inv[a];
+    double tb = (hi[a] - r.o[a]) * r.inv[a];
     if (ta > tb) std::swap(ta, tb);
     t0 = std::max(t0, ta);
     t1 = std::min(t1, tb);
   }
   return t0 < t1;
+}
+
+/// Slab test against the box.
+inline bool clip(const CellRay& r, const CellBox& box, double& t0, double& t1) {
+  if (box.empty) return false;
+  double lo[3];
+  double hi[3];
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = static_cast<double>(box.lo[a]);
+    hi[a] = static_cast<double>(box.hi[a]);
+  }
+  return clip(r, lo, hi, t0, t1);
+}
+
+/// The distance where the ray leaves voxel c of axis a through its face (+∞ along the face).
+inline double face_exit(const CellRay& r, int a, std::int64_t c) {
+  return r.sgn[a] > 0   ? (static_cast<double>(c + 1) - r.o[a]) * r.inv[a]
+         : r.sgn[a] < 0 ? (static_cast<double>(c) - r.o[a]) * r.inv[a]
+                        : std::numeric_limits<double>::infinity();
 }
 
 /// The cell containing the ray just after parameter t on axis a (the cell being entered):
@@ -140,11 +158,7 @@ struct WalkState {
     return true;
   }
   /// The distance where the ray leaves `cell` through its face on axis a (+∞ along the face).
-  void exit_face(int a) {
-    exit[a] = r.sgn[a] > 0   ? (static_cast<double>(cell[a] + 1) - r.o[a]) * r.inv[a]
-              : r.sgn[a] < 0 ? (static_cast<double>(cell[a]) - r.o[a]) * r.inv[a]
-                             : std::numeric_limits<double>::infinity();
-  }
+  void exit_face(int a) { exit[a] = face_exit(r, a, cell[a]); }
 };
 
 /// One voxel of the walk: the piece [t0, t1) of the voxel the walk was in (`produced` false
@@ -200,18 +214,48 @@ class DenseWalk {
   /// order of increasing t: [t0, t1) in world distance inside the voxel at `index` of the dense
   /// box (x-major, as volume::to_dense lays it out); visit returns false to stop. Throws
   /// weft::Error for a bad ray or range (as Tracer::start does).
+  ///
+  /// The step is voxel_step's (the axes whose exit face_exit is the least move; the same clip,
+  /// first cell and exit arithmetic), kept in the array's terms: the record index moves by a
+  /// stride, each axis counts the voxels left before the box's face, and each exit is computed
+  /// from the face's coordinate kept as a double (the same integer face_exit converts, so the
+  /// same number). Each step moves at least one axis towards its face, so the walk ends
+  /// without voxel_step's safety budget.
   template <typename Visit>
   void march(const Ray& ray, double tmin, double tmax, Visit&& visit) const {
-    detail::WalkState w;
-    w.r = cell_ray(ray, tmin, tmax);
-    if (!w.begin(box_, tmin, tmax)) return;
+    const detail::CellRay r = cell_ray(ray, tmin, tmax);
+    double t = tmin;
+    double t1 = tmax;
+    if (empty_ || !detail::clip(r, lo_, hi_, t, t1)) return;
+    std::int64_t index = 0;
+    std::int64_t room[3];    // voxels left on each axis before the walk leaves the box
+    std::int64_t stride[3];  // the index's move per step on each axis
+    double face[3];          // cell-space coordinate of the face each axis leaves through next
+    double exit[3];
+    for (int a = 0; a < 3; ++a) {
+      std::int64_t c = detail::cell_at(r, a, t);
+      if (r.sgn[a] != 0) c = std::clamp(c, box_lo_[a], box_hi_[a] - 1);
+      index += (c - box_lo_[a]) * stride_[a];
+      room[a] = r.sgn[a] > 0 ? box_hi_[a] - 1 - c : c - box_lo_[a];
+      stride[a] = r.sgn[a] * stride_[a];
+      face[a] = static_cast<double>(r.sgn[a] > 0 ? c + 1 : c);
+      exit[a] = r.sgn[a] != 0 ? (face[a] - r.o[a]) * r.inv[a] : std::numeric_limits<double>::infinity();
+    }
     for (;;) {
-      const std::int64_t index =
-          ((w.cell[0] - box_.lo[0]) * ny_ + (w.cell[1] - box_.lo[1])) * nz_ + w.cell[2] - box_.lo[2];
-      const detail::VoxelStep st = detail::voxel_step(w, box_.lo, box_.hi);
-      const bool last = st.ended || st.left || --w.budget <= 0;
-      if (st.produced && !visit(st.t0, st.t1, index)) return;
-      if (last) return;
+      const double te = std::min(std::min(exit[0], exit[1]), exit[2]);
+      const double end = std::min(te, t1);
+      if (end > t) {
+        if (!visit(t, end, index)) return;
+        t = end;
+      }
+      if (te >= t1) return;
+      for (int a = 0; a < 3; ++a) {
+        if (exit[a] != te) continue;
+        if (--room[a] < 0) return;
+        index += stride[a];
+        face[a] += static_cast<double>(r.sgn[a]);
+        exit[a] = (face[a] - r.o[a]) * r.inv[a];
+      }
     }
   }
 
@@ -223,9 +267,12 @@ class DenseWalk {
   }
 
   detail::IndexMap map_{};
-  detail::CellBox box_{};
-  std::int64_t ny_ = 0;
-  std::int64_t nz_ = 0;
+  bool empty_ = true;
+  double lo_[3] = {0.0, 0.0, 0.0};  ///< the box in cell space, [lo, hi)
+  double hi_[3] = {0.0, 0.0, 0.0};
+  std::int64_t box_lo_[3] = {0, 0, 0};
+  std::int64_t box_hi_[3] = {0, 0, 0};
+  std::int64_t stride_[3] = {0, 0, 0};  ///< x-major: ny·nz, nz, 1
 };
 
 /// The world → index map a Tracer of `grid` applies, for a DenseWalk; false when the grid's

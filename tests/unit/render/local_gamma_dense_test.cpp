@@ -2,6 +2,7 @@
 // walk's numbers bit for bit (docs/render.md §5b "Dense walk").
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -19,20 +20,21 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// A hand-built field over a box that crosses leaf boundaries and negative indices: random
-/// means (a third of the voxels vacuum, some isolated inside the box) and a different random
-/// variance per axis (some 0: exponential voxels), voxels of 0.37 at an odd origin.
-fs::path write_random_fields() {
-  fs::path path = fs::temp_directory_path() / "weft_local_gamma_dense.vdb";
-  Pcg32 rng(17, 4);
+/// Writes a field of voxels of 0.37 at an odd origin over the voxels [lo, hi) where
+/// matter(i, j, k, rng) holds: a random mean and a different random variance per axis (some 0:
+/// exponential voxels); the rest vacuum.
+template <typename Matter>
+fs::path write_fields(const std::string& file, Pcg32 rng, const std::array<int, 3>& lo, const std::array<int, 3>& hi,
+                      Matter&& matter) {
+  fs::path path = fs::temp_directory_path() / file;
   volume::Grid mean(0.37, "mean_concentration");
   std::vector<volume::Grid> var;
   for (const char axis : std::string("xyz")) var.emplace_back(0.37, std::string("var_concentration_") + axis);
   for (auto* g : {&mean, &var[0], &var[1], &var[2]}) g->set_origin({-1.3, 0.2, 0.9});
-  for (int i = -9; i < 7; ++i)
-    for (int j = -3; j < 11; ++j)
-      for (int k = -5; k < 4; ++k) {
-        if (rng.uniform() < 0.33) continue;
+  for (int i = lo[0]; i < hi[0]; ++i)
+    for (int j = lo[1]; j < hi[1]; ++j)
+      for (int k = lo[2]; k < hi[2]; ++k) {
+        if (!matter(i, j, k, rng)) continue;
         const double c = 0.02 + 0.6 * rng.uniform();
         mean.set_value(i, j, k, static_cast<float>(c));
         for (auto& v : var)
@@ -42,6 +44,26 @@ fs::path write_random_fields() {
   grids.insert(grids.end(), var.begin(), var.end());
   volume::save_grids(grids, path);
   return path;
+}
+
+/// A hand-built field over a box that crosses leaf boundaries and negative indices: a third of
+/// the voxels vacuum, some isolated inside the box.
+fs::path write_random_fields() {
+  return write_fields("weft_local_gamma_dense.vdb", Pcg32(17, 4), {-9, -3, -5}, {7, 11, 4},
+                      [](int, int, int, Pcg32& rng) { return !(rng.uniform() < 0.33); });
+}
+
+/// A field of long vacuum runs over a box of 40×36×12 voxels: a few yarn-like lines of matter
+/// and scattered voxels, the rest empty (whole leaves of it), so the tree walk crosses most of
+/// the box a node at a time.
+fs::path write_sparse_fields() {
+  return write_fields("weft_local_gamma_dense_sparse.vdb", Pcg32(23, 6), {-20, -10, -6}, {20, 26, 6},
+                      [](int i, int j, int k, Pcg32& rng) {
+                        const bool yarn = (j == 3 && k == -2) || (i == 9 && k == 4) || (i == -15 && j == 20);
+                        // The box reaches both far corners.
+                        const bool corners = (i == -20 && j == -10 && k == -6) || (i == 19 && j == 25 && k == 5);
+                        return yarn || corners || rng.uniform() < 0.002;
+                      });
 }
 
 volume::Ray random_ray(Pcg32& rng, bool on_face) {
@@ -63,21 +85,23 @@ volume::Ray random_ray(Pcg32& rng, bool on_face) {
   return ray;
 }
 
-TEST(LocalGammaDense, DenseRecordsWalkEqualsTheTreeWalkBitForBit) {
-  const fs::path path = write_random_fields();
+/// The dense walk and the tree walk of the field at `path` give the same log T, sampled
+/// distances and roulette shadows (with their random draws) bit for bit, under every memory
+/// rule, from a source and from a scatterer; returns how many segments met matter.
+int expect_walks_equal(const fs::path& path, int rays, double reach) {
+  int crossed = 0;
   for (const auto rule : transmittance::kMemoryRules) {
     LocalGammaField dense(path, 2.7, rule);
     LocalGammaField tree(path, 2.7, rule, 0);
-    ASSERT_TRUE(dense.dense());
-    ASSERT_FALSE(tree.dense());
+    EXPECT_TRUE(dense.dense());
+    EXPECT_FALSE(tree.dense());
     const auto dense_clone = dense.clone();
-    ASSERT_TRUE(dense_clone->dense());
+    EXPECT_TRUE(dense_clone->dense());
     Pcg32 rng(3, static_cast<std::uint64_t>(rule));
-    int crossed = 0;
-    for (int n = 0; n < 400; ++n) {
+    for (int n = 0; n < rays; ++n) {
       const volume::Ray ray = random_ray(rng, n % 4 == 0);
       const double t0 = 0.5 * rng.uniform();
-      const double t1 = t0 + 12.0 * rng.uniform();
+      const double t1 = t0 + reach * rng.uniform();
       for (const auto origin : {transmittance::Origin::source, transmittance::Origin::scatterer}) {
         const double h = tree.log_transmittance(ray, t0, t1, origin);
         EXPECT_EQ(dense.log_transmittance(ray, t0, t1, origin), h) << n;
@@ -93,8 +117,19 @@ TEST(LocalGammaDense, DenseRecordsWalkEqualsTheTreeWalkBitForBit) {
         EXPECT_EQ(a.uniform(), b.uniform()) << n;
       }
     }
-    EXPECT_GT(crossed, 100);  // many of the 800 segments met the field
   }
+  return crossed;
+}
+
+TEST(LocalGammaDense, DenseRecordsWalkEqualsTheTreeWalkBitForBit) {
+  // Many of the 800 segments per rule met the field.
+  EXPECT_GT(expect_walks_equal(write_random_fields(), 400, 12.0), 4 * 100);
+}
+
+// Long vacuum runs, crossed voxel by voxel by the dense walk and a node at a time by the tree
+// walk: the same numbers.
+TEST(LocalGammaDense, LongVacuumRunsGiveTheTreeWalksBits) {
+  EXPECT_GT(expect_walks_equal(write_sparse_fields(), 1500, 30.0), 4 * 100);
 }
 
 // A box larger than the records' budget keeps the trees.
