@@ -32,8 +32,10 @@ constexpr std::uint64_t kLeafBytes = 512 * 4 + 64 + 96;  // values, mask, node o
 // so < 2^22 runs of 4 voxels.
 constexpr unsigned kRunBits = 24;
 constexpr std::uint64_t kRunMask = (1ULL << kRunBits) - 1;
-// A bin entry (leaf key, piece id), doubled for the sort's scratch; every piece has at least one.
-constexpr std::uint64_t kBinEntryBytes = 2 * sizeof(std::uint64_t) * 2;
+// A bin entry (leaf key, piece id), doubled for the sort's scratch (the scatter's second array),
+// plus 2 bytes for its share of the column table (sorted_bins keeps at most one column per 8
+// entries, two 8-byte offsets each); every piece has at least one.
+constexpr std::uint64_t kBinEntryBytes = 2 * sizeof(std::uint64_t) * 2 + 2;
 
 // A run of quadrature stations of one segment: stations k ∈ [first, last) of `count` spread
 // evenly over the whole segment a→b, so station spacing does not depend on how the segment was
@@ -314,13 +316,19 @@ std::vector<Bin> sorted_bins(const FiberSet& fibers, double h, double delta, std
     y_lo = std::min(y_lo, y);
     y_hi = std::max(y_hi, y);
   }
-  const bool by_column = (x_hi - x_lo + 1) * (y_hi - y_lo + 1) <= kMaxColumns;
+  // At most one column per 8 entries (the table kBinEntryBytes counts): columns of (x, y), else
+  // slabs of x, else one sort of everything (few entries spread over a wide box: a short sort).
+  const std::uint64_t table_limit = std::min<std::uint64_t>(kMaxColumns, bins.size() / 8 + 1);
+  const std::uint64_t nx = x_hi - x_lo + 1;
+  const bool by_column = nx * (y_hi - y_lo + 1) <= table_limit;
+  const bool by_slab = !by_column && nx <= table_limit;
   const std::uint64_t ny = by_column ? y_hi - y_lo + 1 : 1;
   const auto column = [&](LeafKey k) -> std::size_t {
+    if (!by_column && !by_slab) return 0;
     const std::uint64_t x = (k >> 42U) - x_lo;
     return by_column ? x * ny + (((k >> 21U) & kField) - y_lo) : x;
   };
-  const std::size_t columns = (x_hi - x_lo + 1) * ny;
+  const std::size_t columns = by_column || by_slab ? nx * ny : 1;
   std::vector<std::size_t> start(columns + 1, 0);
   for (const Bin& b : bins) ++start[column(b.first) + 1];
   for (std::size_t c = 0; c < columns; ++c) start[c + 1] += start[c];
