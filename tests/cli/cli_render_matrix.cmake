@@ -7,7 +7,8 @@
 #   (the reference's own model) is consistent with no bias (|z| < 5 over the cloth's pixels) and
 #   every candidate whose cloth bias is detectable (z > 5) is more biased than the fine grid; the
 #   memory columns agree with what each representation is: 1 channel for the grids, the 4 of the
-#   local fields file the medium reads on the same blocks as the downsampled grid (4x its bytes),
+#   local fields file the medium reads on the same blocks as the downsampled grid (its mean as a
+#   float, its three variances as half floats: 2.5x the downsampled grid's bytes),
 #   the slab's 3 law parameters. Then a rerun with --resume takes every case from the store and
 #   writes the same aggregate files byte for byte, and --resume with another spec is refused
 #   (exit 1). The exponential candidates are split into transmission, single and multiple
@@ -78,11 +79,11 @@ if(CMAKE_SCRIPT_MODE_FILE)
       endforeach()
       foreach(f 2 4)
         set(e ${memory_bytes_${c}_exponential-${f}x})
-        math(EXPR four "4 * ${e}")
+        math(EXPR fields "(4 + 3 * 2) * ${e} / 4")  # 4 bytes of C̄ and 3 x 2 of Var C per block
         foreach(name local-gamma-${f}x local-gamma-segment-${f}x)
-          if(NOT memory_channels_${c}_${name} EQUAL 4 OR NOT memory_bytes_${c}_${name} EQUAL four)
+          if(NOT memory_channels_${c}_${name} EQUAL 4 OR NOT memory_bytes_${c}_${name} EQUAL fields)
             message(FATAL_ERROR "${c}: ${name} holds ${memory_bytes_${c}_${name}} bytes in "
-                                "${memory_channels_${c}_${name}} channels, expected 4 x ${e}")
+                                "${memory_channels_${c}_${name}} channels, expected 2.5 x ${e}")
           endif()
         endforeach()
         if(NOT memory_channels_${c}_exponential-${f}x EQUAL 1 OR NOT e LESS memory_bytes_${c}_fine)

@@ -43,10 +43,12 @@ struct LocalFieldsEstimate {
 /// blocks with zero variance (exponential).
 struct LocalFields {
   int block = 8;
-  volume::Grid mean;                     ///< "mean_concentration"
-  std::array<volume::Grid, 3> variance;  ///< "var_concentration_{x,y,z}"
-  std::array<volume::Grid, 3> alpha;     ///< "alpha_{x,y,z}"
-  std::array<volume::Grid, 3> beta;      ///< "beta_{x,y,z}"
+  volume::Grid mean;  ///< "mean_concentration"
+  /// "var_concentration_{x,y,z}", stored as half (Grid::store_as_half: 11 significant bits,
+  /// far below a block variance's own sampling error); α and β are those of the stored values.
+  std::array<volume::Grid, 3> variance;
+  std::array<volume::Grid, 3> alpha;  ///< "alpha_{x,y,z}"
+  std::array<volume::Grid, 3> beta;   ///< "beta_{x,y,z}"
   std::uint64_t blocks = 0;
 };
 [[nodiscard]] LocalFields local_fields(const volume::Grid& grid, int block, ProgressSink& progress = null_progress());

@@ -61,7 +61,7 @@ MatrixMemory memory_of(const fs::path& scene_file) {
   const render::SceneDesc scene = render::load_scene(scene_file);
   MatrixMemory m;
   const auto add = [&](const volume::Grid& g) {
-    m.values += 4 * g.active_voxel_count();
+    m.values += static_cast<std::uint64_t>(g.value_bytes()) * g.active_voxel_count();
     m.tree += g.memory_bytes();
     ++m.channels;
   };
@@ -75,10 +75,11 @@ MatrixMemory memory_of(const fs::path& scene_file) {
     } else if (d.kind == render::MediumKind::local_gamma) {
       // Every grid of the fields file (fit/local_fields.h), also any the medium does not read:
       // the study writes only the four it reads (fit::FieldChannels::render), a file of `weft
-      // fit --block --fields all` would count ten. Counted without Grid::load's value check (α, β
-      // hold +∞ on exponential blocks).
+      // fit --block --fields all` would count ten. Each at the bytes its file stores a value in
+      // (the variances as half: fit/local_fields.h). Counted without Grid::load's value check
+      // (α, β hold +∞ on exponential blocks).
       for (const volume::GridCount& g : volume::count_grids(d.file)) {
-        m.values += 4 * g.active_voxels;
+        m.values += static_cast<std::uint64_t>(g.value_bytes) * g.active_voxels;
         m.tree += g.tree_bytes;
         ++m.channels;
       }

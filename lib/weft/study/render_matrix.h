@@ -74,8 +74,9 @@ struct MatrixCase {
 [[nodiscard]] std::vector<MatrixCase> matrix_cases(const MatrixSpec& spec);
 
 /// The bytes a representation takes, every channel counted, two ways: `values` = Σ over its
-/// channels of (active voxels, tiles counted per voxel) × 4 bytes (float), the data a renderer
-/// must hold, which is the figure the study compares; `tree` = Σ OpenVDB Tree::memUsage() of its
+/// channels of (active voxels, tiles counted per voxel) × the bytes its file stores a value in
+/// (4, a float; 2 for the local fields' variances, stored as half: fit/local_fields.h), the data
+/// a renderer must hold, which is the figure the study compares; `tree` = Σ OpenVDB Tree::memUsage() of its
 /// grids (nodes, masks and values), which adds the sparse tree's fixed cost.
 struct MatrixMemory {
   std::uint64_t values = 0;

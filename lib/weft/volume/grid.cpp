@@ -187,6 +187,23 @@ std::uint64_t Grid::active_voxel_count() const { return impl_->grid->activeVoxel
 
 std::uint64_t Grid::memory_bytes() const { return impl_->grid->tree().memUsage(); }
 
+float half_precision(float v) { return static_cast<float>(openvdb::math::half(v)); }
+
+void Grid::store_as_half() {
+  openvdb::FloatTree& tree = impl_->grid->tree();
+  // Checked before anything changes, so a refused grid keeps its values.
+  std::atomic<bool> too_large{false};
+  openvdb::tools::foreach (tree.cbeginValueOn(), [&](const openvdb::FloatTree::ValueOnCIter& it) {
+    if (!std::isfinite(half_precision(*it)) && std::isfinite(*it)) too_large = true;
+  });
+  if (too_large) fail("grid '{}': a value is beyond the range of a 16-bit float (65504)", name());
+  openvdb::tools::foreach (tree.beginValueOn(),
+                           [](const openvdb::FloatTree::ValueOnIter& it) { it.setValue(half_precision(*it)); });
+  impl_->grid->setSaveFloatAsHalf(true);
+}
+
+bool Grid::stored_as_half() const { return impl_->grid->saveFloatAsHalf(); }
+
 openvdb::CoordBBox active_voxel_bbox(const openvdb::FloatGrid& grid) {
   using Leaves = openvdb::tree::LeafManager<const openvdb::FloatTree>;
   const Leaves leaves(grid.tree());

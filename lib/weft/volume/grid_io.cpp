@@ -449,7 +449,8 @@ std::vector<GridCount> count_grids(const std::filesystem::path& path) {
     for (auto it = file.beginName(); it != file.endName(); ++it) {
       if (!file.readGridMetadata(it.gridName())->isType<openvdb::FloatGrid>()) continue;
       const openvdb::GridBase::Ptr g = file.readGrid(it.gridName());
-      out.push_back({it.gridName(), g->activeVoxelCount(), static_cast<std::uint64_t>(g->memUsage())});
+      out.push_back({it.gridName(), g->activeVoxelCount(), static_cast<std::uint64_t>(g->memUsage()),
+                     g->saveFloatAsHalf() ? 2 : 4});
     }
     file.close();
   } catch (const openvdb::Exception& e) {

@@ -28,6 +28,7 @@ struct GridCount {
   std::string name;
   std::uint64_t active_voxels = 0;  ///< active voxels, tiles counted per voxel
   std::uint64_t tree_bytes = 0;     ///< OpenVDB's Tree::memUsage (nodes, masks, values)
+  int value_bytes = 4;              ///< bytes a value takes in the file: 2 when stored as half
 };
 
 /// @brief Every float grid of a .vdb file with its active voxels and tree bytes, in file order:

@@ -121,7 +121,10 @@ TEST(MatrixJson, ACaseHoldsTheStudysCandidateJson) {
 std::uint64_t field_values(const volume::Grid& fine, int block) {
   const fit::LocalFields f = fit::local_fields(fine, block);
   std::uint64_t n = 4 * f.mean.active_voxel_count();
-  for (std::size_t a = 0; a < 3; ++a) n += 4 * f.variance[a].active_voxel_count();
+  for (std::size_t a = 0; a < 3; ++a) {
+    EXPECT_TRUE(f.variance[a].stored_as_half());
+    n += 2 * f.variance[a].active_voxel_count();  // stored as half
+  }
   return n;
 }
 
@@ -158,8 +161,10 @@ TEST(MatrixRun, MemoryIsTheGridsOwnCount) {
       EXPECT_EQ(c.memory.channels, 4);
     } else if (n == "shadow-directional-2x") {
       std::uint64_t values = 0;  // σ'_x, σ'_y, σ'_z: every grid of the file, counted here
-      for (const volume::GridCount& g : volume::count_grids(study / "shadow_axes_2x.vdb"))
+      for (const volume::GridCount& g : volume::count_grids(study / "shadow_axes_2x.vdb")) {
+        EXPECT_EQ(g.value_bytes, 4);  // floats
         values += 4 * g.active_voxels;
+      }
       EXPECT_EQ(c.memory.values, values);
       EXPECT_EQ(c.memory.channels, 3);
     } else if (n == "slab-gamma") {

@@ -1,0 +1,106 @@
+// Grids stored as 16-bit floats (Grid::store_as_half): the values are rounded once, in memory,
+// so a file gives back exactly what was rendered or measured, at 2 bytes a value.
+#include <gtest/gtest.h>
+
+#include <openvdb/openvdb.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <string>
+
+#include "weft/core/error.h"
+#include "weft/core/rng.h"
+#include "weft/volume/grid.h"
+#include "weft/volume/grid_io.h"
+#include "weft/volume/grid_openvdb.h"
+
+namespace weft::volume {
+namespace {
+
+TEST(HalfPrecision, RoundsToTheNearestHalfWithinItsUnitRoundoff) {
+  // IEEE half: 11 significant bits, so above the smallest normal (2⁻¹⁴) the rounding error is at
+  // most 2⁻¹¹ of the value, and a value already on half's lattice is kept exactly.
+  Pcg32 rng(7);
+  for (int n = 0; n < 100000; ++n) {
+    const float v = std::ldexp(static_cast<float>(1.0 + rng.uniform()), static_cast<int>(rng.uniform() * 29.0) - 14);
+    const float h = half_precision(v);
+    EXPECT_LE(std::abs(h - v), std::ldexp(std::abs(v), -11)) << v;
+    EXPECT_EQ(half_precision(h), h) << v;
+    // No half lies strictly nearer: the neighbours one half-ulp away are no closer.
+    const float ulp = std::ldexp(1.0F, std::ilogb(h) - 10);
+    EXPECT_GE(std::abs(h + ulp - v), std::abs(h - v)) << v;
+    EXPECT_GE(std::abs(h - ulp - v), std::abs(h - v)) << v;
+  }
+  EXPECT_EQ(half_precision(0.0F), 0.0F);
+  EXPECT_EQ(half_precision(65504.0F), 65504.0F);
+  EXPECT_TRUE(std::isinf(half_precision(1.0e5F)));
+  // Below 2⁻¹⁴ half is subnormal: a fixed absolute step of 2⁻²⁴.
+  EXPECT_LE(std::abs(half_precision(3.0e-7F) - 3.0e-7F), std::ldexp(1.0F, -25));
+}
+
+TEST(HalfStorage, AFileGivesBackTheRoundedValuesAtTwoBytesEach) {
+  ensure_openvdb_initialized();
+  const auto dir = std::filesystem::temp_directory_path();
+  Grid g(0.1, "var_concentration_x");
+  Pcg32 rng(11);
+  for (int i = 0; i < 40; ++i) {
+    for (int j = 0; j < 40; ++j) g.set_value(i, j, i % 5, static_cast<float>(0.25 * rng.uniform()));
+  }
+  g.impl().grid->tree().addTile(1, openvdb::Coord(64, 0, 0), 0.123456789F, true);  // a tile is rounded too
+  Grid full = Grid(0.1, "full");
+  for (auto it = g.impl().grid->cbeginValueOn(); it; ++it) {
+    if (it.isVoxelValue()) full.set_value(it.getCoord().x(), it.getCoord().y(), it.getCoord().z(), *it);
+  }
+  EXPECT_FALSE(g.stored_as_half());
+  EXPECT_EQ(g.value_bytes(), 4);
+  const float before = g.value(3, 4, 3);
+  g.store_as_half();
+  EXPECT_TRUE(g.stored_as_half());
+  EXPECT_EQ(g.value_bytes(), 2);
+  EXPECT_EQ(g.value(3, 4, 3), half_precision(before));
+  EXPECT_EQ(g.value(70, 1, 1), half_precision(0.123456789F));
+
+  const auto half_path = dir / "weft_half_storage.vdb";
+  const auto full_path = dir / "weft_half_storage_full.vdb";
+  g.save(half_path);
+  full.save(full_path);
+  const Grid back = Grid::load(half_path);
+  EXPECT_TRUE(back.stored_as_half());
+  EXPECT_EQ(back.active_voxel_count(), g.active_voxel_count());
+  for (auto it = g.impl().grid->cbeginValueOn(); it; ++it) {
+    const openvdb::Coord c = it.getCoord();
+    EXPECT_EQ(std::bit_cast<std::uint32_t>(back.value(c.x(), c.y(), c.z())), std::bit_cast<std::uint32_t>(*it));
+  }
+  const std::vector<GridCount> counts = count_grids(half_path);
+  ASSERT_EQ(counts.size(), 1U);
+  EXPECT_EQ(counts[0].value_bytes, 2);
+  EXPECT_EQ(count_grids(full_path)[0].value_bytes, 4);
+  // The 1600 voxels' values take 2 bytes each in the file instead of 4 (OpenVDB compresses
+  // buffers by default; random values do not compress much).
+  EXPECT_LT(std::filesystem::file_size(half_path) + 2000, std::filesystem::file_size(full_path));
+  std::filesystem::remove(half_path);
+  std::filesystem::remove(full_path);
+}
+
+TEST(HalfStorage, AValueBeyondHalfsRangeIsRefusedAndNothingChanges) {
+  Grid g(0.1, "alpha_x");
+  g.set_value(0, 0, 0, 0.3F);
+  g.set_value(5, 0, 0, 1.0e6F);
+  try {
+    g.store_as_half();
+    ADD_FAILURE() << "a value of 10⁶ must be refused";
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("alpha_x"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("65504"), std::string::npos) << msg;
+  }
+  EXPECT_FALSE(g.stored_as_half());
+  EXPECT_EQ(g.value(0, 0, 0), 0.3F);
+  EXPECT_EQ(g.value(5, 0, 0), 1.0e6F);
+}
+
+}  // namespace
+}  // namespace weft::volume
