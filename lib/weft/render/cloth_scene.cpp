@@ -163,6 +163,9 @@ std::string scene_json(const volume::Grid& grid, const std::string& file_in_scen
       std::min(0.5 * size[u] / (kFill * tan_u), 0.5 * size[v] * std::cos(tilt) / (kFill * tan_v)) + size[n];
   const Vec3 towards_camera = (std::cos(tilt) * normal - std::sin(tilt) * ev).normalized();
   const Vec3 camera = centre + distance * towards_camera;
+  // The film's up is the normal's projection (sin·n + cos·ev once made orthogonal to the view);
+  // face-on the normal has none, and the projection's limit as the tilt goes to 0 is ev.
+  const Vec3 up = tilt > 0.0 ? normal : ev;
   // The back light: an emitting rectangle 1.2× the patch, half the patch below it, facing it
   // (its normal edge_u × edge_v points at the cloth).
   const double below = 0.5 * extent;
@@ -201,7 +204,7 @@ std::string scene_json(const volume::Grid& grid, const std::string& file_in_scen
   nlohmann::json j;
   j["camera"] = {{"position", {camera.x(), camera.y(), camera.z()}},
                  {"look_at", {centre.x(), centre.y(), centre.z()}},
-                 {"up", {normal.x(), normal.y(), normal.z()}},
+                 {"up", {up.x(), up.y(), up.z()}},
                  {"fov", kFov},
                  {"width", view.width},
                  {"height", view.height}};

@@ -266,8 +266,12 @@ void check(const Chart& chart, const std::string& where) {
   check_range("y", chart.log_y, chart.y_range);
 }
 
+/// Whether a run of points is drawn as a line: a lone point (a series with one value shown, e.g.
+/// a study at one factor) has no line, and VTK refuses to draw one; it is drawn as its marker.
+bool joined(const Points& p, const Series& s) { return s.style != LineStyle::markers && p.x.size() >= 2; }
+
 vtkPlot* add_line(vtkChartXY& xy, const Points& p, const Series& s, bool legend) {
-  const bool markers_only = s.style == LineStyle::markers;
+  const bool markers_only = !joined(p, s);
   vtkPlot* plot =
       markers_only ? xy.AddPlot(vtkChart::POINTS) : detail::add_pattern_line(xy, pattern_for(s.style, s.width));
   plot->SetInputData(table_of({&p.x, &p.y}), 0, 1);
@@ -346,7 +350,8 @@ void build_panel(vtkChartXY& xy, const Chart& chart, const vtkRectf& cell) {
     for (Points& p : runs_of(s.x, s.y, chart)) {
       add_line(xy, p, s, legend);
       legend = false;  // one legend entry for all runs of a series
-      drawn.emplace_back(std::move(p), s.style != LineStyle::markers);
+      const bool line = joined(p, s);
+      drawn.emplace_back(std::move(p), line);
     }
   }
 

@@ -4,6 +4,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
+#include <cmath>
+#include <filesystem>
+
 #include "weft/core/error.h"
 #include "weft/render/cloth_scene.h"
 #include "weft/volume/provenance.h"
@@ -67,6 +71,47 @@ TEST(ClothScene, RefusesAFilmWithoutPixelsOrATiltPastTheHorizon) {
   view = {};
   view.tilt_degrees = 85.0;
   EXPECT_THROW((void)cloth_scene_json(g, "cloth.vdb", {}, view), Error);
+}
+
+/// The film's up direction as the camera uses it: `up` made orthogonal to the view, unit length.
+std::array<double, 3> film_up(const nlohmann::json& camera) {
+  std::array<double, 3> d{};
+  std::array<double, 3> up{};
+  for (std::size_t a = 0; a < 3; ++a) {
+    d[a] = camera.at("look_at")[a].get<double>() - camera.at("position")[a].get<double>();
+    up[a] = camera.at("up")[a].get<double>();
+  }
+  const double dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+  const double ud = (up[0] * d[0] + up[1] * d[1] + up[2] * d[2]) / dd;
+  std::array<double, 3> o{};
+  for (std::size_t a = 0; a < 3; ++a) o[a] = up[a] - ud * d[a];
+  const double n = std::sqrt(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
+  EXPECT_GT(n, 1e-9 * std::sqrt(up[0] * up[0] + up[1] * up[1] + up[2] * up[2])) << "up along the view";
+  for (double& x : o) x /= n;
+  return o;
+}
+
+TEST(ClothScene, EveryTiltFromFaceOnToGrazingHasAnUpAcrossTheView) {
+  // Face-on (tilt 0, `weft render --tilt 0`, `--study-tilts 0`) the normal is the view direction,
+  // so it cannot be the film's up; the up used there must be the limit of the tilted views' up.
+  const volume::Grid g = small_cloth();
+  ClothView view;
+  std::array<double, 3> face_on{};
+  for (const double tilt : {0.0, 1e-4, 8.0, 45.0, 79.9}) {
+    view.tilt_degrees = tilt;
+    const nlohmann::json j = nlohmann::json::parse(cloth_scene_json(g, "cloth.vdb", {}, view));
+    const std::array<double, 3> up = film_up(j.at("camera"));
+    if (tilt == 0.0) face_on = up;
+    if (tilt == 1e-4) {
+      for (std::size_t a = 0; a < 3; ++a) EXPECT_NEAR(up[a], face_on[a], 1e-5) << a;
+    }
+  }
+  // And a face-on scene is one the renderer accepts (its camera checks: render/scene.h).
+  const std::filesystem::path file = std::filesystem::path(testing::TempDir()) / "weft_cloth_face_on.vdb";
+  g.save(file);
+  view.tilt_degrees = 0.0;
+  EXPECT_NO_THROW((void)cloth_scene(file, view));
+  std::filesystem::remove(file);
 }
 
 }  // namespace

@@ -160,6 +160,31 @@ TEST(Chart, MarkersAndVerticalLinesAreDrawn) {
   test::cleanup(dir);
 }
 
+TEST(Chart, ALonePointOfALineIsDrawnAsItsMarker) {
+  // A study at one factor gives each model one point: no line to draw (VTK refuses and logs an
+  // error), so the point is drawn as a marker instead of disappearing.
+  const auto dir = test::scratch_dir("chart_lone_point");
+  Chart chart;
+  chart.width = 600;
+  chart.height = 400;
+  Series lone;
+  lone.label = "";  // no legend entry: its swatch would be the only purple
+  lone.x = {0.5};
+  lone.y = {0.5};
+  lone.color = {200, 0, 200};
+  lone.style = LineStyle::solid;
+  lone.width = 3.0f;
+  chart.series.push_back(lone);
+  chart.series.push_back(constant("other", 0.2, {0, 120, 0}, LineStyle::solid));
+  chart.x_range = std::make_pair(0.0, 1.0);
+  chart.y_range = std::make_pair(0.0, 1.0);
+  const auto png = dir / "lone.png";
+  ASSERT_TRUE(save_chart_png(chart, png).written);
+  const test::Image image = test::read_png(png);
+  EXPECT_GT(test::find_colour(image, {200, 0, 200}, 30).count, 20);
+  test::cleanup(dir);
+}
+
 // The project's main figure (cf. supplement Fig. S.13): log T against depth, measured curves
 // solid, model curves dotted, one colour per direction.
 TEST(Chart, TransmittanceFigureShowsSolidAndDottedCurvesOnLogAxis) {
