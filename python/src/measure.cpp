@@ -175,7 +175,8 @@ void init_measure(py::module_& m) {
       .def_property_readonly(
           "variance",
           [](const fit::LocalFields& f) { return py::make_tuple(f.variance[0], f.variance[1], f.variance[2]); },
-          "Grids 'var_concentration_x', '_y', '_z', stored as half floats (their values already rounded).")
+          "Grids 'var_concentration_x', '_y', '_z', stored as half floats (values already rounded) when all fit its\n"
+          "range (always for concentrations in [0, 1]), as floats otherwise.")
       .def_property_readonly(
           "alpha", [](const fit::LocalFields& f) { return py::make_tuple(f.alpha[0], f.alpha[1], f.alpha[2]); })
       .def_property_readonly("beta",

@@ -318,26 +318,34 @@ LocalFields local_fields(const volume::Grid& grid, int block, ProgressSink& prog
       {out.beta[0].impl().grid->getAccessor(), out.beta[1].impl().grid->getAccessor(),
        out.beta[2].impl().grid->getAccessor()},
   }};
+  // The variances are stored as 16-bit floats when they all fit half's range (docs/render.md §5b
+  // "Storage"; always for concentrations in [0, 1], whose V ≤ ¼): a block's variance is itself
+  // an estimate from its B² column means, whose relative sampling error (≈ √(2/B²) for
+  // independent columns, 18 % at B = 8) dwarfs half's 2⁻¹¹, so the low bits of a float would
+  // store noise; 2 bytes instead of 4 on three of the four channels the medium reads. Grids of
+  // larger values (an extinction grid in large length units, e.g. 1/m) keep float variances.
+  bool half = true;
+  for (const auto& r : results) {
+    for (const double v : r.variance) half = half && !(v > volume::kHalfMax);
+  }
   for (const auto& r : results) {
     if (!(r.mean > 0.0)) continue;
     const openvdb::Coord ijk(static_cast<int>(r.key[0]), static_cast<int>(r.key[1]), static_cast<int>(r.key[2]));
     mean_acc.setValue(ijk, static_cast<float>(r.mean));
     for (std::size_t a = 0; a < 3; ++a) {
-      // The variance as stored (half, see below), so α and β are those of the stored fields.
-      const float var = volume::half_precision(static_cast<float>(r.variance[a]));
-      axis_acc[0][a].setValue(ijk, var);
-      const transmittance::ShapeRate s = transmittance::gamma_shape_rate(r.mean, var);
+      // The variance as stored, so α and β are those of the stored fields.
+      const auto var = static_cast<float>(r.variance[a]);
+      const float stored = half ? volume::half_precision(var) : var;
+      axis_acc[0][a].setValue(ijk, stored);
+      const transmittance::ShapeRate s = transmittance::gamma_shape_rate(r.mean, stored);
       axis_acc[1][a].setValue(ijk, static_cast<float>(s.alpha));
       axis_acc[2][a].setValue(ijk, static_cast<float>(s.beta));
     }
     ++out.blocks;
   }
-  // The variances are stored as 16-bit floats (docs/render.md §5b "Storage"): a block's variance
-  // is itself an estimate from its B² column means, whose relative sampling error (≈ √(2/B²)
-  // for independent columns, 18 % at B = 8) dwarfs half's 2⁻¹¹, so the low bits of a float
-  // would store noise; 2 bytes instead of 4 on three of the four channels the medium reads.
-  // The values were rounded above, so this only flags the grids.
-  for (volume::Grid& v : out.variance) v.store_as_half();
+  if (half) {
+    for (volume::Grid& v : out.variance) v.store_as_half();  // rounded above: only flags the grids
+  }
   return out;
 }
 

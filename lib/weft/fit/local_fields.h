@@ -44,8 +44,10 @@ struct LocalFieldsEstimate {
 struct LocalFields {
   int block = 8;
   volume::Grid mean;  ///< "mean_concentration"
-  /// "var_concentration_{x,y,z}", stored as half (Grid::store_as_half: 11 significant bits,
-  /// far below a block variance's own sampling error); α and β are those of the stored values.
+  /// "var_concentration_{x,y,z}", stored as half floats when every variance fits half's range
+  /// (Grid::store_as_half: 11 significant bits, far below a block variance's own sampling error;
+  /// always for concentrations in [0, 1]), as floats otherwise; α and β are those of the stored
+  /// values.
   std::array<volume::Grid, 3> variance;
   std::array<volume::Grid, 3> alpha;  ///< "alpha_{x,y,z}"
   std::array<volume::Grid, 3> beta;   ///< "beta_{x,y,z}"

@@ -196,7 +196,7 @@ void Grid::store_as_half() {
   // Checked before anything changes, so a refused grid keeps its values.
   std::atomic<bool> too_large{false};
   openvdb::tools::foreach (tree.cbeginValueOn(), [&](const openvdb::FloatTree::ValueOnCIter& it) {
-    if (!std::isfinite(half_precision(*it)) && std::isfinite(*it)) too_large = true;
+    if (std::abs(*it) > kHalfMax && std::isfinite(*it)) too_large = true;
   });
   if (too_large) fail("grid '{}': a value is beyond the range of a 16-bit float (65504)", name());
   openvdb::tools::foreach (tree.beginValueOn(),

@@ -71,7 +71,7 @@ class Grid {
   /// its files hold 2 bytes a value (OpenVDB's saveFloatAsHalf; reading gives the same floats
   /// back). Rounding here, not at the write, keeps what is rendered or measured from memory and
   /// what a file gives back the same values. Throws weft::Error naming the grid when a value is
-  /// beyond half's range (|v| > 65504).
+  /// beyond half's range (|v| > kHalfMax).
   void store_as_half();
   /// Whether the grid's files hold its values as 16-bit floats (store_as_half, or read so).
   [[nodiscard]] bool stored_as_half() const;
@@ -90,6 +90,9 @@ class Grid {
   friend Grid make_grid(std::shared_ptr<Impl> impl);
   std::shared_ptr<Impl> impl_;
 };
+
+/// The largest finite 16-bit IEEE half; store_as_half refuses a grid with a value beyond it.
+inline constexpr float kHalfMax = 65504.0F;
 
 /// The float nearest to `v` that a 16-bit IEEE half holds (round to nearest even; 11 significant
 /// bits: a relative error ≤ 2⁻¹¹ above 6.1·10⁻⁵, an absolute one ≤ 2⁻²⁵ below). ±∞ beyond 65504.

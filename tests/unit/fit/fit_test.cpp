@@ -247,6 +247,30 @@ TEST(Fit, LocalFieldsOfAKnownBlock) {
   EXPECT_THROW((void)local_fields(g, 0), Error);
 }
 
+TEST(Fit, LocalFieldsKeepFloatVariancesBeyondHalfsRange) {
+  // An extinction grid in large length units (2000 per unit in every other x slice): the y and z
+  // columns' means are 0 or 2000, a variance of 10⁶ per block, beyond half's 65504. The fields
+  // keep every variance as a float (not +∞), exactly, and α, β follow from them; scaled down by
+  // 100 the same grid's variances (100) fit and are stored as half.
+  for (const float value : {2000.0F, 20.0F}) {
+    Grid g(0.01);
+    for (int i = 0; i < 16; i += 2) {
+      for (int j = 0; j < 16; ++j) {
+        for (int k = 0; k < 16; ++k) g.set_value(i, j, k, value);
+      }
+    }
+    const LocalFields f = local_fields(g, 8);
+    const double v = 0.25 * value * value;
+    const bool half = v <= volume::kHalfMax;
+    SCOPED_TRACE(testing::Message() << "value " << value);
+    for (std::size_t a = 0; a < 3; ++a) EXPECT_EQ(f.variance[a].stored_as_half(), half);
+    EXPECT_EQ(f.variance[0].value(0, 0, 0), 0.0F);
+    EXPECT_EQ(f.variance[1].value(0, 0, 0), static_cast<float>(v));
+    EXPECT_EQ(f.variance[2].value(1, 1, 0), static_cast<float>(v));
+    EXPECT_NEAR(f.alpha[1].value(0, 0, 0), 0.25 * value * value / v, 1e-6);  // C̄²/V = 1
+  }
+}
+
 // Reference local statistics of the block at `key`, straight from the definition (a dense loop
 // over the block's B³ voxels: for small test grids only).
 struct Reference {
