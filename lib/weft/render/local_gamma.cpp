@@ -82,7 +82,7 @@ void LocalGammaField::walk(const volume::Ray& ray, double t0, double t1, transmi
     // record read per piece.
     const Record* records = records_->data();
     const auto a = static_cast<std::size_t>(axis);
-    dense_walk_.march(ray, t0, t1, [&](double b0, double b1, std::int64_t index) {
+    dense_walk_.march(ray, t0, t1, walk_state_, [&](double b0, double b1, std::int64_t index) {
       const Record& r = records[index];
       if (!(r.mean > 0.0f)) return true;
       hazard.enter(sigma_, r.mean, r.var[a], b0 - t0);

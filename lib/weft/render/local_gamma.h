@@ -93,6 +93,7 @@ class LocalGammaField {
   std::array<std::unique_ptr<volume::VoxelReader>, 3> var_readers_;
   std::shared_ptr<const std::vector<Record>> records_;  ///< the dense box, x-major (null: the trees)
   volume::DenseWalk dense_walk_;
+  volume::DenseWalk::State walk_state_;  ///< this thread's walk (kept out of registers across log1p)
   double sigma_ = 1.0;
   transmittance::MemoryRule memory_ = transmittance::kDefaultMemoryRule;
 };

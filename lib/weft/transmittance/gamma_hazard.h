@@ -130,7 +130,8 @@ inline GammaCell GammaCell::from_rates(double mean_extinction, double kappa, Ori
 
 inline double GammaCell::integral(double s, double length) const {
   if (kappa == 0.0) return rate * length;
-  return rate / kappa * std::log1p(kappa * length / (1.0 + kappa * s));
+  const double scale = rate / kappa;  // before log1p: one number kept across the call, not two
+  return scale * std::log1p(kappa * length / (1.0 + kappa * s));
 }
 
 inline void GammaHazard::enter_rates(double mean_extinction, double kappa, double x) {
@@ -159,8 +160,9 @@ inline void GammaHazard::enter_rates(double mean_extinction, double kappa, doubl
 inline double GammaHazard::piece(double a, double b) const { return cell_.integral(memory(a), b - a); }
 
 inline void GammaHazard::advance(double a, double b) {
-  h_ += piece(a, b);
+  // τ first: its terms need not be kept across piece()'s log1p.
   tau_ += cell_.mean_extinction * (b - a);
+  h_ += piece(a, b);
 }
 
 inline double GammaHazard::advance_until(double a, double b, double target) {

@@ -116,14 +116,22 @@ inline double face_exit(const CellRay& r, int a, std::int64_t c) {
                         : std::numeric_limits<double>::infinity();
 }
 
-/// The cell containing the ray just after parameter t on axis a (the cell being entered):
-/// ⌊p⌋ (⌈p⌉ − 1 going down), written with integer truncation so the walk's start calls no libm
-/// (the same integer as std::floor/std::ceil for every p a grid's index range holds).
+/// ⌊p⌋: the cell entered at cell-space coordinate p going up (or along the axis), written with
+/// integer truncation so a walk's start calls no libm (the same integer as std::floor for every
+/// p a grid's index range holds).
+inline std::int64_t cell_going_up(double p) {
+  const auto i = static_cast<std::int64_t>(p);  // towards zero
+  return static_cast<double>(i) > p ? i - 1 : i;
+}
+/// ⌈p⌉ − 1: the cell entered at p going down (std::ceil's integer, as above).
+inline std::int64_t cell_going_down(double p) {
+  const auto i = static_cast<std::int64_t>(p);  // towards zero
+  return static_cast<double>(i) < p ? i : i - 1;
+}
+/// The cell containing the ray just after parameter t on axis a (the cell being entered).
 inline std::int64_t cell_at(const CellRay& r, int a, double t) {
   const double p = r.o[a] + r.d[a] * t;
-  auto i = static_cast<std::int64_t>(p);  // towards zero
-  if (r.sgn[a] < 0) return static_cast<double>(i) < p ? i : i - 1;
-  return static_cast<double>(i) > p ? i - 1 : i;
+  return r.sgn[a] < 0 ? cell_going_down(p) : cell_going_up(p);
 }
 
 /// Where a walk stands: the ray, its box, the cell being entered at t, the end t1, and the
@@ -223,23 +231,59 @@ class DenseWalk {
   /// without voxel_step's safety budget.
   template <typename Visit>
   void march(const Ray& ray, double tmin, double tmax, Visit&& visit) const {
-    const detail::CellRay r = cell_ray(ray, tmin, tmax);
+    State state;
+    march(ray, tmin, tmax, state, visit);
+  }
+
+  /// Where a walk stands between its steps: the ray and, per axis, the face it leaves through
+  /// next and where. The caller holds it (a per-thread medium keeps one): then a call inside
+  /// `visit` (the hazard's log1p) finds these numbers in memory, instead of the compiler
+  /// saving and restoring a dozen registers around every call (docs/render.md §6 "Coarse
+  /// grids").
+  struct State {
+    detail::CellRay r{};
+    double face[3] = {0.0, 0.0, 0.0};  ///< cell-space coordinate of the face each axis leaves through next
+    double exit[3] = {0.0, 0.0, 0.0};  ///< the distance where the ray reaches that face
+  };
+
+  /// march() with the walk's state in `state` (its contents on entry do not matter).
+  template <typename Visit>
+  void march(const Ray& ray, double tmin, double tmax, State& state, Visit&& visit) const {
+    detail::CellRay& r = state.r;
+    double* face = state.face;
+    double* exit = state.exit;
+    r = cell_ray(ray, tmin, tmax);
     double t = tmin;
     double t1 = tmax;
     if (empty_ || !detail::clip(r, lo_, hi_, t, t1)) return;
     std::int64_t index = 0;
     std::int64_t room[3];    // voxels left on each axis before the walk leaves the box
     std::int64_t stride[3];  // the index's move per step on each axis
-    double face[3];          // cell-space coordinate of the face each axis leaves through next
-    double exit[3];
+    // The first cell (detail::cell_at, clamped into the box along a moving axis) and what the
+    // walk keeps per axis, the direction's sign tested once per axis.
     for (int a = 0; a < 3; ++a) {
-      std::int64_t c = detail::cell_at(r, a, t);
-      if (r.sgn[a] != 0) c = std::clamp(c, box_lo_[a], box_hi_[a] - 1);
+      const double p = r.o[a] + r.d[a] * t;
+      std::int64_t c = 0;
+      if (r.sgn[a] > 0) {
+        c = std::clamp(detail::cell_going_up(p), box_lo_[a], box_hi_[a] - 1);
+        room[a] = box_hi_[a] - 1 - c;
+        stride[a] = stride_[a];
+        face[a] = static_cast<double>(c + 1);
+        exit[a] = (face[a] - r.o[a]) * r.inv[a];
+      } else if (r.sgn[a] < 0) {
+        c = std::clamp(detail::cell_going_down(p), box_lo_[a], box_hi_[a] - 1);
+        room[a] = c - box_lo_[a];
+        stride[a] = -stride_[a];
+        face[a] = static_cast<double>(c);
+        exit[a] = (face[a] - r.o[a]) * r.inv[a];
+      } else {
+        c = detail::cell_going_up(p);
+        room[a] = 0;  // never moves
+        stride[a] = 0;
+        face[a] = static_cast<double>(c);
+        exit[a] = std::numeric_limits<double>::infinity();
+      }
       index += (c - box_lo_[a]) * stride_[a];
-      room[a] = r.sgn[a] > 0 ? box_hi_[a] - 1 - c : c - box_lo_[a];
-      stride[a] = r.sgn[a] * stride_[a];
-      face[a] = static_cast<double>(r.sgn[a] > 0 ? c + 1 : c);
-      exit[a] = r.sgn[a] != 0 ? (face[a] - r.o[a]) * r.inv[a] : std::numeric_limits<double>::infinity();
     }
     for (;;) {
       const double te = std::min(std::min(exit[0], exit[1]), exit[2]);
@@ -250,7 +294,8 @@ class DenseWalk {
       }
       if (te >= t1) return;
       for (int a = 0; a < 3; ++a) {
-        if (exit[a] != te) continue;
+        // te is the least exit, so exit ≤ te means exit == te, in one comparison.
+        if (!(exit[a] <= te)) continue;
         if (--room[a] < 0) return;
         index += stride[a];
         face[a] += static_cast<double>(r.sgn[a]);
