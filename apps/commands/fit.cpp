@@ -102,7 +102,8 @@ const Registrar kFit{Command{
       CLI::Option* fields_option =
           sub.add_option("--fields", o->fields,
                          "With --block: render (mean and variance per axis, the 4 grids the local-gamma medium reads) "
-                         "or all (also alpha and beta per axis: 10 grids, for analysis)")
+                         "or all (also alpha and beta per axis: 10 grids, for analysis); the variances are stored as "
+                         "16-bit floats when they fit (always for concentrations; docs/render.md 5b \"Storage\")")
               ->check(CLI::IsMember({"render", "all"}))
               ->capture_default_str();
       sub.add_option("--beams", o->beams, "beams.csv from `weft measure`: adds least-squares fits and model errors");

@@ -63,7 +63,8 @@ class Grid {
   /// OpenVDB accessors through grid_openvdb.h.
   [[nodiscard]] float value(int i, int j, int k) const;
   void set_value(int i, int j, int k, float v);
-  /// Sum of all active values (voxels and tiles, tiles weighted by their voxel count).
+  /// Sum of all active values (voxels and tiles, tiles weighted by their voxel count), in double:
+  /// each leaf summed on any thread, then the leaves in tree order, so the same for any thread count.
   [[nodiscard]] double sum() const;
 
   /// @brief Stores the grid's values as 16-bit floats from now on: every active value (voxels
