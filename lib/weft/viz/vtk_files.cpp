@@ -15,6 +15,7 @@
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
 #include <vtkIntArray.h>
+#include <vtkLZ4DataCompressor.h>
 #include <vtkNew.h>
 #include <vtkObjectFactory.h>
 #include <vtkPointData.h>
@@ -26,7 +27,6 @@
 #include <vtkTypeInt64Array.h>
 #include <vtkXMLImageDataWriter.h>
 #include <vtkXMLPolyDataWriter.h>
-#include <vtkZLibDataCompressor.h>
 
 #include <tbb/parallel_for.h>
 
@@ -129,19 +129,22 @@ void write_with(Writer& writer, const fs::path& tmp, const fs::path& target) {
   run_writer(writer, tmp, target);
 }
 
-// VTK's XML writer compresses an array in blocks of BlockSize bytes, one after the other, each
-// with zlib's compress2 at the writer's level; for a dense .vti that is most of the write, on one
-// thread. This compressor is handed a piece's bytes as soon as the piece is made and compresses
-// all its blocks at once, spread over the threads; the writer then finds each block it asks for
-// done. The blocks are compressed by vtkZLibDataCompressor's own call at the same level, so the
-// bytes are those of a plain write for any thread count; a block that is not the next one
-// expected (another cut, a converted copy) is compressed on the spot as VTK would; the writer
-// usually hands the array's own memory, which then needs no comparison.
-// No vtkTypeMacro: GetClassName() stays "vtkZLibDataCompressor", the name the writer puts in the
+// VTK's XML writer compresses an array in blocks of BlockSize bytes, one after the other; for a
+// dense .vti that is most of the write, on one thread. This compressor is handed a piece's bytes as
+// soon as the piece is made and compresses all its blocks at once, spread over the threads; the
+// writer then finds each block it asks for done. The blocks are compressed by the base class's own
+// call at the same level, so the bytes are those of a plain write for any thread count; a block
+// that is not the next one expected (another cut, a converted copy) is compressed on the spot as
+// VTK would; the writer usually hands the array's own memory, which then needs no comparison.
+// LZ4, not zlib, for the dense box (docs/viz.md "ParaView files"): the box holds several times the grid's
+// active voxels, mostly zeros and fibre values, and zlib spent 60 % of a large grid's `validate`
+// compressing it (docs/benchmarks.md "Validate: the .vti's compressor"); LZ4 makes a file about
+// 15 % larger in a third of the time, and VTK and ParaView read either.
+// No vtkTypeMacro: GetClassName() stays "vtkLZ4DataCompressor", the name the writer puts in the
 // file's `compressor` attribute and by which readers choose the decompressor.
-class BlockParallelZLib : public vtkZLibDataCompressor {
+class BlockParallelLZ4 : public vtkLZ4DataCompressor {
  public:
-  static BlockParallelZLib* New();
+  static BlockParallelLZ4* New();
 
   // Compresses the blocks of `bytes` (valid until the next call) as the writer will cut them.
   void prepare(const unsigned char* bytes, std::size_t size, std::size_t block) {
@@ -155,12 +158,12 @@ class BlockParallelZLib : public vtkZLibDataCompressor {
       const std::size_t n = block_length(b);
       std::vector<unsigned char>& out = blocks_[b];
       out.resize(GetMaximumCompressionSpace(n));
-      out.resize(vtkZLibDataCompressor::CompressBuffer(base_ + b * block_, n, out.data(), out.size()));
+      out.resize(vtkLZ4DataCompressor::CompressBuffer(base_ + b * block_, n, out.data(), out.size()));
     });
   }
 
  protected:
-  BlockParallelZLib() = default;
+  BlockParallelLZ4() = default;
 
   size_t CompressBuffer(unsigned char const* data, size_t size, unsigned char* out, size_t space) override {
     if (next_ < blocks_.size()) {
@@ -172,7 +175,7 @@ class BlockParallelZLib : public vtkZLibDataCompressor {
         return done.size();
       }
     }
-    return vtkZLibDataCompressor::CompressBuffer(data, size, out, space);
+    return vtkLZ4DataCompressor::CompressBuffer(data, size, out, space);
   }
 
  private:
@@ -184,7 +187,7 @@ class BlockParallelZLib : public vtkZLibDataCompressor {
   std::size_t next_ = 0;
   std::vector<std::vector<unsigned char>> blocks_;
 };
-vtkStandardNewMacro(BlockParallelZLib);
+vtkStandardNewMacro(BlockParallelLZ4);
 
 // The grid's active box as vtkImageData, made one requested extent at a time: with
 // vtkXMLImageDataWriter::SetNumberOfPieces(n) the writer streams the image through the pipeline,
@@ -204,7 +207,7 @@ class GridImageSource : public vtkImageAlgorithm {
   std::string name;
   // When set, each piece's bytes are handed to it as soon as they are made (in blocks of
   // block_size bytes, the writer's).
-  BlockParallelZLib* compressor = nullptr;
+  BlockParallelLZ4* compressor = nullptr;
   std::size_t block_size = 0;
 
   // Leaves and active tiles with their boxes, once: each piece then visits only the nodes that
@@ -409,8 +412,8 @@ void write_vti(const volume::Grid& grid, const fs::path& path, std::uint64_t max
     writer->SetInputConnection(source->GetOutputPort());
     writer->SetNumberOfPieces(static_cast<int>(pieces));
     configure(*writer);
-    vtkNew<BlockParallelZLib> compressor;
-    compressor->SetCompressionLevel(writer->GetCompressor()->GetCompressionLevel());
+    vtkNew<BlockParallelLZ4> compressor;
+    compressor->SetAccelerationLevel(1);  // LZ4's own default mode: its best ratio short of LZ4-HC
     writer->SetCompressor(compressor);
     source->compressor = compressor;
     source->block_size = writer->GetBlockSize();

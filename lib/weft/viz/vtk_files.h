@@ -43,8 +43,8 @@ void write_vtp(const PointSet& points, const std::filesystem::path& path);
 /// after the grid. Throws weft::Error when the box would exceed `max_voxels`. Written in pieces
 /// of at most `piece_voxels` voxels (several <Piece> elements of one file, which VTK and
 /// ParaView read as one image): memory is the grid plus one piece, not the dense box. Each
-/// piece is filled and its zlib blocks compressed on all threads; the file is the bytes VTK's
-/// writer makes alone, for any thread count.
+/// piece is filled and its LZ4 blocks compressed on all threads; the file is the bytes VTK's
+/// writer makes alone with vtkLZ4DataCompressor, for any thread count.
 void write_vti(const volume::Grid& grid, const std::filesystem::path& path, std::uint64_t max_voxels = 256ULL << 20U,
                std::uint64_t piece_voxels = 1ULL << 22U);
 
