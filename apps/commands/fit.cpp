@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include <fmt/core.h>
@@ -47,8 +48,14 @@ json fit_json(const fit::GammaFit& g) {
           {"mean_extinction", g.mean_extinction()},     {"exponential_limit", g.exponential()}};
 }
 
-/// Reads the axis beams of a beams.csv written by `weft measure`, keyed by label ("+x").
-std::map<std::string, volume::TransmittanceCurve> read_beams(const fs::path& path, const BeamsRecord& now) {
+/// The axis beams of a beams.csv written by `weft measure`, keyed by label ("+x"), and the labels
+/// of its oblique beams (window statistics run along an axis, so those cannot be compared).
+struct MeasuredBeams {
+  std::map<std::string, volume::TransmittanceCurve> axis;
+  std::set<std::string> oblique;
+};
+
+MeasuredBeams read_beams(const fs::path& path, const BeamsRecord& now) {
   std::ifstream in(path);
   if (!in) fail("{}: cannot open", path.string());
   std::string line;
@@ -57,7 +64,7 @@ std::map<std::string, volume::TransmittanceCurve> read_beams(const fs::path& pat
   if (!std::getline(in, line) || line.rfind("beam,dx,dy,dz,t,T,stderr,logT", 0) != 0) {
     fail("{}: not a beams.csv from weft measure (header 'beam,dx,dy,dz,t,T,stderr,logT')", path.string());
   }
-  std::map<std::string, volume::TransmittanceCurve> out;
+  MeasuredBeams out;
   std::size_t row = 1;
   while (std::getline(in, line)) {
     ++row;
@@ -76,8 +83,11 @@ std::map<std::string, volume::TransmittanceCurve> read_beams(const fs::path& pat
     }
     if (f.size() != 8) fail("{}:{}: expected 8 fields, got {}", path.string(), row, f.size());
     const std::array<double, 3> d{f[1], f[2], f[3]};
-    if (volume::beam_axis(d) < 0) continue;  // only axis beams meet window statistics
-    auto& c = out[volume::direction_label(d)];
+    if (volume::beam_axis(d) < 0) {  // only axis beams meet window statistics
+      out.oblique.insert(volume::direction_label(d));
+      continue;
+    }
+    auto& c = out.axis[volume::direction_label(d)];
     c.direction = d;
     c.depth.push_back(f[4]);
     c.log_t.push_back(f[7]);
@@ -121,10 +131,30 @@ const Registrar kFit{Command{
         const LoadedGrid loaded = load_grid_input(o->input);
         const volume::Grid& grid = loaded.grid;
         const double sigma = loaded.sigma.sigma;
-        std::map<std::string, volume::TransmittanceCurve> measured;
+        MeasuredBeams beams;
         if (!o->beams.empty())
-          measured =
+          beams =
               read_beams(o->beams, {sigma, o->input.values, grid.voxel_size(), grid.active_voxel_count(), grid.sum()});
+        // Every beam of the file is either fitted or named here: none is dropped in silence.
+        std::set<std::string> asked;
+        for (const auto& d : dirs) asked.insert(volume::direction_label(d));
+        std::vector<std::pair<std::string, std::string>> unused;  // beam, why
+        for (const auto& label : beams.oblique)
+          unused.emplace_back(label, "is not along an axis; window statistics are per axis, so it is not fitted");
+        for (const auto& [label, curve] : beams.axis) {
+          if (asked.count(label) == 0) unused.emplace_back(label, fmt::format("is not among --axes {}", o->axes));
+        }
+        if (!o->beams.empty() && beams.axis.size() + beams.oblique.size() == unused.size())
+          usage_fail(
+              "--beams {}: none of its beams runs along --axes {} (axis beams are fitted per signed axis: pass "
+              "e.g. --axes=-z for a -z beam)",
+              o->beams, o->axes);
+        json not_fitted = json::array();
+        for (const auto& [label, why] : unused) {
+          ctx.warn(fmt::format("{}: beam {} {}", o->beams, label, why));
+          not_fitted.push_back({{"beam", label}, {"reason", why}});
+        }
+        const auto& measured = beams.axis;
         const fit::StatisticsScale scale = fit::resolve_scale(o->window, grid, loaded.provenance, ctx.progress);
 
         std::array<fit::ConcentrationStats, 3> stats;
@@ -144,7 +174,11 @@ const Registrar kFit{Command{
               {"stats", {{"mean", s.mean}, {"variance", s.variance}, {"samples", s.samples}, {"window", s.window}}},
               {"moment", fit_json(g)}};
           const auto it = measured.find(label);
-          if (it != measured.end()) {
+          if (it != measured.end() && it->second.size() < 3) {
+            // As in validate: the least-squares reference needs three depths (two parameters and a residual).
+            ctx.warn(fmt::format("{}: beam {} has {} depths; the least-squares fit needs 3, so it is not fitted",
+                                 o->beams, label, it->second.size()));
+          } else if (it != measured.end()) {
             const auto& gt = it->second;
             const auto lsq = fit::fit_gamma_to_curve(gt, sigma, g);
             j["least_squares"] = fit_json(lsq.fit);
@@ -171,6 +205,7 @@ const Registrar kFit{Command{
                        {"window", {{"rule", scale.rule}, {"source", scale.source}, {"length", scale.length}}},
                        {"axes", axes},
                        {"isotropic", {{"mean", iso.mean}, {"variance", iso.variance}, {"fit", fit_json(iso_fit)}}}};
+        if (!o->beams.empty()) report["beams_not_fitted"] = not_fitted;
         if (fields)
           report["local_fields"] = {
               {"file", "local_fields.vdb"}, {"block", o->block}, {"blocks", fields->blocks}, {"fields", o->fields}};

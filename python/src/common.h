@@ -19,6 +19,8 @@
 #include "weft/core/error.h"
 #include "weft/core/progress.h"
 #include "weft/transmittance/law.h"
+#include "weft/volume/grid.h"
+#include "weft/volume/provenance.h"
 
 namespace weft::python {
 
@@ -31,6 +33,12 @@ void init_cloth(py::module_& m);
 void init_render(py::module_& m);
 void init_fibres(py::module_& m);
 void init_study(py::module_& m);
+
+/// σ of a grid call, by the one rule of volume::resolve_sigma: values that are extinction
+/// (weft:value_kind) → 1; else `sigma=` when given (checked > 0, the error naming `call`); else the
+/// grid's provenance; else weft::Error asking for sigma=, never a silent σ = 1.
+[[nodiscard]] volume::SigmaChoice grid_sigma(const volume::Grid& grid, const std::optional<double>& sigma,
+                                             const char* call);
 
 /// @brief A ProgressSink that calls a Python callable `callback(label, done, total)` and stops the
 /// computation (weft::Cancelled, docs/python.md "Interrupting a call") when the callback raised or

@@ -81,6 +81,13 @@ py::dict metadata(const vol::Grid& g) {
 
 }  // namespace
 
+volume::SigmaChoice grid_sigma(const volume::Grid& grid, const std::optional<double>& sigma, const char* call) {
+  const volume::Provenance p = volume::read_provenance(grid);
+  const std::optional<double> given =
+      sigma ? std::optional<double>(require_positive(fmt::format("{}: sigma", call).c_str(), *sigma)) : std::nullopt;
+  return volume::resolve_sigma(p, given, p.value_kind == "extinction", call, FrontEnd::python);
+}
+
 void init_grid(py::module_& m) {
   py::class_<vol::Grid>(m, "Grid",
                         "A sparse scalar voxel grid (an OpenVDB FloatGrid): fibre volume fraction C or extinction mu.\n"

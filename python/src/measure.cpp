@@ -95,14 +95,15 @@ void init_measure(py::module_& m) {
 
   m.def(
       "measure_beam",
-      [](const vol::Grid& grid, const py::object& axis, const py::object& direction, double sigma, int rays_per_column,
-         bool jitter, std::uint64_t seed, double depth_step, const std::string& method, int column_stride,
-         const py::object& progress) {
+      [](const vol::Grid& grid, const py::object& axis, const py::object& direction, const std::optional<double>& sigma,
+         int rays_per_column, bool jitter, std::uint64_t seed, double depth_step, const std::string& method,
+         int column_stride, const py::object& progress) {
         vol::BeamSpec spec;
         spec.direction = direction_of(axis, direction);
-        spec.scale = require_positive("measure_beam: sigma", sigma);
         // The CLI's rule (weft measure), in Python's words.
         vol::check_rays_per_column({spec.direction}, rays_per_column, jitter, FrontEnd::python);
+        // σ as `weft measure` picks it: sigma=, else the grid's provenance, never a silent 1.
+        spec.scale = grid_sigma(grid, sigma, "measure_beam").sigma;
         if (column_stride < 1) fail("measure_beam: column_stride must be >= 1, got {}", column_stride);
         spec.rays_per_column = rays_per_column;
         spec.jitter = jitter;  // rays_per_column > 1 jitters anyway (beam.h)
@@ -113,12 +114,13 @@ void init_measure(py::module_& m) {
         return run_released(progress, [&](ProgressSink& p) { return vol::measure_beam(grid, spec, p); });
       },
       py::arg("grid"), py::arg("axis") = py::none(), py::kw_only(), py::arg("direction") = py::none(),
-      py::arg("sigma") = 1.0, py::arg("rays_per_column") = 1, py::arg("jitter") = false, py::arg("seed") = 1,
+      py::arg("sigma") = py::none(), py::arg("rays_per_column") = 1, py::arg("jitter") = false, py::arg("seed") = 1,
       py::arg("depth_step") = 0.0, py::arg("method") = "auto", py::arg("column_stride") = 1,
       py::arg("progress") = py::none(),
-      "measure_beam(grid, axis='z' | direction=(dx, dy, dz), sigma=1, ...) -> TransmittanceCurve\n\n"
+      "measure_beam(grid, axis='z' | direction=(dx, dy, dz), sigma=None, ...) -> TransmittanceCurve\n\n"
       "Ground-truth transmittance of a beam of parallel rays through the grid's active box by DDA\n"
-      "(mu = sigma * value). axis: 0/1/2 or 'x', '-y', ...; direction: any non-zero vector (or 'dx,dy,dz').\n"
+      "(mu = sigma * value; sigma None: the grid's provenance, 1 for extinction values, else an error). axis: 0/1/2 or "
+      "'x', '-y', ...; direction: any non-zero vector (or 'dx,dy,dz').\n"
       "method: 'auto', 'streaming', 'per-ray', 'openvdb'. progress: callable(label, done, total).\n"
       "Unpacks as depths, T, stderr. Same numbers as `weft measure` for the same options.");
 
@@ -275,11 +277,8 @@ void init_measure(py::module_& m) {
         // behind it (the report's figure) as arrays.
         const vol::Provenance prov = vol::read_provenance(grid);
         fit::ValidationSpec spec;
-        const vol::SigmaChoice chosen = vol::resolve_sigma(
-            prov,
-            sigma.is_none() ? std::nullopt
-                            : std::optional<double>(require_positive("validate: sigma", sigma.cast<double>())),
-            false, "validate", FrontEnd::python);
+        const vol::SigmaChoice chosen =
+            grid_sigma(grid, sigma.is_none() ? std::nullopt : std::optional<double>(sigma.cast<double>()), "validate");
         spec.sigma = chosen.sigma;
         const std::string& sigma_source = chosen.source;
         // The checks of `weft validate`, in Python's words.

@@ -162,14 +162,6 @@ py::array_t<bool> mask_array(const render::Image& image, const std::vector<bool>
   return a;
 }
 
-/// The concentration grid's σ (values that are extinction: 1), as every grid call resolves it.
-double grid_sigma(const volume::Grid& grid, const std::optional<double>& sigma, const char* call) {
-  const volume::Provenance p = volume::read_provenance(grid);
-  const std::optional<double> given =
-      sigma ? std::optional<double>(require_positive(fmt::format("{}: sigma", call).c_str(), *sigma)) : std::nullopt;
-  return volume::resolve_sigma(p, given, p.value_kind == "extinction", call, FrontEnd::python).sigma;
-}
-
 }  // namespace
 
 void init_study(py::module_& m) {
@@ -303,7 +295,7 @@ void init_study(py::module_& m) {
   m.def(
       "_shadowed_downsample",
       [](const volume::Grid& grid, int factor, std::optional<double> sigma) {
-        const double scale = grid_sigma(grid, sigma, "shadowed_downsample");
+        const double scale = grid_sigma(grid, sigma, "shadowed_downsample").sigma;
         py::gil_scoped_release release;
         try {
           return volume::shadowed_downsample(grid, factor, scale);
@@ -316,11 +308,7 @@ void init_study(py::module_& m) {
       "_downsample",
       [](const volume::Grid& grid, int factor) {
         py::gil_scoped_release release;
-        try {
-          return volume::downsample(grid, factor);
-        } catch (const Error& e) {
-          fail("downsample: {}", e.what());
-        }
+        return volume::downsample(grid, factor);  // its errors already start "downsample: "
       },
       py::arg("grid"), py::arg("factor"));
 }

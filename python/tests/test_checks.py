@@ -45,11 +45,11 @@ def test_the_cli_refuses_the_same_with_its_flag(tmp_path, weft_bin):
 
 def test_oblique_beams_take_more_rays_and_count_distinct_rays():
     g, _ = random_grid()
-    one = weft.measure_beam(g, direction=(1, 1, 1))
-    four = weft.measure_beam(g, direction=(1, 1, 1), rays_per_column=4, jitter=True)
+    one = weft.measure_beam(g, direction=(1, 1, 1), sigma=1)
+    four = weft.measure_beam(g, direction=(1, 1, 1), sigma=1, rays_per_column=4, jitter=True)
     # Oblique: every ray counts (jittered origins enter or miss the box: about 4x, not exactly).
     assert four.rays == four.rays_traced > 3 * one.rays > 0
-    axis = weft.measure_beam(g, "z")
+    axis = weft.measure_beam(g, "z", sigma=1)
     assert axis.rays == axis.rays_traced == g.to_numpy().shape[0] * g.to_numpy().shape[1]
 
 

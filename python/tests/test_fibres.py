@@ -40,3 +40,17 @@ def test_grid_without_fibres_is_refused():
     g.set_value(0, 0, 0, 0.5)
     with pytest.raises(weft.Error, match="does not name its fibres"):
         weft.Fibres.of_grid(g)
+
+
+def test_a_grid_moved_after_gen_is_refused_not_measured_against_missing_fibres(small_cloth):
+    # The same voxels at another index origin (world position moved by 40 voxels along x), the
+    # provenance copied: the regenerated fibres no longer lie in the grid.
+    g = small_cloth.grid
+    lo, _ = g.bbox
+    moved = weft.Grid.from_numpy(g.to_numpy(), voxel_size=g.voxel_size,
+                                 index_origin=(lo[0] + 40, lo[1], lo[2]))
+    for key, value in g.metadata.items():
+        moved.set_metadata(key, value)
+    assert len(weft.Fibres.of_grid(g)) > 0
+    with pytest.raises(weft.Error, match="moved or edited after weft gen"):
+        weft.Fibres.of_grid(moved)

@@ -76,6 +76,9 @@ def test_provenance_of_generated_cloth(small_cloth, small_cloth_spec):
     (lambda tmp: weft.Grid.from_numpy(np.full((2, 2, 2), -1.0)), weft.Error),
     (lambda tmp: weft.Grid.from_numpy(np.ones((2, 2, 2)), voxel_size=0.0), weft.Error),
     (lambda tmp: weft.Grid.from_numpy(np.ones((2, 2, 2)), voxel_size=np.nan), weft.Error),
+    # below OpenVDB's smallest scale (h^3 >= 3e-15): 10 um given in metres
+    (lambda tmp: weft.Grid.from_numpy(np.ones((2, 2, 2)), voxel_size=1e-5), weft.Error),
+    (lambda tmp: weft.Grid(voxel_size=1e-30), weft.Error),
     (lambda tmp: weft.Grid.from_numpy("abc"), TypeError),
     (lambda tmp: weft.Grid.from_numpy(np.ones((2, 2, 2)), index_origin=(0, 0)), TypeError),
     (lambda tmp: random_grid()[0].to_numpy(((3, 3, 3), (0, 0, 0))), weft.Error),
@@ -87,6 +90,14 @@ def test_provenance_of_generated_cloth(small_cloth, small_cloth_spec):
 def test_bad_input_raises(tmp_path, call, exc):
     with pytest.raises(exc):
         call(str(tmp_path))
+
+
+def test_the_smallest_voxel_openvdb_represents_is_accepted_and_named():
+    # 15 um in metres is just above OpenVDB's limit (h >= 1.442e-5); 14 um is refused in weft's words.
+    g = weft.Grid.from_numpy(np.ones((2, 2, 2)), voxel_size=1.5e-5)
+    assert g.voxel_size == pytest.approx(1.5e-5)
+    with pytest.raises(weft.Error, match="smaller unit"):
+        weft.Grid.from_numpy(np.ones((2, 2, 2)), voxel_size=1.4e-5)
 
 
 def _write(folder, name, data):

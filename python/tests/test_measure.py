@@ -119,16 +119,17 @@ def test_least_squares_recovers_a_gamma_curve():
 def test_progress_callback_and_errors_from_it():
     g, _ = random_grid(shape=(40, 40, 40), zero_fraction=0.1)
     calls = []
-    weft.measure_beam(g, direction=(1, 2, 3), progress=lambda label, done, total: calls.append((label, done, total)))
+    weft.measure_beam(g, direction=(1, 2, 3), sigma=1,
+                      progress=lambda label, done, total: calls.append((label, done, total)))
     assert calls and all(0 <= d <= t for _, d, t in calls)
     assert calls[-1][1] == calls[-1][2]
 
     def boom(label, done, total):
         raise ValueError("stop here")
     with pytest.raises(ValueError, match="stop here"):
-        weft.measure_beam(g, direction=(1, 2, 3), progress=boom)
+        weft.measure_beam(g, direction=(1, 2, 3), sigma=1, progress=boom)
     with pytest.raises(TypeError):
-        weft.measure_beam(g, "x", progress=lambda: None)  # wrong signature: its TypeError propagates
+        weft.measure_beam(g, "x", sigma=1, progress=lambda: None)  # wrong signature: its TypeError propagates
 
 
 def test_gil_is_released_during_long_calls():
@@ -144,7 +145,7 @@ def test_gil_is_released_during_long_calls():
     thread = threading.Thread(target=count)
     thread.start()
     for _ in range(3):
-        weft.measure_beam(g, direction=(1, 2, 3))
+        weft.measure_beam(g, direction=(1, 2, 3), sigma=1)
     stop.set()
     thread.join()
     assert len(ticks) > 1
@@ -169,7 +170,24 @@ def test_gil_is_released_during_long_calls():
 def test_measure_bad_input(kwargs, exc):
     g, _ = random_grid()
     with pytest.raises(exc):
-        weft.measure_beam(g, **kwargs)
+        weft.measure_beam(g, **({"sigma": 1.0} | kwargs))
+
+
+def test_measure_beam_takes_sigma_as_the_cli_does(tmp_path, run_cli, small_cloth):
+    """sigma=None: the grid's provenance, as `weft measure --grid` (never a silent sigma = 1)."""
+    g = small_cloth.grid
+    path = tmp_path / "cloth.vdb"
+    g.save(path)
+    run_cli("measure", "--grid", path, "--direction", "z", "--out", tmp_path / "m")
+    with open(tmp_path / "m" / "beams.csv") as f:
+        rows = [line.split(",") for line in f.read().splitlines()[2:]]
+    cli_t = np.array([float(r[5]) for r in rows])
+    assert cli_t[-1] < 0.9  # the cloth's sigma, not 1, makes it this dark
+    np.testing.assert_allclose(weft.measure_beam(g, "z").T, cli_t, rtol=1e-9)  # the CSV keeps 10 digits
+    np.testing.assert_allclose(weft.measure_beam(g, "z", sigma=g.sigma).T, cli_t, rtol=1e-9)
+    bare, _ = random_grid()  # no provenance: sigma must be given
+    with pytest.raises(weft.Error, match="sigma=S"):
+        weft.measure_beam(bare, "z")
 
 
 def test_fit_bad_input():
@@ -184,7 +202,7 @@ def test_fit_bad_input():
         weft.gamma_from_moments(0.5, 0.1, np.nan)
     with pytest.raises(TypeError):
         weft.window_stats("grid", "x")
-    c = weft.measure_beam(g, "x")
+    c = weft.measure_beam(g, "x", sigma=1)
     with pytest.raises(weft.Error):
         weft.compare(c, [0.0])
     with pytest.raises(weft.Error):

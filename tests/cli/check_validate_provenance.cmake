@@ -64,3 +64,22 @@ endif()
 # The same σ is accepted.
 run(-q measure --grid ${OUT}/builtin/cloth.vdb --out ${OUT}/m2)
 run(-q fit --grid ${OUT}/builtin/cloth.vdb --beams ${OUT}/m2/beams.csv --out ${OUT}/f2)
+# Every beam of a beams.csv is fitted or named: an oblique beam and an axis beam outside --axes
+# each get a warning and a row in beams_not_fitted; a file with no beam along --axes is refused.
+run(-q measure --grid ${OUT}/builtin/cloth.vdb --direction 1,1,0 --direction=-z --out ${OUT}/m3)
+execute_process(COMMAND ${WEFT} -q fit --grid ${OUT}/builtin/cloth.vdb --beams ${OUT}/m3/beams.csv --out ${OUT}/f3
+                RESULT_VARIABLE rc ERROR_VARIABLE err)
+if(NOT rc EQUAL 2 OR NOT err MATCHES "none of its beams runs along --axes x,y,z")
+  message(FATAL_ERROR "fit took beams none of which it could fit (rc ${rc}): ${err}")
+endif()
+execute_process(COMMAND ${WEFT} -q fit --grid ${OUT}/builtin/cloth.vdb --beams ${OUT}/m3/beams.csv --axes=-z,x
+                --out ${OUT}/f4 RESULT_VARIABLE rc ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT err MATCHES "beam \\(0.7071, 0.7071, 0\\) is not along an axis")
+  message(FATAL_ERROR "fit did not name the oblique beam it left out (rc ${rc}): ${err}")
+endif()
+file(READ ${OUT}/f4/fit.json f4)
+string(JSON nunused LENGTH "${f4}" beams_not_fitted)
+string(JSON lsq ERROR_VARIABLE no_lsq GET "${f4}" axes 0 least_squares alpha)
+if(NOT nunused EQUAL 1 OR no_lsq)
+  message(FATAL_ERROR "fit.json: ${nunused} beams not fitted (1 expected), -z least squares: ${no_lsq}")
+endif()

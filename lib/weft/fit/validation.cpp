@@ -195,7 +195,10 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
     clock.lap(av.beam_seconds, av.beam_cpu_seconds);
     if (av.ground_truth.depth != depths) fail("validate: beam depths differ from the predicted depths (internal)");
     for (auto& m : av.models) m.error = compare(av.ground_truth, m.log_t);
-    if (spec.least_squares) {
+    // The least-squares reference needs three depths for its two parameters and a residual; a
+    // grid one voxel thick along this beam has two (t = 0 and its one voxel), so the reference
+    // row is left out there and nothing else changes (it is never a prediction).
+    if (spec.least_squares && av.ground_truth.size() >= 3) {
       av.lsq_fit = fit_gamma_to_curve(av.ground_truth, spec.sigma, av.moment_fit);
       ModelCurve m;
       m.name = "least-squares";

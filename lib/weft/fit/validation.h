@@ -32,7 +32,7 @@ struct ValidationSpec {
   int rays_per_column = 1;
   std::uint64_t seed = 1;
   bool isotropic = true;
-  bool least_squares = true;
+  bool least_squares = true;  ///< the least-squares reference row, on axes with at least 3 depths
   volume::BeamMethod method = volume::BeamMethod::automatic;
 };
 

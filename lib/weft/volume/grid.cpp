@@ -82,6 +82,19 @@ void require_valid_values(const openvdb::FloatGrid& grid, const std::string& whe
     fail("{}: grid '{}' has background {}; weft needs background 0", where, grid.getName(), bg);
 }
 
+// OpenVDB's linear transform of cubic voxels of side h. Its scale map refuses a determinant
+// h³ below 3·10⁻¹⁵ (math::Tolerance<double>, an ArithmeticError from deep inside OpenVDB), so
+// voxels under about 14.4 µm in metres cannot be represented: say so in weft's words first.
+openvdb::math::Transform::Ptr voxel_transform(double h) {
+  require_positive("voxel size", h);
+  if (h * h * h < 3.0 * openvdb::math::Tolerance<double>::value())
+    fail(
+        "voxel size {:.6g} is below the smallest OpenVDB represents (h^3 >= 3e-15, h >= {:.4g}): give lengths in a "
+        "smaller unit (e.g. millimetres instead of metres)",
+        h, std::cbrt(3.0 * openvdb::math::Tolerance<double>::value()));
+  return openvdb::math::Transform::createLinearTransform(h);
+}
+
 }  // namespace
 
 Grid make_grid(std::shared_ptr<Grid::Impl> impl) { return Grid(std::move(impl)); }
@@ -95,10 +108,9 @@ Grid wrap_openvdb(openvdb::FloatGrid::Ptr grid) {
 
 Grid::Grid(double voxel_size, std::string name) : impl_(std::make_shared<Impl>()) {
   ensure_openvdb_initialized();
-  require_positive("voxel size", voxel_size);
   impl_->grid = openvdb::FloatGrid::create(0.0f);
   impl_->grid->setName(name);
-  impl_->grid->setTransform(openvdb::math::Transform::createLinearTransform(voxel_size));
+  impl_->grid->setTransform(voxel_transform(voxel_size));
   impl_->grid->setGridClass(openvdb::GRID_FOG_VOLUME);
 }
 
@@ -180,7 +192,7 @@ std::array<double, 3> Grid::origin() const {
 void Grid::set_origin(const std::array<double, 3>& origin) {
   const double h = voxel_size();
   // OpenVDB puts voxel centres at integer index coordinates: index i covers [i-0.5, i+0.5).
-  auto xform = openvdb::math::Transform::createLinearTransform(h);
+  auto xform = voxel_transform(h);
   xform->postTranslate(openvdb::Vec3d(origin[0] + 0.5 * h, origin[1] + 0.5 * h, origin[2] + 0.5 * h));
   impl_->grid->setTransform(xform);
 }

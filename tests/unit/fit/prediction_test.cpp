@@ -97,6 +97,34 @@ TEST(Prediction, ValidateReportsThePredictionAndLabelsTheBestAsChosenWithTheGrou
   EXPECT_NE(json.find("\"best_by_ground_truth\""), std::string::npos);
 }
 
+// A grid one voxel thick along a beam has two depths there (the entry face and its one voxel):
+// the least-squares reference (two parameters and a residual) is left out of that axis only, and
+// the predictions and the other axes are reported as usual.
+TEST(Prediction, ASlabOneVoxelThickIsValidatedWithoutTheLeastSquaresRowAcrossIt) {
+  constexpr int n = 12;
+  std::vector<float> values(static_cast<std::size_t>(n) * n, 0.0f);
+  for (std::size_t i = 0; i < values.size(); ++i) values[i] = static_cast<float>(0.1 + 0.8 * ((i * 37U) % 11U) / 10.0);
+  Grid g(0.05);
+  volume::from_dense(g, {0, 0, 0}, {n, n, 1}, values.data());
+  ValidationSpec spec;
+  spec.sigma = 4.0;
+  spec.scale = {0.2, 0.2, 0.2};
+  spec.directions = {{1, 0, 0}, {0, 0, 1}};
+  const Validation v = validate(g, spec);
+  ASSERT_EQ(v.axes.size(), 2U);
+  const auto has_lsq = [](const AxisValidation& a) {
+    for (const auto& m : a.models) {
+      if (m.uses_ground_truth) return true;
+    }
+    return false;
+  };
+  EXPECT_TRUE(has_lsq(v.axes[0]));
+  EXPECT_EQ(v.axes[1].ground_truth.size(), 2U);
+  EXPECT_FALSE(has_lsq(v.axes[1]));
+  EXPECT_TRUE(std::isfinite(v.axes[1].model(kPredictedModel).error.rms_abs_t));
+  EXPECT_NE(validation_json(v).find("\"predicted\""), std::string::npos);
+}
+
 }  // namespace
 }  // namespace weft::fit
 
