@@ -92,7 +92,7 @@ void init_grid(py::module_& m) {
   py::class_<vol::Grid>(m, "Grid",
                         "A sparse scalar voxel grid (an OpenVDB FloatGrid): fibre volume fraction C or extinction mu.\n"
                         "Index (i, j, k) covers [origin + voxel_size*i, origin + voxel_size*(i+1)) per axis.")
-      .def(py::init<double, std::string>(), py::arg("voxel_size") = 1.0, py::arg("name") = "density",
+      .def(py::init<double, const std::string&>(), py::arg("voxel_size") = 1.0, py::arg("name") = "density",
            "An empty grid with cubic voxels of voxel_size (length units).")
       .def_static(
           "load",

@@ -106,7 +106,7 @@ Grid wrap_openvdb(openvdb::FloatGrid::Ptr grid) {
   return make_grid(std::move(impl));
 }
 
-Grid::Grid(double voxel_size, std::string name) : impl_(std::make_shared<Impl>()) {
+Grid::Grid(double voxel_size, const std::string& name) : impl_(std::make_shared<Impl>()) {
   ensure_openvdb_initialized();
   impl_->grid = openvdb::FloatGrid::create(0.0f);
   impl_->grid->setName(name);

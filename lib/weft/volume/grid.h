@@ -35,7 +35,7 @@ class Grid {
   struct Impl;
 
   /// An empty grid with cubic voxels of `voxel_size` (length units) and background 0.
-  explicit Grid(double voxel_size = 1.0, std::string name = "density");
+  explicit Grid(double voxel_size = 1.0, const std::string& name = "density");
 
   /// Reads a float grid from a .vdb file: the grid named `grid_name`, or the first float grid
   /// when empty. Throws weft::Error (naming the file) when the file is missing or corrupt, the
