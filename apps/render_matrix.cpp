@@ -77,7 +77,7 @@ void add_matrix_options(CLI::App& sub, MatrixCliOptions& o) {
   sub.add_option("--study-tilts", o.tilts,
                  "--study matrix: views, degrees off the cloth's normal, comma-separated (default 45,8)")
       ->delimiter(',')
-      ->check(CLI::Range(0.0, 79.0));
+      ->check(in_range(0.0, 79.0));
   sub.add_option("--study-film", o.film, "--study matrix: film WIDTH,HEIGHT (default 96,72; 32,24 with --quick)")
       ->delimiter(',')
       ->check(CLI::Range(8, 4096));

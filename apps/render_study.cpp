@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "weft/core/atomic_file.h"
 #include "weft/dist/distributed.h"
 #include "weft/study/albedo_fit.h"
 #include "weft/study/render_study_report.h"
@@ -140,6 +141,8 @@ void run_render_study(const render::SceneDesc& scene, study::StudySpec spec, con
                       const fs::path& exr, double exposure, const Context& ctx, WrittenFiles& files, bool fit_albedo) {
   spec.work_dir = beside(exr, ".study");
   spec.log = [&ctx](const std::string& line) { ctx.say(line); };
+  // The albedo fit and the study both write here: a failure in either leaves nothing of them.
+  FolderRollback outputs(spec.work_dir, dist::is_root());
   if (fit_albedo) {
     spec.albedo_factors = study::fit_albedo_factors(scene, spec, ctx.progress);
     std::vector<std::string> pairs;
@@ -178,6 +181,7 @@ void run_render_study(const render::SceneDesc& scene, study::StudySpec spec, con
   ctx.say(r.best_predictive_note);
   for (const auto& n : r.notes) ctx.say("note: " + n);
   ctx.say("headline: " + r.headline);
+  outputs.keep();
 }
 
 }  // namespace weft::app

@@ -50,4 +50,15 @@ CLI::Validator at_least(long long min) {
       fmt::format(">= {}", min), "at_least");
 }
 
+CLI::Validator in_range(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        const double v = number_of(text);
+        return std::isfinite(v) && v >= lo && v <= hi
+                   ? std::string()
+                   : fmt::format("must be a number in [{}, {}], got {}", lo, hi, text);
+      },
+      fmt::format("[{}, {}]", lo, hi), "in_range");
+}
+
 }  // namespace weft::app

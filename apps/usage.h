@@ -58,5 +58,7 @@ extern const CLI::Validator positive;
 extern const CLI::Validator non_negative;
 /// An integer count >= `min` (the message says "must be >= min").
 CLI::Validator at_least(long long min);
+/// A finite number in [lo, hi] (CLI::Range lets NaN through: every comparison with it is false).
+CLI::Validator in_range(double lo, double hi);
 
 }  // namespace weft::app

@@ -208,7 +208,7 @@ int run(const RenderCliOptions& o, const Context& ctx) {
         const auto colon = item.find(':');
         const auto f = colon == std::string::npos ? std::nullopt : parse_number(item.substr(0, colon));
         const auto k = colon == std::string::npos ? std::nullopt : parse_number(item.substr(colon + 1));
-        if (!f || !k || *f != std::floor(*f))
+        if (!f || !k || *f != std::floor(*f) || !std::isfinite(*k))
           usage_fail("--study-albedo: '{}' is not FACTOR:K (e.g. 4:1.08), nor 'fit'", item);
         spec.albedo_factors.emplace_back(static_cast<int>(*f), *k);
       }
@@ -239,8 +239,11 @@ int run(const RenderCliOptions& o, const Context& ctx) {
     spec.work_dir = "(beside the output)";  // the app sets it; checked here for the other fields
     as_usage([&] { study::check_study_spec(spec); });
     study::check_study_scene(scene, spec);  // refuse a scene without a grid before creating anything
-    if (dist::is_root() && !o.out_dir.empty()) ensure_directory(o.out_dir);
+    // --out DIR is created here; a study that fails removes it again (or what it added to it).
+    std::optional<FolderRollback> out_folder;
+    if (!o.out_dir.empty()) out_folder.emplace(o.out_dir, dist::is_root());
     run_render_study(scene, spec, label, exr, o.exposure, ctx, files, fit_albedo);
+    if (out_folder) out_folder->keep();
     files.say(ctx);
     return 0;
   }
@@ -412,7 +415,7 @@ const Registrar kRender{Command{
       sub.add_option("--spp", o->spp, "Samples per pixel (default: the scene's)")->check(CLI::Range(1, 1 << 24));
       sub.add_option("--time-budget", o->time_budget,
                      "Stop after the sample pass that ends past this many seconds (0 = no limit)")
-          ->check(CLI::Range(0.0, 1e9));
+          ->check(in_range(0.0, 1e9));
       sub.add_option("--seed", o->seed, "Run seed (default: the scene's); same seed, same image for any --threads");
       sub.add_option("--convergence", o->convergence,
                      "Reference EXR, or 'auto' to render one at --reference-spp: write RMSE vs spp and time "
@@ -432,7 +435,7 @@ const Registrar kRender{Command{
       auto* study_time = sub.add_option("--study-time", o->study_time,
                                         "--study: wall seconds per candidate image (default 10, 1 with --quick); "
                                         "the spp reached is recorded")
-                             ->check(CLI::Range(1e-3, 1e6));
+                             ->check(in_range(1e-3, 1e6));
       sub.add_option("--study-spp", o->study_spp,
                      "--study: every candidate at this spp instead of a time budget (deterministic: same bytes for "
                      "any --threads or ranks)")
@@ -468,11 +471,11 @@ const Registrar kRender{Command{
       sub.add_option("--tilt", o->tilt,
                      "Default cloth only: camera angle off the cloth's normal in degrees (default 30; 0 looks straight "
                      "down)")
-          ->check(CLI::Range(0.0, 79.0));
+          ->check(in_range(0.0, 79.0));
       sub.add_flag("--quick", o->quick,
                    "Small film (longest side 48 px); with --convergence, a 128 spp series; with --study, 1 s per "
                    "candidate and a 256 spp reference");
-      sub.add_option("--exposure", o->exposure, "Scale before sRGB conversion of the PNG")->check(CLI::PositiveNumber);
+      sub.add_option("--exposure", o->exposure, "Scale before sRGB conversion of the PNG")->check(positive);
       sub.add_flag("--list-scenes", o->list, "List the built-in scenes and exit");
       sub.add_flag("--print-scene", o->print_scene, "Print the scene as canonical JSON and exit");
       return [o](const Context& ctx) -> int { return run(*o, ctx); };

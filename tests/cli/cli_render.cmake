@@ -27,6 +27,15 @@ if(CMAKE_SCRIPT_MODE_FILE)
     endif()
   endfunction()
 
+  # A small cloth grid and its scene in ${WORK}/g1 (relative: the cases give the scene's folder).
+  function(small_cloth)
+    execute_process(COMMAND ${WEFT} --quiet gen --yarns 2x2 --voxel-size 0.02 --set fiber_count=16 --out g1 --write grid
+                    WORKING_DIRECTORY ${WORK} RESULT_VARIABLE rc ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0)
+      message(FATAL_ERROR "gen failed (rc=${rc}): ${err}")
+    endif()
+  endfunction()
+
   set(ok_head "{\"materials\": {\"w\": {}}, ")
   if(CASE STREQUAL "bad_input")
     expect_bad_scene("{\n  \"camera\": {\"fov\": 40,,}\n}" "weft: error: .*bad.json:2:[0-9]+: invalid JSON")
@@ -149,6 +158,42 @@ if(CMAKE_SCRIPT_MODE_FILE)
     if(NOT rc EQUAL 0)
       message(FATAL_ERROR "gen scene picture: ${out}${err}")
     endif()
+  elseif(CASE STREQUAL "relative_scene_path")
+    # A scene given by a relative path with a folder (docs/scene-format.md: its files are relative
+    # to its folder): the study re-reads it and --print-scene writes a scene that loads beside it.
+    small_cloth()
+    execute_process(COMMAND ${WEFT} --quiet render g1/scene.json --study --quick --study-spp 2 --reference-spp 4
+                            --study-factors 2 --out st WORKING_DIRECTORY ${WORK} RESULT_VARIABLE rc ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0 OR NOT EXISTS ${WORK}/st/scene.study.json)
+      message(FATAL_ERROR "study of g1/scene.json failed (rc=${rc}): ${err}")
+    endif()
+    execute_process(COMMAND ${WEFT} render g1/scene.json --print-scene OUTPUT_FILE ${WORK}/g1/printed.json
+                    WORKING_DIRECTORY ${WORK} RESULT_VARIABLE rc)
+    execute_process(COMMAND ${WEFT} --quiet render printed.json --quick --spp 1 -o ${WORK}/p.exr
+                    WORKING_DIRECTORY ${WORK}/g1 RESULT_VARIABLE rc ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0)
+      message(FATAL_ERROR "the printed scene does not load beside the original (rc=${rc}): ${err}")
+    endif()
+  elseif(CASE STREQUAL "film_budget")
+    # A film the memory budget (half the address-space limit here) cannot hold is one line and
+    # exit 1, before anything is allocated; a study that fails so leaves no folder behind.
+    small_cloth()
+    file(READ ${WORK}/g1/scene.json text)
+    string(REGEX REPLACE "\"width\": [0-9]+" "\"width\": 16384" text "${text}")
+    string(REGEX REPLACE "\"height\": [0-9]+" "\"height\": 16384" text "${text}")
+    file(WRITE ${WORK}/g1/big.json "${text}")
+    foreach(args "--spp 1 -o big.exr" "--study --study-spp 1 --reference-spp 1 --study-factors 2 --out st")
+      execute_process(COMMAND sh -c "ulimit -v 3000000 && exec ${WEFT} render g1/big.json ${args}"
+                      WORKING_DIRECTORY ${WORK} RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+      string(STRIP "${err}" err)
+      if(NOT rc EQUAL 1 OR NOT err MATCHES "^weft: error: a 16384x16384 film needs about .* over the memory budget"
+         OR err MATCHES "\n")
+        message(FATAL_ERROR "${args}: expected one line and exit 1, got rc=${rc}: ${err}")
+      endif()
+    endforeach()
+    if(EXISTS ${WORK}/st OR EXISTS ${WORK}/big.exr OR EXISTS ${WORK}/big.png)
+      message(FATAL_ERROR "a failed render or study left output behind")
+    endif()
   elseif(CASE STREQUAL "model_scenes")
     # The example scenes of docs/render.md §5d: the fine grid, the local fields of `weft fit --block` and a
     # homogeneous slab per predicted law of `weft validate --scenes`, each rendered as written.
@@ -243,7 +288,8 @@ add_test(NAME cli.render.time_budget COMMAND weft render furnace --spp 1000000 -
 set_tests_properties(cli.render.time_budget PROPERTIES LABELS "cli;render" TIMEOUT 120
                      PASS_REGULAR_EXPRESSION "64x64 at [0-9]+ spp")
 
-foreach(case bad_input threads round_trip convergence fibres local_gamma default_cloth gen_scene model_scenes)
+foreach(case bad_input threads round_trip convergence fibres local_gamma default_cloth gen_scene model_scenes
+             relative_scene_path film_budget)
   add_test(NAME cli.render.${case}
            COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DCASE=${case} -DWORK=${_render_work}/${case}
                    -DCHECK=$<TARGET_FILE:weft_cloth_image_check>

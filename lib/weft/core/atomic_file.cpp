@@ -3,6 +3,7 @@
 #include <atomic>
 #include <fstream>
 #include <system_error>
+#include <utility>
 
 #include <unistd.h>
 
@@ -54,6 +55,31 @@ void ensure_directory(const fs::path& dir) {
   if (fs::is_directory(dir, ec)) return;
   fs::create_directories(dir, ec);
   if (ec) fail("cannot create output folder '{}': {}", dir.string(), ec.message());
+}
+
+FolderRollback::FolderRollback(fs::path folder, bool active) : folder_(std::move(folder)), active_(active) {
+  if (!active_) return;
+  std::error_code ec;
+  for (fs::path p = fs::absolute(folder_, ec); !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
+    created_ = p;
+    if (p == p.parent_path()) break;
+  }
+  ensure_directory(folder_);
+  if (!created_.empty()) return;
+  for (const auto& entry : fs::directory_iterator(folder_, ec)) before_.insert(entry.path());
+}
+
+FolderRollback::~FolderRollback() {
+  if (!active_) return;
+  std::error_code ec;
+  if (!created_.empty()) {
+    fs::remove_all(created_, ec);
+    return;
+  }
+  std::set<fs::path> now;
+  for (const auto& entry : fs::directory_iterator(folder_, ec)) now.insert(entry.path());
+  for (const fs::path& p : now)
+    if (!before_.contains(p)) fs::remove_all(p, ec);
 }
 
 }  // namespace weft

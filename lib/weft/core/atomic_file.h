@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <set>
 #include <string_view>
 
 namespace weft {
@@ -21,5 +22,28 @@ void write_text_atomically(const std::filesystem::path& target, std::string_view
 
 /// @brief Creates `dir` (and parents) or throws a weft::Error naming it.
 void ensure_directory(const std::filesystem::path& dir);
+
+/// @brief The files a run writes into one folder appear whole or not at all, for a run of many
+/// files (each written atomically) that can fail between them.
+///
+/// Made before the run's first file: creates `folder` (and missing parents) and remembers what
+/// was there. Unless keep() is called, the destructor (a failed run unwinding) removes the
+/// folders it created with everything in them, or, in a folder that existed, the entries that
+/// were not there before. An inactive guard (an MPI rank that writes nothing) does nothing.
+class FolderRollback {
+ public:
+  explicit FolderRollback(std::filesystem::path folder, bool active = true);
+  ~FolderRollback();
+  FolderRollback(const FolderRollback&) = delete;
+  FolderRollback& operator=(const FolderRollback&) = delete;
+  /// The run succeeded: its files stay.
+  void keep() { active_ = false; }
+
+ private:
+  std::filesystem::path folder_;
+  std::filesystem::path created_;  ///< the outermost folder this guard created (empty: none)
+  std::set<std::filesystem::path> before_;
+  bool active_;
+};
 
 }  // namespace weft

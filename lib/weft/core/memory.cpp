@@ -1,15 +1,23 @@
 #include "weft/core/memory.h"
 
-#include <fmt/format.h>
+#include <sys/resource.h>
 #include <unistd.h>
+
+#include <algorithm>
+
+#include <fmt/format.h>
 
 namespace weft {
 
 std::uint64_t default_memory_budget() {
   const long pages = ::sysconf(_SC_PHYS_PAGES);
   const long page = ::sysconf(_SC_PAGE_SIZE);
-  if (pages <= 0 || page <= 0) return 4ULL << 30U;
-  return static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page) / 2U;
+  std::uint64_t usable =
+      pages <= 0 || page <= 0 ? 8ULL << 30U : static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page);
+  rlimit limit{};
+  if (::getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY)
+    usable = std::min<std::uint64_t>(usable, limit.rlim_cur);
+  return usable / 2U;
 }
 
 std::string format_bytes(std::uint64_t bytes) {

@@ -8,7 +8,9 @@
 
 namespace weft {
 
-/// Half the physical RAM (the default budget of every guard; 4 GiB when it cannot be read).
+/// Half the memory the process may use (the default budget of every guard): half the physical RAM
+/// (4 GiB when it cannot be read), or half the address-space limit (`ulimit -v`) when that is
+/// smaller, since an allocation past the limit fails however much RAM there is.
 std::uint64_t default_memory_budget();
 
 /// A byte count for a message, in the unit that keeps it readable ("812 bytes", "3.4 KiB",

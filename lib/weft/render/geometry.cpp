@@ -191,6 +191,13 @@ Geometry::Geometry(const SceneDesc& scene, const std::map<std::string, int>& mat
           s.curve_segments = add_curves(impl_->device, impl_->scene, d, id, lo, hi);
           break;
       }
+      // Embree stores coordinates as floats: a shape that leaves float's range once scaled and
+      // translated (a mesh "scale" of 1e300) would be inf there and silently vanish from the
+      // image, so it is an error like a non-finite coordinate in the file (docs/scene-format.md).
+      const double reach = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
+      if (!(reach <= std::numeric_limits<float>::max()))
+        fail("coordinates reach {:.3g}, beyond the float range of the ray tracer ({:.3g})", reach,
+             static_cast<double>(std::numeric_limits<float>::max()));
       s.lo = lo;
       s.hi = hi;
       lo = lo.cwiseMin(lo_before);

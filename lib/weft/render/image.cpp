@@ -42,10 +42,25 @@ std::vector<unsigned char> srgb8_pixels(const Image& image, double exposure) {
   return rgb;
 }
 
+/// An EXR holds finite values only (as weft.write_exr refuses non-finite arrays): the float mean of
+/// finite double samples overflows to inf past 3.4e38, and an inf pixel written silently reads as
+/// a broken render. Refused before any file is made, with the count.
+void check_finite(const std::filesystem::path& path, const Image& image) {
+  std::size_t bad = 0;
+  for (std::size_t p = 0; p + 2 < image.rgb.size(); p += 3)
+    if (!std::isfinite(image.rgb[p]) || !std::isfinite(image.rgb[p + 1]) || !std::isfinite(image.rgb[p + 2])) ++bad;
+  if (bad > 0)
+    fail(
+        "cannot write EXR '{}': {} of {} pixels are not finite (a value beyond the float range, 3.4e38: lights or "
+        "emission too strong); nothing written",
+        path.string(), bad, image.rgb.size() / 3);
+}
+
 }  // namespace
 
 void write_exr(const std::filesystem::path& path, const Image& image) {
   if (image.width <= 0 || image.height <= 0) fail("cannot write empty image to '{}'", path.string());
+  check_finite(path, image);
   write_atomically(path, [&](const std::filesystem::path& tmp) {
     try {
       Imf::Header header(image.width, image.height);
@@ -129,6 +144,7 @@ void write_png(const std::filesystem::path& path, const Image& image, double exp
 
 void write_exr_and_png(const std::filesystem::path& exr, const std::filesystem::path& png, const Image& image,
                        double exposure) {
+  check_finite(exr, image);  // both files or neither
   // The sRGB codes first, on every thread (a pow per value: as long as the PNG's compression),
   // then the two files side by side.
   const std::vector<unsigned char> rgb = srgb8_pixels(image, exposure);

@@ -21,7 +21,8 @@ struct Image {
   }
 };
 
-/// Writes a linear 32-bit float RGB OpenEXR file, atomically.
+/// Writes a linear 32-bit float RGB OpenEXR file, atomically. Throws weft::Error, writing nothing,
+/// when a pixel is not finite (the count in the message: docs/render.md "Image files").
 void write_exr(const std::filesystem::path& path, const Image& image);
 /// Reads an RGB(A) OpenEXR file (variance left empty). Throws weft::Error naming the file.
 [[nodiscard]] Image read_exr(const std::filesystem::path& path);

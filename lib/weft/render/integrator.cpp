@@ -69,7 +69,7 @@ template <bool kMedia, bool kNonExp>
 Rgb Integrator<kMedia, kNonExp>::li(Vec3 o, Vec3 d, Pcg32& rng, PathCounters& counters) const {
   Rgb radiance(0, 0, 0);
   Rgb beta(1, 1, 1);
-  int medium = -1;  // the camera sits in vacuum
+  int medium = w_.camera_medium;  // found once from the boundaries around the camera (world.cpp)
   Origin origin = Origin::source;
   bool specular = true;  // the previous direction was not sampled by a density (camera, mirror, glass)
   double prev_pdf = 0.0;

@@ -42,6 +42,10 @@ TransmittancePair make_medium_pair(const MediumDesc& desc, const std::string& wh
     const transmittance::LawPtr given = transmittance::make_law(desc.law);
     switch (desc.mode) {
       case PairMode::reciprocal:
+        // An exponential law is its own reciprocal partner (T_S = p_Q/p_Q(0) = e^{−μt}), μ = 0
+        // (a vacuum, T ≡ 1, the limit μ → 0 of the pair) included, where p_Q ≡ 0 leaves the
+        // quotient undefined and the general construction refuses it.
+        if (exponential_rate(*given)) return TransmittancePair::same(given);
         return TransmittancePair::reciprocal(given, desc.given);
       case PairMode::same:
         return TransmittancePair::same(given);
@@ -109,6 +113,7 @@ MediumTraits ExponentialMedium::traits() const {
   t.law = "exponential";
   t.estimator = "closed-form flights";
   t.exponential = true;
+  t.empty = mu_ == 0.0;
   return t;
 }
 
@@ -386,7 +391,8 @@ std::shared_ptr<const Medium> make_medium(const MediumDesc& desc, const std::str
     if (g->active_voxel_count() == 0) fail("{}: grid '{}' in '{}' is empty", where, g->name(), desc.file);
     return g;
   };
-  const double scale = desc.concentration ? desc.sigma : 1.0;
+  // μ = 0 is a vacuum for any tracking: the zero scale says so to the medium (MediumTraits::empty).
+  const double scale = mu && *mu == 0.0 ? 0.0 : desc.concentration ? desc.sigma : 1.0;
   if (!desc.axis_grids.empty()) {
     if (!mu) fail("{}: 'axis_grids' (a direction-dependent extinction) needs an exponential law", where);
     std::array<std::shared_ptr<const volume::Grid>, 3> axes;

@@ -9,6 +9,7 @@
 #include <tbb/enumerable_thread_specific.h>
 
 #include "weft/core/error.h"
+#include "weft/core/memory.h"
 #include "weft/dist/distributed.h"
 #include "weft/render/camera.h"
 #include "weft/render/integrator.h"
@@ -166,6 +167,13 @@ Image make_image(int width, int height, int n, const std::vector<double>& sum, c
 
 }  // namespace
 
+std::uint64_t film_bytes(int width, int height) {
+  constexpr std::uint64_t kSums = std::uint64_t{2} * 3 * sizeof(double);       // samples and squares
+  constexpr std::uint64_t kImages = std::uint64_t{2} * 2 * 3 * sizeof(float);  // returned + a pass's
+  constexpr std::uint64_t kPerPixel = kSums + kImages + std::uint64_t{2} * 3;  // + 8-bit codes, PNG copy
+  return static_cast<std::uint64_t>(std::max(width, 0)) * static_cast<std::uint64_t>(std::max(height, 0)) * kPerPixel;
+}
+
 RenderResult render(const SceneDesc& scene, const RenderOptions& options, ProgressSink& progress) {
   return render(build_world(scene), options, progress);
 }
@@ -178,6 +186,13 @@ RenderResult render(const World& world, const RenderOptions& options, ProgressSi
   const std::uint64_t seed = options.seed.value_or(world.settings.seed);
   if (options.time_budget_seconds < 0.0 || !std::isfinite(options.time_budget_seconds))
     fail("time budget must be finite and >= 0, got {}", options.time_budget_seconds);
+
+  // The same rule as every "estimate before spending" guard (core/memory.h): a film the budget
+  // cannot hold is one line, not std::bad_alloc half-way through.
+  const std::uint64_t budget = default_memory_budget();
+  if (film_bytes(camera.width, camera.height) > budget)
+    fail("a {}x{} film needs about {} (sample sums and images), over the memory budget of {}: render a smaller film",
+         camera.width, camera.height, format_bytes(film_bytes(camera.width, camera.height)), format_bytes(budget));
 
   RenderResult result;
   result.stats.features = world.features;

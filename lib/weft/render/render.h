@@ -51,8 +51,15 @@ struct RenderResult {
   RenderStats stats;
 };
 
+/// @brief Bytes a render of a `width` × `height` film holds at once, per pixel: the running sums
+/// of the samples and of their squares (3 doubles each), the image it returns and the image a
+/// pass hands to `on_pass` (3 floats of mean and 3 of variance each), and the 8-bit codes and the
+/// PNG writer's copy of them (3 bytes each).
+[[nodiscard]] std::uint64_t film_bytes(int width, int height);
+
 /// @brief Renders a built world. Deterministic for a given seed and spp whatever the thread
-/// count. Callers that render one scene several times (studies, convergence runs) build the
+/// count. A film whose film_bytes exceed the memory budget (core/memory.h) is refused before
+/// anything is allocated. Callers that render one scene several times (studies, convergence runs) build the
 /// world once and render it each time.
 [[nodiscard]] RenderResult render(const World& world, const RenderOptions& options = {},
                                   ProgressSink& progress = null_progress());

@@ -51,6 +51,19 @@ std::string join(const std::vector<std::string>& names) {
   return out;
 }
 
+/// A file a scene names, resolved once for every kind (docs/scene-format.md): a relative name is
+/// relative to the scene file's folder. The description keeps it absolute, so it names the same
+/// file whatever the working folder, scene_to_json writes a scene that loads wherever it is
+/// saved, and re-reading a written scene against the same folder (the image study's candidates)
+/// does not join the folder twice. A missing file is named as the scene's folder joins it.
+std::string resolve_file(const std::string& name, const std::filesystem::path& base_dir, const std::string& where,
+                         const char* what) {
+  std::filesystem::path p(name);
+  if (p.is_relative()) p = base_dir / p;
+  if (what != nullptr && !std::filesystem::exists(p)) fail("{}: {} '{}' does not exist", where, what, p.string());
+  return std::filesystem::absolute(p).lexically_normal().string();
+}
+
 /// A JSON object being read: every key must be consumed or named as allowed, so a misspelt
 /// key is an error with a suggestion instead of being silently ignored.
 class Reader {
@@ -216,10 +229,7 @@ MediumDesc parse_medium(const json& j, const std::string& where, const std::file
     // mode or given keys, so those are unknown keys here.
     m.file = r.string("fields", "");
     if (m.file.empty()) fail("{}: missing required key 'fields' (the .vdb written by `weft fit --block`)", where);
-    std::filesystem::path p(m.file);
-    if (p.is_relative()) p = base_dir / p;
-    if (!std::filesystem::exists(p)) fail("{}: fields file '{}' does not exist", where, p.string());
-    m.file = p.string();
+    m.file = resolve_file(m.file, base_dir, where, "fields file");
     m.sigma = r.positive("sigma", m.sigma);
     m.memory = parse_choice(
         where, "memory rule",
@@ -236,10 +246,7 @@ MediumDesc parse_medium(const json& j, const std::string& where, const std::file
   if (m.kind == MediumKind::grid) {
     m.file = r.string("file", "");
     if (m.file.empty()) fail("{}: missing required key 'file'", where);
-    std::filesystem::path p(m.file);
-    if (p.is_relative()) p = base_dir / p;
-    if (!std::filesystem::exists(p)) fail("{}: grid file '{}' does not exist", where, p.string());
-    m.file = p.string();
+    m.file = resolve_file(m.file, base_dir, where, "grid file");
     m.grid_name = r.string("grid", "");
     if (r.has("axis_grids")) {
       const json& v = r.at("axis_grids");
@@ -263,14 +270,14 @@ MediumDesc parse_medium(const json& j, const std::string& where, const std::file
   } else {
     m.law = transmittance::law_from_json(r.at("law"), where + ".law");
   }
-  if (!m.law.table.empty() && std::filesystem::path(m.law.table).is_relative())
-    m.law.table = (base_dir / m.law.table).string();
+  // Tables are checked by the law that reads them (make_medium_pair below).
+  if (!m.law.table.empty()) m.law.table = resolve_file(m.law.table, base_dir, where, nullptr);
   m.mode = parse_choice(where, "mode", r.string("mode", "reciprocal"), kModes);
   m.given = parse_choice(where, "origin", r.string("given", "source"), kOrigins);
   if (m.mode == transmittance::PairMode::explicit_) {
     m.scatterer_law = transmittance::law_from_json(r.at("scatterer_law"), where + ".scatterer_law");
-    if (!m.scatterer_law.table.empty() && std::filesystem::path(m.scatterer_law.table).is_relative())
-      m.scatterer_law.table = (base_dir / m.scatterer_law.table).string();
+    if (!m.scatterer_law.table.empty())
+      m.scatterer_law.table = resolve_file(m.scatterer_law.table, base_dir, where, nullptr);
   }
   m.albedo = r.rgb("albedo", m.albedo);
   if ((m.albedo > 1.0).any()) fail("{}: 'albedo' must be <= 1", where);
@@ -302,13 +309,9 @@ ShapeDesc parse_shape(const json& j, const std::string& where, const SceneDesc& 
       break;
     case ShapeKind::mesh:
     case ShapeKind::curves: {
-      const char* what = s.kind == ShapeKind::mesh ? "mesh" : "curve";
       s.file = r.string("file", "");
       if (s.file.empty()) fail("{}: missing required key 'file'", where);
-      std::filesystem::path p(s.file);
-      if (p.is_relative()) p = scene.base_dir / p;
-      if (!std::filesystem::exists(p)) fail("{}: {} file '{}' does not exist", where, what, p.string());
-      s.file = p.string();
+      s.file = resolve_file(s.file, scene.base_dir, where, s.kind == ShapeKind::mesh ? "mesh file" : "curve file");
       if (s.kind == ShapeKind::curves) {
         // Fibre radius in the file's units (scaled with the points); BCC files carry no radii.
         (void)r.at("radius");
@@ -370,10 +373,7 @@ LightDesc parse_light(const json& j, const std::string& where, const std::filesy
         if (r.has("radiance")) fail("{}: give 'radiance' (constant) or 'image' (with 'scale'), not both", where);
         l.image = r.string("image", "");
         if (l.image.empty()) fail("{}: 'image' must name an EXR file", where);
-        std::filesystem::path p(l.image);
-        if (p.is_relative()) p = base_dir / p;
-        if (!std::filesystem::exists(p)) fail("{}: environment image '{}' does not exist", where, p.string());
-        l.image = p.string();
+        l.image = resolve_file(l.image, base_dir, where, "environment image");
         l.scale = r.non_negative("scale", l.scale);
       } else {
         l.intensity = r.rgb("radiance", l.intensity);

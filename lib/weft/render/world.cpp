@@ -1,7 +1,12 @@
 #include "weft/render/world.h"
 
+#include <limits>
 #include <map>
+#include <optional>
 #include <string>
+#include <utility>
+
+#include <fmt/format.h>
 
 #include "weft/core/error.h"
 
@@ -35,6 +40,63 @@ Features features_of(const SceneDesc& scene, const World& w) {
   return f;
 }
 
+/// What a probe from the camera found: the medium and the boundary that decided it (-1: none).
+struct Probe {
+  int medium = -1;
+  int shape = -1;
+  bool inside = false;
+};
+
+/// Follows a ray from `o` along `d` to the first surface that changes a path's medium (a null or
+/// a dielectric material: integrator.cpp switches the medium there and nowhere else; opaque
+/// surfaces and emitters are passed): reached from inside (its back face) the camera is in that
+/// shape's interior, from outside in its exterior; no such surface: vacuum.
+Probe probe_medium(const World& w, Vec3 o, const Vec3& d) {
+  constexpr int kMaxSurfaces = 100000;  // a ray that keeps hitting opaque surfaces gives up: vacuum
+  for (int i = 0; i < kMaxSurfaces; ++i) {
+    const std::optional<SurfaceHit> hit = w.geometry->intersect(o, d, 0.0, std::numeric_limits<double>::infinity());
+    if (!hit) return {};
+    const ShapeInfo& s = w.geometry->shapes()[static_cast<std::size_t>(hit->shape)];
+    const bool boundary =
+        s.null_material ||
+        (s.material >= 0 && w.materials[static_cast<std::size_t>(s.material)].kind == MaterialKind::dielectric);
+    const bool inside = hit->n.dot(d) > 0.0;
+    if (boundary) return {inside ? s.interior : s.exterior, hit->shape, inside};
+    o = hit->p + w.eps * (w.extent + hit->p.cwiseAbs().maxCoeff()) * d;  // past it, as integrator.cpp's offset
+  }
+  return {};
+}
+
+/// The camera's medium (docs/scene-format.md "The camera's medium"): probes from the camera
+/// position along the view direction and the six axis directions. A probe that meets no boundary
+/// says nothing (the medium on its way to infinity is whatever the camera is in); those that meet
+/// one must agree, else the boundaries around the camera are open or contradict each other and
+/// no medium is right: an error naming what two probes found, never a silent guess.
+int camera_medium(const SceneDesc& scene, const World& w) {
+  const Vec3 view = (scene.camera.look_at - scene.camera.position).normalized();
+  const std::pair<const char*, Vec3> directions[] = {
+      {"the view direction", view}, {"+x", Vec3::UnitX()}, {"-x", -Vec3::UnitX()}, {"+y", Vec3::UnitY()},
+      {"-y", -Vec3::UnitY()},       {"+z", Vec3::UnitZ()}, {"-z", -Vec3::UnitZ()}};
+  const auto said = [&](const char* name, const Probe& p) {
+    const std::string medium =
+        p.medium < 0 ? "vacuum" : "medium '" + w.medium_names[static_cast<std::size_t>(p.medium)] + "'";
+    return fmt::format("a ray along {} meets shapes[{}] from {} ({})", name, p.shape, p.inside ? "inside" : "outside",
+                       medium);
+  };
+  std::optional<std::pair<const char*, Probe>> decided;
+  for (const auto& [name, d] : directions) {
+    const Probe p = probe_medium(w, scene.camera.position, d);
+    if (p.shape < 0) continue;
+    if (!decided) {
+      decided.emplace(name, p);
+    } else if (p.medium != decided->second.medium) {
+      fail("{}: camera: its medium is ambiguous: {}, {}; close the boundaries around the camera or move it",
+           scene.source, said(decided->first, decided->second), said(name, p));
+    }
+  }
+  return decided ? decided->second.medium : -1;
+}
+
 }  // namespace
 
 std::shared_ptr<const Medium> build_medium(const SceneDesc& scene, const std::string& name) {
@@ -63,6 +125,7 @@ World build_world(const SceneDesc& scene) {
   w.extent = w.geometry->extent();
   w.lights = build_lights(scene, *w.geometry);
   w.features = features_of(scene, w);
+  if (w.features.media) w.camera_medium = camera_medium(scene, w);
   return w;
 }
 

@@ -31,13 +31,17 @@ struct World {
   LightSet lights;
   Features features;  ///< what the scene uses (the integrator specialises on it)
   bool any_null = false;
+  /// The medium camera paths start in (-1: vacuum), found from the scene's boundaries
+  /// (docs/scene-format.md "The camera's medium").
+  int camera_medium = -1;
   double eps = 1e-5;  ///< ray offsets, relative to coordinates and scene size (float hit points)
   double extent = 1.0;
 };
 
 /// Reads every file `scene` names and builds its media, geometry and lights. Throws weft::Error
 /// naming the scene's source and the key (e.g. "scene.json: media.cloth: …",
-/// "scene.json: shapes[2]: …") for what cannot be built.
+/// "scene.json: shapes[2]: …") for what cannot be built, and for a camera whose medium the
+/// boundaries do not decide (probes from it disagree).
 [[nodiscard]] World build_world(const SceneDesc& scene);
 
 /// The media of `scene` alone, built (in name order): for callers that ask a medium about itself

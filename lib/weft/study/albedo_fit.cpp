@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 #include "weft/dist/distributed.h"
 #include "weft/render/render.h"
@@ -80,7 +81,7 @@ std::vector<AlbedoFit> fit_albedo(const SceneDesc& scene, const StudySpec& spec,
   const render::MediumDesc& fine_desc = scene.media.at(medium);
   const volume::Grid fine = volume::Grid::load(fine_desc.file, fine_desc.grid_name);
   const bool root = dist::is_root();
-  if (root) fs::create_directories(spec.work_dir);
+  FolderRollback outputs(spec.work_dir, root);  // a failed fit leaves no coarse grid behind
 
   const auto say = [&](const std::string& line) {
     if (spec.log) spec.log(line);
@@ -167,6 +168,7 @@ std::vector<AlbedoFit> fit_albedo(const SceneDesc& scene, const StudySpec& spec,
     }
     fits.push_back(fit);
   }
+  outputs.keep();
   return fits;
 }
 

@@ -160,7 +160,9 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
     fail("--study: {} (weft render: --study-window)", e.what());
   }
   const bool root = dist::is_root();
-  if (root) fs::create_directories(spec.work_dir);
+  // A study that fails leaves no half of its grids, fields and scenes behind (they are not
+  // resumable: each run writes them afresh).
+  FolderRollback outputs(spec.work_dir, root);
 
   StudyResult result;
   result.sigma = target.sigma_stats;
@@ -489,6 +491,7 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
       c.components = component_biases(a.image, b.image, reference, ca, cb, reference_components, result.cloth_mask);
   }
   for (Plan& p : plans) result.candidates.push_back(std::move(p.c));
+  outputs.keep();
   if (!root) return result;
 
   judge_study(result);

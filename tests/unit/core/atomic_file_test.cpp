@@ -67,3 +67,27 @@ TEST(AtomicFile, TemporaryKeepsExtension) {
 }
 
 }  // namespace
+
+namespace {
+
+// A run of many files that fails half-way leaves none of them: a folder the guard made goes
+// with everything in it, and in a folder that was there only what the run added goes.
+TEST(FolderRollback, FailedRunLeavesNoHalfOutput) {
+  const auto dir = fresh_dir("rollback");
+  std::ofstream(dir / "kept.txt") << "before";
+  const auto run = [&](const fs::path& folder, bool succeed) {
+    weft::FolderRollback outputs(folder);
+    weft::write_text_atomically(folder / "grid.txt", "one file of the run");
+    if (succeed) outputs.keep();
+  };
+  run(dir / "new" / "study", false);
+  EXPECT_FALSE(fs::exists(dir / "new"));  // both levels were made by the run
+  run(dir, false);
+  EXPECT_TRUE(fs::exists(dir / "kept.txt"));
+  EXPECT_FALSE(fs::exists(dir / "grid.txt"));
+  run(dir / "new" / "study", true);
+  EXPECT_TRUE(fs::exists(dir / "new" / "study" / "grid.txt"));
+  fs::remove_all(dir);
+}
+
+}  // namespace

@@ -1,9 +1,11 @@
 // The path tracer against answers known in closed form (white furnaces, absorbing slabs, a point
 // light over a plane), two estimators of one answer, and reproducibility. Tolerances are 5
 // standard errors of the rendered estimate (per-pixel sample variances), plus float rounding.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <string>
@@ -11,6 +13,7 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
@@ -18,6 +21,7 @@
 #include "weft/render/mesh.h"
 #include "weft/render/render.h"
 #include "weft/render/scene.h"
+#include "weft/render/scene_checks.h"
 #include "weft/volume/grid.h"
 
 namespace weft::render {
@@ -581,6 +585,91 @@ TEST(DeadPaths, ZeroThroughputEndsThePathAtOnce) {
     // max_depth's 100000 events.
     EXPECT_LE(a.stats.rays, 4 * a.stats.paths) << medium;
   }
+}
+
+std::string ink_sphere_scene(const std::string& camera, const std::string& side, double mu) {
+  return fmt::format(R"({{
+    "camera": {{{}, "fov": 60, "width": 16, "height": 16}},
+    "integrator": {{"spp": 64, "seed": 5}},
+    "materials": {{"b": {{"type": "null"}}}},
+    "media": {{"ink": {{"law": {{"name": "exponential", "mu": {}}}, "albedo": 0}}}},
+    "shapes": [{{"type": "sphere", "radius": 1, "material": "b", "{}": "ink"}}],
+    "lights": [{{"type": "environment", "radiance": 1}}]
+  }})",
+                     camera, mu, side);
+}
+
+// A camera inside a medium starts its paths in it (docs/scene-format.md "The camera's medium"):
+// at the centre of an absorbing sphere every pixel is e^{-μ} (the radius is 1 in every direction).
+TEST(CameraMedium, CameraInsideASphereSeesThroughItsMedium) {
+  const double mu = 2.0;
+  const RenderResult r =
+      render(scene_from(ink_sphere_scene(R"("position": [0, 0, 0], "look_at": [0, 0, -1])", "interior", mu)));
+  const Estimate e = region_mean(r.image, 0, 0, r.image.width, r.image.height);
+  EXPECT_NEAR(e.mean, std::exp(-mu), 5.0 * e.stderr_ + kFloat);
+}
+
+// Outside a sphere whose exterior is an absorbing medium the camera is in that medium, which
+// fills all space but the sphere: no path reaches the environment.
+TEST(CameraMedium, CameraInAnExteriorMediumSeesNothing) {
+  const RenderResult r =
+      render(scene_from(ink_sphere_scene(R"("position": [0, 0, 3], "look_at": [0, 0, 0])", "exterior", 0.5)));
+  EXPECT_EQ(*std::max_element(r.image.rgb.begin(), r.image.rgb.end()), 0.0F);
+}
+
+// Boundaries that contradict each other around the camera are an error, not a guess: inside the
+// fog sphere but in front of a smaller sphere whose exterior is vacuum.
+TEST(CameraMedium, ContradictoryBoundariesAreAnError) {
+  const SceneDesc s = scene_from(R"({
+    "camera": {"position": [0, 0, 0], "look_at": [0, 0, -1], "width": 4, "height": 4},
+    "materials": {"b": {"type": "null"}},
+    "media": {"fog": {"law": {"name": "exponential", "mu": 1}}, "ink": {"law": {"name": "exponential", "mu": 1}}},
+    "shapes": [{"type": "sphere", "radius": 3, "material": "b", "interior": "fog"},
+               {"type": "sphere", "center": [0, 0, -1.5], "radius": 0.5, "material": "b", "interior": "ink"}],
+    "lights": [{"type": "environment", "radiance": 1}]})");
+  try {
+    (void)build_world(s);
+    FAIL() << "the camera's medium is ambiguous";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("camera: its medium is ambiguous"), std::string::npos) << what;
+    EXPECT_NE(what.find("medium 'fog'"), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+}
+
+// μ = 0 is a vacuum in every pair mode (docs/scene-format.md "Warnings"): it renders as one and
+// says so. An exponential law is its own reciprocal partner, μ = 0 included.
+TEST(ZeroExtinction, IsAVacuumWithAWarningInEveryMode) {
+  for (const std::string mode : {"reciprocal", "same"}) {
+    std::string text = furnace_scene(R"({"name": "exponential", "mu": 0})", mode, "source", 4);
+    const World w = build_world(scene_from(text));
+    EXPECT_EQ(world_warnings(w).size(), 1U) << mode;
+    const RenderResult r = render(w);
+    for (const float v : r.image.rgb) EXPECT_EQ(v, 1.0F) << mode;
+  }
+}
+
+// An EXR holds finite pixels only: a mean beyond float's range is refused with its count, and
+// neither file is written.
+TEST(ImageFiles, NonFinitePixelsAreRefused) {
+  Image im;
+  im.width = 2;
+  im.height = 1;
+  im.spp = 1;
+  im.rgb = {1.0F, 1.0F, 1.0F, std::numeric_limits<float>::infinity(), 0.0F, 0.0F};
+  const std::filesystem::path exr = std::filesystem::temp_directory_path() / fmt::format("weft-inf-{}.exr", ::getpid());
+  std::filesystem::path png = exr;
+  png.replace_extension(".png");
+  try {
+    write_exr_and_png(exr, png, im, 1.0);
+    FAIL() << "an inf pixel must be refused";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("1 of 2 pixels are not finite"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(exr));
+  EXPECT_FALSE(std::filesystem::exists(png));
+  EXPECT_THROW(write_exr(exr, im), Error);
 }
 
 }  // namespace

@@ -3,13 +3,16 @@
 #include <fstream>
 #include <string>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include "weft/core/error.h"
 #include "weft/render/builtin_scenes.h"
 #include "weft/render/cloth_scene.h"
 #include "weft/render/mesh.h"
 #include "weft/render/scene.h"
+#include "weft/render/world.h"
 #include "weft/volume/grid.h"
 #include "weft/volume/provenance.h"
 
@@ -119,6 +122,41 @@ TEST(SceneFile, RoundTripsThroughJson) {
     EXPECT_EQ(scene_to_json(b), once) << name;
     EXPECT_EQ(a.shapes.size(), b.shapes.size());
     EXPECT_EQ(a.media.size(), b.media.size());
+  }
+}
+
+// A relative file name is relative to the scene file's folder, resolved once: the written scene
+// loads again against the same folder (the image study re-reads its target this way) and from
+// a file saved anywhere, whatever the working folder (docs/scene-format.md).
+TEST(SceneFile, RelativeFilesResolveOnceAgainstTheSceneFolder) {
+  const fs::path root = fs::temp_directory_path() / fmt::format("weft-scene-paths-{}", ::getpid());
+  fs::remove_all(root);
+  fs::create_directories(root / "scene_dir");
+  std::ofstream(root / "scene_dir" / "tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  const std::string text =
+      R"({"materials": {"w": {}}, "shapes": [{"type": "mesh", "file": "tri.obj", "material": "w"}]})";
+  const fs::path cwd = fs::current_path();
+  fs::current_path(root);  // the scene folder as a relative path, as `weft render scene_dir/scene.json`
+  const SceneDesc a = parse_scene(text, "scene_dir/scene.json", "scene_dir");
+  const std::string written = scene_to_json(a);
+  const SceneDesc again = parse_scene(written, "again", "scene_dir");
+  fs::current_path(cwd);
+  const SceneDesc elsewhere = parse_scene(written, "saved elsewhere", fs::temp_directory_path());
+  EXPECT_TRUE(fs::equivalent(a.shapes[0].file, root / "scene_dir" / "tri.obj")) << a.shapes[0].file;
+  EXPECT_EQ(again.shapes[0].file, a.shapes[0].file);
+  EXPECT_EQ(elsewhere.shapes[0].file, a.shapes[0].file);
+  fs::remove_all(root);
+}
+
+// Embree stores floats: a shape scaled out of float's range would silently vanish from the image.
+TEST(SceneFile, CoordinatesBeyondFloatRangeAreAnError) {
+  const SceneDesc s = parse_scene(
+      R"({"materials": {"w": {}}, "shapes": [{"type": "sphere", "radius": 1e300, "material": "w"}]})", "big.json", ".");
+  try {
+    (void)build_world(s);
+    FAIL() << "a sphere of radius 1e300 must be refused";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("big.json: shapes[0]: coordinates reach"), std::string::npos) << e.what();
   }
 }
 
