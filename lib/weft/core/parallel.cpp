@@ -1,5 +1,7 @@
 #include "weft/core/parallel.h"
 
+#include <algorithm>
+
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 #include <tbb/parallel_for.h>
@@ -25,5 +27,10 @@ ThreadLimit::ThreadLimit(unsigned threads) : impl_(std::make_unique<Impl>()) {
 ThreadLimit::~ThreadLimit() = default;
 
 unsigned default_thread_count() { return static_cast<unsigned>(tbb::info::default_concurrency()); }
+
+unsigned thread_count() {
+  const std::size_t allowed = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
+  return static_cast<unsigned>(std::min<std::size_t>(allowed, default_thread_count()));
+}
 
 }  // namespace weft

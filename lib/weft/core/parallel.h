@@ -31,4 +31,8 @@ class ThreadLimit {
 /// @brief Number of hardware threads TBB will use by default.
 unsigned default_thread_count();
 
+/// @brief Number of threads parallel_units may run at once now: default_thread_count() within
+/// the innermost live ThreadLimit (what per-thread scratch memory is estimated for).
+unsigned thread_count();
+
 }  // namespace weft

@@ -67,7 +67,6 @@ volume::TransmittanceCurve measure_fibre_beam(const CapsuleIndex& fibres, const 
     Sums& sum = parts[shard];
     sum.s1.assign(K, 0.0);
     sum.s2.assign(K, 0.0);
-    std::vector<std::array<double, 2>> offsets;
     std::vector<Interval> hits;
     std::vector<std::uint64_t> blocked(K + 1, 0);  // opaque: rays whose first entry lies before depth k
     const std::size_t begin = shard * units / shards;
@@ -76,8 +75,9 @@ volume::TransmittanceCurve measure_fibre_beam(const CapsuleIndex& fibres, const 
       const auto ii = static_cast<std::int64_t>(i);
       for (std::int64_t j = 0; j < L.nb; ++j) {
         if (!L.keeps(ii, j)) continue;
-        L.offsets(ii, j, offsets);
-        for (const auto& off : offsets) {
+        volume::CellOffsets offsets = L.offsets(ii, j);
+        for (int r = 0; r < L.per_cell; ++r) {
+          const std::array<double, 2> off = offsets.next();
           const Point3 o = L.ray_origin(ii, j, off[0], off[1]);
           double t_in = 0.0;
           double t_out = L.depths.back();

@@ -5,12 +5,14 @@
 #include <sstream>
 
 #include "weft/core/error.h"
+#include "weft/core/parallel.h"
 #include "weft/core/parse_number.h"
 #include "weft/volume/beam_accumulate_impl.h"
 #include "weft/volume/beam_profiles_impl.h"
 #include "weft/volume/columns.h"
 #include "weft/volume/grid_openvdb.h"
 #include "weft/volume/lattice.h"
+#include "weft/volume/pass_budget.h"
 
 namespace weft::volume {
 namespace {
@@ -50,12 +52,52 @@ void check_spec(const Grid& grid, const BeamSpec& spec) {
   }
 }
 
+BeamMethod resolved(BeamMethod method, int axis) {
+  if (method != BeamMethod::automatic) return method;
+  return axis >= 0 ? BeamMethod::streaming : BeamMethod::per_ray;
+}
+
+BeamCost beam_cost(const Grid& grid, const BeamSpec& spec) {
+  const Lattice L = make_beam_lattice(active_world_box(grid), grid.voxel_size(), spec, false);
+  const auto K = static_cast<double>(L.depth_count);
+  const double workers = std::min<double>(kMaxShards, thread_count());
+  constexpr double kD = sizeof(double);
+  BeamCost c;
+  // Each shard's three sums per depth, their total, the depths and the curve (three per depth).
+  c.bytes = (3.0 * kMaxShards + 3.0 + 1.0 + 3.0) * K * kD;
+  if (resolved(spec.method, L.axis) == BeamMethod::streaming) {
+    const IndexBox box = grid.active_bbox();
+    const auto e = box.extent();
+    const auto depth = static_cast<double>(e[L.axis]);
+    const PassCost columns = column_pass_cost(box, L.axis);
+    c.rays = columns.steps / depth;
+    // Every column is read whole and profiled at every depth (stream_columns).
+    c.steps = c.rays * (depth + K);
+    // Per thread: a patch's 64 columns of floats, their 64 profiles and one column's boundaries.
+    c.bytes += columns.bytes + workers * (64.0 * depth * sizeof(float) + 64.0 * K * kD + (depth + 1.0) * kD);
+  } else {
+    const auto s = static_cast<double>(L.stride);
+    const double cells = std::ceil(static_cast<double>(L.na) / s) * std::ceil(static_cast<double>(L.nb) / s);
+    c.rays = cells * L.per_cell;
+    c.steps = c.rays * (L.cells_crossed() + K);
+    c.bytes += workers * K * kD;  // one profile per thread
+  }
+  return c;
+}
+
+/// The whole check of a beam request: its spec, then its cost against the budgets.
+void check_beam(const Grid& grid, const BeamSpec& spec, double extra_bytes = 0.0) {
+  check_spec(grid, spec);
+  BeamCost c = beam_cost(grid, spec);
+  const std::string what = fmt::format("beam {} ({:.4g} rays)", direction_label(spec.direction), c.rays);
+  check_pass_cost(what, grid, {c.steps, c.bytes + extra_bytes});
+}
+
 template <typename BlockConsumer, typename RayConsumer, typename SparseConsumer>
 void run_beam(const Grid& grid, const BeamSpec& spec, const Lattice& L, ProgressSink& progress,
               BlockConsumer&& consume_block, RayConsumer&& consume, SparseConsumer&& consume_sparse,
               std::string& method_name) {
-  BeamMethod method = spec.method;
-  if (method == BeamMethod::automatic) method = L.axis >= 0 ? BeamMethod::streaming : BeamMethod::per_ray;
+  const BeamMethod method = resolved(spec.method, L.axis);
   method_name = to_string(method);
   if (method == BeamMethod::streaming) {
     stream_columns(grid, L, spec.scale, progress, consume_block, consume_sparse);
@@ -130,12 +172,17 @@ int beam_axis(const std::array<double, 3>& d) {
 std::string direction_label(const std::array<double, 3>& d) {
   const int a = beam_axis(d);
   if (a >= 0) return fmt::format("{}{}", d[a] < 0.0 ? "-" : "+", "xyz"[a]);
-  const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-  return fmt::format("({:.4g}, {:.4g}, {:.4g})", d[0] / len, d[1] / len, d[2] / len);
+  const auto u = unit_direction(d, "beam");
+  return fmt::format("({:.4g}, {:.4g}, {:.4g})", u[0], u[1], u[2]);
+}
+
+BeamCost estimate_beam(const Grid& grid, const BeamSpec& spec) {
+  check_spec(grid, spec);
+  return beam_cost(grid, spec);
 }
 
 TransmittanceCurve measure_beam(const Grid& grid, const BeamSpec& spec, ProgressSink& progress) {
-  check_spec(grid, spec);
+  check_beam(grid, spec);
   const Lattice L = make_lattice(grid, spec);
   const std::size_t shards = kMaxShards;
   std::vector<LseAccumulator> parts(shards, LseAccumulator(L.depths.size()));
@@ -169,14 +216,18 @@ TransmittanceCurve measure_beam(const Grid& grid, const BeamSpec& spec, Progress
 
 BeamDepths beam_optical_depths(const Grid& grid, const BeamSpec& spec) {
   check_spec(grid, spec);
+  const BeamCost cost = beam_cost(grid, spec);
+  // Every ray's whole profile is returned (the rows of the rays that miss the box included).
+  if (cost.rays > 4'000'000) fail("beam optical depths: {:.4g} rays is too many to return", cost.rays);
+  const auto depths =
+      static_cast<double>(make_beam_lattice(active_world_box(grid), grid.voxel_size(), spec, false).depth_count);
+  check_beam(grid, spec, cost.rays * depths * sizeof(double));
   const Lattice L = make_lattice(grid, spec);
   BeamDepths out;
   out.depth = L.depths;
   const std::uint64_t count =
       static_cast<std::uint64_t>(L.na) * static_cast<std::uint64_t>(L.nb) *
-      static_cast<std::uint64_t>(
-          L.axis >= 0 && spec.method != BeamMethod::per_ray && spec.method != BeamMethod::openvdb_dda ? 1 : L.per_cell);
-  if (count > 4'000'000) fail("beam optical depths: {} rays is too many to return", count);
+      static_cast<std::uint64_t>(resolved(spec.method, L.axis) == BeamMethod::streaming ? 1 : L.per_cell);
   out.tau.assign(count, {});
   std::string method;
   const std::size_t K = L.depths.size();

@@ -75,8 +75,20 @@ struct TransmittanceCurve {
 /// "+x", "-z", or "(0.577, 0.577, 0.577)".
 [[nodiscard]] std::string direction_label(const std::array<double, 3>& direction);
 
+/// What measure_beam would spend on a beam, estimated from the grid's active box and the spec
+/// before anything is allocated (docs/robustness.md "Work and memory budgets").
+struct BeamCost {
+  double rays = 0.0;   ///< rays traced (an axis beam streamed: its columns)
+  double steps = 0.0;  ///< rays × (cells crossed + depths profiled), or columns × (box depth + depths)
+  double bytes = 0.0;  ///< the accumulators, the depth grid and every thread's scratch
+};
+/// Throws weft::Error for the bad specs measure_beam refuses.
+[[nodiscard]] BeamCost estimate_beam(const Grid& grid, const BeamSpec& spec);
+
 /// Measures T_gt(t) of the beam. Throws weft::Error for an empty grid, a bad spec (σ ≤ 0,
-/// rays_per_column < 1, zero direction) or streaming asked for a non-axis direction.
+/// rays_per_column < 1, zero direction), streaming asked for a non-axis direction, or a beam
+/// whose estimate_beam is over the budgets of check_pass_cost (pass_budget.h), before any work.
+/// Reports progress (and so can be stopped) after every ~10⁶ steps of work per thread.
 [[nodiscard]] TransmittanceCurve measure_beam(const Grid& grid, const BeamSpec& spec,
                                               ProgressSink& progress = null_progress());
 

@@ -33,6 +33,10 @@ namespace weft::volume::detail {
 
 using Lattice = BeamLattice;
 
+/// Work between two progress reports of a thread (~ms at ~10⁸–10⁹ steps/s): what bounds the
+/// time a stop request waits (docs/python.md "Interrupting a call").
+constexpr double kReportSteps = 1 << 20;
+
 /// Profiles from the streaming pass (axis beams): τ at voxel boundaries by prefix sums, then
 /// linear interpolation (exact: τ is linear inside a voxel) onto the depth grid; handed over
 /// one face patch at a time.
@@ -160,23 +164,41 @@ void trace_rays(const Grid& grid, const Lattice& L, double scale, bool use_openv
                 Consumer&& consume) {
   const auto units = static_cast<std::size_t>(L.na);
   const std::size_t shards = std::min(kMaxShards, units);
-  ProgressTask task(progress, "beam " + direction_label(L.d) + (use_openvdb ? " (openvdb dda)" : " (dda)"), units);
+  // Progress counts ray slots (every cell's per_cell rays, kept or not), reported after every
+  // `batch` of them: about kReportSteps of work, so a stop request (Ctrl-C acts at a report)
+  // is seen within milliseconds however many rays a row of cells holds.
+  const auto per_cell = static_cast<std::uint64_t>(L.per_cell);
+  const std::uint64_t slots = static_cast<std::uint64_t>(L.na) * static_cast<std::uint64_t>(L.nb) * per_cell;
+  const double ray_steps = L.cells_crossed() + static_cast<double>(L.depths.size());
+  const auto batch = static_cast<std::uint64_t>(std::max(1.0, std::floor(kReportSteps / ray_steps)));
+  ProgressTask task(progress, "beam " + direction_label(L.d) + (use_openvdb ? " (openvdb dda)" : " (dda)"), slots);
   const auto& vdb = *grid.impl().grid;
   parallel_units(shards, [&](std::size_t shard) {
     Tracer tracer(grid);
     auto acc = vdb.getConstAccessor();
     const detail::CellBox box = detail::active_cell_box(vdb);
     std::vector<double> tau(L.depths.size());
-    std::vector<std::array<double, 2>> offsets;
+    std::uint64_t pending = 0;  // ray slots not yet reported
+    const auto report = [&](std::uint64_t n) {
+      pending += n;
+      if (pending >= batch) {
+        task.step(pending);
+        pending = 0;
+      }
+    };
     const std::size_t begin = shard * units / shards;
     const std::size_t end = (shard + 1) * units / shards;
     for (std::size_t i = begin; i < end; ++i) {
       for (std::int64_t j = 0; j < L.nb; ++j) {
         const auto ii = static_cast<std::int64_t>(i);
-        if (!L.keeps(ii, j)) continue;
-        L.offsets(ii, j, offsets);
+        if (!L.keeps(ii, j)) {
+          report(per_cell);
+          continue;
+        }
+        CellOffsets offsets = L.offsets(ii, j);
         for (int r = 0; r < L.per_cell; ++r) {
-          const auto& off = offsets[static_cast<std::size_t>(r)];
+          report(1);
+          const std::array<double, 2> off = offsets.next();
           Ray ray{L.ray_origin(ii, j, off[0], off[1]), L.d};
           if (L.axis < 0) {
             const BoxHit hit = tracer.intersect_active_box(ray, 0.0);
@@ -213,8 +235,8 @@ void trace_rays(const Grid& grid, const Lattice& L, double scale, bool use_openv
           consume(shard, L.ray_index(ii, j, r), tau.data());
         }
       }
-      task.step();
     }
+    task.step(pending);
   });
 }
 

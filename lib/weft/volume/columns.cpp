@@ -5,6 +5,7 @@
 #include "weft/core/error.h"
 #include "weft/core/floor_div.h"
 #include "weft/volume/grid_openvdb.h"
+#include "weft/volume/pass_budget.h"
 
 namespace weft::volume {
 namespace {
@@ -59,6 +60,7 @@ ColumnReader::ColumnReader(const Grid& grid, int axis) : impl_(std::make_unique<
   m.base_v = floor_div(m.box.min[m.va], kPatch) * kPatch;
   m.tiles_u = floor_div(m.box.max[m.ua] - m.base_u, kPatch) + 1;
   m.tiles_v = floor_div(m.box.max[m.va] - m.base_v, kPatch) + 1;
+  check_pass_cost(fmt::format("the voxel columns along {}", "xyz"[axis]), grid, column_pass_cost(m.box, axis));
   m.leaves.resize(static_cast<std::size_t>(m.tiles_u * m.tiles_v));
   const auto& tree = m.grid->tree();
   for (auto it = tree.cbeginLeaf(); it; ++it) {
@@ -95,6 +97,19 @@ ColumnReader::ColumnReader(const Grid& grid, int axis) : impl_(std::make_unique<
 }
 
 ColumnReader::~ColumnReader() = default;
+
+PassCost column_pass_cost(const IndexBox& box, int axis) {
+  if (box.empty()) return {};
+  const auto e = box.extent();
+  const int ua = (axis + 1) % 3;
+  const int va = (axis + 2) % 3;
+  // Patches: a box edge of n voxels starts anywhere in a patch, so it meets at most n/8 + 2.
+  const double patches = (static_cast<double>(e[ua]) / kPatch + 2.0) * (static_cast<double>(e[va]) / kPatch + 2.0);
+  PassCost c;
+  c.steps = static_cast<double>(e[0]) * static_cast<double>(e[1]) * static_cast<double>(e[2]);
+  c.bytes = patches * static_cast<double>(sizeof(std::vector<const void*>) + sizeof(std::uint8_t));
+  return c;
+}
 
 int ColumnReader::axis() const { return impl_->axis; }
 IndexBox ColumnReader::box() const { return impl_->box; }

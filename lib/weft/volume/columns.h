@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "weft/volume/grid.h"
+#include "weft/volume/pass_budget.h"
 
 namespace weft::volume {
 
@@ -77,10 +78,17 @@ struct SparseColumns : PatchFrame {
   std::vector<float> value;
 };
 
+/// What a ColumnReader over `box` holds (its index: one list of leaves per face patch, the
+/// patches of the whole face, empty or not) and the voxels a pass over its columns reads (the
+/// box's, since `read` gives every column whole): what its constructor checks.
+[[nodiscard]] PassCost column_pass_cost(const IndexBox& box, int axis);
+
 /// Buckets the grid's leaves and active tiles by face patch once; `read` is then thread-safe.
 class ColumnReader {
  public:
-  /// Throws weft::Error for an axis outside 0..2. An empty grid has no tiles.
+  /// Throws weft::Error for an axis outside 0..2, and, naming the grid and the size, for a box
+  /// whose column_pass_cost is over the budgets of check_pass_cost (pass_budget.h): a sparse grid
+  /// with voxels far apart has a face of billions of patches. An empty grid has no tiles.
   ColumnReader(const Grid& grid, int axis);
   ~ColumnReader();
   ColumnReader(const ColumnReader&) = delete;

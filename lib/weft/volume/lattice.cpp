@@ -23,6 +23,38 @@ std::int64_t cells_over(double span, double h) {
   return std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(span / h - 1e-6)));
 }
 
+/// A general direction's frame: e1, e2 ⊥ d, the box's corners projected on them, the lattice
+/// origin one cell upstream, and the shortest chord (the depth grid's length).
+void oblique_frame(const WorldBox& box, BeamLattice& L) {
+  const Vec3& lo = box.lo;
+  const Vec3& hi = box.hi;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const Vec3 helper = std::abs(L.d[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  L.e1 = unit_direction(cross(L.d, helper), "beam");
+  L.e2 = cross(L.d, L.e1);
+  double amin = kInf;
+  double amax = -kInf;
+  double bmin = kInf;
+  double bmax = -kInf;
+  double cmin = kInf;
+  for (int c = 0; c < 8; ++c) {
+    const Vec3 p{(c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1], (c & 4) ? hi[2] : lo[2]};
+    amin = std::min(amin, dot(p, L.e1));
+    amax = std::max(amax, dot(p, L.e1));
+    bmin = std::min(bmin, dot(p, L.e2));
+    bmax = std::max(bmax, dot(p, L.e2));
+    cmin = std::min(cmin, dot(p, L.d));
+  }
+  const double upstream = cmin - L.h;
+  for (int a = 0; a < 3; ++a) L.origin[a] = amin * L.e1[a] + bmin * L.e2[a] + upstream * L.d[a];
+  L.na = static_cast<std::int64_t>(std::ceil((amax - amin) / L.h - 1e-9));
+  L.nb = static_cast<std::int64_t>(std::ceil((bmax - bmin) / L.h - 1e-9));
+  L.depth_length = kInf;
+  for (int a = 0; a < 3; ++a) {
+    if (L.d[a] != 0.0) L.depth_length = std::min(L.depth_length, (hi[a] - lo[a]) / std::abs(L.d[a]));
+  }
+}
+
 }  // namespace
 
 WorldBox active_world_box(const Grid& grid) {
@@ -39,18 +71,31 @@ WorldBox active_world_box(const Grid& grid) {
 }
 
 std::array<double, 3> unit_direction(const std::array<double, 3>& d, const char* what) {
+  double big = 0.0;
   for (double c : d) {
     if (!std::isfinite(c)) fail("{}: direction ({}, {}, {}) is not finite", what, d[0], d[1], d[2]);
+    big = std::max(big, std::abs(c));
   }
-  const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-  if (!(len > 0.0)) fail("{}: direction ({}, {}, {}) has no length", what, d[0], d[1], d[2]);
-  return {d[0] / len, d[1] / len, d[2] / len};
+  if (!(big > 0.0)) fail("{}: direction ({}, {}, {}) has no length", what, d[0], d[1], d[2]);
+  // Scaled by the largest component first: its squares neither overflow nor underflow.
+  const std::array<double, 3> s{d[0] / big, d[1] / big, d[2] / big};
+  const double len = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+  return {s[0] / len, s[1] / len, s[2] / len};
+}
+
+std::size_t beam_depth_count(double length, double step) {
+  // In double until it is known to fit: length/step overflows to ∞ for step = 1e-300, and the
+  // conversion of a double beyond size_t is undefined.
+  const double n = std::max(1.0, std::ceil(length / step - 1e-9)) + 1.0;
+  if (!(n <= kMaxBeamDepths)) {
+    fail("beam: depth grid of {:.4g} points (length {:.6g} / depth step {:.6g}) is too fine; the limit is {:.4g}", n,
+         length, step, kMaxBeamDepths);
+  }
+  return static_cast<std::size_t>(n);
 }
 
 std::vector<double> beam_depth_grid(double length, double step) {
-  const double n = std::ceil(length / step - 1e-9);
-  const auto count = static_cast<std::size_t>(std::max(1.0, n));
-  if (count > 50'000'000) fail("beam: depth grid of {} points is too fine", count);
+  const std::size_t count = beam_depth_count(length, step) - 1;
   std::vector<double> d(count + 1);
   for (std::size_t k = 0; k <= count; ++k) d[k] = std::min(static_cast<double>(k) * step, length);
   return d;
@@ -77,17 +122,11 @@ bool BeamLattice::keeps(std::int64_t i, std::int64_t j) const {
   return i - bi * s == pick / s && j - bj * s == pick % s;
 }
 
-void BeamLattice::offsets(std::int64_t i, std::int64_t j, std::vector<std::array<double, 2>>& out) const {
-  out.resize(static_cast<std::size_t>(per_cell));
-  Pcg32 rng =
-      stream_for(seed, static_cast<std::uint64_t>(i) * static_cast<std::uint64_t>(nb) + static_cast<std::uint64_t>(j));
-  for (auto& o : out) {
-    o[0] = jitter ? rng.uniform() : 0.5;
-    o[1] = jitter ? rng.uniform() : 0.5;
-  }
+CellOffsets BeamLattice::offsets(std::int64_t i, std::int64_t j) const {
+  return {seed, static_cast<std::uint64_t>(i) * static_cast<std::uint64_t>(nb) + static_cast<std::uint64_t>(j), jitter};
 }
 
-BeamLattice make_beam_lattice(const WorldBox& box, double h, const BeamSpec& spec) {
+BeamLattice make_beam_lattice(const WorldBox& box, double h, const BeamSpec& spec, bool with_depths) {
   require_positive("beam: cell width", h);
   BeamLattice L;
   L.d = unit_direction(spec.direction, "beam");
@@ -112,36 +151,13 @@ BeamLattice make_beam_lattice(const WorldBox& box, double h, const BeamSpec& spe
     if (L.d[a] < 0.0) L.origin[a] = hi[a];
     L.na = cells_over(hi[ua] - lo[ua], h);
     L.nb = cells_over(hi[va] - lo[va], h);
-    L.depths = beam_depth_grid(hi[a] - lo[a], step);
-    return L;
+    L.depth_length = hi[a] - lo[a];
+  } else {
+    oblique_frame(box, L);
   }
-  // A general direction: project the box's corners on the plane ⊥ d.
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  const Vec3 helper = std::abs(L.d[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-  L.e1 = unit_direction(cross(L.d, helper), "beam");
-  L.e2 = cross(L.d, L.e1);
-  double amin = kInf;
-  double amax = -kInf;
-  double bmin = kInf;
-  double bmax = -kInf;
-  double cmin = kInf;
-  for (int c = 0; c < 8; ++c) {
-    const Vec3 p{(c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1], (c & 4) ? hi[2] : lo[2]};
-    amin = std::min(amin, dot(p, L.e1));
-    amax = std::max(amax, dot(p, L.e1));
-    bmin = std::min(bmin, dot(p, L.e2));
-    bmax = std::max(bmax, dot(p, L.e2));
-    cmin = std::min(cmin, dot(p, L.d));
-  }
-  const double upstream = cmin - L.h;
-  for (int a = 0; a < 3; ++a) L.origin[a] = amin * L.e1[a] + bmin * L.e2[a] + upstream * L.d[a];
-  L.na = static_cast<std::int64_t>(std::ceil((amax - amin) / L.h - 1e-9));
-  L.nb = static_cast<std::int64_t>(std::ceil((bmax - bmin) / L.h - 1e-9));
-  double chord = kInf;
-  for (int a = 0; a < 3; ++a) {
-    if (L.d[a] != 0.0) chord = std::min(chord, (hi[a] - lo[a]) / std::abs(L.d[a]));
-  }
-  L.depths = beam_depth_grid(chord, step);
+  L.depth_step = step;
+  L.depth_count = beam_depth_count(L.depth_length, step);
+  if (with_depths) L.depths = beam_depth_grid(L.depth_length, step);
   return L;
 }
 

@@ -7,9 +7,11 @@
 /// (weft/fibres/fibre_beam.h) trace the same rays from this one definition.
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
+#include "weft/core/rng.h"
 #include "weft/volume/beam.h"
 #include "weft/volume/grid.h"
 
@@ -25,10 +27,37 @@ struct WorldBox {
 [[nodiscard]] WorldBox active_world_box(const Grid& grid);
 
 /// The unit vector of `d`; throws weft::Error (prefixed by `what`) for a zero or non-finite one.
+/// Any finite non-zero `d` has one: it is scaled by its largest component first, so neither
+/// 1e308 (whose squares overflow) nor a subnormal 1e-320 (whose squares underflow) loses it.
 [[nodiscard]] std::array<double, 3> unit_direction(const std::array<double, 3>& d, const char* what);
+
+/// The depth grid's largest number of points (400 MB of depths).
+inline constexpr double kMaxBeamDepths = 50'000'000;
+
+/// Points of beam_depth_grid(length, step), counted in double (length/step may exceed any
+/// integer; a step of 1e-300 is ~1e300 points): refuses more than kMaxBeamDepths with weft::Error.
+[[nodiscard]] std::size_t beam_depth_count(double length, double step);
 
 /// Depths 0, step, 2·step, … up to and including `length` (the last one clamped to it).
 [[nodiscard]] std::vector<double> beam_depth_grid(double length, double step);
+
+/// @brief The in-cell offsets of one lattice cell's rays, drawn one ray at a time from the cell's
+/// own PCG stream (stream_for(seed, i·nb + j)), so a ray does not depend on which thread traces
+/// it and a cell of 2³¹ rays takes no memory for them.
+class CellOffsets {
+ public:
+  CellOffsets(std::uint64_t seed, std::uint64_t cell, bool jitter) : rng_(stream_for(seed, cell)), jitter_(jitter) {}
+  /// The next ray's offset in [0,1)²: the centre, or two uniform draws.
+  std::array<double, 2> next() {
+    if (!jitter_) return {0.5, 0.5};
+    const double a = rng_.uniform();
+    return {a, rng_.uniform()};
+  }
+
+ private:
+  Pcg32 rng_;
+  bool jitter_ = false;
+};
 
 struct BeamLattice {
   std::array<double, 3> d{};  ///< unit direction
@@ -41,18 +70,24 @@ struct BeamLattice {
   int per_cell = 1;
   bool jitter = false;
   std::uint64_t seed = 1;
-  std::int64_t stride = 1;  ///< BeamSpec::column_stride
-  double h = 1.0;           ///< cell width
-  std::vector<double> depths;
+  std::int64_t stride = 1;      ///< BeamSpec::column_stride
+  double h = 1.0;               ///< cell width
+  double depth_length = 0.0;    ///< the depth grid's end: the box's depth (axis) or shortest chord (oblique)
+  double depth_step = 1.0;      ///< its spacing
+  std::size_t depth_count = 0;  ///< beam_depth_count(depth_length, depth_step): depths.size() once filled
+  std::vector<double> depths;   ///< empty from make_beam_lattice(..., false)
 
   /// The origin of the ray at offset (ja, jb) ∈ [0,1)² in cell (i, j).
   [[nodiscard]] std::array<double, 3> ray_origin(std::int64_t i, std::int64_t j, double ja, double jb) const;
+  /// The most cells of width h one ray crosses in the box: its chord's length·(|dx| + |dy| +
+  /// |dz|)/h, plus its two ends and one for rounding (the work of a ray beyond its depths).
+  [[nodiscard]] double cells_crossed() const {
+    return depth_length * (std::abs(d[0]) + std::abs(d[1]) + std::abs(d[2])) / h + 3.0;
+  }
   /// Whether cell (i, j) is one of the kept cells of a thinned beam (always true for stride 1).
   [[nodiscard]] bool keeps(std::int64_t i, std::int64_t j) const;
-  /// The in-cell offsets of the per_cell rays of cell (i, j): the centre, or jittered from
-  /// the cell's own PCG stream (stream_for(seed, i·nb + j)), so a ray does not depend on which
-  /// thread traces it.
-  void offsets(std::int64_t i, std::int64_t j, std::vector<std::array<double, 2>>& out) const;
+  /// The in-cell offsets of the per_cell rays of cell (i, j), one at a time (CellOffsets).
+  [[nodiscard]] CellOffsets offsets(std::int64_t i, std::int64_t j) const;
   /// The index of the cell (i, j)'s ray r in the beam's fixed ray order.
   [[nodiscard]] std::uint64_t ray_index(std::int64_t i, std::int64_t j, int r) const {
     return (static_cast<std::uint64_t>(i) * static_cast<std::uint64_t>(nb) + static_cast<std::uint64_t>(j)) *
@@ -64,6 +99,9 @@ struct BeamLattice {
 /// The lattice of `spec`'s beam over `box` with cells of width `h` (a grid's voxel size):
 /// axis beams start on the box's entry face, with one cell per voxel column when the box is a
 /// whole number of cells; oblique beams start one cell upstream of the box's projection.
-[[nodiscard]] BeamLattice make_beam_lattice(const WorldBox& box, double h, const BeamSpec& spec);
+/// Without `with_depths` the depth grid is only counted (depth_count), for estimates made
+/// before anything is allocated.
+[[nodiscard]] BeamLattice make_beam_lattice(const WorldBox& box, double h, const BeamSpec& spec,
+                                            bool with_depths = true);
 
 }  // namespace weft::volume

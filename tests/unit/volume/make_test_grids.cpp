@@ -61,6 +61,12 @@ int main(int argc, char** argv) {
   stretched->transform().preScale(openvdb::Vec3d(1.0, 2.0, 1.0));
   stretched->getAccessor().setValue(openvdb::Coord(0, 0, 0), 0.5f);
   write(dir + "/stretched.vdb", stretched);
+  // far.vdb: two voxels 10⁶ voxels apart on every axis: a sparse grid of a dense box of 10¹⁸
+  // voxels, which passes over its box must refuse before allocating (docs/robustness.md).
+  auto far = float_grid("density");
+  far->getAccessor().setValue(openvdb::Coord(0, 0, 0), 0.5f);
+  far->getAccessor().setValue(openvdb::Coord(1000000, 1000000, 1000000), 0.5f);
+  write(dir + "/far.vdb", far);
   std::ofstream(dir + "/corrupt.vdb", std::ios::binary) << "this is not an OpenVDB file\n";
   return 0;
 }

@@ -1,0 +1,28 @@
+#include "weft/volume/pass_budget.h"
+
+#include <cmath>
+#include <limits>
+
+#include "weft/core/error.h"
+#include "weft/core/memory.h"
+
+namespace weft::volume {
+
+void check_pass_cost(std::string_view what, const Grid& grid, const PassCost& cost) {
+  const std::uint64_t budget = default_memory_budget();
+  // Compared in double: a sparse grid's box can make the estimate larger than any integer.
+  if (!(cost.bytes <= static_cast<double>(budget))) {
+    const bool fits = cost.bytes < 0x1p63;
+    fail("{} over grid '{}' would take {}, over the memory budget of {} (half the RAM)", what, grid.name(),
+         fits ? format_bytes(static_cast<std::uint64_t>(cost.bytes)) : fmt::format("{:.3g} bytes", cost.bytes),
+         format_bytes(budget));
+  }
+  if (!(cost.steps <= kMaxPassSteps)) {
+    fail(
+        "{} over grid '{}' would take {:.3g} steps (voxels read, cells crossed, depths profiled), over the limit of "
+        "{:.3g}",
+        what, grid.name(), cost.steps, kMaxPassSteps);
+  }
+}
+
+}  // namespace weft::volume
