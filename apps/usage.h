@@ -59,4 +59,12 @@ extern const CLI::Validator non_negative;
 /// An integer count >= `min` (the message says "must be >= min").
 CLI::Validator at_least(long long min);
 
+/// @brief Gives every integer option of `app` and its subcommands (CLI11 type name UINT or INT)
+/// a checked parse: CLI11 2.1 reads "-1" into an unsigned option as 2^64 − 1 and a number past
+/// the 64-bit range as the largest value, silently. Refused instead, with the option named: a
+/// negative value of an unsigned option and any value outside the 64-bit range. (Narrower types
+/// CLI11 itself refuses when the value does not fit.) main() calls it once, after every command
+/// has declared its options, so no command can forget it.
+void check_integer_options(CLI::App& app);
+
 }  // namespace weft::app

@@ -56,4 +56,31 @@ void ensure_directory(const fs::path& dir) {
   if (ec) fail("cannot create output folder '{}': {}", dir.string(), ec.message());
 }
 
+OutputFolder::OutputFolder(const fs::path& dir) {
+  std::error_code ec;
+  for (fs::path p = dir; !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
+    created_.push_back(p);
+    if (p == p.parent_path()) break;
+  }
+  try {
+    ensure_directory(dir);
+  } catch (...) {
+    remove_empty();  // create_directories may have stopped half way
+    throw;
+  }
+}
+
+OutputFolder::~OutputFolder() { remove_empty(); }
+
+void OutputFolder::remove_empty() noexcept {
+  std::error_code ec;
+  for (const fs::path& p : created_) {
+    // Only an empty folder goes: one holding a file (or not made by us after all) stays.
+    if (!fs::is_directory(p, ec) || !fs::is_empty(p, ec) || ec) break;
+    fs::remove(p, ec);
+    if (ec) break;
+  }
+  created_.clear();
+}
+
 }  // namespace weft

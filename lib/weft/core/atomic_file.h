@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <functional>
 #include <string_view>
+#include <vector>
 
 namespace weft {
 
@@ -21,5 +22,23 @@ void write_text_atomically(const std::filesystem::path& target, std::string_view
 
 /// @brief Creates `dir` (and parents) or throws a weft::Error naming it.
 void ensure_directory(const std::filesystem::path& dir);
+
+/// @brief An output folder made before a run (so a bad path fails before any work) that does not
+/// outlive a failed run empty: unless kept, the destructor removes the folders the constructor
+/// created (deepest first) that are still empty. A folder that existed before, or holds a file,
+/// stays (docs/robustness.md: no half-written output, no empty folder).
+class OutputFolder {
+ public:
+  explicit OutputFolder(const std::filesystem::path& dir);
+  ~OutputFolder();
+  OutputFolder(const OutputFolder&) = delete;
+  OutputFolder& operator=(const OutputFolder&) = delete;
+  /// The run succeeded: the folder stays even if empty.
+  void keep() { created_.clear(); }
+
+ private:
+  void remove_empty() noexcept;
+  std::vector<std::filesystem::path> created_;  // deepest first
+};
 
 }  // namespace weft

@@ -67,3 +67,34 @@ TEST(AtomicFile, TemporaryKeepsExtension) {
 }
 
 }  // namespace
+
+namespace {
+
+// A run that fails after making its output folder leaves no empty folder behind (the folders it
+// made, parents included, go), but never removes what existed or what holds a file.
+TEST(OutputFolder, FailedRunLeavesNoEmptyFolder) {
+  const auto dir = fresh_dir("output-folder");
+  try {
+    const weft::OutputFolder folder(dir / "a" / "b");
+    ASSERT_TRUE(fs::is_directory(dir / "a" / "b"));
+    throw std::runtime_error("the run failed");
+  } catch (const std::runtime_error&) {
+  }
+  EXPECT_FALSE(fs::exists(dir / "a"));
+  EXPECT_TRUE(fs::is_directory(dir));
+  {
+    const weft::OutputFolder folder(dir / "c" / "d");
+    weft::write_text_atomically(dir / "c" / "d" / "part.txt", "x");
+  }
+  EXPECT_TRUE(fs::exists(dir / "c" / "d" / "part.txt"));
+  {
+    weft::OutputFolder folder(dir / "e");
+    folder.keep();
+  }
+  EXPECT_TRUE(fs::is_directory(dir / "e"));
+  { const weft::OutputFolder existing(dir / "e"); }
+  EXPECT_TRUE(fs::is_directory(dir / "e"));
+  fs::remove_all(dir);
+}
+
+}  // namespace
