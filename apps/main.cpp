@@ -75,7 +75,7 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", globals.quiet, "No progress bar and no summary on stdout");
   app.add_option("--threads", globals.threads,
                  "Worker threads (0 = all cores; also the EXR writer's pool); results do not depend on it")
-      ->check(CLI::Range(0U, 1024U));
+      ->check(CLI::Range(0U, weft::kMaxThreads));
 
   auto& commands = registry();
   std::stable_sort(commands.begin(), commands.end(),
@@ -90,6 +90,7 @@ int main(int argc, char** argv) {
     CLI::App* sub = app.add_subcommand(command.name, command.summary);
     actions.push_back({sub, command.setup(*sub), command.distributed});
   }
+  check_integer_options(app);
 
   try {
     app.parse(argc, argv);

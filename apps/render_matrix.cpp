@@ -1,6 +1,7 @@
 // `weft render --study` with no scene: the study matrix's files (docs/render.md §6e).
 #include "render_matrix.h"
 
+#include <cstdlib>
 #include <map>
 
 #include <fmt/format.h>
@@ -62,6 +63,16 @@ study::StudyResult chart_input(const study::MatrixCaseResult& r) {
 
 }  // namespace
 
+const CLI::Validator cloth_tilt(
+    [](std::string& text) -> std::string {
+      char* end = nullptr;
+      const double v = std::strtod(text.c_str(), &end);
+      if (end == text.c_str() || *end != '\0') return {};  // not a number: CLI11's conversion says so
+      return render::is_cloth_tilt(v) ? std::string()
+                                      : fmt::format("must be degrees in {}, got {}", render::cloth_tilt_range(), text);
+    },
+    render::cloth_tilt_range(), "cloth_tilt");
+
 bool MatrixCliOptions::any() const {
   return !cloths.empty() || !lightings.empty() || !tilts.empty() || !film.empty() || yarns > 0 || resume;
 }
@@ -77,7 +88,7 @@ void add_matrix_options(CLI::App& sub, MatrixCliOptions& o) {
   sub.add_option("--study-tilts", o.tilts,
                  "--study matrix: views, degrees off the cloth's normal, comma-separated (default 45,8)")
       ->delimiter(',')
-      ->check(in_range(0.0, 79.0));
+      ->check(cloth_tilt);
   sub.add_option("--study-film", o.film, "--study matrix: film WIDTH,HEIGHT (default 96,72; 32,24 with --quick)")
       ->delimiter(',')
       ->check(CLI::Range(8, 4096));

@@ -27,6 +27,10 @@ struct MatrixCliOptions {
   [[nodiscard]] bool any() const;
 };
 
+/// Camera tilts of the default cloth's scene (--tilt, --study-tilts): the library's one range,
+/// render::is_cloth_tilt (NaN and inf refused too).
+extern const CLI::Validator cloth_tilt;
+
 /// Registers --study-cloths, --study-lightings, --study-tilts, --study-film, --study-yarns and
 /// --resume on `weft render`.
 void add_matrix_options(CLI::App& sub, MatrixCliOptions& o);

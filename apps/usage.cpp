@@ -1,6 +1,9 @@
 #include "usage.h"
 
+#include <cerrno>
+#include <cstdint>
 #include <cstdlib>
+#include <limits>
 
 namespace weft::app {
 
@@ -59,6 +62,42 @@ CLI::Validator in_range(double lo, double hi) {
                    : fmt::format("must be a number in [{}, {}], got {}", lo, hi, text);
       },
       fmt::format("[{}, {}]", lo, hi), "in_range");
+}
+
+namespace {
+
+// The parse CLI11 does (strtoull / strtoll, base 0), checked for sign and range.
+std::string integer_problem(const std::string& text, bool is_unsigned) {
+  const std::size_t first = text.find_first_not_of(" \t");
+  if (is_unsigned && first != std::string::npos && text[first] == '-') {
+    return fmt::format("must be >= 0, got {}", text);
+  }
+  char* end = nullptr;
+  errno = 0;
+  if (is_unsigned) {
+    (void)std::strtoull(text.c_str(), &end, 0);
+  } else {
+    (void)std::strtoll(text.c_str(), &end, 0);
+  }
+  if (errno == ERANGE) {
+    return is_unsigned ? fmt::format("must be <= {}, got {}", std::numeric_limits<std::uint64_t>::max(), text)
+                       : fmt::format("must be in [{}, {}], got {}", std::numeric_limits<std::int64_t>::min(),
+                                     std::numeric_limits<std::int64_t>::max(), text);
+  }
+  return {};  // not a number at all: CLI11's own conversion says so
+}
+
+}  // namespace
+
+void check_integer_options(CLI::App& app) {
+  for (CLI::Option* option : app.get_options()) {
+    const std::string type = option->get_type_name();
+    const bool is_unsigned = type.rfind("UINT", 0) == 0;
+    if (!is_unsigned && type.rfind("INT", 0) != 0) continue;
+    option->check(
+        CLI::Validator([is_unsigned](std::string& text) { return integer_problem(text, is_unsigned); }, "", "integer"));
+  }
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) check_integer_options(*sub);
 }
 
 }  // namespace weft::app

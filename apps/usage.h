@@ -61,4 +61,12 @@ CLI::Validator at_least(long long min);
 /// A finite number in [lo, hi] (CLI::Range lets NaN through: every comparison with it is false).
 CLI::Validator in_range(double lo, double hi);
 
+/// @brief Gives every integer option of `app` and its subcommands (CLI11 type name UINT or INT)
+/// a checked parse: CLI11 2.1 reads "-1" into an unsigned option as 2^64 − 1 and a number past
+/// the 64-bit range as the largest value, silently. Refused instead, with the option named: a
+/// negative value of an unsigned option and any value outside the 64-bit range. (Narrower types
+/// CLI11 itself refuses when the value does not fit.) main() calls it once, after every command
+/// has declared its options, so no command can forget it.
+void check_integer_options(CLI::App& app);
+
 }  // namespace weft::app

@@ -412,7 +412,8 @@ const Registrar kRender{Command{
                      "Output folder (created if missing), like every weft command: writes <scene>.exr, "
                      "<scene>.png and the --convergence files inside")
           ->excludes(output);
-      sub.add_option("--spp", o->spp, "Samples per pixel (default: the scene's)")->check(CLI::Range(1, 1 << 24));
+      sub.add_option("--spp", o->spp, "Samples per pixel (default: the scene's)")
+          ->check(CLI::Range(1, render::kMaxSpp));
       sub.add_option("--time-budget", o->time_budget,
                      "Stop after the sample pass that ends past this many seconds (0 = no limit)")
           ->check(in_range(0.0, 1e9));
@@ -425,7 +426,7 @@ const Registrar kRender{Command{
              "--reference-spp", o->reference_spp,
              "spp of the reference rendered by --convergence auto (default: 16x the series' spp, 8x with --quick) or "
              "by --study (default 1024, 256 with --quick)")
-          ->check(CLI::Range(1, 1 << 24));
+          ->check(CLI::Range(1, render::kMaxSpp));
       sub.add_flag("--study", o->study,
                    "Accuracy vs time (docs/render.md 6c): the scene's grid medium (default: the default cloth) "
                    "rendered to --reference-spp as the reference, then the fine grid, the grid downsampled by "
@@ -471,7 +472,7 @@ const Registrar kRender{Command{
       sub.add_option("--tilt", o->tilt,
                      "Default cloth only: camera angle off the cloth's normal in degrees (default 30; 0 looks straight "
                      "down)")
-          ->check(in_range(0.0, 79.0));
+          ->check(cloth_tilt);
       sub.add_flag("--quick", o->quick,
                    "Small film (longest side 48 px); with --convergence, a 128 spp series; with --study, 1 s per "
                    "candidate and a 256 spp reference");

@@ -408,7 +408,9 @@ const Registrar kSim2d{Command{
         // The spec holds option values only: what it refuses is a usage error (exit 2).
         as_usage([&] { media2d::validate(spec); });
         const fs::path out(o->out);
-        if (dist::is_root()) ensure_directory(out);
+        // Made now, so a bad --out fails before the run; removed again if the run fails.
+        std::optional<FolderRollback> folder;
+        if (dist::is_root()) folder.emplace(out);
 
         // One realization's particles (realization 0 of the first eta) for ParaView, made and
         // compressed in memory beside the realizations' units on rank 0, by a thread they leave
@@ -480,6 +482,7 @@ const Registrar kSim2d{Command{
         ctx.say(fmt::format("{} realization(s) per eta on {} rank(s) x {} thread(s)", spec.realizations, ctx.ranks(),
                             ctx.threads()));
         files.say(ctx);
+        folder->keep();
         return 0;
       };
     },

@@ -98,6 +98,12 @@ Hit DiskGrid::first_hit(Point2 origin, Point2 direction, double t_max, std::size
     next_y = (wall - origin.y) / d.y;
     delta_y = h / std::abs(d.y);
   }
+  // A ray along an axis (one component exactly 0) runs along one row or column of the torus:
+  // p(t + 1) = p(t) + (±1, 0) or (0, ±1), an image of the same point, so a disk image entered at
+  // t > 1 has its neighbouring image entered at t − 1 ≥ 0. Its first hit, if any, is at t ≤ 1
+  // (docs/sim2d.md "Rays"); the 2r beyond absorb rounding of the entry distances. Without this
+  // bound a ray in an empty row walked every cell up to t_max, however far.
+  const double limit = d.x == 0.0 || d.y == 0.0 ? std::min(t_max, 1.0 + 2.0 * radius_) : t_max;
   Hit best;
   for (;;) {
     const std::int64_t ox = floor_div(cell_x, n);
@@ -114,7 +120,7 @@ Hit DiskGrid::first_hit(Point2 origin, Point2 direction, double t_max, std::size
     }
     const double leave = std::min(next_x, next_y);
     // Every disk overlapping this cell is listed in it, so a hit before the cell's exit is final.
-    if (best.t <= leave || leave > t_max) break;
+    if (best.t <= leave || leave > limit) break;
     if (next_x < next_y) {
       cell_x += step_x;
       next_x += delta_x;

@@ -37,7 +37,8 @@ class DiskGrid {
 
   /// @brief First disk hit by o + t·d for t ∈ [0, t_max], skipping the image of disk `exclude` the ray starts on
   /// (a scatterer emitting it); its other periodic images can still be hit.
-  /// `d` need not be normalised; distances are along the normalised direction.
+  /// `d` need not be normalised; distances are along the normalised direction. A ray along an
+  /// axis repeats its path after one domain length, so its walk stops there whatever `t_max`.
   [[nodiscard]] Hit first_hit(Point2 origin, Point2 direction, double t_max, std::size_t exclude = kNoDisk) const;
 
   /// @brief True if `p` lies strictly inside any disk other than `exclude`.

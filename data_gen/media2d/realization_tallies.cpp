@@ -73,7 +73,16 @@ Point2 source_origin(const DiskGrid& grid, Pcg32& rng, bool on_boundary_line) {
 }
 
 Point2 direction_deg(double theta_deg) {
-  const double a = theta_deg * std::numbers::pi / 180.0;
+  // Reduced to [0°, 360°) first: fmod is exact, so any finite θ (1e308 included, whose θ·π
+  // overflowed to inf) gives its direction, and the axes come out exact: θ = 90° is (0, 1), not
+  // (6e-17, 1), so such a ray repeats after one domain length (disk_grid.h) instead of drifting.
+  double reduced = std::fmod(theta_deg, 360.0);
+  if (reduced < 0.0) reduced += 360.0;  // may round to 360 for a tiny negative θ
+  if (reduced == 0.0 || reduced == 360.0) return {1.0, 0.0};
+  if (reduced == 90.0) return {0.0, 1.0};
+  if (reduced == 180.0) return {-1.0, 0.0};
+  if (reduced == 270.0) return {0.0, -1.0};
+  const double a = reduced * std::numbers::pi / 180.0;
   return {std::cos(a), std::sin(a)};
 }
 

@@ -12,6 +12,7 @@
 #include "data_gen/media2d/reciprocity.h"
 #include "data_gen/media2d/tally.h"
 #include "weft/core/error.h"
+#include "weft/core/memory.h"
 #include "weft/dist/distributed.h"
 
 namespace weft::media2d {
@@ -20,6 +21,20 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 }  // namespace
+
+double reduction_bytes(const SimulationSpec& spec) {
+  // Every realization's tallies stay in memory until rank 0 reduces them: encoded (MessagePack,
+  // at most 5 bytes a count and 9 an offset) for every η, then decoded (4 + 8 bytes a bin) and
+  // as per-realization curve rows (8 bytes an edge) for one η at a time. In doubles: no overflow
+  // for any count. Vector headers and allocations add about 64 bytes each.
+  const auto bins = static_cast<double>(spec.bins);
+  const double tallies = static_cast<double>(spec.thetas_deg.size() + 2 + (spec.boundary ? spec.eta12.size() : 0));
+  const auto realizations = static_cast<double>(spec.realizations);
+  const double encoded = realizations * static_cast<double>(spec.etas.size()) * (tallies * (14.0 * bins + 64.0) + 64.0);
+  const double decoded = realizations * (tallies * (12.0 * bins + 64.0) + 128.0);
+  const double rows = 2.0 * realizations * (8.0 * (bins + 1.0) + 64.0);
+  return encoded + decoded + rows;
+}
 
 Medium realization(const SimulationSpec& spec, std::size_t eta_index, std::size_t index) {
   if (eta_index >= spec.etas.size()) fail("sim2d: eta index {} out of range", eta_index);
@@ -38,9 +53,33 @@ void validate(const SimulationSpec& spec) {
   if (spec.samples == 0) fail("sim2d: samples per realization must be >= 1, got 0");
   if (spec.samples > 100'000'000) fail("sim2d: samples per realization must be <= 1e8, got {}", spec.samples);
   if (!std::isfinite(spec.t_max) || spec.t_max <= 0.0) fail("sim2d: t-max must be > 0, got {}", spec.t_max);
+  if (spec.t_max * spec.mean_free_path > kMaxReach) {
+    fail(
+        "sim2d: t-max {} mean free paths of {} is {:.3g} domain lengths; at most {} are supported (the medium repeats "
+        "every domain length: a longer ray measures its own periodic images, at a cost that grows with t-max)",
+        spec.t_max, spec.mean_free_path, spec.t_max * spec.mean_free_path, kMaxReach);
+  }
   if (spec.bins < 2 || spec.bins > 100'000) fail("sim2d: bins must be in [2, 100000], got {}", spec.bins);
   for (const double theta : spec.thetas_deg) {
     if (!std::isfinite(theta)) fail("sim2d: source angle theta must be finite, got {}", theta);
+  }
+  if (std::min(spec.structure_realizations, spec.realizations) > 0 && spec.structure_max_points < 16) {
+    fail("sim2d: structure max points must be >= 16, got {}", spec.structure_max_points);
+  }
+  // Work units are keyed (η index << 40) | (realization << 4) (realization_tallies.h).
+  if (spec.realizations > kMaxRealizations) {
+    fail("sim2d: realizations must be <= {}, got {}", kMaxRealizations, spec.realizations);
+  }
+  if (spec.etas.size() >= (std::size_t{1} << 24U))
+    fail("sim2d: at most {} etas, got {}", (1U << 24U) - 1U, spec.etas.size());
+  const std::uint64_t budget = default_memory_budget();
+  const double bytes = reduction_bytes(spec);
+  if (bytes > static_cast<double>(budget)) {
+    fail(
+        "sim2d: {} realizations x {} eta(s) x {} bins would hold about {} of tallies for the reduction, over the "
+        "memory budget of {} (fewer realizations or bins)",
+        spec.realizations, spec.etas.size(), spec.bins, format_bytes(static_cast<std::uint64_t>(bytes)),
+        format_bytes(budget));
   }
   if (spec.boundary) {
     if (!std::isfinite(spec.boundary_t) || spec.boundary_t <= 0.0 || spec.boundary_t >= spec.t_max) {
@@ -88,9 +127,6 @@ SimulationResult simulate(const SimulationSpec& spec, ProgressSink& progress) {
         reach));
   }
   const std::size_t structure_count = std::min(spec.structure_realizations, spec.realizations);
-  if (structure_count > 0 && spec.structure_max_points < 16) {
-    fail("sim2d: structure max points must be >= 16, got {}", spec.structure_max_points);
-  }
 
   // The units, over ranks and threads: first the structure statistics of every η (each costs more
   // than a realization, so they start first and the realizations fill the threads around them),

@@ -53,8 +53,22 @@ struct SimulationSpec {
   std::uint64_t seed = 1;
 };
 
-/// @brief Checks every field (and the media specs); throws weft::Error naming the problem.
+/// Longest ray, t_max·λ, in domain lengths. The medium is a periodic unit square: beyond one
+/// domain length a ray revisits its own images (the run warns), and a ray that hits nothing walks
+/// about √2·(cells per side) grid cells per domain length (disk_grid.h stops only axis-aligned
+/// rays, which repeat exactly). 100 leaves room to study that bias and bounds every ray's walk.
+inline constexpr double kMaxReach = 100.0;
+/// Realizations per η: the work unit key holds the realization in 36 bits (realization_tallies.h).
+inline constexpr std::size_t kMaxRealizations = std::size_t{1} << 36U;
+
+/// @brief Checks every field (and the media specs) before anything is generated: ranges, the
+/// longest ray (kMaxReach) and the memory the reduction holds (reduction_bytes) against the
+/// default memory budget; throws weft::Error naming the problem.
 void validate(const SimulationSpec& spec);
+
+/// @brief Bytes of tallies held for the reduction of a run (every η's realizations), estimated
+/// before any realization is generated.
+[[nodiscard]] double reduction_bytes(const SimulationSpec& spec);
 
 /// @brief A measured curve on the simulation's grid with its standard error over realizations.
 struct Curve {

@@ -7,6 +7,7 @@
 
 #include "common.h"
 #include "weft/core/parallel.h"
+#include "weft/render/render.h"
 #include "weft/volume/beam.h"
 
 namespace weft::python {
@@ -73,6 +74,10 @@ PYBIND11_MODULE(_weft, m) {
         return fn();
       },
       py::arg("threads"), py::arg("fn"));
+  // The library's ranges, for the checks in weft/__init__.py that run before pybind11 would turn
+  // an out-of-range int into a TypeError naming the private binding.
+  m.attr("_max_threads") = weft::kMaxThreads;
+  m.attr("_max_spp") = weft::render::kMaxSpp;
   m.def("_thread_limit",
         [] { return tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism); });
   weft::python::init_laws(m);

@@ -145,8 +145,7 @@ void init_render(py::module_& m) {
          int height) {
         rd::ClothView view;
         view.lighting = rd::cloth_lighting(lighting);
-        if (!std::isfinite(tilt) || tilt < 0.0 || tilt >= 90.0)
-          fail("cloth_scene: tilt must be in [0, 90) degrees, got {}", tilt);
+        rd::check_cloth_tilt("cloth_scene", tilt);
         if (width < 1 || height < 1) fail("cloth_scene: width and height must be >= 1, got {}x{}", width, height);
         view.tilt_degrees = tilt;
         view.width = width;

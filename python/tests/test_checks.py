@@ -165,3 +165,59 @@ def test_an_empty_grid_medium_is_a_warning_in_python_and_the_cli(tmp_path, weft_
                        capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
     assert (("weft: warning: " + said) in r.stderr) == empty, r.stderr
+
+
+# Integer arguments out of their C++ type's range, and threads past the CLI's --threads range, are
+# refused by weft in its words, not by pybind11 with a TypeError naming the private binding.
+@pytest.mark.parametrize("kwargs, said", [
+    ({"seed": -1}, "render: seed must be >= 0, got -1"),
+    ({"seed": 2**64}, "render: seed must be <= 18446744073709551615"),
+    ({"spp": 2**40}, "render: spp must be <= 16777216"),
+    ({"spp": np.int64(0)}, "render: spp must be >= 1, got 0"),
+    ({"threads": 2000}, "threads=2000: must be in [1, 1024]"),
+])
+def test_render_integers_out_of_range_are_weft_errors(kwargs, said):
+    with pytest.raises(weft.Error) as e:
+        weft.render("cornell_media", **kwargs)
+    assert said in str(e.value), str(e.value)
+
+
+def small_scene_dict():
+    scene = json.loads(weft.builtin_scene("cornell_media"))
+    scene["camera"]["width"] = 8
+    scene["camera"]["height"] = 6
+    return scene
+
+
+def test_numpy_numbers_in_a_scene_dict_are_numbers():
+    plain = weft.render(small_scene_dict(), spp=1, seed=3)
+    scene = small_scene_dict()
+    scene["camera"]["width"] = np.int64(8)
+    scene["camera"]["height"] = np.int32(6)
+    scene["camera"]["position"] = np.asarray(scene["camera"]["position"], dtype=np.float64)
+    scene["camera"]["fov"] = np.float32(scene["camera"]["fov"])
+    image = weft.render(scene, spp=np.int64(1), seed=np.uint64(3))
+    assert np.array_equal(image, plain)
+
+
+@pytest.mark.parametrize("where, value, said", [
+    (("camera", "fov"), float("nan"), "render: camera.fov must be a finite number, got nan"),
+    (("camera", "position"), np.array([0.0, np.inf, 3.6]), "render: camera.position[1] must be a finite number"),
+])
+def test_a_non_finite_number_in_a_scene_dict_is_named(where, value, said):
+    scene = small_scene_dict()
+    scene[where[0]][where[1]] = value
+    with pytest.raises(weft.Error) as e:
+        weft.render(scene, spp=1)
+    assert said in str(e.value), str(e.value)
+
+
+# One tilt range, the library's, for the CLI and Python: [0, 80).
+def test_tilt_80_is_refused_before_any_cloth_by_python_and_the_cli(tmp_path, weft_bin):
+    with pytest.raises(weft.Error) as e:
+        weft.render_matrix(quick=True, cloths="plain", lightings="back", tilts=80, out=tmp_path / "m")
+    assert "tilt 80 degrees is not in [0, 80)" in str(e.value), str(e.value)
+    assert not (tmp_path / "m").exists()
+    for flags in (["--tilt", "80"], ["--study", "--study-tilts", "80"], ["--study", "--study-tilts", "nan"]):
+        r = subprocess.run([weft_bin, "render", *flags, "--out", str(tmp_path / "c")], capture_output=True, text=True)
+        assert r.returncode == 2 and "must be degrees in [0, 80)" in r.stderr, (flags, r.stderr)

@@ -12,6 +12,7 @@ for a bar) and ``threads=N``. Warnings are ``weft.Warning`` (a ``UserWarning``).
 import contextlib as _contextlib
 import functools as _functools
 import json as _json
+import math as _math
 import numbers as _numbers
 import os as _os
 import sys as _sys
@@ -85,8 +86,9 @@ def _run(fn, threads, progress):
     if threads is not None:
         if isinstance(threads, bool) or not isinstance(threads, _numbers.Integral):
             raise TypeError("threads must be a positive integer or None, got %s" % type(threads).__name__)
-        if threads < 1:
-            raise Error("threads=%d: must be >= 1 (or None for every core)" % threads)
+        if not 1 <= threads <= _weft._max_threads:
+            raise Error("threads=%d: must be in [1, %d] (or None for every core), as the CLI's --threads"
+                        % (threads, _weft._max_threads))
     bar = _ProgressBar() if progress is True else None
     callback = bar if bar is not None else (None if progress is False else progress)
     try:
@@ -130,7 +132,7 @@ def validate(grid, sigma=None, window="yarn", axes=("x", "y", "z"), rays_per_col
         sigma = _number("validate: sigma", sigma)
     window, axes = _window_text(window), _axes_text(axes)
     rays_per_column = _integer("validate: rays_per_column", rays_per_column)
-    seed = _integer("validate: seed", seed)
+    seed = _integer("validate: seed", seed, 0, _MAX_SEED)
     text, curves, sigma_source, window_used = _run(
         lambda p: _validate_json(grid, sigma=sigma, window=window, axes=axes, rays_per_column=rays_per_column,
                                  seed=seed, progress=p), threads, progress)
@@ -201,18 +203,28 @@ def _axes_text(axes):
     return ",".join(out)
 
 
+_MAX_SEED = 2**64 - 1  # seeds are unsigned 64-bit, as the CLI's --seed
+_MAX_INT = 2**31 - 1  # a C int of the bindings
+
+
 def _number(what, value):
     if isinstance(value, bool) or not isinstance(value, _numbers.Real):
         raise TypeError("%s must be a number, got %s" % (what, type(value).__name__))
     return float(value)
 
 
-def _integer(what, value):
+def _integer(what, value, low=0, high=_MAX_INT):
+    """``value`` as an int in [low, high] (numpy integers too), else a TypeError (not an integer)
+    or weft.Error naming ``what``: checked here, because pybind11 refuses an int its C++ type
+    cannot hold with a TypeError dumping the private binding's signature."""
     if isinstance(value, bool) or not isinstance(value, _numbers.Integral):
         raise TypeError("%s must be an integer, got %s" % (what, type(value).__name__))
-    if value < 0:
-        raise Error("%s must be >= 0, got %d" % (what, value))
-    return int(value)
+    value = int(value)
+    if value < low:
+        raise Error("%s must be >= %d, got %d" % (what, low, value))
+    if value > high:
+        raise Error("%s must be <= %d, got %d" % (what, high, value))
+    return value
 
 
 def load_grid(path, name=""):
@@ -375,13 +387,40 @@ def _render_scene(scene, spp, seed, integrator, time_budget, stats, base_dir, pr
     kind, text = _scene_kind(scene, "render")
     if base_dir is not None:
         base_dir = _os.fspath(base_dir)
+    if spp is not None:
+        spp = _integer("render: spp", spp, 1, _weft._max_spp)
+    if seed is not None:
+        seed = _integer("render: seed", seed, 0, _MAX_SEED)
     return _run(lambda p: _render(kind, text, base_dir or "", spp, seed, integrator, float(time_budget),
                                   bool(stats), p), threads, progress)
 
 
+def _plain(value, where):
+    """``value`` with numpy scalars and arrays as Python numbers and lists (``.tolist()``), tuples
+    as lists; a non-finite number raises weft.Error naming its key (``where``: "camera.position[1]"),
+    which json.dumps' "Out of range float values" does not."""
+    if isinstance(value, dict):
+        return {k: _plain(v, "%s.%s" % (where, k) if where else str(k)) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v, "%s[%d]" % (where, i)) for i, v in enumerate(value)]
+    if isinstance(value, (str, bool)) or value is None:
+        return value
+    if isinstance(value, _numbers.Integral):
+        return int(value)
+    if isinstance(value, _numbers.Real):
+        if not _math.isfinite(value):
+            raise Error("%s must be a finite number, got %r" % (where or "the value", float(value)))
+        return float(value)
+    if hasattr(value, "tolist") and hasattr(value, "dtype"):  # numpy arrays and scalars, without numpy
+        return _plain(value.tolist(), where)
+    return value  # json.dumps names what it cannot serialize
+
+
 def _dumps(value, what):
     try:
-        return _json.dumps(value, allow_nan=False)
+        return _json.dumps(_plain(value, ""), allow_nan=False)
+    except Error as e:
+        raise Error("%s: %s" % (what, e)) from None
     except (TypeError, ValueError) as e:
         raise Error("%s: the spec is not JSON-serializable: %s" % (what, e)) from None
 

@@ -356,8 +356,22 @@ def _work_dir(call, out):
     folder = _os.path.abspath(_os.fspath(out))
     if _os.path.exists(folder) and not _os.path.isdir(folder):
         raise Error("%s: out=%r is a file, not a folder" % (call, _os.fspath(out)))
+    created = []  # the folders made here, deepest first
+    parent = folder
+    while not _os.path.exists(parent) and parent != _os.path.dirname(parent):
+        created.append(parent)
+        parent = _os.path.dirname(parent)
     _os.makedirs(folder, exist_ok=True)
-    yield folder
+    try:
+        yield folder
+    except BaseException:
+        # A failed call leaves no empty folder (docs/robustness.md), as weft::FolderRollback.
+        for made in created:
+            try:
+                _os.rmdir(made)  # only an empty folder goes
+            except OSError:
+                break
+        raise
 
 
 def _scene_options(call, scene, base_dir, stack):

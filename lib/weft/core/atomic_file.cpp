@@ -64,7 +64,13 @@ FolderRollback::FolderRollback(fs::path folder, bool active) : folder_(std::move
     created_ = p;
     if (p == p.parent_path()) break;
   }
-  ensure_directory(folder_);
+  try {
+    ensure_directory(folder_);
+  } catch (...) {
+    // create_directories may have stopped half way, and no destructor runs for this guard.
+    if (!created_.empty()) fs::remove_all(created_, ec);
+    throw;
+  }
   if (!created_.empty()) return;
   for (const auto& entry : fs::directory_iterator(folder_, ec)) before_.insert(entry.path());
 }

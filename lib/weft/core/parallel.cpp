@@ -6,6 +6,8 @@
 #include <tbb/info.h>
 #include <tbb/parallel_for.h>
 
+#include "weft/core/error.h"
+
 namespace weft {
 
 void parallel_units(std::size_t count, const std::function<void(std::size_t)>& body) {
@@ -19,6 +21,7 @@ struct ThreadLimit::Impl {
 };
 
 ThreadLimit::ThreadLimit(unsigned threads) : impl_(std::make_unique<Impl>()) {
+  if (threads > kMaxThreads) fail("threads must be in [0, {}] (0 = every core), got {}", kMaxThreads, threads);
   if (threads > 0) {
     impl_->control = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
   }

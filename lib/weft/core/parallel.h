@@ -15,7 +15,12 @@ namespace weft {
 /// makes outputs identical for any thread count (docs/architecture.md §5).
 void parallel_units(std::size_t count, const std::function<void(std::size_t unit)>& body);
 
-/// @brief Limits the TBB pool to `threads` worker threads while alive (0 = all cores).
+/// Most worker threads a run may ask for (the CLI's --threads, Python's threads=): far above any
+/// machine weft runs on, low enough that a typo (a count of rays as threads) is refused.
+inline constexpr unsigned kMaxThreads = 1024;
+
+/// @brief Limits the TBB pool to `threads` worker threads while alive (0 = all cores); more than
+/// kMaxThreads throws weft::Error.
 class ThreadLimit {
  public:
   explicit ThreadLimit(unsigned threads);

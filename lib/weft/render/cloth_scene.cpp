@@ -83,6 +83,14 @@ std::string cloth_lighting_name(ClothLighting lighting) {
   return "?";
 }
 
+std::string cloth_tilt_range() { return fmt::format("[0, {:g})", kMaxClothTilt); }
+
+bool is_cloth_tilt(double degrees) { return degrees >= 0.0 && degrees < kMaxClothTilt; }  // false for NaN
+
+void check_cloth_tilt(const std::string& what, double degrees) {
+  if (!is_cloth_tilt(degrees)) fail("{}: tilt {} degrees is not in {}", what, degrees, cloth_tilt_range());
+}
+
 namespace {
 
 /// The default picture (docs/render.md §5c): samples per pixel, the back light's radiance and
@@ -104,9 +112,9 @@ Vec3 light_travel(const Vec3& normal, const Vec3& eu, const Vec3& ev, double ele
 // The scene of `grid`, saved as `file_in_scene`; errors name `where`.
 std::string scene_json(const volume::Grid& grid, const std::string& file_in_scene, const std::filesystem::path& where,
                        const ClothSceneMedium& medium, const ClothView& view) {
-  if (view.width < 1 || view.height < 1 || !(view.tilt_degrees >= 0.0 && view.tilt_degrees < 80.0))
-    fail("cloth scene for '{}': a film of {}x{} px and a tilt of {} degrees (need >= 1 px and a tilt in [0, 80))",
-         where.string(), view.width, view.height, view.tilt_degrees);
+  if (view.width < 1 || view.height < 1)
+    fail("cloth scene for '{}': a film of {}x{} px (need >= 1 px)", where.string(), view.width, view.height);
+  check_cloth_tilt(fmt::format("cloth scene for '{}'", where.string()), view.tilt_degrees);
   const volume::IndexBox box = grid.active_bbox();
   if (box.empty()) fail("cloth grid '{}' is empty", where.string());
   const ClothLook look = cloth_look(grid, where);

@@ -67,6 +67,18 @@ enum class ClothLighting {
 [[nodiscard]] ClothLighting cloth_lighting(const std::string& name);
 [[nodiscard]] std::string cloth_lighting_name(ClothLighting lighting);
 
+/// Camera tilts the cloth scene frames: degrees off the cloth's normal in [0, kMaxClothTilt).
+/// Towards 90° the cloth is seen edge-on: the framing (cloth_scene.cpp) fits its height
+/// foreshortened by cos(tilt), and past 80° that is under a sixth of the film. The one range of
+/// `weft render --tilt`, `--study-tilts`, the render matrix and Python's cloth_scene/render_matrix.
+inline constexpr double kMaxClothTilt = 80.0;
+/// "[0, 80)", for messages.
+[[nodiscard]] std::string cloth_tilt_range();
+/// True if `degrees` is a tilt the cloth scene frames (finite, in [0, kMaxClothTilt)).
+[[nodiscard]] bool is_cloth_tilt(double degrees);
+/// Throws weft::Error "<what>: tilt <degrees> degrees is not in [0, 80)" unless is_cloth_tilt.
+void check_cloth_tilt(const std::string& what, double degrees);
+
 /// Where the camera is and what lights the cloth.
 struct ClothView {
   ClothLighting lighting = ClothLighting::key_and_back;

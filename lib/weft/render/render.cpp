@@ -182,7 +182,7 @@ RenderResult render(const World& world, const RenderOptions& options, ProgressSi
   const auto start = std::chrono::steady_clock::now();
   const Camera camera(world.camera);
   const int spp = options.spp.value_or(world.settings.spp);
-  if (spp < 1) fail("spp must be >= 1, got {}", spp);
+  if (spp < 1 || spp > kMaxSpp) fail("spp must be in [1, {}], got {}", kMaxSpp, spp);
   const std::uint64_t seed = options.seed.value_or(world.settings.seed);
   if (options.time_budget_seconds < 0.0 || !std::isfinite(options.time_budget_seconds))
     fail("time budget must be finite and >= 0, got {}", options.time_budget_seconds);

@@ -19,6 +19,11 @@ namespace weft::render {
 /// Which specialisation of the integrator runs (automatic: the least the scene needs).
 enum class IntegratorChoice { automatic, surfaces, exponential, general };
 
+/// Most samples per pixel a render takes: the one range of the scene format's "spp", --spp,
+/// --reference-spp and Python's spp= (sample s of a pixel draws from stream (s << 32) | pixel,
+/// so any int fits; 2^24 is already days for a small film).
+inline constexpr int kMaxSpp = 1 << 24;
+
 /// Overrides of the scene's own settings, as given on the command line.
 struct RenderOptions {
   /// Forces a more general specialisation than the scene needs (benchmarks and tests compare

@@ -16,6 +16,7 @@
 #include "weft/render/environment.h"
 #include "weft/render/medium.h"
 #include "weft/render/mesh.h"
+#include "weft/render/render.h"
 #include "weft/render/scene_choices_impl.h"
 #include "weft/transmittance/law_json.h"
 
@@ -195,7 +196,7 @@ IntegratorDesc parse_integrator(const json& j, const std::string& where) {
   IntegratorDesc d;
   const std::string type = r.string("type", "volpath");
   if (type != "volpath") fail("{}: unknown integrator type '{}' (did you mean 'volpath'?)", where, type);
-  d.spp = r.integer("spp", d.spp, 1, 1 << 24);
+  d.spp = r.integer("spp", d.spp, 1, kMaxSpp);
   d.max_depth = r.integer("max_depth", d.max_depth, 1, 100000);
   d.rr_depth = r.integer("rr_depth", d.rr_depth, 0, 100000);
   if (r.has("seed")) {

@@ -14,6 +14,7 @@
 #include "weft/core/error.h"
 #include "weft/dist/distributed.h"
 #include "weft/dist/unit_store.h"
+#include "weft/render/cloth_scene.h"
 #include "weft/render/scene.h"
 #include "weft/study/albedo_fit.h"
 #include "weft/study/render_study_report.h"
@@ -259,8 +260,7 @@ void check_matrix_spec(const MatrixSpec& spec) {
   for (const auto& p : spec.cloths) cloth::validate(cloth_spec(spec, p));  // an unknown pattern is refused here
   if (spec.lightings.empty()) fail("render matrix: no light set-ups");
   if (spec.tilts.empty()) fail("render matrix: no views");
-  for (const double t : spec.tilts)
-    if (!(t >= 0.0 && t <= 80.0)) fail("render matrix: view tilt {} is not in [0, 80] degrees", t);
+  for (const double t : spec.tilts) render::check_cloth_tilt("render matrix: view", t);
   if (spec.width < 8 || spec.height < 8) fail("render matrix: film {}x{} is under 8 px", spec.width, spec.height);
   if (spec.yarns < 1) fail("render matrix: yarns must be >= 1, got {}", spec.yarns);
   if (!(spec.voxel_size > 0.0) || !std::isfinite(spec.voxel_size))

@@ -1,8 +1,10 @@
 // Ray–disk intersection through the periodic uniform grid, checked against brute force.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 #include "data_gen/media2d/disk_grid.h"
 #include "weft/core/error.h"
@@ -126,6 +128,39 @@ TEST(DiskGrid, InsideAnyFindsDisksAcrossTheSeam) {
 
 TEST(DiskGrid, RejectsZeroDirection) {
   EXPECT_THROW((void)DiskGrid(random_medium(10, 0.01, 1)).first_hit({0, 0}, {0, 0}, 1.0), Error);
+}
+
+// An axis-aligned ray repeats its path every domain length (disk_grid.h): in a row the disks leave
+// empty it never hits, and its walk must stop after one length, not at t_max. The old walk took
+// one step per domain length here (a single grid cell): 1e8 steps a ray for this t_max, seconds in all.
+TEST(DiskGrid, AxisRayInAnEmptyRowStopsAfterOneDomainLength) {
+  Medium m;
+  m.radius = 0.01;
+  m.centers = {{0.3, 0.2}, {0.7, 0.8}};
+  const DiskGrid grid(m);
+  ASSERT_EQ(grid.cells_per_side(), 1U);
+  const auto start = std::chrono::steady_clock::now();
+  for (const Point2 d : {Point2{1.0, 0.0}, Point2{-1.0, 0.0}, Point2{0.0, 1.0}, Point2{0.0, -1.0}}) {
+    EXPECT_FALSE(grid.first_hit({0.1, 0.5}, d, 1e8).found()) << d.x << "," << d.y;  // row y = 0.5 is empty
+    EXPECT_FALSE(grid.first_hit({0.5, 0.5}, d, 1e8).found()) << d.x << "," << d.y;  // column x = 0.5 too
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_LT(seconds, 1.0);
+  // Rows and columns that do hold a disk still find it, across the seam, as the brute force does.
+  for (const auto& [o, d] :
+       {std::pair{Point2{0.9, 0.2}, Point2{1.0, 0.0}}, std::pair{Point2{0.7, 0.1}, Point2{0.0, -1.0}},
+        std::pair{Point2{0.305, 0.5}, Point2{0.0, 1.0}}}) {
+    const Hit fast = grid.first_hit(o, d, 1e10);
+    const Hit slow = brute_force_first_hit(m, o, d, 2.0);
+    ASSERT_TRUE(fast.found());
+    EXPECT_EQ(fast.disk, slow.disk);
+    EXPECT_DOUBLE_EQ(fast.t, slow.t);
+  }
+  // A scatterer's ray along an axis meets the next image of its own disk one length on.
+  const Hit own = grid.first_hit({0.31, 0.2}, {1.0, 0.0}, 1e10, 0);
+  ASSERT_TRUE(own.found());
+  EXPECT_EQ(own.disk, 0U);
+  EXPECT_NEAR(own.t, 1.0 - 0.02, 1e-12);
 }
 
 }  // namespace

@@ -2,10 +2,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "data_gen/media2d/law_fit.h"
+#include "data_gen/media2d/realization_tallies.h"
 #include "data_gen/media2d/simulation.h"
 #include "weft/core/error.h"
+#include "weft/core/memory.h"
 #include "weft/core/parallel.h"
 
 namespace weft::media2d {
@@ -185,6 +188,45 @@ TEST(Sim2d, BoundaryToAnUncorrelatedMediumResetsTheMemory) {
   const Curve& same = e.boundary[1].transmittance;
   EXPECT_GT(reset.value[k] - same.value[k], 5.0 * std::hypot(reset.stderr_[k], same.stderr_[k]))
       << "t = " << r.edges[k] << " reset " << reset.value[k] << " same " << same.value[k];
+}
+
+TEST(Sim2d, SourceDirectionOfAnyFiniteAngle) {
+  // The axes are exact (a ray along them repeats after one domain length, disk_grid.h).
+  EXPECT_EQ(direction_deg(0.0).y, 0.0);
+  EXPECT_EQ(direction_deg(90.0).x, 0.0);
+  EXPECT_EQ(direction_deg(90.0).y, 1.0);
+  EXPECT_EQ(direction_deg(-90.0).y, -1.0);
+  EXPECT_EQ(direction_deg(180.0).x, -1.0);
+  EXPECT_EQ(direction_deg(450.0).x, 0.0);
+  // Other angles as before the reduction: cos and sin of θ·π/180.
+  const double a = 30.0 * std::numbers::pi / 180.0;
+  EXPECT_EQ(direction_deg(30.0).x, std::cos(a));
+  EXPECT_EQ(direction_deg(30.0).y, std::sin(a));
+  // θ·π overflowed to inf for θ = 1e308; fmod reduces it exactly.
+  const Point2 huge = direction_deg(1e308);
+  const Point2 reduced = direction_deg(std::fmod(1e308, 360.0));
+  EXPECT_TRUE(std::isfinite(huge.x) && std::isfinite(huge.y));
+  EXPECT_EQ(huge.x, reduced.x);
+  EXPECT_EQ(huge.y, reduced.y);
+}
+
+TEST(Sim2d, RefusesUnboundedWorkBeforeAnyRealization) {
+  SimulationSpec s = small_spec({0.0});
+  s.t_max = (kMaxReach * 1.01) / s.mean_free_path;  // rays beyond the longest supported reach
+  EXPECT_THROW(validate(s), Error);
+  s = small_spec({0.0});
+  s.realizations = kMaxRealizations + 1;
+  EXPECT_THROW(validate(s), Error);
+  s = small_spec({0.0});
+  // Tallies of every realization are held for the reduction: a count that fits the unit key but
+  // not the memory budget.
+  s.realizations = kMaxRealizations;
+  EXPECT_GT(reduction_bytes(s), static_cast<double>(default_memory_budget()));
+  EXPECT_THROW(validate(s), Error);
+  s = small_spec({0.0});
+  s.structure_realizations = 1;
+  s.structure_max_points = 3;
+  EXPECT_THROW(validate(s), Error);
 }
 
 TEST(Sim2d, RejectsBadSpecs) {
