@@ -26,8 +26,10 @@ std::int64_t cells_over(double span, double h) {
 /// A general direction's frame: e1, e2 ⊥ d, the box's corners projected on them, the lattice
 /// origin one cell upstream, and the shortest chord (the depth grid's length).
 void oblique_frame(const WorldBox& box, BeamLattice& L) {
+  // The corners relative to lo (0 or the span per axis): projections of small numbers, so the
+  // lattice's extent and the chord do not depend on where the box sits.
   const Vec3& lo = box.lo;
-  const Vec3& hi = box.hi;
+  const Vec3 size{box.size(0), box.size(1), box.size(2)};
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const Vec3 helper = std::abs(L.d[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
   L.e1 = unit_direction(cross(L.d, helper), "beam");
@@ -38,7 +40,7 @@ void oblique_frame(const WorldBox& box, BeamLattice& L) {
   double bmax = -kInf;
   double cmin = kInf;
   for (int c = 0; c < 8; ++c) {
-    const Vec3 p{(c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1], (c & 4) ? hi[2] : lo[2]};
+    const Vec3 p{(c & 1) ? size[0] : 0.0, (c & 2) ? size[1] : 0.0, (c & 4) ? size[2] : 0.0};
     amin = std::min(amin, dot(p, L.e1));
     amax = std::max(amax, dot(p, L.e1));
     bmin = std::min(bmin, dot(p, L.e2));
@@ -46,12 +48,12 @@ void oblique_frame(const WorldBox& box, BeamLattice& L) {
     cmin = std::min(cmin, dot(p, L.d));
   }
   const double upstream = cmin - L.h;
-  for (int a = 0; a < 3; ++a) L.origin[a] = amin * L.e1[a] + bmin * L.e2[a] + upstream * L.d[a];
+  for (int a = 0; a < 3; ++a) L.origin[a] = lo[a] + (amin * L.e1[a] + bmin * L.e2[a] + upstream * L.d[a]);
   L.na = static_cast<std::int64_t>(std::ceil((amax - amin) / L.h - 1e-9));
   L.nb = static_cast<std::int64_t>(std::ceil((bmax - bmin) / L.h - 1e-9));
   L.depth_length = kInf;
   for (int a = 0; a < 3; ++a) {
-    if (L.d[a] != 0.0) L.depth_length = std::min(L.depth_length, (hi[a] - lo[a]) / std::abs(L.d[a]));
+    if (L.d[a] != 0.0) L.depth_length = std::min(L.depth_length, size[a] / std::abs(L.d[a]));
   }
 }
 
@@ -66,6 +68,7 @@ WorldBox active_world_box(const Grid& grid) {
   for (int a = 0; a < 3; ++a) {
     w.lo[a] = o[a] + h * box.min[a];
     w.hi[a] = o[a] + h * (box.max[a] + 1);
+    w.span[a] = h * static_cast<double>(box.extent()[static_cast<std::size_t>(a)]);
   }
   return w;
 }
@@ -149,9 +152,9 @@ BeamLattice make_beam_lattice(const WorldBox& box, double h, const BeamSpec& spe
     L.e2[va] = 1.0;
     L.origin = lo;
     if (L.d[a] < 0.0) L.origin[a] = hi[a];
-    L.na = cells_over(hi[ua] - lo[ua], h);
-    L.nb = cells_over(hi[va] - lo[va], h);
-    L.depth_length = hi[a] - lo[a];
+    L.na = cells_over(box.size(ua), h);
+    L.nb = cells_over(box.size(va), h);
+    L.depth_length = box.size(a);
   } else {
     oblique_frame(box, L);
   }

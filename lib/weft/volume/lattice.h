@@ -21,6 +21,14 @@ namespace weft::volume {
 struct WorldBox {
   std::array<double, 3> lo{0.0, 0.0, 0.0};
   std::array<double, 3> hi{0.0, 0.0, 0.0};
+  /// hi − lo as the grid knows it (voxels × h, rounded once), when the box is a grid's: far from
+  /// the origin hi − lo loses the digits the two large coordinates share, and a beam's depths and
+  /// lattice would then move with the grid's index origin. 0 = take hi − lo.
+  std::array<double, 3> span{0.0, 0.0, 0.0};
+  [[nodiscard]] double size(int a) const {
+    const auto i = static_cast<std::size_t>(a);
+    return span[i] > 0.0 ? span[i] : hi[i] - lo[i];
+  }
 };
 
 /// The world box of a grid's active voxels (what its beams cover); empty grids throw weft::Error.

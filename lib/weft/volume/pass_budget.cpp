@@ -13,7 +13,7 @@ void check_pass_cost(std::string_view what, const Grid& grid, const PassCost& co
   // Compared in double: a sparse grid's box can make the estimate larger than any integer.
   if (!(cost.bytes <= static_cast<double>(budget))) {
     const bool fits = cost.bytes < 0x1p63;
-    fail("{} over grid '{}' would take {}, over the memory budget of {} (half the RAM)", what, grid.name(),
+    fail("{} over grid '{}' would take {}, over the memory budget of {} (half the RAM or of ulimit -v)", what, grid.name(),
          fits ? format_bytes(static_cast<std::uint64_t>(cost.bytes)) : fmt::format("{:.3g} bytes", cost.bytes),
          format_bytes(budget));
   }

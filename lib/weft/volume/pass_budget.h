@@ -24,7 +24,7 @@ struct PassCost {
 };
 
 /// Throws weft::Error, "<what> over grid '<name>' would take <size>, over ...", when the cost's
-/// bytes exceed default_memory_budget() (half the RAM) or its steps kMaxPassSteps.
+/// bytes exceed default_memory_budget() (half the RAM or of ulimit -v) or its steps kMaxPassSteps.
 void check_pass_cost(std::string_view what, const Grid& grid, const PassCost& cost);
 
 }  // namespace weft::volume

@@ -256,6 +256,34 @@ TEST(Beam, ResultDoesNotDependOnThreadCount) {
   }
 }
 
+// The same voxels in the same place in the world, indexed from far away (the origin moved by
+// −N·h): the depths are the same doubles and T the same to rounding, for axis and oblique beams.
+// Depths came from hi − lo of world coordinates, which lost the digits the two share (a
+// duplicate last depth at N = 10⁸).
+TEST(Beam, FarIndexOriginGivesTheSameDepthsAndTransmittance) {
+  const Grid near = random_sparse(5, 17, 0.02);
+  const double h = near.voxel_size();
+  for (std::int64_t n : {std::int64_t{10'000'000}, std::int64_t{100'000'000}, std::int64_t{-2'000'000'000}}) {
+    Grid far(h);
+    const auto o = near.origin();
+    far.set_origin({o[0] - static_cast<double>(n) * h, o[1] - static_cast<double>(n) * h, o[2] + static_cast<double>(n) * h});
+    for (auto it = near.impl().grid->cbeginValueOn(); it; ++it) {
+      const auto c = it.getCoord();
+      far.set_value(static_cast<int>(c.x() + n), static_cast<int>(c.y() + n), static_cast<int>(c.z() - n), *it);
+    }
+    for (const auto& dir : {std::array<double, 3>{1, 0, 0}, std::array<double, 3>{0, -1, 0},
+                            std::array<double, 3>{0, 0, 1}, std::array<double, 3>{1, 1, 1}}) {
+      BeamSpec spec;
+      spec.direction = dir;
+      const TransmittanceCurve a = measure_beam(near, spec);
+      const TransmittanceCurve b = measure_beam(far, spec);
+      ASSERT_EQ(a.depth, b.depth) << "offset " << n << ", direction " << direction_label(dir);
+      for (std::size_t k = 0; k < a.size(); ++k)
+        EXPECT_NEAR(a.log_t[k], b.log_t[k], 1e-9 * (1.0 + std::abs(a.log_t[k]))) << n << " " << k;
+    }
+  }
+}
+
 TEST(Beam, RejectsBadSpecsAndEmptyGrids) {
   const Grid empty(1.0);
   EXPECT_THROW((void)measure_beam(empty, BeamSpec{}), Error);
