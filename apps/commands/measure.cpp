@@ -106,7 +106,18 @@ const Registrar kMeasure{Command{
         const LoadedGrid loaded = load_grid_input(o->input);
         // The fibres first: a grid that does not name its fibres is refused before any beam.
         std::optional<fibres::CapsuleIndex> fibre_index;
+        const auto fibre_spec = [&](const std::array<double, 3>& d) {
+          volume::BeamSpec fs;
+          fs.direction = d;
+          fs.seed = o->seed;
+          fs.depth_step = o->depth_step;
+          fs.rays_per_column = o->fibre_rays;
+          fs.jitter = o->fibre_rays > 1;
+          return fs;
+        };
         if (o->fibres) {
+          // Every fibre beam's budget before any beam runs (the voxel beams check their own).
+          for (const auto& d : dirs) fibres::check_fibre_beam(loaded.grid, fibre_spec(d));
           fibre_index.emplace(cloth::fibre_geometry(cloth::fibers_of_grid(loaded.grid, o->input.grid, ctx.progress)));
         }
         const bool ruled = rule != volume::VoxelRule::linear;
@@ -148,9 +159,7 @@ const Registrar kMeasure{Command{
                            {"logT_at_depth_max", curve.log_t.back()},
                            {"seconds", secs}});
           if (fibre_index) {
-            volume::BeamSpec fs = spec;
-            fs.rays_per_column = o->fibre_rays;
-            fs.jitter = o->fibre_rays > 1;
+            const volume::BeamSpec fs = fibre_spec(dirs[b]);
             const auto f0 = std::chrono::steady_clock::now();
             const auto fc = fibres::measure_fibre_beam(*fibre_index, grid, fs, fibre_kappa, ctx.progress);
             const double fsecs = std::chrono::duration<double>(std::chrono::steady_clock::now() - f0).count();

@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
+#include "weft/volume/pass_budget.h"
 
 namespace weft::fibres {
 namespace {
@@ -43,6 +46,23 @@ volume::WorldBox fibre_box(const CapsuleIndex& fibres) {
   return {fibres.lo(), fibres.hi()};
 }
 
+void check_fibre_beam(const volume::WorldBox& box, double cell, const volume::BeamSpec& spec) {
+  // The budget of every pass (volume/pass_budget.h), before the depths are allocated: a ray
+  // costs its BVH walk, bounded like a voxel ray's cell crossings, and its profile's depths.
+  const volume::BeamLattice plan = volume::make_beam_lattice(box, cell, spec, false);
+  const auto s = static_cast<double>(plan.stride);
+  const double rays = std::ceil(static_cast<double>(plan.na) / s) * std::ceil(static_cast<double>(plan.nb) / s) *
+                      static_cast<double>(plan.per_cell);
+  const auto K = static_cast<double>(plan.depth_count);
+  volume::check_pass_cost(
+      fmt::format("fibre beam {} ({:.4g} rays)", volume::direction_label(plan.d), rays), "the fibres",
+      {rays * (plan.cells_crossed() + K), (3.0 * static_cast<double>(kShards) + 4.0) * K * sizeof(double)});
+}
+
+void check_fibre_beam(const volume::Grid& grid, const volume::BeamSpec& spec) {
+  check_fibre_beam(volume::active_world_box(grid), grid.voxel_size(), spec);
+}
+
 volume::TransmittanceCurve measure_fibre_beam(const CapsuleIndex& fibres, const volume::Grid& grid,
                                               const volume::BeamSpec& spec, double extinction, ProgressSink& progress) {
   return measure_fibre_beam(fibres, volume::active_world_box(grid), grid.voxel_size(), spec, extinction, progress);
@@ -57,6 +77,7 @@ volume::TransmittanceCurve measure_fibre_beam(const CapsuleIndex& fibres, const 
   if (std::isnan(extinction) || extinction < 0.0)
     fail("fibre beam: extinction inside the fibres must be >= 0 (or infinite: opaque), got {}", extinction);
   const bool opaque = std::isinf(extinction);
+  check_fibre_beam(box, cell, spec);
   const volume::BeamLattice L = volume::make_beam_lattice(box, cell, spec);
   const std::size_t K = L.depths.size();
   const auto units = static_cast<std::size_t>(L.na);

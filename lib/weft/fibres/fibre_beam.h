@@ -38,6 +38,12 @@ inline constexpr double kOpaque = std::numeric_limits<double>::infinity();
                                                             const volume::BeamSpec& spec, double extinction = kOpaque,
                                                             ProgressSink& progress = null_progress());
 
+/// Throws weft::Error when the fibre beam would be over the budget of every pass
+/// (volume/pass_budget.h: its steps or its memory): what measure_fibre_beam checks first, for a
+/// caller that checks every beam before tracing any.
+void check_fibre_beam(const volume::WorldBox& box, double cell, const volume::BeamSpec& spec);
+void check_fibre_beam(const volume::Grid& grid, const volume::BeamSpec& spec);
+
 /// The box holding every capsule of the index (for beams through fibres without a grid).
 [[nodiscard]] volume::WorldBox fibre_box(const CapsuleIndex& fibres);
 

@@ -26,5 +26,7 @@ struct PassCost {
 /// Throws weft::Error, "<what> over grid '<name>' would take <size>, over ...", when the cost's
 /// bytes exceed default_memory_budget() (half the RAM or of ulimit -v) or its steps kMaxPassSteps.
 void check_pass_cost(std::string_view what, const Grid& grid, const PassCost& cost);
+/// The same for a pass over something else (`subject`, e.g. "the fibres": the exact fibre beam).
+void check_pass_cost(std::string_view what, std::string_view subject, const PassCost& cost);
 
 }  // namespace weft::volume

@@ -207,5 +207,23 @@ TEST(FibreBeam, BadInput) {
   EXPECT_THROW((void)measure_fibre_beam(index, kUnitBox, 0.01, beam({0, 0, 1}, 0)), Error);
 }
 
+// The budget of every pass (volume/pass_budget.h) before any ray: 10⁴ cells × 10⁹ rays each
+// would run for days; it is refused at once with the rays and steps named (it once grew to
+// 15.7 GB holding each cell's offsets, then ran on).
+TEST(FibreBeam, AHugeRayCountIsRefusedBeforeAnyWork) {
+  const CapsuleIndex index(straight_fibre(0.5, 0.5, 0.05));
+  try {
+    (void)measure_fibre_beam(index, kUnitBox, 0.01, beam({1, 1, 1}, 1'000'000'000, 3));
+    FAIL() << "10^13 rays were traced";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("fibre beam"), std::string::npos) << what;
+    EXPECT_NE(what.find("over the fibres"), std::string::npos) << what;
+    EXPECT_NE(what.find("over the limit of 1e+12"), std::string::npos) << what;
+  }
+  // The same beam with 16 rays per cell runs (well inside the budget).
+  EXPECT_GT(measure_fibre_beam(index, kUnitBox, 0.01, beam({1, 1, 1}, 16, 3)).rays, 0U);
+}
+
 }  // namespace
 }  // namespace weft::fibres
