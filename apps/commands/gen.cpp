@@ -13,6 +13,7 @@
 #include "command.h"
 #include "data_gen/cloth/cloth.h"
 #include "data_gen/cloth/voxelize.h"
+#include "interrupt.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 #include "weft/core/memory.h"
@@ -322,11 +323,14 @@ const Registrar kGen{Command{
                                                format_bytes(build.fibers.points.size() * sizeof(cloth::Point3)),
                                                cloth::describe(build.estimate));
         const fs::path out(o->out);
-        ensure_directory(out);
+        // The outputs appear together or not at all: a Ctrl-C (or a failed write) between two
+        // files removes what this run added (docs/robustness.md "Output folders of failed runs").
+        FolderRollback written(out);
         WrittenFiles files;
         const fs::path scene = out / "scene.json";
         for (const auto& output : kOutputs) {
           if (outputs.count(output.name) == 0) continue;
+          stop_if_interrupted();  // no progress is reported while files are written
           const fs::path path = out / output.file;
           const std::string name = output.name;
           if (name == "grid") {
@@ -352,6 +356,8 @@ const Registrar kGen{Command{
           if (name == "grid") build.grid = volume::Grid();  // written: its tree is not needed any more
         }
         if (outputs.count("grid") != 0) files.add(scene, "render scene");
+        stop_if_interrupted();
+        written.keep();
         ctx.say(made);
         ctx.say(
             fmt::format("voxel size {} mm: {} active voxels; fibre volume {:.6g} mm^3, grid volume {:.6g} mm^3 "
