@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <string>
 
 #include <fmt/core.h>
 #include <unistd.h>
@@ -56,9 +57,13 @@ void TerminalProgress::draw(std::uint64_t done, bool final) {
   const double fraction = total_ > 0 ? std::min(1.0, static_cast<double>(done) / static_cast<double>(total_)) : 1.0;
   const int filled = static_cast<int>(fraction * kWidth);
   const double rate = elapsed > 0 ? static_cast<double>(done) / elapsed : 0.0;
-  const double eta = rate > 0 ? static_cast<double>(total_ - std::min(done, total_)) / rate : 0.0;
-  fmt::print(stderr, "\r{:<22} [{}{}] {:5.1f}% {:>10.3g}/s  {} {:.1f}s\x1b[K", label_, std::string(filled, '#'),
-             std::string(kWidth - filled, '.'), 100.0 * fraction, rate, final ? "took" : "eta", final ? elapsed : eta);
+  // Before the first unit is done there is no rate, so no estimate: "eta --", not "eta 0.0s".
+  const std::string when = final ? fmt::format("took {:.1f}s", elapsed)
+                           : rate > 0
+                               ? fmt::format("eta {:.1f}s", static_cast<double>(total_ - std::min(done, total_)) / rate)
+                               : std::string("eta --");
+  fmt::print(stderr, "\r{:<22} [{}{}] {:5.1f}% {:>10.3g}/s  {}\x1b[K", label_, std::string(filled, '#'),
+             std::string(kWidth - filled, '.'), 100.0 * fraction, rate, when);
   if (final) fmt::print(stderr, "\n");
   std::fflush(stderr);
 }
