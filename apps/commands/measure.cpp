@@ -59,7 +59,8 @@ const Registrar kMeasure{Command{
           ->capture_default_str();
       sub.add_option("--rays", o->rays,
                      "Rays per column (> 1: jittered); oblique beams only: an axis beam's rays of one column "
-                     "cross the same voxels (refused when every beam is an axis beam)")
+                     "cross the same voxels (refused when every beam is an axis beam); a beam over 1e12 steps or the "
+                     "memory budget is refused before it starts (docs/robustness.md \"Work and memory budgets\")")
           ->capture_default_str();
       sub.add_flag("--jitter", o->jitter, "Jitter ray origins inside their column cell (oblique beams only)");
       sub.add_option("--depth-step", o->depth_step, "Depth spacing of T(t) [length] (default: one voxel)");
@@ -74,7 +75,10 @@ const Registrar kMeasure{Command{
                    "Also trace the beams through the fibres the grid was generated from (regenerated from its "
                    "weft gen provenance), on the same ray lattice: fibres.csv and the voxel-fibre difference");
       o->fibre_rays_option =
-          sub.add_option("--fibre-rays", o->fibre_rays, "Jittered rays per lattice cell of the fibre beams (--fibres)")
+          sub.add_option(
+                 "--fibre-rays", o->fibre_rays,
+                 "Jittered rays per lattice cell of the fibre beams (--fibres); a beam over 1e12 steps is refused "
+                 "before it starts (docs/robustness.md \"Work and memory budgets\")")
               ->capture_default_str();
       o->fibre_extinction_option =
           sub.add_option("--fibre-extinction", o->fibre_extinction,

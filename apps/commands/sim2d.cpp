@@ -348,7 +348,10 @@ const Registrar kSim2d{Command{
           ->capture_default_str();
       sub.add_option("--realizations", o->realizations, "Media generated per eta, >= 1")->capture_default_str();
       sub.add_option("--samples", o->samples, "Rays per quantity per realization")->capture_default_str();
-      sub.add_option("--t-max", o->t_max, "Longest free path measured, in mean free paths")->capture_default_str();
+      sub.add_option("--t-max", o->t_max,
+                     "Longest free path measured, in mean free paths (refused past 100 domain lengths, 4000 at the "
+                     "defaults: docs/sim2d.md \"Rays\")")
+          ->capture_default_str();
       sub.add_option("--bins", o->bins, "Bins over [0, t-max]")->capture_default_str();
       sub.add_option("--theta", o->thetas, "Source angles from +x in degrees, comma-separated")
           ->delimiter(',')

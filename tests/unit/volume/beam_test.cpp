@@ -266,7 +266,8 @@ TEST(Beam, FarIndexOriginGivesTheSameDepthsAndTransmittance) {
   for (std::int64_t n : {std::int64_t{10'000'000}, std::int64_t{100'000'000}, std::int64_t{-2'000'000'000}}) {
     Grid far(h);
     const auto o = near.origin();
-    far.set_origin({o[0] - static_cast<double>(n) * h, o[1] - static_cast<double>(n) * h, o[2] + static_cast<double>(n) * h});
+    far.set_origin(
+        {o[0] - static_cast<double>(n) * h, o[1] - static_cast<double>(n) * h, o[2] + static_cast<double>(n) * h});
     for (auto it = near.impl().grid->cbeginValueOn(); it; ++it) {
       const auto c = it.getCoord();
       far.set_value(static_cast<int>(c.x() + n), static_cast<int>(c.y() + n), static_cast<int>(c.z() - n), *it);
