@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
@@ -12,6 +13,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPNGWriter.h>
@@ -46,9 +48,18 @@ std::vector<unsigned char> srgb8_pixels(const Image& image, double exposure) {
 /// finite double samples overflows to inf past 3.4e38, and an inf pixel written silently reads as
 /// a broken render. Refused before any file is made, with the count.
 void check_finite(const std::filesystem::path& path, const Image& image) {
-  std::size_t bad = 0;
-  for (std::size_t p = 0; p + 2 < image.rgb.size(); p += 3)
-    if (!std::isfinite(image.rgb[p]) || !std::isfinite(image.rgb[p + 1]) || !std::isfinite(image.rgb[p + 2])) ++bad;
+  // A count (exact in any order), over the threads: it reads the whole film before the writes.
+  const std::size_t pixels = image.rgb.size() / 3;
+  const std::size_t bad = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, pixels, std::size_t{1} << 14U), std::size_t{0},
+      [&](const tbb::blocked_range<std::size_t>& r, std::size_t count) {
+        for (std::size_t q = r.begin(); q != r.end(); ++q) {
+          const float* v = &image.rgb[3 * q];
+          if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) ++count;
+        }
+        return count;
+      },
+      std::plus<>());
   if (bad > 0)
     fail(
         "cannot write EXR '{}': {} of {} pixels are not finite (a value beyond the float range, 3.4e38: lights or "

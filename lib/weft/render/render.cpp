@@ -5,8 +5,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <memory>
+#include <span>
 
+#include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
 
 #include "weft/core/error.h"
 #include "weft/core/memory.h"
@@ -52,7 +56,7 @@ struct Tiling {
 
 template <bool kMedia, bool kNonExp>
 void render_pass(const World& world, const Camera& camera, const Tiling& tiling, std::uint64_t seed, int s_begin,
-                 int s_end, std::vector<double>& sum, std::vector<double>& sum2, std::atomic<std::uint64_t>& rays,
+                 int s_end, std::span<double> sum, std::span<double> sum2, std::atomic<std::uint64_t>& rays,
                  std::atomic<std::uint64_t>& invalid, std::atomic<std::uint64_t>& cells,
                  std::atomic<std::uint64_t>& lookups, ProgressTask& task) {
   const Integrator<kMedia, kNonExp> integrator(world);
@@ -149,19 +153,35 @@ void render_pass(const World& world, const Camera& camera, const Tiling& tiling,
   }
 }
 
-Image make_image(int width, int height, int n, const std::vector<double>& sum, const std::vector<double>& sum2) {
+/// The film's sample sums, zeroed over the threads: the first write to a fresh allocation's pages
+/// faults them in, so a std::vector(n, 0.0) of a large film at few spp was a serial 20 ms that one
+/// core ran while the other waited (docs/benchmarks.md "Threads: 1 vs 2").
+std::unique_ptr<double[]> parallel_zeros(std::size_t n) {
+  auto v = std::make_unique_for_overwrite<double[]>(n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, std::size_t{1} << 15U),
+                    [&](const tbb::blocked_range<std::size_t>& r) { std::fill(&v[r.begin()], &v[0] + r.end(), 0.0); });
+  return v;
+}
+
+Image make_image(int width, int height, int n, std::span<const double> sum, std::span<const double> sum2) {
   Image image;
   image.width = width;
   image.height = height;
   image.spp = n;
   image.rgb.resize(sum.size());
   image.variance.resize(sum.size());
-  for (std::size_t i = 0; i < sum.size(); ++i) {
-    const double mean = sum[i] / n;
-    const double var = n > 1 ? std::max(0.0, (sum2[i] - n * mean * mean) / (n - 1)) : 0.0;
-    image.rgb[i] = static_cast<float>(mean);
-    image.variance[i] = static_cast<float>(var / n);
-  }
+  // Each value on its own, so spread over the threads: on a large film at few spp this loop (and
+  // the first touch of its 8 bytes a value) was a serial tail of tens of milliseconds that one
+  // core ran while the other waited (docs/benchmarks.md "Threads: 1 vs 2").
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, sum.size(), std::size_t{1} << 14U),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                        const double mean = sum[i] / n;
+                        const double var = n > 1 ? std::max(0.0, (sum2[i] - n * mean * mean) / (n - 1)) : 0.0;
+                        image.rgb[i] = static_cast<float>(mean);
+                        image.variance[i] = static_cast<float>(var / n);
+                      }
+                    });
   return image;
 }
 
@@ -198,8 +218,9 @@ RenderResult render(const World& world, const RenderOptions& options, ProgressSi
   result.stats.features = world.features;
   const Features& f = result.stats.features;
   const std::size_t n = static_cast<std::size_t>(camera.width) * camera.height * 3;
-  std::vector<double> sum(n, 0.0);
-  std::vector<double> sum2(n, 0.0);
+  const std::unique_ptr<double[]> sums = parallel_zeros(2 * n);
+  const std::span<double> sum(sums.get(), n);
+  const std::span<double> sum2(sums.get() + n, n);
   std::atomic<std::uint64_t> rays{0};
   std::atomic<std::uint64_t> invalid{0};
   std::atomic<std::uint64_t> cells{0};
