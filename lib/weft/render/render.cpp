@@ -18,41 +18,12 @@
 #include "weft/render/camera.h"
 #include "weft/render/integrator.h"
 #include "weft/render/medium.h"
+#include "weft/render/tiling.h"
 #include "weft/render/world.h"
 
 namespace weft::render {
 
 namespace {
-
-/// The work units of a pass: square tiles of 16, 8, 4, 2 or 1 pixels a side, the largest side
-/// that still gives kMinTiles tiles, but no tile under kMinSamples samples per pass (a 64×64 film
-/// at 1024 spp: 1024 tiles of 2×2 pixels; 256×256: 1024 of 8×8; 1024×768: 3072 of 16×16; a 48×48
-/// film in passes of 1 spp keeps 16×16, as smaller units would cost more to schedule than to
-/// render). A few large tiles of very unequal cost (background vs medium) leave threads idle at
-/// the end of a pass; with ≥ 1024 units, dynamic scheduling leaves at most about one unit per
-/// thread. One tiling serves every pass of a render (a rank keeps its tiles' running sums between
-/// passes), and each pixel's samples are still summed by one unit in sample order, so the image
-/// does not depend on it (docs/render.md §1).
-struct Tiling {
-  static constexpr int kMaxSide = 16;
-  static constexpr std::size_t kMinTiles = 1024;
-  static constexpr long kMinSamples = 256;
-  int side = kMaxSide;
-  int tiles_x = 1;
-  int tiles_y = 1;
-
-  Tiling(int width, int height, int spp_per_pass) {
-    for (;; side /= 2) {
-      tiles_x = (width + side - 1) / side;
-      tiles_y = (height + side - 1) / side;
-      const long next_samples = static_cast<long>(side / 2) * (side / 2) * spp_per_pass;
-      if (side == 1 || count() >= kMinTiles || next_samples < kMinSamples) break;
-    }
-  }
-  [[nodiscard]] std::size_t count() const {
-    return static_cast<std::size_t>(tiles_x) * static_cast<std::size_t>(tiles_y);
-  }
-};
 
 template <bool kMedia, bool kNonExp>
 void render_pass(const World& world, const Camera& camera, const Tiling& tiling, std::uint64_t seed, int s_begin,
@@ -63,18 +34,20 @@ void render_pass(const World& world, const Camera& camera, const Tiling& tiling,
   const int side = tiling.side;
   const int tiles_x = tiling.tiles_x;
   tbb::enumerable_thread_specific<PathCounters> thread_counters(world.media);
-  // Tiles are the work units, over threads and MPI ranks (dist::run_units). A run without a store
-  // gives tile t to rank t mod N in every pass, so each rank keeps the running sums of its own
-  // tiles in `sum`/`sum2` across passes and every pixel accumulates its samples in order, as in
+  // Tiles are the work units, over threads and MPI ranks (dist::run_units), unit u rendering
+  // tile tiling.tile(u). A run without a store gives unit u to rank u mod N in every pass, so each rank keeps the
+  // running sums of its own tiles in `sum`/`sum2` across passes and every pixel accumulates its samples in order, as in
   // one process. A tile's result carries its ray counts and, from ranks other than 0, its sums
   // after this pass (rank 0's own tiles are already in place).
   dist::UnitsOptions how;
   how.progress = &task;
-  how.name = [&](std::size_t t) {
+  how.name = [&](std::size_t u) {
+    const std::size_t t = tiling.tile(u);
     return fmt::format("render tile {} (x {}, y {}, {} px a side), samples {}..{}", t, (t % tiles_x) * side,
                        (t / tiles_x) * side, side, s_begin, s_end - 1);
   };
-  const auto tile_pixels = [&](std::size_t t, auto&& f) {
+  const auto tile_pixels = [&](std::size_t u, auto&& f) {
+    const std::size_t t = tiling.tile(u);
     const int tx = static_cast<int>(t % static_cast<std::size_t>(tiles_x));
     const int ty = static_cast<int>(t / static_cast<std::size_t>(tiles_x));
     for (int y = ty * side; y < std::min(camera.height, (ty + 1) * side); ++y) {
