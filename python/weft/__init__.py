@@ -16,6 +16,7 @@ import math as _math
 import numbers as _numbers
 import os as _os
 import sys as _sys
+import time as _time
 import tempfile as _tempfile
 
 from . import _build_info
@@ -47,7 +48,10 @@ __version__ = _build_info.version
 
 class _ProgressBar:
     """``progress=True``: a bar per stage on stderr, with tqdm when it is installed (never
-    required), else one line per stage rewritten in place."""
+    required), else the CLI's line (apps/terminal_progress.cpp): bar, percent, rate and ETA,
+    rewritten in place at most every 0.1 s, and ``took`` when the stage ends."""
+
+    _WIDTH = 30
 
     def __init__(self):
         try:
@@ -55,29 +59,47 @@ class _ProgressBar:
             self._tqdm = tqdm.tqdm
         except ImportError:
             self._tqdm = None
-        self._label, self._bar, self._shown = None, None, -1
+        self._reset()
+
+    def _reset(self):
+        self._label, self._bar, self._total, self._done, self._start, self._drawn = None, None, 0, 0, 0.0, None
 
     def __call__(self, label, done, total):
         if label != self._label:
             self.close()
-            self._label = label
+            self._label, self._total, self._start = label, total, _time.monotonic()
             if self._tqdm is not None:
                 self._bar = self._tqdm(total=total, desc=label, leave=False, file=_sys.stderr)
+        self._done = done
         if self._bar is not None:
             self._bar.update(done - self._bar.n)
             return
-        percent = 100 * done // total if total else 100
-        if percent != self._shown:
-            self._shown = percent
-            _sys.stderr.write("\r%s: %3d%%" % (label, percent))
-            _sys.stderr.flush()
+        now = _time.monotonic()
+        if self._drawn is None or now - self._drawn >= 0.1 or done >= total:
+            self._drawn = now
+            self._draw(now, final=False)
+
+    def _draw(self, now, final):
+        elapsed = now - self._start
+        total, done = self._total, self._done
+        fraction = min(1.0, done / total) if total else 1.0
+        filled = int(fraction * self._WIDTH)
+        rate = done / elapsed if elapsed > 0 else 0.0
+        # No rate before the first unit, so no estimate: "eta --", as the CLI.
+        when = ("took %.1fs" % elapsed if final
+                else "eta %.1fs" % ((total - min(done, total)) / rate) if rate > 0 else "eta --")
+        _sys.stderr.write("\r%-22s [%s%s] %5.1f%% %10.3g/s  %s\x1b[K" % (
+            self._label, "#" * filled, "." * (self._WIDTH - filled), 100.0 * fraction, rate, when))
+        if final:
+            _sys.stderr.write("\n")
+        _sys.stderr.flush()
 
     def close(self):
         if self._bar is not None:
             self._bar.close()
         elif self._label is not None:
-            _sys.stderr.write("\n")
-        self._label, self._bar, self._shown = None, None, -1
+            self._draw(_time.monotonic(), final=True)
+        self._reset()
 
 
 def _run(fn, threads, progress):
