@@ -125,8 +125,12 @@ int main(int argc, char** argv) {
     bool ran = false;
     for (auto& [sub, action, distributed] : actions) {
       if (sub->parsed()) {
-        // A command without work units runs once, on rank 0.
-        if (distributed || weft::dist::is_root()) code = action(context);
+        // A command without work units runs once, on rank 0; outputs that could not be written
+        // are refused before it starts.
+        if (distributed || weft::dist::is_root()) {
+          check_output_options(*sub);
+          code = action(context);
+        }
         ran = true;
         break;
       }

@@ -3,7 +3,10 @@
 #include <cerrno>
 #include <cstdint>
 #include <cstdlib>
+#include <filesystem>
 #include <limits>
+
+#include "weft/core/atomic_file.h"
 
 namespace weft::app {
 
@@ -98,6 +101,17 @@ void check_integer_options(CLI::App& app) {
         CLI::Validator([is_unsigned](std::string& text) { return integer_problem(text, is_unsigned); }, "", "integer"));
   }
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) check_integer_options(*sub);
+}
+
+void check_output_options(const CLI::App& sub) {
+  for (const CLI::Option* option : sub.get_options()) {
+    const bool folder = option->check_lname("out");
+    if (!folder && !option->check_lname("output")) continue;
+    std::string value = option->count() > 0 ? option->as<std::string>() : option->get_default_str();
+    if (value.empty()) continue;  // an output the command does not write unless asked for
+    const std::filesystem::path path(value);
+    check_writable_folder(folder ? path : (path.has_parent_path() ? path.parent_path() : std::filesystem::path(".")));
+  }
 }
 
 }  // namespace weft::app

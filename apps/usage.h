@@ -69,4 +69,10 @@ CLI::Validator in_range(double lo, double hi);
 /// has declared its options, so no command can forget it.
 void check_integer_options(CLI::App& app);
 
+/// @brief Refuses, before the command runs, outputs it could not write (docs/robustness.md):
+/// the folder of every given or defaulted `--out` option of the parsed subcommand `sub`, and the
+/// folder of its `--output` file (weft::check_writable_folder). main() calls it once for the
+/// command that will run, so no command finds an unwritable folder only after its work.
+void check_output_options(const CLI::App& sub);
+
 }  // namespace weft::app

@@ -1,6 +1,7 @@
 #include "weft/core/atomic_file.h"
 
 #include <atomic>
+#include <cerrno>
 #include <fstream>
 #include <system_error>
 #include <utility>
@@ -55,6 +56,25 @@ void ensure_directory(const fs::path& dir) {
   if (fs::is_directory(dir, ec)) return;
   fs::create_directories(dir, ec);
   if (ec) fail("cannot create output folder '{}': {}", dir.string(), ec.message());
+}
+
+void check_writable_folder(const fs::path& dir) {
+  std::error_code ec;
+  fs::path at = fs::absolute(dir.empty() ? fs::path(".") : dir, ec);
+  if (ec) fail("output folder '{}': {}", dir.string(), ec.message());
+  while (!fs::exists(at, ec) && at.has_parent_path() && at != at.parent_path()) at = at.parent_path();
+  if (!fs::is_directory(at, ec)) fail("output folder '{}': '{}' is not a folder", dir.string(), at.string());
+  const fs::path probe = temporary_beside(at / "weft-write-check");
+  {
+    std::ofstream f(probe, std::ios::binary);
+    if (!f) {
+      const std::string reason = std::error_code(errno, std::generic_category()).message();
+      fail("output folder '{}' cannot be written{}: {}", dir.string(),
+           at == fs::absolute(dir, ec) ? std::string() : fmt::format(" (nothing can be created in '{}')", at.string()),
+           reason);
+    }
+  }
+  fs::remove(probe, ec);
 }
 
 FolderRollback::FolderRollback(fs::path folder, bool active) : folder_(std::move(folder)), active_(active) {

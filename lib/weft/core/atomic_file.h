@@ -24,6 +24,13 @@ void write_text_atomically(const std::filesystem::path& target, std::string_view
 /// @brief Creates `dir` (and parents) or throws a weft::Error naming it.
 void ensure_directory(const std::filesystem::path& dir);
 
+/// @brief Refuses, before a run spends anything, an output folder its files could not be written
+/// to: `dir`, or where it does not exist yet its nearest existing ancestor (the run creates the
+/// rest), must be a folder in which this process can create a file. The test is a file made and
+/// removed there, not the permission bits: they do not see read-only mounts, /proc or root's
+/// rights. Leaves nothing behind; throws a weft::Error naming `dir` and the reason.
+void check_writable_folder(const std::filesystem::path& dir);
+
 /// @brief The files a run writes into one folder appear whole or not at all, for a run of many
 /// files (each written atomically) that can fail between them.
 ///
