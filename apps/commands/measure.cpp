@@ -2,6 +2,7 @@
 // particle-origin (T_S) vs source-origin (T_Q) rays of the reciprocity check, and the fibre
 // ground truth of the same beams (--fibres, docs/validate.md §Fibre ground truth).
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 
@@ -68,7 +69,10 @@ const Registrar kMeasure{Command{
       sub.add_option("--seed", o->seed, "Seed of jittered and scatterer rays")->capture_default_str();
       sub.add_flag("--scatterer", o->scatterer,
                    "Also measure T_S (rays from particles) against p_Q (rays from uniform points)");
-      sub.add_option("--scatterer-rays", o->scatterer_rays, "Rays of each kind for --scatterer")->capture_default_str();
+      sub.add_option("--scatterer-rays", o->scatterer_rays,
+                     "Rays of each kind for --scatterer; a request over 1e12 steps or the memory budget is refused "
+                     "before any beam starts (docs/robustness.md \"Work and memory budgets\")")
+          ->capture_default_str();
       sub.add_option("--scatterer-direction", o->scatterer_direction,
                      "Fixed direction of --scatterer rays (default: isotropic)");
       sub.add_flag("--fibres", o->fibres,
@@ -96,6 +100,9 @@ const Registrar kMeasure{Command{
         std::vector<std::array<double, 3>> dirs;
         for (const auto& d : o->directions) dirs.push_back(as_usage([&] { return volume::parse_direction(d); }));
         const auto method = as_usage([&] { return volume::parse_beam_method(o->method); });
+        const std::array<double, 3> scatterer_direction =
+            o->scatterer_direction.empty() ? std::array<double, 3>{0.0, 0.0, 1.0}
+                                           : as_usage([&] { return volume::parse_direction(o->scatterer_direction); });
         // More rays per column or jitter are refused when every beam is an axis beam (the rule
         // Python shares) and noted per axis beam otherwise.
         as_usage([&] { volume::check_rays_per_column(dirs, o->rays, o->jitter, FrontEnd::cli); });
@@ -130,6 +137,16 @@ const Registrar kMeasure{Command{
         const std::string values =
             ruled ? fmt::format("{} ({} voxel rule)", o->input.values, o->voxel_rule) : o->input.values;
         const double fibre_kappa = o->fibre_extinction_option->count() > 0 ? o->fibre_extinction : fibres::kOpaque;
+
+        // The scatterer rays' budget before any beam runs (docs/robustness.md "Work and memory budgets").
+        volume::ScattererSpec ss;
+        ss.scale = sigma;
+        ss.rays = o->scatterer_rays;
+        ss.seed = o->seed;
+        ss.depth_step = o->depth_step;
+        ss.fixed_direction = !o->scatterer_direction.empty();
+        if (ss.fixed_direction) ss.direction = scatterer_direction;
+        if (o->scatterer) volume::check_scatterer(grid, ss);
 
         // The first line records σ and the grid, so `weft fit --beams` can refuse curves of another σ or grid.
         std::string csv = beams_record_line({sigma, values, grid.voxel_size(), grid.active_voxel_count(), grid.sum()}) +
@@ -185,15 +202,6 @@ const Registrar kMeasure{Command{
         std::string scatterer_csv;
         json scatterer = nullptr;
         if (o->scatterer) {
-          volume::ScattererSpec ss;
-          ss.scale = sigma;
-          ss.rays = o->scatterer_rays;
-          ss.seed = o->seed;
-          ss.depth_step = o->depth_step;
-          if (!o->scatterer_direction.empty()) {
-            ss.fixed_direction = true;
-            ss.direction = volume::parse_direction(o->scatterer_direction);
-          }
           const auto t0 = std::chrono::steady_clock::now();
           const auto c = volume::measure_scatterer(grid, ss, ctx.progress);
           scatterer_csv = "t,T_S,T_S_stderr,T_Q,T_Q_stderr,p_Q,mu_bar_T_S\n";

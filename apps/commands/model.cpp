@@ -183,10 +183,29 @@ int run(const ModelOptions& o, const std::vector<bool>& given_flags, const Conte
     usage_fail("--sample: at most 1e9 samples per run, got {} (run several seeds)", o.sample);
   if (o.sample > 0) {
     const tr::Origin from = as_usage([&] { return tr::parse_origin(o.from); });
-    if (default_law && !ctx.globals.quiet) fmt::print(stderr, "weft: note: {}\n", note);
     Pcg32 rng = stream_for(o.seed, 0);
-    // Streamed in chunks: N may be far larger than memory.
+    // Streamed in chunks: N may be far larger than memory. With --json, the same numbers in one
+    // object whose "samples" array is streamed after its other fields (+∞ as "infinite").
     std::string out;
+    if (o.json) {
+      const tr::Law& drawn = pair.law(from);
+      json head = {{"law", law->name()},
+                   {"parameters", parameters_json(*law)},
+                   {"given", given == tr::Origin::source ? "Q" : "S"},
+                   {"pair", tr::to_string(pair.mode())},
+                   {"from", tr::to_string(from)},
+                   {"sampled_law", {{"law", drawn.name()}, {"parameters", parameters_json(drawn)}}},
+                   {"sampling", proportional ? "proportional to T (S.55-S.57)" : drawn.sampling_method()},
+                   {"seed", o.seed},
+                   {"count", o.sample},
+                   {"units", {{"t", "length"}}}};
+      if (default_law) head["note"] = note;
+      out = head.dump(2);
+      out.resize(out.size() - 2);  // reopen the object: dump(2) ends with "\n}"
+      out += ",\n  \"samples\": [";
+    } else if (default_law && !ctx.globals.quiet) {
+      fmt::print(stderr, "weft: note: {}\n", note);
+    }
     const auto flush = [&out] {
       if (std::fwrite(out.data(), 1, out.size(), stdout) != out.size())
         fail("cannot write samples to stdout: {}", std::strerror(errno));
@@ -195,9 +214,15 @@ int run(const ModelOptions& o, const std::vector<bool>& given_flags, const Conte
     const auto* gamma = proportional ? &dynamic_cast<const tr::GammaConcentration&>(pair.law(from)) : nullptr;
     for (long long i = 0; i < o.sample; ++i) {
       const double t = gamma != nullptr ? gamma->sample_proportional_to_transmittance(rng) : pair.sample(from, rng);
-      out += fmt::format("{:.17g}\n", t);
+      if (o.json) {
+        out += i == 0 ? "\n    " : ",\n    ";
+        out += std::isfinite(t) ? fmt::format("{:.17g}", t) : number(t).dump();
+      } else {
+        out += fmt::format("{:.17g}\n", t);
+      }
       if (out.size() > (1U << 16U)) flush();
     }
+    if (o.json) out += "\n  ]\n}\n";
     flush();
     if (std::fflush(stdout) != 0) fail("cannot write samples to stdout: {}", std::strerror(errno));
     return 0;
@@ -272,7 +297,8 @@ const Registrar kModel{Command{
                      "gamma-path: marsaglia-tsang (default) or inversion; gamma: proportional draws t with "
                      "p proportional to T (S.55-S.57, needs alpha > 1)");
       sub.add_option("--t", o->t, "Comma-separated distances t [length] to evaluate")->capture_default_str();
-      sub.add_flag("--json", o->json, "Print one JSON object (law, parameters, mean free paths, points)");
+      sub.add_flag("--json", o->json,
+                   "Print one JSON object (law, parameters, mean free paths, points; with --sample: the samples)");
       sub.add_option("--given", o->given, "The law given is T_Q (Q, source) or T_S (S, scatterer)")
           ->capture_default_str();
       sub.add_option("--pair", o->pair, "reciprocal (derive the partner) or same (T_S = T_Q)")->capture_default_str();

@@ -84,7 +84,7 @@ fs::path default_cloth_grid(const Context& ctx) {
   const cloth::ClothSpec spec = cloth::resolve(cloth::default_cloth_spec());
   const std::string text = cloth::cloth_spec_json(spec);
   const fs::path dir = fs::temp_directory_path() / "weft-cache";
-  const fs::path vdb = dir / fmt::format("default_cloth_{:016x}.vdb", std::hash<std::string>{}(text));
+  fs::path vdb = dir / fmt::format("default_cloth_{:016x}.vdb", std::hash<std::string>{}(text));  // moved out
   if (fs::exists(vdb)) return vdb;
   ctx.say(fmt::format("generating the default cloth once ({})", vdb.string()));
   ensure_directory(dir);

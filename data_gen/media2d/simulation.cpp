@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <numbers>
+#include <string>
 
 #include "data_gen/media2d/disk_grid.h"
 #include "data_gen/media2d/law_fit.h"
@@ -17,6 +19,17 @@
 
 namespace weft::media2d {
 namespace {
+
+/// `value` (> limit) in 6 significant digits, or more until the text reads above `limit`: a
+/// fixed precision can round a value just over a limit to the limit itself (100.025 at %.3g).
+std::string above_limit(double value, double limit) {
+  std::string text;
+  for (int digits = 6; digits <= 17; ++digits) {
+    text = fmt::format("{:.{}g}", value, digits);
+    if (std::strtod(text.c_str(), nullptr) > limit) break;
+  }
+  return text;
+}
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -55,9 +68,9 @@ void validate(const SimulationSpec& spec) {
   if (!std::isfinite(spec.t_max) || spec.t_max <= 0.0) fail("sim2d: t-max must be > 0, got {}", spec.t_max);
   if (spec.t_max * spec.mean_free_path > kMaxReach) {
     fail(
-        "sim2d: t-max {} mean free paths of {} is {:.3g} domain lengths; at most {} are supported (the medium repeats "
+        "sim2d: t-max {} mean free paths of {} is {} domain lengths; at most {} are supported (the medium repeats "
         "every domain length: a longer ray measures its own periodic images, at a cost that grows with t-max)",
-        spec.t_max, spec.mean_free_path, spec.t_max * spec.mean_free_path, kMaxReach);
+        spec.t_max, spec.mean_free_path, above_limit(spec.t_max * spec.mean_free_path, kMaxReach), kMaxReach);
   }
   if (spec.bins < 2 || spec.bins > 100'000) fail("sim2d: bins must be in [2, 100000], got {}", spec.bins);
   for (const double theta : spec.thetas_deg) {

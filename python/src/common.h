@@ -52,7 +52,12 @@ void init_study(py::module_& m);
 class PyProgress final : public ProgressSink {
  public:
   explicit PyProgress(py::object callback)
-      : callback_(std::move(callback)), caller_(std::this_thread::get_id()), last_signal_check_(Clock::now()) {}
+      : callback_(std::move(callback)), caller_(std::this_thread::get_id()), last_signal_check_(Clock::now()) {
+    // Refused before the work starts, not at its first report (weft/_arguments.py names the call).
+    if (!callback_.is_none() && PyCallable_Check(callback_.ptr()) == 0)
+      throw py::type_error("progress must be a callable(label, done, total), True or None, got " +
+                           py::str(py::type::of(callback_).attr("__name__")).cast<std::string>());
+  }
   ~PyProgress() override {
     py::gil_scoped_acquire gil;
     callback_ = py::object();
@@ -185,6 +190,23 @@ PyObject* warning_category();
 
 /// Parses an axis given as 0/1/2, "x"/"y"/"z" (signs allowed, direction sense ignored).
 int axis_index(const py::object& axis, const char* what);
+
+/// A path argument (a str or an os.PathLike) as text; anything else is a TypeError naming `what`
+/// (e.g. "Grid.save: path"), which weft/_arguments.py raises as weft.ArgumentTypeError.
+std::string path_arg(const py::object& path, const char* what);
+
+/// An argument a binding takes as a Python object, converted to T; a value pybind11 cannot convert
+/// is a TypeError "<what> must be <expected>, got <type>" (weft.ArgumentTypeError in Python), not
+/// pybind11's cast error, which names neither.
+template <typename T>
+T arg_cast(const py::handle& value, const char* what, const char* expected) {
+  try {
+    return value.cast<T>();
+  } catch (const py::cast_error&) {
+    throw py::type_error(std::string(what) + " must be " + expected + ", got " +
+                         py::str(py::type::of(value).attr("__name__")).cast<std::string>());
+  }
+}
 
 /// Converts a Python float, raising weft.Error (naming `what`) for NaN or infinity.
 double finite(const char* what, double value);

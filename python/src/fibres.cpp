@@ -43,7 +43,7 @@ void init_fibres(py::module_& m) {
              if (py::isinstance<py::float_>(radius) || py::isinstance<py::int_>(radius)) {
                r.assign(polylines.size(), radius.cast<double>());
              } else {
-               r = radius.cast<std::vector<double>>();
+               r = arg_cast<std::vector<double>>(radius, "Fibres: radius", "a number or one number per polyline");
              }
              if (r.size() != polylines.size()) fail("Fibres: {} radii for {} polylines", r.size(), polylines.size());
              for (std::size_t i = 0; i < polylines.size(); ++i) {
@@ -87,16 +87,19 @@ void init_fibres(py::module_& m) {
         spec.jitter = rays_per_cell > 1;
         spec.seed = seed;
         spec.depth_step = require_non_negative("measure_fibre_beam: depth_step", depth_step);
-        const double kappa = extinction.is_none() ? fib::kOpaque : extinction.cast<double>();
+        const double kappa = extinction.is_none()
+                                 ? fib::kOpaque
+                                 : arg_cast<double>(extinction, "measure_fibre_beam: extinction", "a number or None");
         if (!grid.is_none()) {
           if (!box.is_none()) fail("measure_fibre_beam: give grid or box, not both");
-          const auto& g = grid.cast<const vol::Grid&>();
+          const auto& g = arg_cast<const vol::Grid&>(grid, "measure_fibre_beam: grid", "a weft.Grid or None");
           return run_released(
               progress, [&](ProgressSink& p) { return fib::measure_fibre_beam(*fibres.index, g, spec, kappa, p); });
         }
         vol::WorldBox b = fib::fibre_box(*fibres.index);
         if (!box.is_none()) {
-          const auto corners = box.cast<std::array<std::array<double, 3>, 2>>();
+          const auto corners = arg_cast<std::array<std::array<double, 3>, 2>>(
+              box, "measure_fibre_beam: box", "two corners ((x0, y0, z0), (x1, y1, z1)) or None");
           b = {corners[0], corners[1]};
         }
         require_positive("measure_fibre_beam: cell (needed without a grid)", cell);

@@ -15,13 +15,6 @@ namespace vol = weft::volume;
 
 using Box = std::pair<std::array<int, 3>, std::array<int, 3>>;
 
-std::filesystem::path fspath(const py::object& path) {
-  if (!py::isinstance<py::str>(path) && !py::hasattr(path, "__fspath__"))
-    throw py::type_error("expected a path (str or os.PathLike), got " +
-                         py::str(py::type::of(path)).cast<std::string>());
-  return py::str(py::module_::import("os").attr("fspath")(path)).cast<std::string>();
-}
-
 vol::IndexBox to_box(const std::optional<Box>& box, const vol::Grid& grid) {
   if (!box) {
     const vol::IndexBox b = grid.active_bbox();
@@ -97,7 +90,7 @@ void init_grid(py::module_& m) {
       .def_static(
           "load",
           [](const py::object& path, const std::string& name) {
-            const auto p = fspath(path);
+            const std::filesystem::path p = path_arg(path, "Grid.load: path");
             py::gil_scoped_release release;
             return vol::Grid::load(p, name);
           },
@@ -107,7 +100,7 @@ void init_grid(py::module_& m) {
       .def(
           "save",
           [](const vol::Grid& g, const py::object& path) {
-            const auto p = fspath(path);
+            const std::filesystem::path p = path_arg(path, "Grid.save: path");
             py::gil_scoped_release release;
             g.save(p);
           },

@@ -66,9 +66,7 @@ tr::LawPtr make_const(const std::string& name, const py::kwargs& kwargs) {
   for (const auto& [key, value] : kwargs) {
     const auto k = key.cast<std::string>();
     if (k == "table") {
-      if (!py::isinstance<py::str>(value) && !py::hasattr(value, "__fspath__"))
-        throw py::type_error("law: table must be a path (str or os.PathLike)");
-      spec.table = py::str(py::module_::import("os").attr("fspath")(value)).cast<std::string>();
+      spec.table = path_arg(py::reinterpret_borrow<py::object>(value), "law: table");
     } else if (k == "sampler") {
       if (!py::isinstance<py::str>(value)) throw py::type_error("law: sampler must be a str");
       spec.sampler = value.cast<std::string>();

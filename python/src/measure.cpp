@@ -186,7 +186,7 @@ void init_measure(py::module_& m) {
       .def(
           "save",
           [](const fit::LocalFields& f, const py::object& path) {
-            const std::string p = py::str(py::module_::import("os").attr("fspath")(path));
+            const std::string p = path_arg(path, "LocalFields.save: path");
             py::gil_scoped_release release;
             fit::save_local_fields(f, p, fit::FieldChannels::all);
           },
@@ -278,7 +278,10 @@ void init_measure(py::module_& m) {
         const vol::Provenance prov = vol::read_provenance(grid);
         fit::ValidationSpec spec;
         const vol::SigmaChoice chosen =
-            grid_sigma(grid, sigma.is_none() ? std::nullopt : std::optional<double>(sigma.cast<double>()), "validate");
+            grid_sigma(grid,
+                       sigma.is_none() ? std::nullopt
+                                       : std::optional<double>(arg_cast<double>(sigma, "validate: sigma", "a number")),
+                       "validate");
         spec.sigma = chosen.sigma;
         const std::string& sigma_source = chosen.source;
         // The checks of `weft validate`, in Python's words.

@@ -15,7 +15,7 @@ namespace weft::python {
 int axis_index(const py::object& axis, const char* what) {
   if (py::isinstance<py::bool_>(axis)) throw py::type_error(std::string(what) + ": expected 0, 1, 2 or 'x', 'y', 'z'");
   if (py::isinstance<py::int_>(axis)) {
-    const long a = axis.cast<long>();
+    const long a = arg_cast<long>(axis, what, "0, 1 or 2");
     if (a < 0 || a > 2) fail("{}: axis must be 0, 1 or 2, got {}", what, a);
     return static_cast<int>(a);
   }
@@ -30,6 +30,13 @@ int axis_index(const py::object& axis, const char* what) {
 }
 
 double finite(const char* what, double value) { return require_finite(what, value); }
+
+std::string path_arg(const py::object& path, const char* what) {
+  if (!py::isinstance<py::str>(path) && !py::hasattr(path, "__fspath__"))
+    throw py::type_error(std::string(what) + " must be a str or os.PathLike, got " +
+                         py::str(py::type::of(path).attr("__name__")).cast<std::string>());
+  return py::str(py::module_::import("os").attr("fspath")(path)).cast<std::string>();
+}
 
 PyObject* warning_category() {
   // Made once with the module and kept for the interpreter's life (as pybind11 keeps its

@@ -120,7 +120,7 @@ void init_render(py::module_& m) {
       "write_exr",
       [](const py::object& path, const ImageArray& image) {
         const rd::Image im = image_of_array(image, "write_exr");
-        const std::string p = py::str(py::module_::import("os").attr("fspath")(path));
+        const std::string p = path_arg(path, "write_exr: path");
         py::gil_scoped_release release;
         rd::write_exr(p, im);
       },
@@ -132,7 +132,7 @@ void init_render(py::module_& m) {
       [](const py::object& path, const ImageArray& image, double exposure) {
         const rd::Image im = image_of_array(image, "write_png");
         require_positive("write_png: exposure", exposure);
-        const std::string p = py::str(py::module_::import("os").attr("fspath")(path));
+        const std::string p = path_arg(path, "write_png: path");
         py::gil_scoped_release release;
         rd::write_png(p, im, exposure);
       },
@@ -160,8 +160,8 @@ void init_render(py::module_& m) {
       "The JSON text of a built-in scene.");
   m.def(
       "read_exr",
-      [](const std::string& path) {
-        const rd::Image image = rd::read_exr(path);
+      [](const py::object& path) {
+        const rd::Image image = rd::read_exr(path_arg(path, "read_exr: path"));
         return image_array(image, image.rgb);
       },
       py::arg("path"), "An RGB OpenEXR file as a float32 array H x W x 3 (what `weft render` writes).");

@@ -39,7 +39,7 @@ namespace st = weft::study;
 template <typename T>
 std::optional<T> get(const py::dict& o, const char* key) {
   if (!o.contains(key) || o[key].is_none()) return std::nullopt;
-  return o[key].cast<T>();
+  return arg_cast<T>(o[key], key, "of its documented type (an integer within its C++ range, a number, ...)");
 }
 
 std::string shown(const std::vector<int>& v) { return fmt::format("[{}]", fmt::join(v, ", ")); }

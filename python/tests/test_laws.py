@@ -119,21 +119,21 @@ def test_samples_identical_to_cli(run_cli, origin):
     (lambda: weft.law("exponential", mu=1).T(float("nan")), weft.Error),
     (lambda: weft.law("exponential", mu=1).T([0.0, -1.0]), weft.Error),
     (lambda: weft.law("exponential", mu=1).T("abc"), TypeError),
-    (lambda: weft.law("exponential", mu=1).T(None), weft.Error),  # numpy reads None as NaN
+    (lambda: weft.law("exponential", mu=1).T(None), weft.Error),  # refused: numpy would read None as NaN
     (lambda: weft.law("exponential", mu=1).p([[0.0], [np.nan]]), weft.Error),
     (lambda: weft.law("exponential", mu=1).sample(-1), weft.Error),
     (lambda: weft.law("exponential", mu=1).sample(10**12), weft.Error),
     (lambda: weft.law("exponential", mu=1).sample("ten"), TypeError),
     (lambda: weft.law("exponential", mu=1).sample(3, from_="nowhere"), weft.Error),
-    (lambda: weft.law("exponential", mu=1).sample(3, seed=-1), TypeError),
+    (lambda: weft.law("exponential", mu=1).sample(3, seed=-1), weft.Error),  # out of the unsigned seed's range
     (lambda: weft.TransmittancePair.reciprocal(weft.law("exponential", mu=1), given="both"), weft.Error),
     (lambda: weft.TransmittancePair.same("gamma"), TypeError),
 ])
 def test_bad_input_raises(call, exc):
     with pytest.raises(exc) as info:
         call()
-    assert str(info.value)  # a message, one line
-    assert "\n" not in str(info.value).strip() or exc is TypeError
+    assert str(info.value)  # a message, one line, and a weft.Error also where it is a TypeError
+    assert "\n" not in str(info.value).strip() and isinstance(info.value, weft.Error)
 
 
 def test_error_message_names_the_problem():

@@ -4,13 +4,15 @@ Transmittance laws (``weft.law``), sparse voxel grids (``weft.Grid``), ground tr
 (``weft.measure_beam``), window statistics and gamma fits, the procedural cloth generator
 (``weft.gen``), the volumetric path tracer (``weft.render``) and the coarse-cloth image study
 with its baselines (``weft.render_study``, ``weft.render_matrix``). Every bad input raises
-``weft.Error`` with weft's one-line message (or ``TypeError`` for a value of the wrong type).
+``weft.Error`` with weft's one-line message naming the argument (a value of the wrong type:
+``weft.ArgumentTypeError``, a ``weft.Error`` that is also a ``TypeError``).
 Long calls release the GIL, take ``progress=callable(label, done, total)`` (or ``progress=True``
 for a bar) and ``threads=N``. Warnings are ``weft.Warning`` (a ``UserWarning``). See docs/python.md.
 """
 
 import contextlib as _contextlib
 import functools as _functools
+import inspect as _inspect
 import json as _json
 import math as _math
 import numbers as _numbers
@@ -39,8 +41,11 @@ def _check_interpreter():
 
 _check_interpreter()
 
-from ._weft import *  # noqa: E402,F401,F403  (the compiled bindings)
 from . import _weft  # noqa: E402
+from ._arguments import ArgumentTypeError, check_module as _check_module, check_public as _check_public  # noqa: E402
+
+_check_module(_weft)  # every binding's bad arguments as weft.Error (weft/_arguments.py), before its names are taken
+from ._weft import *  # noqa: E402,F401,F403  (the compiled bindings)
 from ._weft import Error, Grid, LocalFields, _gen_json, _render, _validate_json  # noqa: E402
 
 __version__ = _build_info.version
@@ -107,7 +112,7 @@ def _run(fn, threads, progress):
     progress callback, ``True`` meaning a bar (_ProgressBar). Same numbers for any thread count."""
     if threads is not None:
         if isinstance(threads, bool) or not isinstance(threads, _numbers.Integral):
-            raise TypeError("threads must be a positive integer or None, got %s" % type(threads).__name__)
+            raise ArgumentTypeError("threads must be a positive integer or None, got %s" % type(threads).__name__)
         if not 1 <= threads <= _weft._max_threads:
             raise Error("threads=%d: must be in [1, %d] (or None for every core), as the CLI's --threads"
                         % (threads, _weft._max_threads))
@@ -129,6 +134,11 @@ def _long_call(binding):
         return _run(lambda p: binding(*args, progress=p, **kwargs), threads, progress)
     call.__doc__ = (binding.__doc__ or "") + ("\n\nthreads=N limits the worker threads (same result for any N); "
                                               "progress=True shows a bar (tqdm when installed).")
+    signature = getattr(binding, "__signature__", None)
+    if signature is not None:
+        threads = _inspect.Parameter("threads", _inspect.Parameter.KEYWORD_ONLY, default=None)
+        call.__signature__ = signature.replace(parameters=[*signature.parameters.values(), threads])
+    call._weft_checked = True  # the binding checks its arguments (weft/_arguments.py), _run threads=
     return call
 
 
@@ -149,7 +159,7 @@ def validate(grid, sigma=None, window="yarn", axes=("x", "y", "z"), rays_per_col
     ``["axes"][i]["errors"][model]["rms_abs_T"]``, ``["axes"][i]["models"][model]["uses_ground_truth"]``,
     ``["axes"][i]["predicted"]`` (the one prediction), ``["axes"][i]["best_by_ground_truth"]`` (a diagnostic chosen with T_gt), ..."""
     if not isinstance(grid, Grid):
-        raise TypeError("validate: grid must be a weft.Grid, got %s" % type(grid).__name__)
+        raise ArgumentTypeError("validate: grid must be a weft.Grid, got %s" % type(grid).__name__)
     if sigma is not None:
         sigma = _number("validate: sigma", sigma)
     window, axes = _window_text(window), _axes_text(axes)
@@ -171,6 +181,11 @@ def plot_validation(result, path=None, log=False):
     """Draws the validation's figure (as ``weft validate`` does) from what ``weft.validate``
     returned: per axis, the ground truth T_gt(t) with a band of 2 standard errors and every
     model's T(t). Needs matplotlib; returns the matplotlib Figure, saved to ``path`` if given."""
+    if not isinstance(result, dict) or not isinstance(result.get("axes"), list):
+        raise ArgumentTypeError("plot_validation: result must be what weft.validate returned, got %s"
+                                % type(result).__name__)
+    path = _path_or_none("plot_validation: path", path)
+    log = _flag("plot_validation: log", log)
     try:
         import matplotlib
         if path is not None:
@@ -197,7 +212,7 @@ def plot_validation(result, path=None, log=False):
     fig.suptitle("weft %s, sigma %.4g (%s)" % (result["version"], result["sigma"], result["sigma_source"]))
     fig.tight_layout()
     if path is not None:
-        fig.savefig(_os.fspath(path))
+        fig.savefig(path)
     return fig
 
 
@@ -215,12 +230,12 @@ def _axes_text(axes):
     try:
         parts = list(axes)
     except TypeError:
-        raise TypeError("validate: axes must be names like ('x', 'z') or indices (0, 2), got %s"
+        raise ArgumentTypeError("validate: axes must be names like ('x', 'z') or indices (0, 2), got %s"
                         % type(axes).__name__) from None
     out = []
     for a in parts:
         if isinstance(a, bool) or not isinstance(a, (str, int)):
-            raise TypeError("validate: axes must be names like ('x', 'z') or indices (0, 2), got %r" % (a,))
+            raise ArgumentTypeError("validate: axes must be names like ('x', 'z') or indices (0, 2), got %r" % (a,))
         out.append(a if isinstance(a, str) else ("x", "y", "z")[a] if 0 <= a <= 2 else str(a))
     return ",".join(out)
 
@@ -231,16 +246,32 @@ _MAX_INT = 2**31 - 1  # a C int of the bindings
 
 def _number(what, value):
     if isinstance(value, bool) or not isinstance(value, _numbers.Real):
-        raise TypeError("%s must be a number, got %s" % (what, type(value).__name__))
+        raise ArgumentTypeError("%s must be a number, got %s" % (what, type(value).__name__))
     return float(value)
 
 
+def _flag(what, value):
+    """True/False (numpy booleans, 0 and 1 too), else an ArgumentTypeError naming ``what``."""
+    if type(value).__name__ in ("bool", "bool_") or (isinstance(value, _numbers.Integral) and value in (0, 1)):
+        return bool(value)
+    raise ArgumentTypeError("%s must be True or False, got %s" % (what, type(value).__name__))
+
+
+def _path_or_none(what, value):
+    """A folder or file path (str or os.PathLike) as text, or None."""
+    if value is None:
+        return None
+    if not isinstance(value, (str, _os.PathLike)):
+        raise ArgumentTypeError("%s must be a path (str or os.PathLike) or None, got %s" % (what, type(value).__name__))
+    return _os.fspath(value)
+
+
 def _integer(what, value, low=0, high=_MAX_INT):
-    """``value`` as an int in [low, high] (numpy integers too), else a TypeError (not an integer)
-    or weft.Error naming ``what``: checked here, because pybind11 refuses an int its C++ type
-    cannot hold with a TypeError dumping the private binding's signature."""
+    """``value`` as an int in [low, high] (numpy integers too), else an ArgumentTypeError (not an
+    integer) or weft.Error naming ``what``: the range is weft's (e.g. kMaxSpp), narrower than the
+    C++ type's that weft/_arguments.py names."""
     if isinstance(value, bool) or not isinstance(value, _numbers.Integral):
-        raise TypeError("%s must be an integer, got %s" % (what, type(value).__name__))
+        raise ArgumentTypeError("%s must be an integer, got %s" % (what, type(value).__name__))
     value = int(value)
     if value < low:
         raise Error("%s must be >= %d, got %d" % (what, low, value))
@@ -262,6 +293,9 @@ class Cloth:
     ``weft gen --config`` reads as cloth.json)."""
 
     def __init__(self, built):
+        if not isinstance(built, dict) or not isinstance(built.get("grid"), Grid):
+            raise ArgumentTypeError("Cloth: built must be what weft.gen's binding returns (use weft.gen), got %s"
+                                    % type(built).__name__)
         self.grid = built["grid"]
         self.fibers = built["fibers"]
         self.report = built["report"]
@@ -288,7 +322,7 @@ def cloth_scene(grid, lighting="key-and-back", tilt=30.0, width=320, height=240)
     the normal, a ``width`` x ``height`` film. The medium's "file" is the Grid object itself, so
     ``weft.render(scene)`` renders it as is; a grid without weft gen's provenance is a weft.Error."""
     if not isinstance(grid, Grid):
-        raise TypeError("cloth_scene: grid must be a weft.Grid, got %s" % type(grid).__name__)
+        raise ArgumentTypeError("cloth_scene: grid must be a weft.Grid, got %s" % type(grid).__name__)
     scene = _json.loads(_weft._cloth_scene_json(grid, _IN_MEMORY, lighting, _number("cloth_scene: tilt", tilt),
                                                 _integer("cloth_scene: width", width),
                                                 _integer("cloth_scene: height", height)))
@@ -314,7 +348,7 @@ def gen(spec=None, progress=None, *, pattern=None, yarns=None, yarn=None, warp_y
     knit pattern or ``yarns=`` with input curves is an error. Same seed, same grid as the CLI, for
     any ``threads=``."""
     if spec is not None and not isinstance(spec, dict):
-        raise TypeError("gen: spec must be a dict (the fields of cloth.json) or None, got %s"
+        raise ArgumentTypeError("gen: spec must be a dict (the fields of cloth.json) or None, got %s"
                         % type(spec).__name__)
     given = {"pattern": pattern, "yarns": yarns, "yarn": yarn, "warp_yarn": warp_yarn, "weft_yarn": weft_yarn}
     if all(v is None for v in given.values()) and not fields and not (spec or {}).get("input"):
@@ -328,7 +362,7 @@ def gen(spec=None, progress=None, *, pattern=None, yarns=None, yarn=None, warp_y
         try:
             merged["warp_count"], merged["weft_count"] = yarns
         except (TypeError, ValueError):
-            raise TypeError("gen: yarns must be two counts (warp, weft), got %r" % (yarns,)) from None
+            raise ArgumentTypeError("gen: yarns must be two counts (warp, weft), got %r" % (yarns,)) from None
     for key, value in (("warp_yarn", yarn), ("weft_yarn", yarn), ("warp_yarn", warp_yarn), ("weft_yarn", weft_yarn)):
         if value is not None:
             merged[key] = {"preset": value} if isinstance(value, str) else value
@@ -343,7 +377,7 @@ def _import_curves(merged, yarns):
     woven or knit pattern, which would ignore them, or yarn counts, which an import ignores, are
     errors rather than silently dropped."""
     if not isinstance(merged["input"], (str, _os.PathLike)):
-        raise TypeError("gen: input must be a path, got %s" % type(merged["input"]).__name__)
+        raise ArgumentTypeError("gen: input must be a path, got %s" % type(merged["input"]).__name__)
     merged["input"] = _os.path.abspath(_os.fspath(merged["input"]))
     merged.setdefault("pattern", "import")
     if merged["pattern"] != "import":
@@ -402,19 +436,19 @@ def _scene_kind(scene, what):
         text = _os.fspath(scene)
         looks_like_file = _os.path.exists(text) or "/" in text or text.endswith(".json")
         return ("file" if looks_like_file else "builtin"), text
-    raise TypeError("%s: scene must be a path, a built-in scene name or a dict, got %s" % (what, type(scene).__name__))
+    raise ArgumentTypeError("%s: scene must be a path, a built-in scene name or a dict, got %s" % (what, type(scene).__name__))
 
 
 def _render_scene(scene, spp, seed, integrator, time_budget, stats, base_dir, progress, threads):
     kind, text = _scene_kind(scene, "render")
-    if base_dir is not None:
-        base_dir = _os.fspath(base_dir)
+    base_dir = _path_or_none("render: base_dir", base_dir)
+    time_budget = _number("render: time_budget", time_budget)
     if spp is not None:
         spp = _integer("render: spp", spp, 1, _weft._max_spp)
     if seed is not None:
         seed = _integer("render: seed", seed, 0, _MAX_SEED)
-    return _run(lambda p: _render(kind, text, base_dir or "", spp, seed, integrator, float(time_budget),
-                                  bool(stats), p), threads, progress)
+    return _run(lambda p: _render(kind, text, base_dir or "", spp, seed, integrator, time_budget,
+                                  _flag("render: stats", stats), p), threads, progress)
 
 
 def _plain(value, where):
@@ -452,3 +486,4 @@ from ._study import *  # noqa: E402,F401,F403
 
 # weft.Warning stays out of `from weft import *`, which would hide the built-in Warning.
 __all__ = [name for name in dir() if not name.startswith("_") and name != "Warning"]
+_check_public(globals(), __all__)  # the Python functions and classes too (weft/_arguments.py)

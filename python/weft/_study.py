@@ -14,13 +14,16 @@ import os as _os
 import tempfile as _tempfile
 
 from . import _weft
-from . import Error, Grid, _run, _scene_kind, _scene_with_files
+from . import ArgumentTypeError, Error, Grid, _flag, _path_or_none, _run, _scene_kind, _scene_with_files
 
 
 class _Record:
     """One object of a report: its JSON fields as attributes (``row.bias``), ``to_dict()``."""
 
     def __init__(self, fields):
+        if not isinstance(fields, dict):
+            raise ArgumentTypeError("%s: fields must be a dict (a report's JSON object), got %s"
+                                    % (type(self).__name__, type(fields).__name__))
         object.__setattr__(self, "_fields", fields)
 
     def __getattr__(self, name):
@@ -109,6 +112,9 @@ class StudyResult(_Record):
     ``curves_csv`` (its .study.csv and .study.curves.csv), ``rows()`` (a table)."""
 
     def __init__(self, out):
+        if not isinstance(out, dict) or "json" not in out:
+            raise ArgumentTypeError("%s: out must be the binding's result (weft.render_study and weft.render_matrix "
+                                    "make these), got %s" % (type(self).__name__, type(out).__name__))
         super().__init__(_json.loads(out["json"]))
         objects = {
             "_text": out["json"],
@@ -220,6 +226,9 @@ class MatrixResult(_Record):
     and ``markdown`` (matrix.csv, matrix.cost.csv, matrix.md), ``rows()`` (a table)."""
 
     def __init__(self, out):
+        if not isinstance(out, dict) or "json" not in out:
+            raise ArgumentTypeError("%s: out must be the binding's result (weft.render_study and weft.render_matrix "
+                                    "make these), got %s" % (type(self).__name__, type(out).__name__))
         super().__init__(_json.loads(out["json"]))
         for name, value in (("_text", out["json"]), ("_csv", out["csv"]), ("_cost", out["cost_csv"]),
                             ("_markdown", out["markdown"]), ("_resumed", out["resumed"]),
@@ -254,18 +263,18 @@ class MatrixResult(_Record):
             spec["spp"])
 
 
-# ---- arguments: Python values as the library's spec takes them; a wrong type is a TypeError
+# ---- arguments: Python values as the library's spec takes them; a wrong type is an ArgumentTypeError
 # naming the argument, a bad value the library's check (a weft.Error naming it).
 
 def _integer(call, name, value):
     if isinstance(value, bool) or not isinstance(value, _numbers.Integral):
-        raise TypeError("%s: %s must be an integer, got %s" % (call, name, type(value).__name__))
+        raise ArgumentTypeError("%s: %s must be an integer, got %s" % (call, name, type(value).__name__))
     return int(value)
 
 
 def _real(call, name, value):
     if isinstance(value, bool) or not isinstance(value, _numbers.Real):
-        raise TypeError("%s: %s must be a number, got %s" % (call, name, type(value).__name__))
+        raise ArgumentTypeError("%s: %s must be a number, got %s" % (call, name, type(value).__name__))
     return float(value)
 
 
@@ -278,14 +287,14 @@ def _listed(call, name, value, item):
     try:
         values = list(value)
     except TypeError:
-        raise TypeError("%s: %s must be a list (or a comma-separated string), got %s"
+        raise ArgumentTypeError("%s: %s must be a list (or a comma-separated string), got %s"
                         % (call, name, type(value).__name__)) from None
     return [item(call, name, v) for v in values]
 
 
 def _name(call, name, value):
     if not isinstance(value, str):
-        raise TypeError("%s: %s must be names, got %r" % (call, name, value))
+        raise ArgumentTypeError("%s: %s must be names, got %r" % (call, name, value))
     return value
 
 
@@ -294,7 +303,7 @@ def _integer_item(call, name, value):
         try:
             return int(value)
         except ValueError:
-            raise TypeError("%s: %s must be integers, got %r" % (call, name, value)) from None
+            raise ArgumentTypeError("%s: %s must be integers, got %r" % (call, name, value)) from None
     return _integer(call, name, value)
 
 
@@ -303,7 +312,7 @@ def _real_item(call, name, value):
         try:
             return float(value)
         except ValueError:
-            raise TypeError("%s: %s must be numbers, got %r" % (call, name, value)) from None
+            raise ArgumentTypeError("%s: %s must be numbers, got %r" % (call, name, value)) from None
     return _real(call, name, value)
 
 
@@ -319,11 +328,11 @@ def _albedo(call, albedo):
     try:
         return False, [(_integer(call, "albedo's factor", f), _real(call, "albedo's k", k)) for f, k in items]
     except (TypeError, ValueError):
-        raise TypeError("%s: albedo must be 'fit', {factor: k} or [(factor, k), ...], got %r" % (call, albedo)) from None
+        raise ArgumentTypeError("%s: albedo must be 'fit', {factor: k} or [(factor, k), ...], got %r" % (call, albedo)) from None
 
 
 def _study_options(call, spp, reference_spp, factors, memory, window, seed, quick, components=None):
-    o = {"quick": bool(quick)}
+    o = {"quick": _flag(call + ": quick", quick)}
     if components is not None:
         o["components"] = _listed(call, "components", components, _name)
     if spp is not None:
@@ -352,7 +361,7 @@ def _work_dir(call, out):
             yield folder
         return
     if not isinstance(out, (str, _os.PathLike)):
-        raise TypeError("%s: out must be a folder path or None, got %s" % (call, type(out).__name__))
+        raise ArgumentTypeError("%s: out must be a folder path or None, got %s" % (call, type(out).__name__))
     folder = _os.path.abspath(_os.fspath(out))
     if _os.path.exists(folder) and not _os.path.isdir(folder):
         raise Error("%s: out=%r is a file, not a folder" % (call, _os.fspath(out)))
@@ -378,7 +387,7 @@ def _scene_options(call, scene, base_dir, stack):
     if isinstance(scene, dict):
         scene = _scene_with_files(scene, stack)
     kind, text = _scene_kind(scene, call)
-    return {"kind": kind, "text": text, "base_dir": _os.fspath(base_dir) if base_dir is not None else ""}
+    return {"kind": kind, "text": text, "base_dir": _path_or_none(call + ": base_dir", base_dir) or ""}
 
 
 def render_study(scene, *, spp=None, seconds=None, reference_spp=None, factors=None, memory=None, albedo=None,
@@ -464,14 +473,15 @@ def render_matrix(*, cloths=None, lightings=None, tilts=None, film=None, yarns=N
         try:
             width, height = film
         except (TypeError, ValueError):
-            raise TypeError("%s: film must be (width, height), got %r" % (call, film)) from None
+            raise ArgumentTypeError("%s: film must be (width, height), got %r" % (call, film)) from None
         options["film"] = (_integer(call, "film's width", width), _integer(call, "film's height", height))
     if yarns is not None:
         options["yarns"] = _integer(call, "yarns", yarns)
+    resume = _flag(call + ": resume", resume)
     if resume and out is None:
         raise Error("%s: resume=True needs out= (the folder whose matrix.units holds the finished cases)" % call)
     with _work_dir(call, out) as folder:
-        return MatrixResult(_run(lambda p: _weft._render_matrix(options, folder, out is not None, bool(resume), p),
+        return MatrixResult(_run(lambda p: _weft._render_matrix(options, folder, out is not None, resume, p),
                                  threads, progress))
 
 
@@ -486,7 +496,7 @@ def shadowed_downsample(grid, factor, sigma=None):
     concentration) from the grid's provenance unless given (values that are extinction: 1).
     Predicted from the voxels alone: nothing is fitted to images."""
     if not isinstance(grid, Grid):
-        raise TypeError("shadowed_downsample: grid must be a weft.Grid, got %s" % type(grid).__name__)
+        raise ArgumentTypeError("shadowed_downsample: grid must be a weft.Grid, got %s" % type(grid).__name__)
     factor = _integer("shadowed_downsample", "factor", factor)
     if sigma is not None:
         sigma = _real("shadowed_downsample", "sigma", sigma)
@@ -499,7 +509,7 @@ def downsample(grid, factor):
     The grid ``factor`` x coarser, each coarse voxel the mean of its block (inactive voxels 0;
     volume::downsample): linear downsampling, the study's ``exponential-Nx`` (docs/render.md §6c)."""
     if not isinstance(grid, Grid):
-        raise TypeError("downsample: grid must be a weft.Grid, got %s" % type(grid).__name__)
+        raise ArgumentTypeError("downsample: grid must be a weft.Grid, got %s" % type(grid).__name__)
     return _weft._downsample(grid, _integer("downsample", "factor", factor))
 
 

@@ -72,6 +72,14 @@ weft_model_output_test(gamma_mixture_json
   "grep -q '\"weight_2\": 0.8' && grep -q '\"mean_extinction_1\": 0.0' model_gamma_mixture_json.out && \
 grep -q '\"source\": \"infinite\"' model_gamma_mixture_json.out"
   --law gamma-mixture --weights 0.2,0.8 --alpha 1,3 --mean-extinction 0,5 --t 0,1 --json)
+# --sample with --json: one object whose "samples" are the numbers --sample prints (+inf as
+# "infinite"), in order. The check drops --json (the first argument) and compares.
+weft_model_output_test(sample_json
+  "grep -q '\"count\": 300' model_sample_json.out && grep -q '\"from\": \"source\"' model_sample_json.out && \
+grep -q '\"infinite\"' model_sample_json.out && test \"$(tail -n 1 model_sample_json.out)\" = '}' && \
+s=$(sed -n '/\"samples\": \\[/,/^  \\]/p' model_sample_json.out | sed '1d' | sed '$d' | tr -d ' ,' | \
+sed 's/\"infinite\"/inf/') && shift && t=$(\"$0\" model \"$@\") && test -n \"$t\" && test \"$s\" = \"$t\""
+  --json --law gamma-mixture --weights 0.2,0.8 --alpha 1,3 --mean-extinction 0,5 --sample 300 --seed 4)
 weft_model_output_test(gamma_mixture_sample
   "awk '$1 == \"inf\" { n++ } END { exit !(NR == 4000 && n > 673 && n < 927) }'"
   --law gamma-mixture --weights 0.2,0.8 --alpha 1,3 --mean-extinction 0,5 --sample 4000 --seed 4)

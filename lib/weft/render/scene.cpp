@@ -331,6 +331,7 @@ ShapeDesc parse_shape(const json& j, const std::string& where, const SceneDesc& 
   auto check_name = [&](const std::string& name, const auto& table, const char* what) {
     if (name.empty() || table.count(name) != 0) return;
     std::vector<std::string> names;
+    names.reserve(table.size());
     for (const auto& [n, v] : table) names.push_back(n);
     if (names.empty()) fail("{}: {} '{}' is not defined (the scene defines none)", where, what, name);
     fail("{}: {} '{}' is not defined (did you mean '{}'?)", where, what, name, closest_name(name, names));
@@ -422,7 +423,8 @@ SceneDesc parse_scene(std::string_view json_text, const std::string& source, con
     if (!r.has(key)) return;
     const json& j = r.at(key);
     if (!j.is_object()) fail("{}: '{}' must be an object of named entries", source, key);
-    for (const auto& [name, value] : j.items()) table[name] = parse_one(value, source + ": " + key + "." + name);
+    for (const auto& [name, value] : j.items())
+      table[name] = parse_one(value, fmt::format("{}: {}.{}", source, key, name));
   };
   named_objects(
       "materials", [](const json& j, const std::string& w) { return parse_material(j, w); }, scene.materials);
@@ -453,7 +455,7 @@ SceneDesc parse_scene(std::string_view json_text, const std::string& source, con
   // misspelt law, a parameter out of range or a reciprocal partner that does not exist is an
   // error of the scene, reported here. Grids, fields and images are read by build_world.
   for (const auto& [name, m] : scene.media)
-    if (m.kind != MediumKind::local_gamma) (void)make_medium_pair(m, source + ": media." + name);
+    if (m.kind != MediumKind::local_gamma) (void)make_medium_pair(m, fmt::format("{}: media.{}", source, name));
   scene.source = source;
   return scene;
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "weft/core/error.h"
@@ -12,6 +13,7 @@
 #include "weft/volume/dda.h"
 #include "weft/volume/grid_openvdb.h"
 #include "weft/volume/lattice.h"
+#include "weft/volume/pass_budget.h"
 
 namespace weft::volume {
 namespace {
@@ -20,15 +22,72 @@ using Vec3 = std::array<double, 3>;
 using detail::kMaxShards;
 using detail::LseAccumulator;
 
-}  // namespace
+constexpr std::uint64_t kChunk = 1024;  // rays per work unit
 
-ScattererCurves measure_scatterer(const Grid& grid, const ScattererSpec& spec, ProgressSink& progress) {
+/// What a request resolves to before any work: its direction, the rays' length and depth grid.
+struct ScattererPlan {
+  Vec3 fixed{0.0, 0.0, 1.0};
+  double diagonal = 0.0;
+  double max_depth = 0.0;
+  double depth_step = 0.0;
+};
+
+ScattererPlan plan_of(const Grid& grid, const ScattererSpec& spec) {
   require_positive("scatterer rays: scale (sigma)", spec.scale);
   if (spec.rays < 2) fail("scatterer rays: need at least 2 rays, got {}", spec.rays);
   if (grid.active_voxel_count() == 0) fail("scatterer rays: grid '{}' has no active voxels", grid.name());
+  ScattererPlan p;
+  if (spec.fixed_direction) p.fixed = unit_direction(spec.direction, "scatterer rays");
+  const double h = grid.voxel_size();
+  const auto ext = grid.active_bbox().extent();
+  for (int a = 0; a < 3; ++a) p.diagonal += std::pow(h * static_cast<double>(ext[a]), 2);
+  p.diagonal = std::sqrt(p.diagonal);
+  p.max_depth = spec.max_depth > 0.0 ? spec.max_depth : p.diagonal;
+  p.depth_step = spec.depth_step > 0.0 ? spec.depth_step : h;
+  return p;
+}
+
+/// Upper bounds, as volume::estimate_beam's for a ray-by-ray beam (docs/robustness.md "Work and
+/// memory budgets"): each of the 2 x rays rays (one from a particle, one from a uniform point)
+/// crosses at most chord·(|dx| + |dy| + |dz|)/h + 3 cells (|dx| + |dy| + |dz| <= √3 for any
+/// direction) and profiles every depth; the origins' table holds a box and a weight per active
+/// value (twice that while its vector grows), every shard two accumulators of 3 sums per depth.
+PassCost scatterer_cost(const Grid& grid, const ScattererSpec& spec, const ScattererPlan& p) {
+  const auto K = static_cast<double>(beam_depth_count(p.max_depth, p.depth_step));
+  const double l1 =
+      spec.fixed_direction ? std::abs(p.fixed[0]) + std::abs(p.fixed[1]) + std::abs(p.fixed[2]) : std::sqrt(3.0);
+  const double cells = std::min(p.max_depth, p.diagonal) * l1 / grid.voxel_size() + 3.0;
+  const auto rays = static_cast<double>(spec.rays);
+  const auto values = static_cast<double>(grid.active_voxel_count());
+  const double shards = std::min(static_cast<double>(kMaxShards), std::ceil(rays / static_cast<double>(kChunk)));
+  const double workers = std::min<double>(kMaxShards, thread_count());
+  constexpr double kD = sizeof(double);
+  PassCost c;
+  c.steps = 2.0 * rays * (cells + K) + values;
+  // Accumulators (shards and totals), the depths, both curves' three arrays, p_Q and μ̄T_S, and
+  // one profile per thread; then the origins' table.
+  c.bytes = (2.0 * 3.0 * (shards + 1.0) + 1.0 + 2.0 * 3.0 + 2.0 + workers) * K * kD +
+            2.0 * values * (sizeof(openvdb::CoordBBox) + kD);
+  return c;
+}
+
+/// The plan of a request that passed every check (check_scatterer).
+ScattererPlan checked_plan(const Grid& grid, const ScattererSpec& spec) {
+  const ScattererPlan p = plan_of(grid, spec);
+  check_pass_cost(fmt::format("scatterer and source rays ({:.4g} of each kind)", static_cast<double>(spec.rays)), grid,
+                  scatterer_cost(grid, spec, p));
+  return p;
+}
+
+}  // namespace
+
+void check_scatterer(const Grid& grid, const ScattererSpec& spec) { (void)checked_plan(grid, spec); }
+
+ScattererCurves measure_scatterer(const Grid& grid, const ScattererSpec& spec, ProgressSink& progress) {
+  const ScattererPlan plan = checked_plan(grid, spec);
   const double total = grid.sum();
   if (!(total > 0.0)) fail("scatterer rays: grid '{}' holds no particles (all values 0)", grid.name());
-  const Vec3 fixed = spec.fixed_direction ? unit_direction(spec.direction, "scatterer rays") : Vec3{0, 0, 1};
+  const Vec3 fixed = plan.fixed;
   const auto& vdb = *grid.impl().grid;
   const double h = grid.voxel_size();
   const IndexBox box = grid.active_bbox();
@@ -46,12 +105,7 @@ ScattererCurves measure_scatterer(const Grid& grid, const ScattererSpec& spec, P
     cells.push_back(b);
     cdf.push_back(run);
   }
-  double diag = 0.0;
-  for (int a = 0; a < 3; ++a) diag += std::pow(h * static_cast<double>(ext[a]), 2);
-  diag = std::sqrt(diag);
-  const double max_depth = spec.max_depth > 0.0 ? spec.max_depth : diag;
-  const std::vector<double> depths = beam_depth_grid(max_depth, spec.depth_step > 0.0 ? spec.depth_step : h);
-  constexpr std::uint64_t kChunk = 1024;
+  const std::vector<double> depths = beam_depth_grid(plan.max_depth, plan.depth_step);
   const std::uint64_t units = (spec.rays + kChunk - 1) / kChunk;
   const std::size_t shards = static_cast<std::size_t>(std::min<std::uint64_t>(kMaxShards, units));
   std::vector<LseAccumulator> s_parts(shards, LseAccumulator(depths.size()));

@@ -33,6 +33,10 @@ struct ScattererCurves {
   std::vector<double> mu_t_s;    ///< μ̄·T_S(t), the reciprocal prediction of p_Q
   double mean_extinction = 0.0;  ///< μ̄ over the box
 };
+/// The checks measure_scatterer makes before any work: the spec, then its work and memory
+/// against the budget of every pass (volume/pass_budget.h; docs/robustness.md "Work and memory
+/// budgets"). A front end calls it to refuse a request before its other passes run.
+void check_scatterer(const Grid& grid, const ScattererSpec& spec);
 [[nodiscard]] ScattererCurves measure_scatterer(const Grid& grid, const ScattererSpec& spec,
                                                 ProgressSink& progress = null_progress());
 

@@ -1,0 +1,253 @@
+"""Every public call refuses a bad argument with one weft.Error line naming the call and the
+argument (weft/_arguments.py; docs/python.md "Errors"), never with pybind11's TypeError listing
+a private signature: the callables are found by walking the package, their parameters and types
+read from their signatures, so a function added later is covered without an edit here."""
+
+import inspect
+import re
+
+import numpy as np
+import pytest
+
+import weft
+from conftest import random_grid
+
+
+class Unconvertible:
+    """A value no parameter of weft takes."""
+
+    def __repr__(self):
+        return "<Unconvertible>"
+
+
+# A valid value per pybind11 type name, for the arguments around the bad one (nothing runs: the
+# bad one is refused first), and per name for parameters of type `object`.
+def valid_value(annotation, name, tmp_path):
+    by_name = {"axis": "x", "radius": 0.1, "path": str(tmp_path / "file.vdb"), "direction": "z"}
+    if annotation in ("object", inspect.Parameter.empty) and name in by_name:
+        return by_name[name]
+    head = re.match(r"^([\w.]+)", annotation).group(1) if isinstance(annotation, str) else "object"
+    inner = annotation[len(head) + 1:-1] if isinstance(annotation, str) and annotation.endswith("]") else ""
+    if head == "Optional":
+        return None
+    if head == "List":
+        fixed = re.match(r"^(.*[^\]])\[(\d+)\]$", inner)
+        if fixed:
+            return [valid_value(fixed.group(1), name, tmp_path)] * int(fixed.group(2))
+        return [valid_value(inner, name, tmp_path)]
+    if head == "numpy.ndarray":
+        return np.ones((2, 2, 3), dtype=np.float32 if "float32" in inner else np.float64)
+    simple = {"int": 1, "float": 1.0, "bool": False, "str": "x", "object": None}
+    if head in simple:
+        return simple[head]
+    return INSTANCES[head.rsplit(".", 1)[-1]]()
+
+
+GRID = random_grid()[0]
+LAW = weft.law("exponential", mu=1)
+CURVE = weft.measure_beam(GRID, "x", sigma=1)
+STATS = weft.window_stats(GRID, "x")
+INSTANCES = {
+    "Grid": lambda: GRID,
+    "Law": lambda: LAW,
+    "TransmittancePair": lambda: weft.TransmittancePair.same(LAW),
+    "TransmittanceCurve": lambda: CURVE,
+    "ConcentrationStats": lambda: STATS,
+    "GammaFit": lambda: weft.gamma_from_moments(0.3, 0.01, 2.0),
+    "LeastSquaresFit": lambda: weft.fit_gamma_to_curve(CURVE, 1.0),
+    "CurveError": lambda: weft.compare(CURVE, list(CURVE.log_T)),
+    "LocalFields": lambda: weft.local_fields(GRID, 2),
+    "ShadowedGrids": lambda: weft.shadowed_downsample(GRID, 2, sigma=1.0),
+    "Fibres": lambda: weft.Fibres([[[0, 0, 0], [1, 0, 0]]], 0.1),
+    "Origin": lambda: weft.Origin.source,
+}
+# Reports made only by a render: their methods take no argument but self (checked for arity below).
+RECORDS = {"StudyResult", "StudyCandidate", "AlbedoFit", "MatrixResult", "MatrixCase", "MatrixCandidate",
+           "MatrixVerdict", "MatrixHeadline", "Cloth"}
+
+
+def public_callables():
+    """(name, callable, is_method) for every public function, constructor and method."""
+    out = []
+    for name in sorted(weft.__all__):
+        obj = getattr(weft, name)
+        if inspect.isclass(obj):
+            if issubclass(obj, BaseException):
+                continue
+            out.append((name, obj, False))
+            for member, value in vars(obj).items():
+                if member.startswith("_") or isinstance(value, property) or not callable(getattr(obj, member)):
+                    continue
+                static = isinstance(value, (staticmethod, classmethod))
+                out.append(("%s.%s" % (name, member), getattr(obj, member), not static))
+        elif callable(obj):
+            out.append((name, obj, False))
+    return out
+
+
+CALLABLES = public_callables()
+
+
+def test_every_public_callable_has_a_signature():
+    for name, fn, _ in CALLABLES:
+        try:
+            inspect.signature(fn)
+        except (TypeError, ValueError):
+            pytest.fail("%s: no signature (pybind11's docstring unreadable?)" % name)
+
+
+def compiled_cases():
+    """(name, callable, parameter, method's class) for every typed parameter of a compiled call."""
+    cases = []
+    for name, fn, is_method in CALLABLES:
+        if is_method and name.split(".")[0] not in INSTANCES:
+            continue
+        signature = inspect.signature(fn)
+        for p in signature.parameters.values():
+            if p.name == "self" or p.kind in (p.VAR_POSITIONAL, p.VAR_KEYWORD):
+                continue
+            if isinstance(p.annotation, str) and p.annotation != "object":
+                cases.append(pytest.param(name, p.name, id="%s-%s" % (name, p.name)))
+    return cases
+
+
+def bound(name):
+    """The callable `name`, a method bound to an instance of its class."""
+    fn = dict((n, f) for n, f, _ in CALLABLES)[name]
+    cls, _, member = name.partition(".")
+    if member and not isinstance(inspect.getattr_static(getattr(weft, cls), member), (staticmethod, classmethod)):
+        fn = getattr(INSTANCES[cls](), member)
+    return fn
+
+
+def call_with(name, parameter, bad, tmp_path, keyword):
+    """Calls `name` with `bad` as `parameter` (by keyword, or by position with the parameters
+    before it) and the other required arguments valid."""
+    fn = bound(name)
+    params = [p for p in inspect.signature(fn).parameters.values()
+              if p.name != "self" and p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD)]
+    index = [p.name for p in params].index(parameter)
+    positional = not keyword and params[index].kind == params[index].POSITIONAL_OR_KEYWORD
+    args, kwargs = [], {}
+    for i, p in enumerate(params):
+        rebuildable = p.default is not p.empty and type(p.default).__name__ != "_Shown"
+        value = bad if i == index else p.default if rebuildable else valid_value(p.annotation, p.name, tmp_path)
+        if positional and i <= index:
+            args.append(value)
+        elif i == index or p.default is p.empty:
+            kwargs[p.name] = value
+    return fn(*args, **kwargs)
+
+
+@pytest.mark.parametrize("keyword", [False, True], ids=["positional", "keyword"])
+@pytest.mark.parametrize("name, parameter", compiled_cases())
+def test_a_wrong_type_is_a_weft_error_naming_the_argument(name, parameter, keyword, tmp_path):
+    with pytest.raises(weft.Error) as e:
+        call_with(name, parameter, Unconvertible(), tmp_path, keyword)
+    message = str(e.value)
+    assert "\n" not in message and message.startswith(name + ": ") and parameter in message, message
+    assert isinstance(e.value, TypeError)  # weft.ArgumentTypeError: `except TypeError` still works
+
+
+def typed(annotation_head):
+    return [c for c in compiled_cases() if re.match(
+        r"^%s\b" % re.escape(annotation_head),
+        str(inspect.signature(dict((n, f) for n, f, _ in CALLABLES)[c.values[0]]).parameters[c.values[1]].annotation))]
+
+
+@pytest.mark.parametrize("keyword", [False, True], ids=["positional", "keyword"])
+@pytest.mark.parametrize("name, parameter", typed("int"))
+@pytest.mark.parametrize("bad", ["1", 1.5, 2**70], ids=["str", "float", "2**70"])
+def test_integers_refuse_what_no_cpp_integer_holds(name, parameter, bad, keyword, tmp_path):
+    with pytest.raises(weft.Error) as e:
+        call_with(name, parameter, bad, tmp_path, keyword)
+    assert parameter in str(e.value) and "\n" not in str(e.value), str(e.value)
+
+
+@pytest.mark.parametrize("keyword", [False, True], ids=["positional", "keyword"])
+@pytest.mark.parametrize("name, parameter", typed("float"))
+def test_numbers_refuse_a_str(name, parameter, keyword, tmp_path):
+    with pytest.raises(weft.Error, match="%s: %s must be a number, got str '1.0'" % (re.escape(name), parameter)):
+        call_with(name, parameter, "1.0", tmp_path, keyword)
+
+
+# pybind11 reads None as False for a bool and as NaN for an array, and "1.5" as an array.
+@pytest.mark.parametrize("name, parameter", typed("bool") + typed("numpy.ndarray"))
+@pytest.mark.parametrize("bad", [None, "1.5"], ids=["None", "str"])
+def test_none_and_str_are_refused_before_pybind11_reads_them(name, parameter, bad, tmp_path):
+    with pytest.raises(weft.Error, match="%s: %s must be " % (re.escape(name), parameter)):
+        call_with(name, parameter, bad, tmp_path, True)
+
+
+@pytest.mark.parametrize("call", [
+    lambda: weft.measure_beam(GRID, seed=-1),
+    lambda: weft.measure_beam(GRID, "x", seed=-1, sigma=1),
+    lambda: LAW.sample(3, seed=-1),
+    lambda: weft.measure_fibre_beam(INSTANCES["Fibres"](), seed=-1),
+], ids=["measure_beam", "measure_beam_args", "Law.sample", "measure_fibre_beam"])
+def test_a_negative_seed_is_named(call):
+    with pytest.raises(weft.Error) as e:
+        call()
+    assert re.search(r"(^|: )seed must be >= 0, got -1$", str(e.value)), str(e.value)
+
+
+def test_the_brief_examples():
+    with pytest.raises(weft.Error, match=r"^measure_beam: seed must be >= 0, got -1$"):
+        weft.measure_beam(GRID, seed=-1)
+    with pytest.raises(weft.Error, match=r"^measure_beam: rays_per_column must be an integer, got str 'two'$"):
+        weft.measure_beam(GRID, rays_per_column="two")
+    with pytest.raises(weft.Error, match=r"^Law.T: t must be an array .*, got NoneType None$"):
+        LAW.T(None)
+    with pytest.raises(weft.Error, match=r"^Grid.save: path must be a str or os.PathLike, got int$"):
+        GRID.save(3)
+    with pytest.raises(weft.Error, match=r"^measure_beam: progress must be a callable"):
+        weft.measure_beam(GRID, "x", sigma=1, progress=3)
+
+
+def test_classes_without_a_constructor_say_so():
+    for name, fn, is_method in CALLABLES:
+        if inspect.isclass(fn) and type(fn).__name__ == "pybind11_type" and "." not in name:
+            if type(inspect.getattr_static(fn, "__init__")).__name__ == "function" and name not in (
+                    "Grid", "Fibres", "Origin", "GammaFit", "ConcentrationStats"):
+                with pytest.raises(weft.Error, match="weft.%s cannot be made directly" % name):
+                    fn()
+
+
+@pytest.mark.parametrize("name", [n for n, f, m in CALLABLES if not inspect.isclass(f)])
+def test_extra_arguments_are_weft_errors(name):
+    cls, _, member = name.partition(".")
+    if member and cls not in INSTANCES and not isinstance(inspect.getattr_static(getattr(weft, cls), member),
+                                                          (staticmethod, classmethod)):
+        pytest.skip("no cheap %s to call its methods on" % cls)
+    fn = bound(name)
+    with pytest.raises(weft.Error) as e:
+        fn(*([None] * 12), no_such_argument=1)
+    assert "\n" not in str(e.value) and str(e.value).startswith(name), str(e.value)
+
+
+@pytest.mark.parametrize("name", [n for n, f, m in CALLABLES if "." not in n and not inspect.isclass(f)])
+def test_functions_refuse_a_wrong_first_argument(name):
+    """Also the package's own functions (validate, render, gen, ...), positional and keyword."""
+    fn = getattr(weft, name)
+    parameters = [p for p in inspect.signature(fn).parameters.values() if p.kind != p.VAR_KEYWORD]
+    if not parameters:
+        pytest.skip("takes no argument")
+    first = parameters[0]
+    calls = [lambda: fn(Unconvertible())]
+    if first.kind in (first.POSITIONAL_OR_KEYWORD, first.KEYWORD_ONLY):
+        calls.append(lambda: fn(**{first.name: Unconvertible()}))
+    for call in calls:
+        with pytest.raises(weft.Error) as e:
+            call()
+        assert "\n" not in str(e.value), str(e.value)
+
+
+def test_a_callback_error_is_raised_as_itself():
+    class Mine(TypeError):
+        pass
+
+    def progress(label, done, total):
+        raise Mine("from the callback")
+
+    with pytest.raises(Mine):
+        weft.measure_beam(GRID, "x", sigma=1, progress=progress)
