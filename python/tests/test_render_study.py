@@ -311,3 +311,12 @@ def test_matrix_bad_input_is_one_error_naming_the_argument(tmp_path, kwargs, mat
         weft.render_matrix(film=32)
     with pytest.raises(TypeError, match="render_matrix: window must be a number"):
         weft.render_matrix(window=[0.3])
+
+
+@pytest.mark.parametrize("out", ["/proc", "/proc/weft/matrix"])
+def test_an_unwritable_out_is_refused_before_any_work(out):
+    # /proc takes no new file even for root, whose rights chmod cannot take away.
+    with pytest.raises(weft.Error, match=r"render_matrix: out=.* cannot be created|output folder '/proc' cannot be "
+                                         r"written") as e:
+        weft.render_matrix(quick=True, cloths="plain", lightings="back", tilts=45, factors=(2,), out=out)
+    assert "\n" not in str(e.value)

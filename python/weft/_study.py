@@ -370,7 +370,10 @@ def _work_dir(call, out):
     while not _os.path.exists(parent) and parent != _os.path.dirname(parent):
         created.append(parent)
         parent = _os.path.dirname(parent)
-    _os.makedirs(folder, exist_ok=True)
+    try:
+        _os.makedirs(folder, exist_ok=True)
+    except OSError as e:
+        raise Error("%s: out=%r cannot be created: %s" % (call, _os.fspath(out), e.strerror or e)) from None
     try:
         yield folder
     except BaseException:

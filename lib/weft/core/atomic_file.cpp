@@ -79,6 +79,9 @@ void check_writable_folder(const fs::path& dir) {
 
 FolderRollback::FolderRollback(fs::path folder, bool active) : folder_(std::move(folder)), active_(active) {
   if (!active_) return;
+  // Its users make the guard before their work: a folder no file can be written to is refused
+  // then, not when the first file is (and before anything is created).
+  check_writable_folder(folder_);
   std::error_code ec;
   for (fs::path p = fs::absolute(folder_, ec); !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
     created_ = p;

@@ -34,10 +34,11 @@ void check_writable_folder(const std::filesystem::path& dir);
 /// @brief The files a run writes into one folder appear whole or not at all, for a run of many
 /// files (each written atomically) that can fail between them.
 ///
-/// Made before the run's first file: creates `folder` (and missing parents) and remembers what
-/// was there. Unless keep() is called, the destructor (a failed run unwinding) removes the
-/// folders it created with everything in them, or, in a folder that existed, the entries that
-/// were not there before. An inactive guard (an MPI rank that writes nothing) does nothing.
+/// Made before the run's first file: refuses a folder that cannot be written
+/// (check_writable_folder), creates `folder` (and missing parents) and remembers what was there. Unless keep() is
+/// called, the destructor (a failed run unwinding) removes the folders it created with everything in them, or, in a
+/// folder that existed, the entries that were not there before. An inactive guard (an MPI rank that writes nothing)
+/// does nothing.
 class FolderRollback {
  public:
   explicit FolderRollback(std::filesystem::path folder, bool active = true);

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "data_gen/cloth/cloth.h"
+#include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 #include "weft/dist/distributed.h"
 #include "weft/dist/unit_store.h"
@@ -322,7 +323,10 @@ std::string matrix_key(const MatrixSpec& spec) {
 std::vector<MatrixCaseResult> run_matrix(const MatrixSpec& spec, ProgressSink& progress, dist::UnitStore* store) {
   check_matrix_spec(spec);
   const std::vector<MatrixCase> cases = matrix_cases(spec);
-  if (dist::is_root()) fs::create_directories(spec.study.work_dir / "cloths");
+  if (dist::is_root()) {
+    check_writable_folder(spec.study.work_dir);  // before any cloth is made, not at its first file
+    ensure_directory(spec.study.work_dir / "cloths");
+  }
   (void)dist::root_decides(true);
 
   // 1. The cloths, one unit each (a grid already there is the same cloth: its name hashes its spec).
