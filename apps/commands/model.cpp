@@ -6,17 +6,20 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <iterator>
 #include <memory>
+#include <span>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include <fmt/core.h>
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "command.h"
 #include "weft/core/error.h"
 #include "weft/core/rng.h"
+#include "weft/transmittance/draws.h"
 #include "weft/transmittance/gamma_concentration.h"
 #include "weft/transmittance/law_json.h"
 #include "weft/transmittance/pair.h"
@@ -178,27 +181,26 @@ int run(const ModelOptions& o, const std::vector<bool>& given_flags, const Conte
   }();
 
   if (o.sample < 0) usage_fail("--sample: expected a count >= 0, got {}", o.sample);
-  // A sane ceiling: more is a typo, and would run for hours (use several seeds instead).
-  if (o.sample > 1000000000LL)
+  if (static_cast<std::uint64_t>(o.sample) > tr::kMaxDraws)
     usage_fail("--sample: at most 1e9 samples per run, got {} (run several seeds)", o.sample);
   if (o.sample > 0) {
     const tr::Origin from = as_usage([&] { return tr::parse_origin(o.from); });
     if (default_law && !ctx.globals.quiet) fmt::print(stderr, "weft: note: {}\n", note);
-    Pcg32 rng = stream_for(o.seed, 0);
-    // Streamed in chunks: N may be far larger than memory.
+    // Streamed chunk by chunk (N may be far larger than memory); each chunk is a progress report,
+    // where Ctrl-C or SIGTERM stops the run (what was printed before stays printed).
     std::string out;
-    const auto flush = [&out] {
-      if (std::fwrite(out.data(), 1, out.size(), stdout) != out.size())
-        fail("cannot write samples to stdout: {}", std::strerror(errno));
-      out.clear();
-    };
     const auto* gamma = proportional ? &dynamic_cast<const tr::GammaConcentration&>(pair.law(from)) : nullptr;
-    for (long long i = 0; i < o.sample; ++i) {
-      const double t = gamma != nullptr ? gamma->sample_proportional_to_transmittance(rng) : pair.sample(from, rng);
-      out += fmt::format("{:.17g}\n", t);
-      if (out.size() > (1U << 16U)) flush();
-    }
-    flush();
+    tr::draw_in_chunks(
+        static_cast<std::uint64_t>(o.sample), o.seed, ctx.progress,
+        [&](Pcg32& rng) {
+          return gamma != nullptr ? gamma->sample_proportional_to_transmittance(rng) : pair.sample(from, rng);
+        },
+        [&](std::span<const double> chunk) {
+          out.clear();
+          for (const double t : chunk) fmt::format_to(std::back_inserter(out), "{:.17g}\n", t);
+          if (std::fwrite(out.data(), 1, out.size(), stdout) != out.size())
+            fail("cannot write samples to stdout: {}", std::strerror(errno));
+        });
     if (std::fflush(stdout) != 0) fail("cannot write samples to stdout: {}", std::strerror(errno));
     return 0;
   }
