@@ -6,17 +6,20 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <iterator>
 #include <memory>
+#include <span>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include <fmt/core.h>
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "command.h"
 #include "weft/core/error.h"
 #include "weft/core/rng.h"
+#include "weft/transmittance/draws.h"
 #include "weft/transmittance/gamma_concentration.h"
 #include "weft/transmittance/law_json.h"
 #include "weft/transmittance/pair.h"
@@ -178,14 +181,14 @@ int run(const ModelOptions& o, const std::vector<bool>& given_flags, const Conte
   }();
 
   if (o.sample < 0) usage_fail("--sample: expected a count >= 0, got {}", o.sample);
-  // A sane ceiling: more is a typo, and would run for hours (use several seeds instead).
-  if (o.sample > 1000000000LL)
+  if (static_cast<std::uint64_t>(o.sample) > tr::kMaxDraws)
     usage_fail("--sample: at most 1e9 samples per run, got {} (run several seeds)", o.sample);
   if (o.sample > 0) {
     const tr::Origin from = as_usage([&] { return tr::parse_origin(o.from); });
-    Pcg32 rng = stream_for(o.seed, 0);
-    // Streamed in chunks: N may be far larger than memory. With --json, the same numbers in one
-    // object whose "samples" array is streamed after its other fields (+∞ as "infinite").
+    // Streamed chunk by chunk (N may be far larger than memory); each chunk is a progress report,
+    // where Ctrl-C or SIGTERM stops the run (what was printed before stays printed). With --json,
+    // the same numbers in one object whose "samples" array is streamed after its other fields (+∞
+    // as "infinite").
     std::string out;
     if (o.json) {
       const tr::Law& drawn = pair.law(from);
@@ -212,16 +215,23 @@ int run(const ModelOptions& o, const std::vector<bool>& given_flags, const Conte
       out.clear();
     };
     const auto* gamma = proportional ? &dynamic_cast<const tr::GammaConcentration&>(pair.law(from)) : nullptr;
-    for (long long i = 0; i < o.sample; ++i) {
-      const double t = gamma != nullptr ? gamma->sample_proportional_to_transmittance(rng) : pair.sample(from, rng);
-      if (o.json) {
-        out += i == 0 ? "\n    " : ",\n    ";
-        out += std::isfinite(t) ? fmt::format("{:.17g}", t) : number(t).dump();
-      } else {
-        out += fmt::format("{:.17g}\n", t);
-      }
-      if (out.size() > (1U << 16U)) flush();
-    }
+    std::uint64_t taken = 0;
+    tr::draw_in_chunks(
+        static_cast<std::uint64_t>(o.sample), o.seed, ctx.progress,
+        [&](Pcg32& rng) {
+          return gamma != nullptr ? gamma->sample_proportional_to_transmittance(rng) : pair.sample(from, rng);
+        },
+        [&](std::span<const double> chunk) {
+          for (const double t : chunk) {
+            if (o.json) {
+              out += taken++ == 0 ? "\n    " : ",\n    ";
+              out += std::isfinite(t) ? fmt::format("{:.17g}", t) : number(t).dump();
+            } else {
+              fmt::format_to(std::back_inserter(out), "{:.17g}\n", t);
+            }
+          }
+          flush();
+        });
     if (o.json) out += "\n  ]\n}\n";
     flush();
     if (std::fflush(stdout) != 0) fail("cannot write samples to stdout: {}", std::strerror(errno));

@@ -1,9 +1,12 @@
 // Transmittance laws and source/scatterer pairs (weft/transmittance), vectorized over numpy.
 #include <cmath>
+#include <span>
 #include <string>
 
 #include "common.h"
+#include "weft/core/memory.h"
 #include "weft/core/rng.h"
+#include "weft/transmittance/draws.h"
 #include "weft/transmittance/pair.h"
 #include "weft/transmittance/registry.h"
 
@@ -11,9 +14,6 @@ namespace weft::python {
 namespace {
 
 namespace tr = weft::transmittance;
-
-// The largest sample count one call draws (the CLI's ceiling too: more is a typo).
-constexpr long long kMaxSamples = 1000000000LL;
 
 using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
@@ -44,19 +44,30 @@ py::dict parameters(const tr::Law& law) {
 
 std::uint64_t sample_count(long long n) {
   if (n < 0) fail("sample: n must be >= 0, got {}", n);
-  if (n > kMaxSamples) fail("sample: at most 1e9 samples per call, got {} (use several seeds)", n);
+  if (static_cast<std::uint64_t>(n) > tr::kMaxDraws)
+    fail("sample: at most 1e9 samples per call, got {} (use several seeds)", n);
+  // The array holds every draw at once: the budget rule of every "estimate before spending"
+  // guard (weft/core/memory.h), checked before allocating.
+  const std::uint64_t bytes = static_cast<std::uint64_t>(n) * sizeof(double);
+  if (bytes > default_memory_budget())
+    fail("sample: {} samples would take {}, over the memory budget of {}: draw fewer per call (several seeds)", n,
+         format_bytes(bytes), format_bytes(default_memory_budget()));
   return static_cast<std::uint64_t>(n);
 }
 
-/// n draws from one stream stream_for(seed, 0), as `weft model --sample N --seed S` prints them.
-py::array_t<double> draw(const tr::TransmittancePair& pair, tr::Origin from, long long n, std::uint64_t seed) {
+/// n draws from one stream stream_for(seed, 0), as `weft model --sample N --seed S` prints them,
+/// chunk by chunk with progress reports: Ctrl-C or a raising callback stops it at the next chunk.
+py::array_t<double> draw(const tr::TransmittancePair& pair, tr::Origin from, long long n, std::uint64_t seed,
+                         const py::object& progress) {
   const std::uint64_t count = sample_count(n);
-  std::vector<double> values(count);
-  {
-    py::gil_scoped_release release;
-    Pcg32 rng = stream_for(seed, 0);
-    for (auto& v : values) v = pair.sample(from, rng);
-  }
+  std::vector<double> values = run_released(progress, [&](ProgressSink& sink) {
+    std::vector<double> drawn;
+    drawn.reserve(count);
+    tr::draw_in_chunks(
+        count, seed, sink, [&](Pcg32& rng) { return pair.sample(from, rng); },
+        [&](std::span<const double> chunk) { drawn.insert(drawn.end(), chunk.begin(), chunk.end()); });
+    return drawn;
+  });
   return move_to_array(std::move(values));
 }
 
@@ -122,16 +133,18 @@ void init_laws(py::module_& m) {
           py::arg("t"), (std::string("Hazard Sigma(t) = p/T [1/length]. ") + kArrayDoc).c_str())
       .def(
           "sample",
-          [](const PyLaw& l, long long n, const std::string& from, std::uint64_t seed) {
+          [](const PyLaw& l, long long n, const std::string& from, std::uint64_t seed, const py::object& progress) {
             const tr::Origin origin = tr::parse_origin(from);
             // As `weft model`: the law is T_Q and its reciprocal partner gives scatterer segments.
-            if (origin == tr::Origin::source) return draw(tr::TransmittancePair::same(l), origin, n, seed);
-            return draw(tr::TransmittancePair::reciprocal(l, tr::Origin::source), origin, n, seed);
+            if (origin == tr::Origin::source) return draw(tr::TransmittancePair::same(l), origin, n, seed, progress);
+            return draw(tr::TransmittancePair::reciprocal(l, tr::Origin::source), origin, n, seed, progress);
           },
-          py::arg("n"), py::arg("from_") = "source", py::arg("seed") = 1,
+          py::arg("n"), py::arg("from_") = "source", py::arg("seed") = 1, py::kw_only(),
+          py::arg("progress") = py::none(),
           "n free-flight distances as a numpy array (+inf for mass that never collides). The law is the\n"
           "source law T_Q; from_='scatterer' draws from its reciprocal partner T_S = p_Q/p_Q(0). Same\n"
-          "numbers as `weft model ... --sample n --from FROM --seed SEED`.")
+          "numbers as `weft model ... --sample n --from FROM --seed SEED`. progress: callback(label, done, total)\n"
+          "or None; Ctrl-C stops the draws (KeyboardInterrupt). n * 8 bytes must fit the memory budget.")
       .def("__repr__", [](const tr::Law& l) {
         std::string s = "weft.law('" + l.name() + "'";
         for (const auto& p : l.parameters()) s += fmt::format(", {}={}", p.name, p.value);
@@ -189,11 +202,10 @@ void init_laws(py::module_& m) {
           py::arg("origin"), py::arg("t"), "p_Q(t) or p_S(t).")
       .def(
           "sample",
-          [](const tr::TransmittancePair& p, long long n, const std::string& from, std::uint64_t seed) {
-            return draw(p, tr::parse_origin(from), n, seed);
-          },
-          py::arg("n"), py::arg("from_") = "source", py::arg("seed") = 1,
-          "n free-flight distances for segments from 'source' or 'scatterer'.")
+          [](const tr::TransmittancePair& p, long long n, const std::string& from, std::uint64_t seed,
+             const py::object& progress) { return draw(p, tr::parse_origin(from), n, seed, progress); },
+          py::arg("n"), py::arg("from_") = "source", py::arg("seed") = 1, py::kw_only(),
+          py::arg("progress") = py::none(), "n free-flight distances for segments from 'source' or 'scatterer'.")
       .def("__repr__", [](const tr::TransmittancePair& p) {
         return fmt::format("<weft.TransmittancePair {}: source {}, scatterer {}>", tr::to_string(p.mode()),
                            p.law(tr::Origin::source).name(), p.law(tr::Origin::scatterer).name());

@@ -131,6 +131,7 @@ CALLBACK_CALLS = {
     "correlation_length": lambda small, cb: weft.correlation_length(small.grid, "x", progress=cb),
     "render_study": lambda small, cb: weft.render_study(small.scene(lighting="back", width=24, height=18), spp=2,
                                                         reference_spp=16, factors=(2,), progress=cb),
+    "law_sample": lambda small, cb: weft.law("gamma", alpha=0.5, mean_extinction=1).sample(300_000, progress=cb),
 }
 
 
@@ -244,3 +245,62 @@ def test_cli_ctrl_c_in_the_matrix_keeps_the_finished_cases_for_resume(tmp_path, 
     resumed = subprocess.run(args + ["--resume"], capture_output=True, text=True, timeout=300)
     assert resumed.returncode == 0, resumed.stderr
     assert (out / "matrix.json").exists()
+
+
+SAMPLE_CHILD = textwrap.dedent("""
+    import os, signal, sys, threading, time, weft
+    law = weft.law("gamma", alpha=0.5, mean_extinction=1)
+    start = time.monotonic()
+    law.sample(1 << 22)
+    rate = (1 << 22) / (time.monotonic() - start)
+    n = 300_000_000
+    # Ctrl-C 0.2 s into one call of n draws, which alone takes n / rate (~15 s on 2 cores).
+    threading.Timer(0.2, os.kill, (os.getpid(), signal.SIGINT)).start()
+    start = time.monotonic()
+    try:
+        law.sample(n)
+        print("finished uninterrupted")
+    except KeyboardInterrupt:
+        print("interrupted %.3f %.3f" % (time.monotonic() - start, n / rate), flush=True)
+    print(law.sample(5).shape)
+""")
+
+
+def test_ctrl_c_stops_law_sample_inside_the_call(tmp_path):
+    """One Law.sample call draws in chunks with progress reports, so Ctrl-C stops it at the next
+    chunk, not when all n draws are done (docs/python.md "Interrupting a call")."""
+    script = tmp_path / "sample_child.py"
+    script.write_text(SAMPLE_CHILD)
+    out = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, env=child_env(),
+                         cwd=tmp_path, timeout=300)
+    assert out.returncode == 0, out.stdout + out.stderr
+    first, second = out.stdout.splitlines()
+    word, stopped_at, whole_call = first.split()
+    assert word == "interrupted", out.stdout
+    assert float(whole_call) > 2.0, "n draws take only %s s: draw more" % whole_call
+    assert float(stopped_at) < 0.2 + 1.0 < float(whole_call) / 2, first
+    assert second == "(5,)"
+
+
+@pytest.mark.parametrize("sig, code, word", [(signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143, "terminated")])
+def test_cli_model_sample_stops_at_a_signal(sig, code, word, tmp_path, weft_bin):
+    """`weft model --sample N` prints its draws chunk by chunk, each chunk a progress report: a
+    signal stops it there with the usual exit, instead of after all N (docs/architecture.md
+    "Progress and cancellation"). Standard output is a stream: the chunks printed before stay."""
+    out = tmp_path / "samples.txt"
+    with open(out, "w") as stdout:
+        child = subprocess.Popen([weft_bin, "model", "--law", "gamma", "--alpha", "0.5", "--mean-extinction", "1",
+                                  "--sample", "1000000000"], stdout=stdout, stderr=subprocess.PIPE, text=True)
+        time.sleep(1.0)
+        assert child.poll() is None, "1e9 samples printed in under 1 s"
+        printed = out.stat().st_size
+        child.send_signal(sig)
+        sent = time.monotonic()
+        _, err = child.communicate(timeout=120)
+        seconds = time.monotonic() - sent
+    assert child.returncode == code, (child.returncode, err)
+    assert err.replace("\r", "\n").rstrip().splitlines()[-1] == "weft: " + word, err
+    assert seconds < 2.0, "took %.1f s to stop" % seconds
+    lines = out.read_text().splitlines()
+    assert printed > 0 and 0 < len(lines) < 1000000000
+    float(lines[-1])  # whole lines only: a chunk is written whole before the next report

@@ -1,6 +1,10 @@
 """Transmittance laws through Python: closed forms, vectorization, sampling, CLI identity."""
 
 import math
+import os
+import subprocess
+import sys
+import textwrap
 
 import numpy as np
 import pytest
@@ -146,3 +150,32 @@ def test_docstrings_visible():
     assert "mean_extinction" in weft.law.__doc__
     assert "source" in weft.Law.sample.__doc__
     assert weft.Law.T.__doc__
+
+
+def test_sample_over_the_memory_budget_is_refused_before_allocating(tmp_path):
+    """Law.sample holds its n draws at once: n * 8 bytes over the memory budget (half of `ulimit
+    -v` here, weft/core/memory.h) is a weft.Error before anything is allocated or drawn, while
+    the same count fits the address space (so without the check it would be drawn)."""
+    script = tmp_path / "budget.py"
+    script.write_text(textwrap.dedent("""
+        import resource, time
+        resource.setrlimit(resource.RLIMIT_AS, (4 << 30, 4 << 30))  # budget: 2 GiB
+        import weft
+        law = weft.law("exponential", mu=1)
+        start = time.monotonic()
+        try:
+            law.sample(300_000_000)  # 2.24 GiB
+            print("drawn")
+        except weft.Error as e:
+            print("refused in %.2f s: %s" % (time.monotonic() - start, e))
+        print(law.sample(10).shape)
+    """))
+    here = os.path.dirname(os.path.dirname(os.path.abspath(weft.__file__)))
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([here, os.environ.get("PYTHONPATH", "")]))
+    out = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, env=env, timeout=120)
+    assert out.returncode == 0, out.stderr
+    first, second = out.stdout.splitlines()
+    assert first.startswith("refused in "), out.stdout
+    assert "300000000 samples would take 2.24 GiB, over the memory budget of 2.00 GiB" in first
+    assert float(first.split()[2]) < 0.5  # nothing drawn: 300 million draws take seconds
+    assert second == "(10,)"  # the interpreter and the module carry on

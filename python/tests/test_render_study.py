@@ -274,6 +274,12 @@ def test_shadowed_downsample_takes_sigma_from_the_provenance(small_cloth):
     (dict(albedo="fitted"), r"albedo='fitted'"),
     (dict(window="wide"), r"window='wide'"),
     (dict(threads=0), r"threads=0"),
+    # Checked against the scene (docs/render.md §6c "Factors"): one coarse voxel holding the whole
+    # cloth, and albedo factors that clamp every channel at 1.
+    (dict(factors=(2, 4096)), r"coarsening factor 4096: one coarse voxel .* holds the whole active box"),
+    (dict(factors=(4096,), albedo="fit"), r"coarsening factor 4096: one coarse voxel"),
+    (dict(albedo={2: 100.0}, factors=(2,)), r"albedo factor 2:100 takes the albedo .* above 1 in every channel"),
+    (dict(albedo={2: 1e300}, factors=(2,)), r"albedo factor 2:1e\+300 takes the albedo"),
 ])
 def test_study_bad_input_is_one_error_naming_the_argument(scene_file, tmp_path, kwargs, match):
     out = tmp_path / "out"
@@ -320,3 +326,20 @@ def test_an_unwritable_out_is_refused_before_any_work(out):
                                          r"written") as e:
         weft.render_matrix(quick=True, cloths="plain", lightings="back", tilts=45, factors=(2,), out=out)
     assert "\n" not in str(e.value)
+
+
+def test_matrix_refuses_a_factor_whose_voxel_holds_the_cloth(weft_bin, tmp_path):
+    """The matrix (Python and CLI) checks its factors on each generated cloth before any fit or
+    render; the cloths stay in the folder, its resumable cache (docs/render.md §6c "Factors")."""
+    py_out = tmp_path / "py"
+    with pytest.raises(weft.Error, match=r"coarsening factor 4096: one coarse voxel .* holds the whole active box"):
+        weft.render_matrix(quick=True, cloths="plain", lightings="back", tilts=(45,), factors=(2, 4096), out=py_out)
+    assert sorted(p.name for p in py_out.iterdir()) == ["cloths"]
+    out = tmp_path / "m"
+    r = subprocess.run([weft_bin, "--quiet", "render", "--study", "--quick", "--study-cloths", "plain",
+                        "--study-lightings", "back", "--study-tilts", "45", "--study-factors", "2,4096",
+                        "--out", str(out)], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 1, r.stderr
+    assert r.stderr.strip().splitlines() == [r.stderr.strip()]
+    assert "coarsening factor 4096: one coarse voxel of 4096 voxels" in r.stderr
+    assert sorted(p.name for p in out.iterdir()) == ["cloths"]

@@ -142,6 +142,17 @@ def _long_call(binding):
     return call
 
 
+def _with_progress(method):
+    """A compiled method that draws in one thread, with ``progress=True`` (a bar) added."""
+    @_functools.wraps(method)
+    def call(self, *args, progress=None, **kwargs):
+        return _run(lambda p: method(self, *args, progress=p, **kwargs), None, progress)
+    call.__doc__ = (method.__doc__ or "") + "\n\nprogress=True shows a bar (tqdm when installed)."
+    return call
+
+
+_weft.Law.sample = _with_progress(_weft.Law.sample)
+_weft.TransmittancePair.sample = _with_progress(_weft.TransmittancePair.sample)
 measure_beam = _long_call(_weft.measure_beam)
 measure_fibre_beam = _long_call(_weft.measure_fibre_beam)
 window_stats = _long_call(_weft.window_stats)

@@ -68,6 +68,13 @@ std::pair<std::string, std::size_t> study_medium(const SceneDesc& scene) {
 
 }  // namespace
 
+double albedo_k_max(const render::Rgb& albedo) {
+  double min_albedo = 1.0;
+  for (int c = 0; c < 3; ++c)
+    if (albedo[c] > 0.0) min_albedo = std::min(min_albedo, albedo[c]);
+  return 1.0 / min_albedo;
+}
+
 render::Rgb corrected_albedo(const render::Rgb& albedo, double k) { return (albedo * k).cwiseMax(0.0).cwiseMin(1.0); }
 
 std::vector<AlbedoFit> fit_albedo(const SceneDesc& scene, const StudySpec& spec, ProgressSink& progress) {
@@ -80,6 +87,7 @@ std::vector<AlbedoFit> fit_albedo(const SceneDesc& scene, const StudySpec& spec,
   const std::size_t shape = where.second;
   const render::MediumDesc& fine_desc = scene.media.at(medium);
   const volume::Grid fine = volume::Grid::load(fine_desc.file, fine_desc.grid_name);
+  check_factors_for_grid(spec.factors, fine);
   const bool root = dist::is_root();
   FolderRollback outputs(spec.work_dir, root);  // a failed fit leaves no coarse grid behind
 
@@ -94,10 +102,7 @@ std::vector<AlbedoFit> fit_albedo(const SceneDesc& scene, const StudySpec& spec,
   const double target_mean = dist::root_value(target.mean);
 
   const Eigen::Array3d& albedo = fine_desc.albedo;
-  double min_albedo = 1.0;
-  for (int c = 0; c < 3; ++c)
-    if (albedo[c] > 0.0) min_albedo = std::min(min_albedo, albedo[c]);
-  const double k_max = 1.0 / min_albedo;  // beyond it every channel is clamped at 1
+  const double k_max = albedo_k_max(albedo);
 
   std::vector<AlbedoFit> fits;
   for (const int f : spec.factors) {

@@ -19,6 +19,13 @@ namespace weft::study {
 /// [0, 1] (an albedo above 1 would create energy).
 [[nodiscard]] render::Rgb corrected_albedo(const render::Rgb& albedo, double k);
 
+/// The largest albedo factor that still changes the image: 1/min Λ_c over the channels Λ_c > 0 (1
+/// when all are 0). Up to it channels reach 1 one by one (the brightest first: the correction
+/// saturates channel by channel, by design); beyond it every channel is clamped at 1 and k
+/// changes nothing. The fit's range (fit_albedo) and the largest k a study takes
+/// (check_study_scene).
+[[nodiscard]] double albedo_k_max(const render::Rgb& albedo);
+
 /// One coarsening level's fit.
 struct AlbedoFit {
   int factor = 0;

@@ -343,6 +343,11 @@ std::vector<MatrixCaseResult> run_matrix(const MatrixSpec& spec, ProgressSink& p
       },
       gen);
 
+  // A factor too coarse for a cloth is refused before any fit or render (the cloths stay, as
+  // after any failure of the matrix: docs/render.md §6c "Factors").
+  for (const auto& pattern : spec.cloths)
+    check_factors_for_grid(spec.study.factors, volume::Grid::load(cloth_file(spec, pattern)));
+
   // 2. The albedo factors per cloth, fitted on one set-up.
   const std::vector<Factors> factors = fit_factors(spec, cases, store, progress);
 

@@ -136,8 +136,34 @@ void check_study_spec(const StudySpec& spec) {
   }
 }
 
+void check_factors_for_grid(const std::vector<int>& factors, const volume::Grid& fine) {
+  const volume::IndexBox box = fine.active_bbox();
+  if (box.empty()) return;  // an empty grid is refused by name where it is loaded
+  const auto extent = box.extent();
+  const std::int64_t largest = *std::max_element(extent.begin(), extent.end());
+  for (const int f : factors) {
+    if (f < largest) continue;
+    fail(
+        "study: coarsening factor {}: one coarse voxel of {} voxels (side {:g}) holds the whole active box of "
+        "grid '{}' ({}x{}x{} voxels), so every coarse candidate would be one homogeneous box; use factors below {}",
+        f, f, f * fine.voxel_size(), fine.name(), extent[0], extent[1], extent[2], largest);
+  }
+}
+
 void check_study_scene(const SceneDesc& scene, const StudySpec& spec) {
-  (void)find_target(scene);
+  const Target target = find_target(scene);
+  // A k past albedo_k_max clamps every channel at 1: it renders as k_max does, so it is a typo or
+  // a factor meant for a darker cloth. The slack lets a k printed with 6 digits (as --study-albedo
+  // fit prints them, rounded by up to 5e-6 relative) pass when the fit ended at k_max.
+  const Rgb& albedo = scene.media.at(target.medium).albedo;
+  const double k_max = albedo_k_max(albedo);
+  for (const auto& [f, k] : spec.albedo_factors) {
+    if (k > k_max * (1.0 + 1e-5))
+      fail(
+          "study: albedo factor {}:{:g} takes the albedo ({:g}, {:g}, {:g}) of medium '{}' above 1 in every channel "
+          "that is not 0 (each is clamped at 1, so it renders as k = {:.6g} does); use k <= {:.6g}",
+          f, k, albedo[0], albedo[1], albedo[2], target.medium, k_max, k_max);
+  }
   if (!spec.components.empty()) check_component_scene(scene);
 }
 
@@ -148,6 +174,7 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
   const MediumDesc& fine_desc = scene.media.at(target.medium);
   const volume::Grid fine = volume::Grid::load(fine_desc.file, fine_desc.grid_name);
   if (fine.active_voxel_count() == 0) fail("study: grid '{}' has no active voxels", fine_desc.file);
+  check_factors_for_grid(spec.factors, fine);
   // The statistics scale: the yarn diameter of the grid's provenance, as `weft validate`.
   const volume::Provenance provenance = volume::read_provenance(fine);
   fit::StatisticsScale scale;
@@ -317,6 +344,12 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSin
       json albedo_medium = em;
       const Rgb albedo = corrected_albedo(fine_desc.albedo, k);
       albedo_medium["albedo"] = json::array({albedo[0], albedo[1], albedo[2]});
+      // Channels reach 1 one by one below albedo_k_max (by design, albedo_fit.h): said, since the
+      // correction then changes the albedo's colour, not only its level.
+      if ((fine_desc.albedo * k > 1.0).any())
+        say(spec, fmt::format(
+                      "albedo-corrected-{}x: k = {:g} clamps the albedo ({:g}, {:g}, {:g}) to ({:g}, {:g}, {:g})", f, k,
+                      fine_desc.albedo[0], fine_desc.albedo[1], fine_desc.albedo[2], albedo[0], albedo[1], albedo[2]));
       Plan al = baseline("albedo-corrected", albedo_medium, coarse.memory_bytes());
       al.c.albedo_factor = k;
       al.c.fitted_to_images = true;

@@ -61,6 +61,7 @@
 #include "weft/study/bias_scales.h"
 #include "weft/study/render_components.h"
 #include "weft/study/resolution_floor.h"
+#include "weft/volume/grid.h"
 
 namespace weft::study {
 
@@ -116,6 +117,15 @@ struct StudySpec {
 /// Throws weft::Error naming the bad field (factors out of range or repeated, seconds not
 /// finite and > 0, spp < 0, max_spp or reference_spp < 1, an empty work_dir).
 void check_study_spec(const StudySpec& spec);
+
+/// Throws weft::Error for a coarsening factor N of `factors` whose one coarse voxel (N voxels per
+/// axis, anchored at the active box's lower corner: volume/block_lattice.h) holds the fine grid's
+/// whole active box, i.e. N >= its largest extent in voxels (docs/render.md §6c "Factors"): the
+/// coarse grid is then one voxel, every coarse candidate one homogeneous box of N³ voxels (larger
+/// than the cloth, its mass spread over it) and the candidates differ by nothing a grid resolves;
+/// the slab-gamma candidate is the one-box model, sized to the cloth. Checked where the fine grid
+/// is loaded (run_study, fit_albedo), before anything is rendered or written.
+void check_factors_for_grid(const std::vector<int>& factors, const volume::Grid& fine);
 
 /// Throws weft::Error unless `scene` has exactly one grid medium with an exponential law filling
 /// one box shape (what run_study needs), and, when `spec` asks for components, no reflecting

@@ -230,5 +230,39 @@ TEST(StudyBaselines, BadAlbedoFactorsAreRefused) {
   EXPECT_NO_THROW(check_study_spec(s));
 }
 
+TEST(StudyBaselines, AlbedoFactorsPastTheLastChannelAreRefusedWithTheScene) {
+  const TempDir dir("albedo_k_max");
+  const render::SceneDesc scene = cube_scene(dir.path, [](int, int, int) { return 0.5F; });
+  const double k_max = albedo_k_max(scene.media.at("cloth").albedo);
+  EXPECT_DOUBLE_EQ(k_max, 1.0 / 0.6);  // the darkest channel of (0.8, 0.7, 0.6) reaches 1 last
+  StudySpec s = small_spec(dir.path);
+  s.albedo_factors = {{2, 1.5}};  // clamps two channels (by design), not the third
+  EXPECT_NO_THROW(check_study_scene(scene, s));
+  s.albedo_factors = {{2, std::stod(fmt::format("{:.6g}", k_max))}};  // as --study-albedo fit prints it
+  EXPECT_NO_THROW(check_study_scene(scene, s));
+  for (const double k : {k_max * 1.001, 100.0, 1e300}) {
+    s.albedo_factors = {{2, k}};
+    EXPECT_THROW(check_study_scene(scene, s), Error) << k;
+  }
+}
+
+TEST(StudyBaselines, AFactorWhoseOneVoxelHoldsTheWholeGridIsRefused) {
+  // Active box 16 x 5 x 3 voxels: factors below 16 leave at least two coarse voxels along x.
+  volume::Grid g(0.1);
+  for (int i = 3; i < 19; ++i)
+    for (int j = 0; j < 5; ++j)
+      for (int k = -1; k < 2; ++k) g.set_value(i, j, k, 0.5F);
+  EXPECT_NO_THROW(check_factors_for_grid({2, 15}, g));
+  EXPECT_THROW(check_factors_for_grid({2, 16}, g), Error);
+  EXPECT_THROW(check_factors_for_grid({4096}, g), Error);
+  try {
+    check_factors_for_grid({64}, g);
+    ADD_FAILURE() << "factor 64 was taken";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("coarsening factor 64"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("16x5x3 voxels"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace weft::study
