@@ -221,3 +221,24 @@ def test_tilt_80_is_refused_before_any_cloth_by_python_and_the_cli(tmp_path, wef
     for flags in (["--tilt", "80"], ["--study", "--study-tilts", "80"], ["--study", "--study-tilts", "nan"]):
         r = subprocess.run([weft_bin, "render", *flags, "--out", str(tmp_path / "c")], capture_output=True, text=True)
         assert r.returncode == 2 and "must be degrees in [0, 80)" in r.stderr, (flags, r.stderr)
+
+
+# Coordinates beyond what single-precision Embree traces (docs/render.md §1, "Where Embree's
+# floats are") used to abort inside Embree and take the interpreter with them; they are a weft.Error
+# naming the key, and the interpreter goes on.
+@pytest.mark.parametrize("edit, said", [
+    (lambda s: s["camera"].update(position=[0, 0, 1e20]), "camera.position reaches 1e+20"),
+    (lambda s: s["camera"].update(aperture_radius=1e20), "camera.aperture_radius reaches 1e+20"),
+    (lambda s: s["shapes"].append({"type": "sphere", "radius": 1e30, "material": "white"}),
+     "shapes[9]: coordinates reach 1e+30"),
+    (lambda s: s["shapes"].append({"type": "box", "min": [0, 0, 0], "max": [1, 1, 1e30], "material": "white"}),
+     "shapes[9]: coordinates reach 1e+30"),
+])
+def test_render_beyond_what_embree_traces_is_a_weft_error(edit, said):
+    scene = small_scene_dict()
+    edit(scene)
+    with pytest.raises(weft.Error) as e:
+        weft.render(scene, spp=1)
+    assert said in str(e.value), str(e.value)
+    assert weft.render(small_scene_dict(), spp=1).shape == (6, 8, 3)  # the interpreter lives on
+

@@ -30,12 +30,14 @@ int lookup(const std::map<std::string, int>& table, const std::string& name) {
   return table.at(name);
 }
 
-void add_triangles(RTCDevice device, RTCScene scene, const TriangleMesh& mesh, unsigned id) {
+void add_triangles(RTCDevice device, RTCScene scene, const TriangleMesh& mesh, const Vec3& frame, unsigned id) {
   RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
   auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                         3 * sizeof(float), mesh.vertices.size()));
-  for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
-    for (int k = 0; k < 3; ++k) v[3 * i + k] = static_cast<float>(mesh.vertices[i][k]);
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const Vec3 x = mesh.vertices[i] - frame;
+    for (int k = 0; k < 3; ++k) v[3 * i + static_cast<std::size_t>(k)] = static_cast<float>(x[k]);
+  }
   auto* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                            3 * sizeof(unsigned), mesh.triangles.size()));
   for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
@@ -45,7 +47,8 @@ void add_triangles(RTCDevice device, RTCScene scene, const TriangleMesh& mesh, u
   rtcReleaseGeometry(geom);
 }
 
-void add_sphere(RTCDevice device, RTCScene scene, const Vec3& c, double r, unsigned id) {
+void add_sphere(RTCDevice device, RTCScene scene, const Vec3& center, double r, const Vec3& frame, unsigned id) {
+  const Vec3 c = center - frame;
   RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
   auto* v = static_cast<float*>(
       rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
@@ -58,56 +61,97 @@ void add_sphere(RTCDevice device, RTCScene scene, const Vec3& c, double r, unsig
   rtcReleaseGeometry(geom);
 }
 
-/// Fibres as Embree round linear curves: a cone per polyline segment with spheres at the joints,
-/// i.e. exactly the swept tube of the generator's polylines (the geometry the voxelizer measured),
-/// where a B-spline or Catmull–Rom basis would smooth it away from the points. Returns the
-/// number of segments; the bounds grow by every point ± radius.
-std::size_t add_curves(RTCDevice device, RTCScene scene, const ShapeDesc& d, unsigned id, Vec3& lo, Vec3& hi) {
+/// A curves shape read and transformed, in world coordinates, before it enters Embree.
+struct CurveBuffers {
+  std::vector<Vec3> points;  // every polyline's points (closed ones repeat the first)
+  double radius = 0.0;
+  std::vector<unsigned> first;       // index of each segment's first point
+  std::vector<unsigned char> flags;  // which neighbours a segment joins (RTCCurveFlags)
+};
+
+/// Reads a curves shape: its points scaled and translated, the segments and their joints. The
+/// bounds grow by every point ± radius.
+CurveBuffers read_curve_buffers(const ShapeDesc& d, Vec3& lo, Vec3& hi) {
   const std::vector<curves::Curve> polylines = curves::read_curves(d.file);
   if (polylines.empty()) fail("curve file '{}' holds no curves", d.file);
-  const double radius = d.radius * d.scale;
-  std::vector<float> vertices;
-  std::vector<unsigned> first;       // index of each segment's first vertex
-  std::vector<unsigned char> flags;  // which neighbours a segment joins (RTCCurveFlags)
+  CurveBuffers b;
+  b.radius = d.radius * d.scale;
   for (const auto& c : polylines) {
     if (c.points.size() < 2) continue;
-    const auto base = static_cast<unsigned>(vertices.size() / 4);
+    const auto base = static_cast<unsigned>(b.points.size());
     std::vector<curves::Point3> pts = c.points;
     if (c.closed) pts.push_back(c.points.front());
     for (const auto& q : pts) {
       const Vec3 x = Vec3(q[0], q[1], q[2]) * d.scale + d.translate;
-      vertices.insert(vertices.end(), {static_cast<float>(x.x()), static_cast<float>(x.y()), static_cast<float>(x.z()),
-                                       static_cast<float>(radius)});
-      lo = lo.cwiseMin(x - Vec3::Constant(radius));
-      hi = hi.cwiseMax(x + Vec3::Constant(radius));
+      b.points.push_back(x);
+      lo = lo.cwiseMin(x - Vec3::Constant(b.radius));
+      hi = hi.cwiseMax(x + Vec3::Constant(b.radius));
     }
     const std::size_t segments = pts.size() - 1;
     for (std::size_t k = 0; k < segments; ++k) {
-      first.push_back(base + static_cast<unsigned>(k));
+      b.first.push_back(base + static_cast<unsigned>(k));
       unsigned char f = 0;
       if (k > 0) f |= RTC_CURVE_FLAG_NEIGHBOR_LEFT;
       if (k + 1 < segments) f |= RTC_CURVE_FLAG_NEIGHBOR_RIGHT;
-      flags.push_back(f);
+      b.flags.push_back(f);
     }
   }
-  if (first.empty()) fail("curve file '{}' has no curve with two or more points", d.file);
+  if (b.first.empty()) fail("curve file '{}' has no curve with two or more points", d.file);
+  return b;
+}
+
+/// Fibres as Embree round linear curves: a cone per polyline segment with spheres at the joints,
+/// i.e. exactly the swept tube of the generator's polylines (the geometry the voxelizer measured),
+/// where a B-spline or Catmull–Rom basis would smooth it away from the points. Points enter
+/// relative to `frame` (docs/render.md §1, "Where Embree's floats are").
+void add_curves(RTCDevice device, RTCScene scene, const CurveBuffers& b, const Vec3& frame, unsigned id) {
   RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
-  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
-                                                        4 * sizeof(float), vertices.size() / 4));
-  std::copy(vertices.begin(), vertices.end(), v);
+  auto* v = static_cast<float*>(
+      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), b.points.size()));
+  for (std::size_t i = 0; i < b.points.size(); ++i) {
+    const Vec3 x = b.points[i] - frame;
+    for (int k = 0; k < 3; ++k) v[4 * i + static_cast<std::size_t>(k)] = static_cast<float>(x[k]);
+    v[4 * i + 3] = static_cast<float>(b.radius);
+  }
   auto* idx = static_cast<unsigned*>(
-      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned), first.size()));
-  std::copy(first.begin(), first.end(), idx);
+      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned), b.first.size()));
+  std::copy(b.first.begin(), b.first.end(), idx);
   auto* fl = static_cast<unsigned char*>(
-      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_FLAGS, 0, RTC_FORMAT_UCHAR, sizeof(unsigned char), flags.size()));
-  std::copy(flags.begin(), flags.end(), fl);
+      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_FLAGS, 0, RTC_FORMAT_UCHAR, sizeof(unsigned char), b.flags.size()));
+  std::copy(b.flags.begin(), b.flags.end(), fl);
   rtcCommitGeometry(geom);
   rtcAttachGeometryByID(scene, geom, id);
   rtcReleaseGeometry(geom);
-  return first.size();
 }
 
-RTCRay make_ray(const Vec3& o, const Vec3& d, double tmin, double tmax) {
+/// A ray for Embree, in its frame (docs/render.md §1, "Where Embree's floats are"), or none when
+/// it cannot meet any shape. Every shape lies within kMaxReach of the frame (checked when the
+/// geometry is built); a ray that starts farther out (a collision deep in an unbounded medium) is
+/// started where it enters that cube, `lead` along it, so Embree never meets an origin beyond what
+/// its float tests can trace. Ordinary rays start where they are (lead 0).
+std::optional<RTCRay> embree_ray(const Vec3& o_world, const Vec3& d, double tmin, double tmax, const Vec3& frame,
+                                 double& lead) {
+  Vec3 o = o_world - frame;
+  lead = 0.0;
+  if (o.cwiseAbs().maxCoeff() > kMaxReach) {
+    double t_near = 0.0;
+    double t_far = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 3; ++k) {
+      if (d[k] == 0.0) {
+        if (std::abs(o[k]) > kMaxReach) return std::nullopt;
+        continue;
+      }
+      const double t0 = (-kMaxReach - o[k]) / d[k];
+      const double t1 = (kMaxReach - o[k]) / d[k];
+      t_near = std::max(t_near, std::min(t0, t1));
+      t_far = std::min(t_far, std::max(t0, t1));
+    }
+    if (!(t_near <= t_far) || t_far < tmin || t_near >= tmax) return std::nullopt;
+    lead = t_near;
+    o += lead * d;
+    tmin = std::max(0.0, tmin - lead);
+    tmax -= lead;
+  }
   RTCRay ray{};
   ray.org_x = static_cast<float>(o.x());
   ray.org_y = static_cast<float>(o.y());
@@ -116,14 +160,34 @@ RTCRay make_ray(const Vec3& o, const Vec3& d, double tmin, double tmax) {
   ray.dir_y = static_cast<float>(d.y());
   ray.dir_z = static_cast<float>(d.z());
   ray.tnear = static_cast<float>(tmin);
-  ray.tfar = std::isfinite(tmax) ? static_cast<float>(tmax) : std::numeric_limits<float>::infinity();
+  constexpr double kFloatMax = std::numeric_limits<float>::max();
+  ray.tfar = tmax < kFloatMax ? static_cast<float>(tmax) : std::numeric_limits<float>::infinity();
   ray.mask = 0xFFFFFFFFU;
   ray.flags = 0;
   ray.time = 0.0f;
   return ray;
 }
 
+/// The origin of Embree's frame: the world's own when the shapes' box is centred within one
+/// extent of it (its coordinates are then already of the order of the extent), else the box's
+/// centre, so that a scene far from the world origin enters Embree's floats as it would at the
+/// origin (docs/render.md §1, "Where Embree's floats are"). Ordinary scenes keep the world frame,
+/// hence their bytes.
+Vec3 frame_for(const Vec3& lo, const Vec3& hi) {
+  const Vec3 centre = 0.5 * lo + 0.5 * hi;  // halves first: lo + hi may overflow
+  const double extent = (hi - lo).maxCoeff();
+  return centre.cwiseAbs().maxCoeff() <= extent ? Vec3::Zero() : centre;
+}
+
 }  // namespace
+
+void require_traceable(double reach, const Vec3& frame, const std::string& what) {
+  if (reach <= kMaxReach) return;
+  fail(
+      "{} {:.3g} from the ray tracer's origin ({:.6g}, {:.6g}, {:.6g}), beyond the {:.0e} that single-precision "
+      "Embree can trace (docs/render.md §1, \"Where Embree's floats are\")",
+      what, reach, frame.x(), frame.y(), frame.z(), kMaxReach);
+}
 
 Geometry::Geometry(const SceneDesc& scene, const std::map<std::string, int>& material_index,
                    const std::map<std::string, int>& medium_index)
@@ -133,31 +197,38 @@ Geometry::Geometry(const SceneDesc& scene, const std::map<std::string, int>& mat
     fail("Embree: cannot create a device (error {})", static_cast<int>(rtcGetDeviceError(nullptr)));
   impl_->scene = rtcNewScene(impl_->device);
   rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
+  // First every shape in world coordinates (files read, bounds known), then Embree's frame from
+  // all the bounds, then each shape checked and added to Embree in that frame.
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
   Vec3 hi = -lo;
+  std::vector<CurveBuffers> curve_buffers(scene.shapes.size());
+  const auto in_shape = [&](std::size_t i, const auto& body) {
+    try {
+      body();
+    } catch (const Error& e) {
+      // The files a shape names are read here, once per render: name the shape (scene keys).
+      fail("{}: shapes[{}]: {}", scene.source, i, e.what());
+    }
+  };
   for (std::size_t i = 0; i < scene.shapes.size(); ++i) {
     const ShapeDesc& d = scene.shapes[i];
     ShapeInfo s;
-    try {
+    in_shape(i, [&] {
       s.kind = d.kind;
       s.material = lookup(material_index, d.material);
       s.null_material = s.material >= 0 && scene.materials.at(d.material).kind == MaterialKind::null;
       s.interior = lookup(medium_index, d.interior);
       s.exterior = lookup(medium_index, d.exterior);
       s.emission = d.emission;
-      const auto id = static_cast<unsigned>(i);
-      const Vec3 lo_before = lo;
-      const Vec3 hi_before = hi;
-      lo = Vec3::Constant(std::numeric_limits<double>::infinity());
-      hi = -lo;
+      s.lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+      s.hi = -s.lo;
       switch (d.kind) {
         case ShapeKind::sphere:
           s.center = d.center;
           s.radius = d.radius;
           s.area = 4.0 * std::numbers::pi * d.radius * d.radius;
-          add_sphere(impl_->device, impl_->scene, d.center, d.radius, id);
-          lo = lo.cwiseMin(d.center - Vec3::Constant(d.radius));
-          hi = hi.cwiseMax(d.center + Vec3::Constant(d.radius));
+          s.lo = d.center - Vec3::Constant(d.radius);
+          s.hi = d.center + Vec3::Constant(d.radius);
           break;
         case ShapeKind::box:
         case ShapeKind::rectangle:
@@ -181,40 +252,67 @@ Geometry::Geometry(const SceneDesc& scene, const std::map<std::string, int>& mat
           for (auto& c : s.area_cdf) c /= total;
           s.area = total;
           for (const auto& v : s.mesh.vertices) {
-            lo = lo.cwiseMin(v);
-            hi = hi.cwiseMax(v);
+            s.lo = s.lo.cwiseMin(v);
+            s.hi = s.hi.cwiseMax(v);
           }
-          add_triangles(impl_->device, impl_->scene, s.mesh, id);
           break;
         }
         case ShapeKind::curves:
-          s.curve_segments = add_curves(impl_->device, impl_->scene, d, id, lo, hi);
+          curve_buffers[i] = read_curve_buffers(d, s.lo, s.hi);
+          s.curve_segments = curve_buffers[i].first.size();
           break;
       }
-      // Embree stores coordinates as floats: a shape that leaves float's range once scaled and
-      // translated (a mesh "scale" of 1e300) would be inf there and silently vanish from the
-      // image, so it is an error like a non-finite coordinate in the file (docs/scene-format.md).
-      const double reach = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
-      if (!(reach <= std::numeric_limits<float>::max()))
-        fail("coordinates reach {:.3g}, beyond the float range of the ray tracer ({:.3g})", reach,
-             static_cast<double>(std::numeric_limits<float>::max()));
-      s.lo = lo;
-      s.hi = hi;
-      lo = lo.cwiseMin(lo_before);
-      hi = hi.cwiseMax(hi_before);
-    } catch (const Error& e) {
-      // The files a shape names are read here, once per render: name the shape (scene keys).
-      fail("{}: shapes[{}]: {}", scene.source, i, e.what());
-    }
+    });
+    lo = lo.cwiseMin(s.lo);
+    hi = hi.cwiseMax(s.hi);
     shapes_.push_back(std::move(s));
+  }
+  if (shapes_.empty()) return;
+  frame_ = frame_for(lo, hi);
+  extent_ = std::max(1e-6, (hi - lo).maxCoeff());
+  // World coordinates are doubles: their spacing at the frame, 2^-52·|frame|, must stay below the
+  // ray offsets (kSpawnOffset·extent), else rays start inside the surface they leave
+  // (docs/render.md §1, "Where Embree's floats are").
+  const double away = frame_.cwiseAbs().maxCoeff();
+  if (away > kMaxExtentsAway * extent_)
+    fail(
+        "{}: shapes: the scene (extent {:.3g}) lies {:.3g} from the world origin, {:.2g} times its extent; beyond "
+        "{:.0e} times, double precision is coarser than the ray offsets (docs/render.md §1, \"Where Embree's floats "
+        "are\"): move it nearer the origin",
+        scene.source, extent_, away, away / extent_, kMaxExtentsAway);
+  for (std::size_t i = 0; i < shapes_.size(); ++i) {
+    const ShapeInfo& s = shapes_[i];
+    in_shape(i, [&] {
+      // The one rule of what Embree can trace, for every kind, after scale and translate.
+      require_traceable(reach(s.lo, s.hi), frame_, "coordinates reach");
+      const auto id = static_cast<unsigned>(i);
+      switch (s.kind) {
+        case ShapeKind::sphere:
+          add_sphere(impl_->device, impl_->scene, s.center, s.radius, frame_, id);
+          break;
+        case ShapeKind::curves:
+          add_curves(impl_->device, impl_->scene, curve_buffers[i], frame_, id);
+          break;
+        default:
+          add_triangles(impl_->device, impl_->scene, s.mesh, frame_, id);
+          break;
+      }
+    });
   }
   {
     const HeldFpExceptions hold;  // Embree's builder computes with ±inf bounds on purpose
     rtcCommitScene(impl_->scene);
   }
-  if (!shapes_.empty()) extent_ = std::max(1e-6, (hi - lo).maxCoeff());
   lone_convex_ = shapes_.size() == 1 && (shapes_[0].kind == ShapeKind::box || shapes_[0].kind == ShapeKind::sphere);
   if (rtcGetDeviceError(impl_->device) != RTC_ERROR_NONE) fail("Embree: scene build failed");
+}
+
+double Geometry::reach(const Vec3& lo, const Vec3& hi) const {
+  return std::max((lo - frame_).cwiseAbs().maxCoeff(), (hi - frame_).cwiseAbs().maxCoeff());
+}
+
+double Geometry::spawn_offset(const Vec3& p) const {
+  return kSpawnOffset * (extent_ + (p - frame_).cwiseAbs().maxCoeff());
 }
 
 Geometry::~Geometry() = default;
@@ -224,8 +322,11 @@ std::optional<SurfaceHit> Geometry::intersect(const Vec3& o, const Vec3& d, doub
   if (lone_convex_) return intersect_lone(o, d, tmin, tmax);
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
+  double lead = 0.0;
+  const std::optional<RTCRay> ray = embree_ray(o, d, tmin, tmax, frame_, lead);
+  if (!ray) return std::nullopt;
   RTCRayHit rh{};
-  rh.ray = make_ray(o, d, tmin, tmax);
+  rh.ray = *ray;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   {
@@ -234,7 +335,7 @@ std::optional<SurfaceHit> Geometry::intersect(const Vec3& o, const Vec3& d, doub
   }
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
   SurfaceHit hit;
-  hit.t = rh.ray.tfar;
+  hit.t = lead + rh.ray.tfar;
   hit.shape = static_cast<int>(rh.hit.geomID);
   hit.p = o + hit.t * d;
   const ShapeInfo& s = shapes_[static_cast<std::size_t>(hit.shape)];
@@ -314,10 +415,10 @@ double Geometry::clearance(const Vec3& p, const Vec3& d) const {
   constexpr std::size_t kMaxShapes = 8;
   if (shapes_.empty() || shapes_.size() > kMaxShapes) return 0.0;
   // Embree works in float: vertices, ray origin and direction are rounded to 6e-8 of the
-  // coordinates and its hit distances are exact to a few such units (divided by the direction
-  // component across the face hit). Every surface is moved by delta = 1e-5 of the coordinates
-  // (the ray offsets' eps) towards p, so the bound stays below Embree's distance at any angle.
-  const double delta = 1e-5 * (extent_ + p.cwiseAbs().maxCoeff());
+  // coordinates in its frame and its hit distances are exact to a few such units (divided by the
+  // direction component across the face hit). Every surface is moved by the ray offset at p (1e-5
+  // of those coordinates) towards p, so the bound stays below Embree's distance at any angle.
+  const double delta = spawn_offset(p);
   constexpr double kInf = std::numeric_limits<double>::infinity();
   double bound = kInf;
   for (const ShapeInfo& s : shapes_) {
@@ -362,12 +463,14 @@ bool Geometry::occluded(const Vec3& o, const Vec3& d, double tmin, double tmax) 
   if (lone_convex_) return intersect_lone(o, d, tmin, tmax).has_value();
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRay ray = make_ray(o, d, tmin, tmax);
+  double lead = 0.0;
+  std::optional<RTCRay> ray = embree_ray(o, d, tmin, tmax, frame_, lead);
+  if (!ray) return false;
   {
     const HeldFpExceptions hold;  // as in intersect()
-    rtcOccluded1(impl_->scene, &context, &ray);
+    rtcOccluded1(impl_->scene, &context, &*ray);
   }
-  return ray.tfar < 0.0f;  // Embree sets tfar = -inf on a hit
+  return ray->tfar < 0.0f;  // Embree sets tfar = -inf on a hit
 }
 
 AreaSample Geometry::sample_area(int shape, Pcg32& rng) const {

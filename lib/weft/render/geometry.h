@@ -5,6 +5,7 @@
 
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "weft/core/rng.h"
@@ -31,6 +32,29 @@ struct ShapeInfo {
   Vec3 lo{0, 0, 0};                ///< axis-aligned bounds (a box shape is exactly its bounds)
   Vec3 hi{0, 0, 0};
 };
+
+/// What single-precision Embree can trace (docs/render.md §1, "Where Embree's floats are"): every
+/// coordinate it is given, relative to its frame, within ±kMaxReach. Its round-linear-curve test
+/// squares a discriminant of degree 6 in the lengths it meets (segment, radius, origin); with every
+/// length at most the cube's diagonal 2√3·kMaxReach its terms stay below float's 3.4e38 with a
+/// margin of 10 (the triangle test, degree 3, would allow 1e12; spheres, degree 2, Embree's own
+/// origin limit 1.8e19).
+inline constexpr double kMaxReach = 1e5;
+
+/// Ray offsets off a surface, relative to the coordinates in Embree's frame and the scene's size
+/// (float hit points: 1e-5 is ~170 float spacings).
+inline constexpr double kSpawnOffset = 1e-5;
+
+/// How far from the world origin a scene may lie, in its extents: the double spacing there
+/// (2^-52 of the distance, 2.2e-6 extents at 1e10) stays 4.5 times below the smallest ray offset
+/// (kSpawnOffset extents). Measured: the slab of tests/unit/render/translation_test.cpp renders
+/// the same mean at 8e10 extents and black at 8e11.
+inline constexpr double kMaxExtentsAway = 1e10;
+
+/// The one check of kMaxReach, for shapes (after scale and translate, with radii) and the camera:
+/// throws weft::Error "<what> <reach> from …" (what: "coordinates reach", "camera.position reaches") when `reach` (the
+/// largest |coordinate − frame|) is beyond it.
+void require_traceable(double reach, const Vec3& frame, const std::string& what);
 
 struct SurfaceHit {
   double t = 0.0;
@@ -72,6 +96,14 @@ class Geometry {
   [[nodiscard]] AreaSample sample_area(int shape, Pcg32& rng) const;
   /// Size of the scene's bounding box (for ray offsets).
   [[nodiscard]] double extent() const { return extent_; }
+  /// The world point that is Embree's origin (docs/render.md §1, "Where Embree's floats are").
+  [[nodiscard]] const Vec3& frame() const { return frame_; }
+  /// The largest |coordinate − frame()| of a box, for require_traceable.
+  [[nodiscard]] double reach(const Vec3& lo, const Vec3& hi) const;
+  /// How far a ray leaving a surface at `p` starts off it (along the normal): kSpawnOffset of the
+  /// scene's extent plus p's coordinates in Embree's frame, where its floats round them. The
+  /// same at any translation of the scene, since the frame moves with it.
+  [[nodiscard]] double spawn_offset(const Vec3& p) const;
 
  private:
   /// intersect() for a lone box or sphere, in closed form.
@@ -81,6 +113,7 @@ class Geometry {
   std::unique_ptr<Impl> impl_;
   std::vector<ShapeInfo> shapes_;
   double extent_ = 1.0;
+  Vec3 frame_{0, 0, 0};
   bool lone_convex_ = false;
 };
 

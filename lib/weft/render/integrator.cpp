@@ -128,7 +128,7 @@ Rgb Integrator<kMedia, kNonExp>::li(Vec3 o, Vec3 d, Pcg32& rng, PathCounters& co
           if (++depth > w_.settings.max_depth) break;
           // Next-event estimation with MIS against phase sampling.
           if (!w_.lights.empty()) {
-            const LightSample ls = w_.lights.sample(x, *w_.geometry, w_.eps, w_.extent, rng);
+            const LightSample ls = w_.lights.sample(x, *w_.geometry, rng);
             if (ls.pdf > 0.0 && (ls.le > 0.0).any()) {
               const double f = hg(m.g(), d.dot(ls.wi));
               const double tr = shadow(x, ls, medium, Origin::scatterer, rng, counters);
@@ -199,7 +199,7 @@ Rgb Integrator<kMedia, kNonExp>::li(Vec3 o, Vec3 d, Pcg32& rng, PathCounters& co
 
     if (mat.kind == MaterialKind::diffuse) {
       if (!w_.lights.empty()) {
-        const LightSample ls = w_.lights.sample(hit->p, *w_.geometry, w_.eps, w_.extent, rng);
+        const LightSample ls = w_.lights.sample(hit->p, *w_.geometry, rng);
         const double cos_i = n.dot(ls.wi);
         if (ls.pdf > 0.0 && cos_i > 0.0 && (ls.le > 0.0).any()) {
           const double tr = shadow(offset(hit->p, hit->n, ls.wi), ls, medium, Origin::source, rng, counters);
@@ -247,7 +247,7 @@ Rgb Integrator<kMedia, kNonExp>::li(Vec3 o, Vec3 d, Pcg32& rng, PathCounters& co
 
 template <bool kMedia, bool kNonExp>
 Vec3 Integrator<kMedia, kNonExp>::offset(const Vec3& p, const Vec3& n, const Vec3& dir) const {
-  const double scale = w_.eps * (w_.extent + p.cwiseAbs().maxCoeff());
+  const double scale = w_.geometry->spawn_offset(p);
   return p + (n.dot(dir) > 0.0 ? scale : -scale) * n;
 }
 

@@ -8,7 +8,7 @@
 
 namespace weft::render {
 
-LightSample LightSet::sample(const Vec3& x, const Geometry& geometry, double eps, double extent, Pcg32& rng) const {
+LightSample LightSet::sample(const Vec3& x, const Geometry& geometry, Pcg32& rng) const {
   constexpr double kPi = std::numbers::pi;
   LightSample ls;
   const auto count = static_cast<std::uint32_t>(lights.size());
@@ -28,7 +28,7 @@ LightSample LightSet::sample(const Vec3& x, const Geometry& geometry, double eps
       ls.pdf = select * dist2 / (s.area * cos_l);
       ls.le = light.radiance;
       ls.point = a.p;
-      ls.margin = eps * (extent + a.p.cwiseAbs().maxCoeff()) + 1e-6 * ls.dist;
+      ls.margin = geometry.spawn_offset(a.p) + 1e-6 * ls.dist;
       break;
     }
     case Light::Kind::point: {

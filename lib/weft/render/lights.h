@@ -43,10 +43,9 @@ struct LightSet {
   [[nodiscard]] bool empty() const { return lights.empty(); }
   [[nodiscard]] std::size_t size() const { return lights.size(); }
 
-  /// A light chosen uniformly, then a point or direction on it, seen from `x`. `eps` and `extent`
-  /// set the margin a shadow ray keeps from an area light's surface (the integrator's ray offset).
-  [[nodiscard]] LightSample sample(const Vec3& x, const Geometry& geometry, double eps, double extent,
-                                   Pcg32& rng) const;
+  /// A light chosen uniformly, then a point or direction on it, seen from `x`. A shadow ray keeps
+  /// the integrator's ray offset (Geometry::spawn_offset) from an area light's surface.
+  [[nodiscard]] LightSample sample(const Vec3& x, const Geometry& geometry, Pcg32& rng) const;
 };
 
 /// The lights of `scene`, whose shapes `geometry` holds.

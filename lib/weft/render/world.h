@@ -34,8 +34,6 @@ struct World {
   /// The medium camera paths start in (-1: vacuum), found from the scene's boundaries
   /// (docs/scene-format.md "The camera's medium").
   int camera_medium = -1;
-  double eps = 1e-5;  ///< ray offsets, relative to coordinates and scene size (float hit points)
-  double extent = 1.0;
 };
 
 /// Reads every file `scene` names and builds its media, geometry and lights. Throws weft::Error

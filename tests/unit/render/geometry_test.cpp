@@ -4,10 +4,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <limits>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
+#include "weft/core/error.h"
 #include "weft/core/rng.h"
 #include "weft/render/geometry.h"
 #include "weft/render/scene.h"
@@ -90,14 +96,85 @@ TEST(Clearance, LoneConvexShapeIsNotHitAfterLeavingIt) {
     const Vec3 d = random_direction(rng);
     const auto exit = g.intersect(p, d, 0.0, std::numeric_limits<double>::infinity());
     ASSERT_TRUE(exit.has_value());
-    // The integrator's offset: 1e-5 of the coordinates along the outward normal.
-    const double scale = 1e-5 * (g.extent() + exit->p.cwiseAbs().maxCoeff());
+    // The integrator's offset along the outward normal.
+    const double scale = g.spawn_offset(exit->p);
     const Vec3 out = exit->p + (exit->n.dot(d) > 0.0 ? scale : -scale) * exit->n;
     ASSERT_FALSE(g.intersect(out, d, 0.0, std::numeric_limits<double>::infinity()).has_value());
   }
   SceneDesc two;
   two.shapes = {box({-0.5, 0, -0.5}, {0.5, 1, 0.5}), box({1, 0, 0}, {2, 1, 1})};
   EXPECT_FALSE(Geometry(two, {}, {}).lone_convex());
+}
+
+// docs/render.md §1, "Where Embree's floats are": a ray may start beyond kMaxReach (a collision
+// deep in an unbounded medium); it is started where it enters the cube all shapes lie in, and
+// meets them at the same distance.
+TEST(Reach, RaysFromBeyondTheReachMeetWhatTheyPointAt) {
+  SceneDesc scene;
+  scene.shapes = {box({-0.5, 0, -0.5}, {0.5, 1, 0.5}), box({1, 0, 0}, {2, 1, 1})};
+  const Geometry g(scene, {}, {});
+  ASSERT_FALSE(g.lone_convex());  // Embree's path, not the closed form
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  for (const double far : {2e5, 1e9, 1e20, 1e300}) {
+    const Vec3 o(0, 0.5, far);
+    const auto hit = g.intersect(o, {0, 0, -1}, 0.0, kInf);
+    ASSERT_TRUE(hit.has_value()) << far;
+    EXPECT_NEAR(hit->t, far - 0.5, 1e-6 * far) << far;
+    EXPECT_EQ(hit->shape, 0);
+    EXPECT_TRUE(g.occluded(o, {0, 0, -1}, 0.0, kInf)) << far;
+    EXPECT_FALSE(g.occluded(o, {0, 0, -1}, 0.0, 0.5 * far)) << far;         // stops short
+    EXPECT_FALSE(g.intersect(o, {0, 0, 1}, 0.0, kInf).has_value()) << far;  // points away
+    EXPECT_FALSE(g.occluded(o, {0, 1, 0}, 0.0, kInf)) << far;               // passes beside
+  }
+}
+
+// The one rule, for every kind of shape after its scale and translate (geometry.h kMaxReach).
+TEST(Reach, EveryShapeKindBeyondTheReachIsRefused) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "weft_reach_test";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  std::ofstream(dir / "line.obj") << "v 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2 3\n";
+  const double beyond = 2.0 * kMaxReach;
+  std::vector<std::pair<std::string, ShapeDesc>> cases;
+  ShapeDesc s;
+  s.radius = beyond;
+  cases.emplace_back("sphere radius", s);
+  cases.emplace_back("box", box({0, 0, 0}, {1, beyond, 1}));
+  s = {};
+  s.kind = ShapeKind::rectangle;
+  s.corner = {0, 0, 0};
+  s.edge_u = {beyond, 0, 0};
+  s.edge_v = {0, 1, 0};
+  cases.emplace_back("rectangle", s);
+  s = {};
+  s.kind = ShapeKind::mesh;
+  s.file = (dir / "tri.obj").string();
+  s.scale = beyond;
+  cases.emplace_back("mesh scale", s);
+  s.scale = 1.0;
+  s.translate = {0, 0, -beyond};
+  cases.emplace_back("mesh translate", s);
+  s = {};
+  s.kind = ShapeKind::curves;
+  s.file = (dir / "line.obj").string();
+  s.radius = beyond;
+  cases.emplace_back("curves radius", s);
+  s.radius = 0.01;
+  s.scale = beyond;
+  cases.emplace_back("curves scale", s);
+  for (const auto& [name, shape] : cases) {
+    SceneDesc scene;
+    scene.source = "reach.json";
+    scene.shapes = {box({-1, -1, -1}, {1, 1, 1}), shape};
+    try {
+      const Geometry g(scene, {}, {});
+      ADD_FAILURE() << name << " must be refused";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("reach.json: shapes[1]: coordinates reach"), std::string::npos)
+          << name << ": " << e.what();
+    }
+  }
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

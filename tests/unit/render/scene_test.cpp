@@ -2,6 +2,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -148,7 +149,8 @@ TEST(SceneFile, RelativeFilesResolveOnceAgainstTheSceneFolder) {
   fs::remove_all(root);
 }
 
-// Embree stores floats: a shape scaled out of float's range would silently vanish from the image.
+// Embree stores floats: a shape scaled out of float's range would silently vanish from the image
+// or abort inside Embree; beyond kMaxReach (docs/render.md §1) it is refused.
 TEST(SceneFile, CoordinatesBeyondFloatRangeAreAnError) {
   const SceneDesc s = parse_scene(
       R"({"materials": {"w": {}}, "shapes": [{"type": "sphere", "radius": 1e300, "material": "w"}]})", "big.json", ".");
@@ -157,6 +159,25 @@ TEST(SceneFile, CoordinatesBeyondFloatRangeAreAnError) {
     FAIL() << "a sphere of radius 1e300 must be refused";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("big.json: shapes[0]: coordinates reach"), std::string::npos) << e.what();
+  }
+}
+
+// Embree's floats trace coordinates within kMaxReach of its frame (docs/render.md §1): a camera
+// or lens beyond it is refused before any ray is traced (it used to abort inside Embree).
+TEST(SceneFile, CameraBeyondWhatEmbreeTracesIsAnError) {
+  const std::string shapes = R"("materials": {"w": {}}, "shapes": [{"type": "sphere", "material": "w"}])";
+  const std::pair<std::string, std::string> cases[] = {
+      {R"("position": [0, 0, 1e20])", "far.json: camera.position reaches 1e+20"},
+      {R"("position": [0, 0, 5], "aperture_radius": 1e20)",
+       "far.json: camera.position plus camera.aperture_radius reaches"}};
+  for (const auto& [camera, expected] : cases) {
+    const SceneDesc s = parse_scene("{\"camera\": {" + camera + "}, " + shapes + "}", "far.json", ".");
+    try {
+      (void)build_world(s);
+      ADD_FAILURE() << camera << " must be refused";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
   }
 }
 
