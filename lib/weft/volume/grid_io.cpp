@@ -188,12 +188,19 @@ class VdbScanner {
   /// io::DelayedLoadMetadata::readValue (type "__delayedload"): a count, then per-leaf masks (count bytes) and
   /// compressed sizes (count int64), each raw or as a blosc chunk, within `end`.
   void delayed_load_meta(const char* what, std::uint64_t end) {
-    const auto saved = limit_;
+    const auto saved = limit_;  // the grid's end (the file's, for file metadata)
     limit_ = end;
     const auto count = read<std::uint32_t>(what);
-    if (count > left()) {
-      fail("{}: cannot read OpenVDB file: corrupt ({} declares {} entries in {} bytes)", where_, what, count,
-           end - pos_);
+    // The count is the tree's leaf count, and readValue allocates 9 bytes per leaf (a mask byte and
+    // an int64 size) whatever the arrays' chunks hold. Those chunks are no bound: blosc or zip makes a
+    // cloth's mostly equal masks and sizes far smaller than one byte a leaf. The tree is: every leaf
+    // writes at least its 64-byte value mask in the topology (LeafNode::writeTopology), which comes
+    // after this metadata within the grid, so more leaves than those bytes hold cannot be this grid's.
+    if (const auto most = (saved - end) / 64; count > most) {
+      fail(
+          "{}: cannot read OpenVDB file: corrupt ({} declares {} leaves; the {} bytes left in the grid hold at most "
+          "{})",
+          where_, what, count, saved - end, most);
     }
     const auto array = [&](std::uint64_t bytes, bool optional) {
       const auto declared = read<std::uint32_t>(what);
