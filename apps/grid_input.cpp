@@ -15,7 +15,8 @@ namespace weft::app {
 
 void add_grid_input(CLI::App& sub, GridInputOptions& o, bool required) {
   o.grid_option = sub.add_option("--grid", o.grid,
-                                 required ? "Input .vdb grid" : "Use this .vdb grid instead of generating a cloth");
+                                 required ? "Input .vdb grid" : "Use this .vdb grid instead of generating a cloth")
+                      ->check(file_name);
   if (required) o.grid_option->required();
   sub.add_option("--grid-name", o.grid_name, "Grid to read from --grid (default: the first float grid)")
       ->needs(o.grid_option);

@@ -93,6 +93,7 @@ int main(int argc, char** argv) {
   check_integer_options(app);
 
   try {
+    check_empty_values(app, argc, argv);
     app.parse(argc, argv);
   } catch (const CLI::ExtrasError& e) {
     const CLI::App* sub = nullptr;

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
+#include <string_view>
 
 #include "weft/core/atomic_file.h"
 
@@ -45,6 +46,10 @@ const CLI::Validator non_negative(
       return std::isfinite(v) && v >= 0.0 ? std::string() : fmt::format("must be finite and >= 0, got {}", text);
     },
     ">= 0", "non_negative");
+
+const CLI::Validator file_name(
+    [](std::string& text) -> std::string { return text.empty() ? "must name a file, got an empty value" : ""; }, "FILE",
+    "file_name");
 
 CLI::Validator at_least(long long min) {
   return CLI::Validator(
@@ -111,6 +116,44 @@ void check_output_options(const CLI::App& sub) {
     if (value.empty()) continue;  // an output the command does not write unless asked for
     const std::filesystem::path path(value);
     check_writable_folder(folder ? path : (path.has_parent_path() ? path.parent_path() : std::filesystem::path(".")));
+  }
+}
+
+namespace {
+
+/// The option `name` ("--cases", "-o") of `app` or, as CLI11 falls through, of its parents.
+const CLI::Option* find_option(const CLI::App* app, const std::string& name) {
+  for (; app != nullptr; app = app->get_parent()) {
+    if (const CLI::Option* option = app->get_option_no_throw(name)) return option;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+void check_empty_values(const CLI::App& app, int argc, const char* const* argv) {
+  const CLI::App* current = &app;
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view token = argv[i];
+    if (token == "--") return;  // positionals only from here
+    if (token.size() < 2 || token[0] != '-') {
+      // A subcommand's name: its options follow (the others are positionals or values).
+      for (const CLI::App* sub : current->get_subcommands([](const CLI::App*) { return true; })) {
+        if (sub->get_name() == token) current = sub;
+      }
+      continue;
+    }
+    const auto eq = token.starts_with("--") ? token.find('=') : std::string_view::npos;
+    const std::string name(token.substr(0, eq));
+    const CLI::Option* option = find_option(current, name);
+    if (option == nullptr || option->get_items_expected_max() == 0) continue;  // unknown (CLI11 says), or a flag
+    const bool attached = eq != std::string_view::npos;
+    if (!attached && i + 1 >= argc) continue;  // CLI11 says the value is missing
+    const std::string_view value = attached ? token.substr(eq + 1) : std::string_view(argv[++i]);
+    const char delimiter = option->get_delimiter();
+    if (delimiter != '\0' && value.find_first_not_of(delimiter) == std::string_view::npos)
+      usage_fail("{}: an empty list, got '{}' (give at least one item)", name, value);
+    if (attached && value.empty()) usage_fail("{}: an empty value ('{}')", name, token);
   }
 }
 

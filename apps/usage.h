@@ -56,10 +56,19 @@ double usage_non_negative(const char* option, double value);
 extern const CLI::Validator positive;
 /// Finite and >= 0.
 extern const CLI::Validator non_negative;
+/// A file name: not empty (an empty value would otherwise read as the option left out, and a
+/// command would run on its default input).
+extern const CLI::Validator file_name;
 /// An integer count >= `min` (the message says "must be >= min").
 CLI::Validator at_least(long long min);
 /// A finite number in [lo, hi] (CLI::Range lets NaN through: every comparison with it is false).
 CLI::Validator in_range(double lo, double hi);
+
+/// @brief Refuses an option value that is empty after CLI11 splits it: `--input=` or a list of
+/// delimiters only (`--cases ,`). CLI11 2.1 counts no value for it and takes the next argument as
+/// the value instead (`--cases , --no-plot` looked for cases named "--no-plot"). main() calls it
+/// once on the command line, before parsing, so every option of every command is covered.
+void check_empty_values(const CLI::App& app, int argc, const char* const* argv);
 
 /// @brief Gives every integer option of `app` and its subcommands (CLI11 type name UINT or INT)
 /// a checked parse: CLI11 2.1 reads "-1" into an unsigned option as 2^64 − 1 and a number past

@@ -116,7 +116,8 @@ const Registrar kFit{Command{
                          "16-bit floats when they fit (always for concentrations; docs/render.md 5b \"Storage\")")
               ->check(CLI::IsMember({"render", "all"}))
               ->capture_default_str();
-      sub.add_option("--beams", o->beams, "beams.csv from `weft measure`: adds least-squares fits and model errors");
+      sub.add_option("--beams", o->beams, "beams.csv from `weft measure`: adds least-squares fits and model errors")
+          ->check(file_name);
       sub.add_option(
              "--out", o->out,
              "Output folder (created if missing): fit.json; with --block local_fields.vdb and local_fields_scene.json")

@@ -270,7 +270,8 @@ const Registrar kGen{Command{
       for (const auto& n : cloth::pattern_names()) patterns += (patterns.empty() ? "" : ", ") + n;
       std::string presets;
       for (const auto& n : cloth::yarn_preset_names()) presets += (presets.empty() ? "" : ", ") + n;
-      sub.add_option("--config", o->config, "cloth.json of an earlier run: rebuild it (other options override it)");
+      sub.add_option("--config", o->config, "cloth.json of an earlier run: rebuild it (other options override it)")
+          ->check(file_name);
       sub.add_option("--pattern", o->pattern,
                      "Pattern: " + patterns + "; twill = twill22, satin = satin5, knit = stockinette (default plain)");
       sub.add_option("--yarns", o->yarns, "Yarn counts WARPxWEFT (knit: COURSESxWALES), default 4x4");
@@ -286,7 +287,8 @@ const Registrar kGen{Command{
       sub.add_option("--set", o->set,
                      "Yarn parameter NAME=VALUE, warp.NAME=VALUE or weft.NAME=VALUE (repeatable; list below)");
       sub.add_option("--input", o->input,
-                     "Yarn centrelines to build fibres around: .bcc (PL or C0) or .obj ('l' polylines)");
+                     "Yarn centrelines to build fibres around: .bcc (PL or C0) or .obj ('l' polylines)")
+          ->check(file_name);
       sub.add_option("--input-scale", o->input_scale, "Factor from the input file's units to mm")
           ->check(positive)
           ->capture_default_str();

@@ -302,7 +302,7 @@ const Registrar kModel{Command{
         flags.push_back(sub.add_option(kParamFlags[i].flag, o->values[i], kParamFlags[i].help)->type_name("NUMBER"));
       }
       flags.push_back(law_option);
-      sub.add_option("--table", o->table, "tabulated: CSV file with columns t [length], T [1]");
+      sub.add_option("--table", o->table, "tabulated: CSV file with columns t [length], T [1]")->check(file_name);
       sub.add_option("--sampler", o->sampler,
                      "gamma-path: marsaglia-tsang (default) or inversion; gamma: proportional draws t with "
                      "p proportional to T (S.55-S.57, needs alpha > 1)");

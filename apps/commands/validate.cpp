@@ -65,6 +65,7 @@ const Registrar kValidate{Command{
       auto o = std::make_shared<ValidateOptions>();
       add_grid_input(sub, o->input, false);
       sub.add_option("--cloth", o->cloth, "cloth.json to generate (default: the built-in plain weave)")
+          ->check(file_name)
           ->excludes(o->input.grid_option);
       sub.add_option("--axes", o->axes, "Beam axes, comma separated: x, y, z, optionally signed (-z)")
           ->capture_default_str();

@@ -119,3 +119,10 @@ def test_input_curves_with_a_weave_or_yarn_counts_are_refused(tmp_path, kwargs):
     (tmp_path / "crossing.obj").write_text(CROSSING)
     with pytest.raises(weft.Error, match="conflict"):
         weft.gen(input=tmp_path / "crossing.obj", **kwargs)
+
+
+@pytest.mark.parametrize("kwargs", [{}, {"voxel_size": 0.05}])
+def test_an_empty_input_is_refused_not_read_as_no_curves(kwargs):
+    # cloth.json's "input": "" means no curves; a keyword naming none is a mistake (as weft gen --input "").
+    with pytest.raises(weft.Error, match="input must name a curve file"):
+        weft.gen(input="", **kwargs)

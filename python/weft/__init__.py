@@ -367,6 +367,10 @@ def gen(spec=None, progress=None, *, pattern=None, yarns=None, yarn=None, warp_y
         return Cloth(_run(lambda p: _gen_json(text, p), threads, progress))
     merged = dict(spec or {})  # missing fields: the defaults, those that follow the yarn resolved after it
     merged.update(fields)  # unknown names are refused by the spec parser, with its suggestions
+    if fields.get("input") == "":
+        # cloth.json writes "input": "" for no curves; a keyword that names none is a mistake, as
+        # ``weft gen --input ""``, not a request for the default weave.
+        raise Error("gen: input must name a curve file (.bcc or .obj), got an empty string")
     if pattern is not None:
         merged["pattern"] = pattern
     if yarns is not None:

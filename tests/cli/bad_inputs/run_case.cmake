@@ -106,9 +106,22 @@ if(args_text MATCHES "^>(/dev/full) (.*)$")
   set(args_text "${CMAKE_MATCH_2}")
 endif()
 separate_arguments(args UNIX_COMMAND "${args_text}")
+# @EMPTY@ (once in a row) is an empty argument, `--input ""`: an unquoted list expansion drops empty
+# elements, so it goes in as a quoted "" between the arguments before and after it.
+list(FIND args "@EMPTY@" empty_at)
+set(after "")
+if(empty_at GREATER -1)
+  math(EXPR next "${empty_at} + 1")
+  list(SUBLIST args ${next} -1 after)
+  list(SUBLIST args 0 ${empty_at} args)
+endif()
 # A hang is reported as a failure here (before the ctest TIMEOUT), so known hangs can be WILL_FAIL.
-execute_process(COMMAND ${WEFT} --quiet ${args} RESULT_VARIABLE rc ${stdout_to} ERROR_VARIABLE err
-                WORKING_DIRECTORY ${WORK} TIMEOUT 5)
+set(run RESULT_VARIABLE rc ${stdout_to} ERROR_VARIABLE err WORKING_DIRECTORY ${WORK} TIMEOUT 5)
+if(empty_at GREATER -1)
+  execute_process(COMMAND ${WEFT} --quiet ${args} "" ${after} ${run})
+else()
+  execute_process(COMMAND ${WEFT} --quiet ${args} ${run})
+endif()
 file(GLOB_RECURSE after LIST_DIRECTORIES false ${WORK}/out/*)
 
 set(problems "")
