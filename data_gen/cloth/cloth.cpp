@@ -12,6 +12,7 @@
 #include "weft/core/error.h"
 #include "weft/core/file_kind.h"
 #include "weft/core/parallel.h"
+#include "weft/core/paths.h"
 #include "weft/volume/provenance.h"
 
 namespace weft::cloth {
@@ -44,7 +45,11 @@ ClothSpec load_cloth_spec(const std::filesystem::path& path) {
   if (!looks_like_json(head))
     fail("{}: not a cloth JSON (looks like {}); a cloth JSON is the cloth.json weft gen writes", path.string(),
          file_kind(head));
-  return cloth_spec_from_json(text.str(), path.string());
+  ClothSpec spec = cloth_spec_from_json(text.str(), path.string());
+  // Curves named in a config sit beside it, as a scene's files do (docs/cloth.md
+  // "Patterns"); kept absolute, so cloth.json written from it names them wherever it is saved.
+  if (!spec.input.empty()) spec.input = resolve_beside(spec.input, path.parent_path());
+  return spec;
 }
 
 FiberSet generate_fibers(const ClothSpec& spec, const CurveSet& centerlines, ProgressSink& progress) {

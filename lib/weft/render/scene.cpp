@@ -12,6 +12,7 @@
 #include "weft/core/error.h"
 #include "weft/core/file_kind.h"
 #include "weft/core/names.h"
+#include "weft/core/paths.h"
 #include "weft/curves/curve_io.h"
 #include "weft/render/environment.h"
 #include "weft/render/medium.h"
@@ -52,17 +53,15 @@ std::string join(const std::vector<std::string>& names) {
   return out;
 }
 
-/// A file a scene names, resolved once for every kind (docs/scene-format.md): a relative name is
-/// relative to the scene file's folder. The description keeps it absolute, so it names the same
-/// file whatever the working folder, scene_to_json writes a scene that loads wherever it is
-/// saved, and re-reading a written scene against the same folder (the image study's candidates)
-/// does not join the folder twice. A missing file is named as the scene's folder joins it.
+/// A file a scene names, resolved once for every kind (docs/scene-format.md) by resolve_beside:
+/// relative to the scene file's folder, kept absolute (scene_to_json writes a scene that loads
+/// wherever it is saved; re-reading it, as the image study's candidates do, does not join the
+/// folder twice). A missing file is named with that absolute path.
 std::string resolve_file(const std::string& name, const std::filesystem::path& base_dir, const std::string& where,
                          const char* what) {
-  std::filesystem::path p(name);
-  if (p.is_relative()) p = base_dir / p;
-  if (what != nullptr && !std::filesystem::exists(p)) fail("{}: {} '{}' does not exist", where, what, p.string());
-  return std::filesystem::absolute(p).lexically_normal().string();
+  std::string p = resolve_beside(name, base_dir);
+  if (what != nullptr && !std::filesystem::exists(p)) fail("{}: {} '{}' does not exist", where, what, p);
+  return p;
 }
 
 /// A JSON object being read: every key must be consumed or named as allowed, so a misspelt

@@ -94,6 +94,25 @@ TEST(Cloth, SpecJsonRejectsBadFields) {
   EXPECT_THROW(load_cloth_spec("/nonexistent/cloth.json"), Error);
 }
 
+TEST(Cloth, ARelativeInputInAConfigIsBesideTheConfigNotTheWorkingFolder) {
+  // docs/cloth.md "Patterns": a config and its curves move together; the path is kept absolute.
+  const fs::path dir = fs::temp_directory_path() / "weft_cloth_relative_input";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "imp" / "curves");
+  std::ofstream(dir / "imp" / "rel_cloth.json") << R"({"pattern": "import", "input": "curves/../curves/c.obj"})";
+  std::ofstream(dir / "imp" / "abs_cloth.json") << R"({"pattern": "import", "input": "/data/c.obj"})";
+  const fs::path cwd = fs::current_path();
+  fs::current_path(dir);  // the relative config path too, as `weft gen --config imp/rel_cloth.json`
+  const ClothSpec rel = load_cloth_spec("imp/rel_cloth.json");
+  const ClothSpec abs = load_cloth_spec(dir / "imp" / "abs_cloth.json");
+  fs::current_path(cwd);
+  EXPECT_EQ(rel.input, (dir / "imp" / "curves" / "c.obj").string());
+  EXPECT_EQ(abs.input, "/data/c.obj");
+  // From text alone (Python's spec dicts) there is no folder: the name is kept as given.
+  EXPECT_EQ(cloth_spec_from_json(R"({"pattern": "import", "input": "c.obj"})", "in.json").input, "c.obj");
+  fs::remove_all(dir);
+}
+
 TEST(Cloth, PresetFillsUnsetFieldsAndTheLabelRecordsEveryChange) {
   EXPECT_EQ(yarn_label(yarn_preset("silk")), "silk");
   EXPECT_EQ(label_preset("wool (modified: fiber_count, ply_radius)"), "wool");
