@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "weft/core/error.h"
+#include "weft/core/file_kind.h"
 
 namespace weft::cloth {
 namespace {
@@ -406,7 +407,7 @@ std::string cloth_spec_json(const ClothSpec& spec) {
 ClothSpec cloth_spec_from_json(const std::string& text, const std::string& where) {
   json j;
   try {
-    j = json::parse(text);
+    j = json::parse(skip_utf8_bom(text));
   } catch (const json::exception& e) {
     fail("{}: not valid JSON: {}", where, e.what());
   }

@@ -34,8 +34,13 @@ bool looks_like_text(std::string_view head) {
          kind.find("text") != std::string::npos;
 }
 
+std::string_view skip_utf8_bom(std::string_view text) {
+  constexpr std::string_view bom = "\xEF\xBB\xBF";
+  return text.starts_with(bom) ? text.substr(bom.size()) : text;
+}
+
 bool looks_like_json(std::string_view head) {
-  const std::string_view t = trim_left(head);
+  const std::string_view t = trim_left(skip_utf8_bom(head));
   return !t.empty() && (t.front() == '{' || t.front() == '[');
 }
 

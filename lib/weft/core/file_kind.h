@@ -21,7 +21,13 @@ namespace weft {
 /// can parse line by line. Binary formats with a signature (OpenVDB, PNG, …) are not text.
 [[nodiscard]] bool looks_like_text(std::string_view head);
 
-/// @brief True when `head` starts, after white space, like a JSON object or array.
+/// @brief `text` without a leading UTF-8 byte order mark (EF BB BF), which editors on Windows put
+/// before JSON (RFC 8259 §8.1 lets a parser ignore it; nlohmann's parser refuses it in a string).
+/// Every JSON input is read through it: the scene and cloth-spec parsers, and looks_like_json.
+[[nodiscard]] std::string_view skip_utf8_bom(std::string_view text);
+
+/// @brief True when `head` starts, after a UTF-8 byte order mark and white space, like a JSON
+/// object or array.
 [[nodiscard]] bool looks_like_json(std::string_view head);
 
 }  // namespace weft

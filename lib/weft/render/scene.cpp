@@ -388,6 +388,7 @@ LightDesc parse_light(const json& j, const std::string& where, const std::filesy
 }  // namespace
 
 SceneDesc parse_scene(std::string_view json_text, const std::string& source, const std::filesystem::path& base_dir) {
+  json_text = skip_utf8_bom(json_text);
   // A file of another kind (a .vdb grid, an image) gets named, not a parser's "invalid JSON: ' B'".
   if (!looks_like_json(json_text.substr(0, 512)))
     fail("{}: not a scene JSON (looks like {})", source, file_kind(json_text.substr(0, 512)));

@@ -94,6 +94,15 @@ TEST(Cloth, SpecJsonRejectsBadFields) {
   EXPECT_THROW(load_cloth_spec("/nonexistent/cloth.json"), Error);
 }
 
+TEST(Cloth, ALeadingUtf8ByteOrderMarkIsSkipped) {
+  const std::string text = "\xEF\xBB\xBF" + cloth_spec_json(small_spec());
+  EXPECT_EQ(cloth_spec_from_json(text, "in.json").pattern, "twill21");
+  const fs::path path = fs::temp_directory_path() / "weft_bom_cloth.json";
+  std::ofstream(path, std::ios::binary) << text;
+  EXPECT_EQ(load_cloth_spec(path).seed, 77U);
+  fs::remove(path);
+}
+
 TEST(Cloth, ARelativeInputInAConfigIsBesideTheConfigNotTheWorkingFolder) {
   // docs/cloth.md "Patterns": a config and its curves move together; the path is kept absolute.
   const fs::path dir = fs::temp_directory_path() / "weft_cloth_relative_input";

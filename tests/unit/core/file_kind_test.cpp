@@ -31,6 +31,15 @@ TEST(FileKind, JsonTestSkipsLeadingWhiteSpace) {
   EXPECT_FALSE(looks_like_json(""));
 }
 
+TEST(FileKind, AUtf8ByteOrderMarkIsSkippedOnce) {
+  EXPECT_EQ(skip_utf8_bom("\xEF\xBB\xBF{}"), "{}");
+  EXPECT_EQ(skip_utf8_bom("{}"), "{}");
+  EXPECT_EQ(skip_utf8_bom("\xEF\xBB"), "\xEF\xBB");  // a mark cut short is not one
+  EXPECT_EQ(skip_utf8_bom("\xEF\xBB\xBF\xEF\xBB\xBF{"), "\xEF\xBB\xBF{");
+  EXPECT_TRUE(looks_like_json("\xEF\xBB\xBF\n {"));
+  EXPECT_FALSE(looks_like_json("\xEF\xBB\xBF"));
+}
+
 TEST(FileKind, UnreadablePathIsSaidSo) { EXPECT_EQ(file_kind_at("/nonexistent/weft/file"), "an unreadable file"); }
 
 }  // namespace

@@ -46,6 +46,19 @@ TEST(SceneFile, MinimalSceneParsesWithDefaults) {
   EXPECT_EQ(s.lights[0].kind, LightKind::environment);
 }
 
+TEST(SceneFile, ALeadingUtf8ByteOrderMarkIsSkipped) {
+  // Windows editors save JSON with a byte order mark; it is not part of the scene.
+  const std::string text = "\xEF\xBB\xBF" + std::string(kMinimal);
+  EXPECT_EQ(parse_scene(text, "test.json", ".").shapes.size(), 1U);
+  const fs::path path = fs::temp_directory_path() / "weft_bom_scene.json";
+  std::ofstream(path, std::ios::binary) << text;
+  EXPECT_EQ(load_scene(path).materials.at("white").albedo[1], 0.5);
+  fs::remove(path);
+  // Line and column still count from the first character after the mark.
+  const std::string e = error_of("\xEF\xBB\xBF{\n  \"camera\": {\n    \"fov\": 40,,\n  }\n}");
+  EXPECT_NE(e.find("test.json:3:15"), std::string::npos) << e;
+}
+
 TEST(SceneFile, InvalidJsonReportsLineAndColumn) {
   const std::string text = "{\n  \"camera\": {\n    \"fov\": 40,,\n  }\n}";
   const std::string e = error_of(text);
