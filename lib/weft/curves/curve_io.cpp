@@ -15,6 +15,7 @@
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 #include "weft/core/file_kind.h"
+#include "weft/core/obj_text.h"
 
 namespace weft::curves {
 namespace fs = std::filesystem;
@@ -207,43 +208,30 @@ std::vector<Curve> read_obj_curves(const fs::path& path) {
   std::vector<Point3> vertices;
   std::vector<Curve> curves;
   long last_end = -1;  // vertex index where the previous polyline ended, for chaining
-  std::istringstream lines(text);
-  std::string line;
-  std::size_t number = 0;
+  ObjStatements statements(text);
+  ObjStatement s;
   const auto parse_double = [&](const std::string& token) {
-    double v = 0.0;
-    const auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), v);
-    if (ec != std::errc() || ptr != token.data() + token.size() || !std::isfinite(v)) {
-      fail("{}:{}: '{}' is not a finite number", where, number, token);
-    }
-    return v;
+    const auto v = obj_number(token);
+    if (!v) fail("{}:{}: '{}' is not a finite number", where, s.line, token);
+    return *v;
   };
-  while (std::getline(lines, line)) {
-    ++number;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream in(line);
-    std::string tag;
-    if (!(in >> tag) || tag[0] == '#') continue;
-    std::vector<std::string> tokens;
-    for (std::string t; in >> t;) tokens.push_back(t);
-    if (tag == "v") {
+  while (statements.next(s)) {
+    const auto& tokens = s.args;
+    const std::size_t number = s.line;
+    if (s.tag == "v") {
       if (tokens.size() < 3) fail("{}:{}: a vertex needs 3 coordinates, got {}", where, number, tokens.size());
       vertices.push_back({parse_double(tokens[0]), parse_double(tokens[1]), parse_double(tokens[2])});
-    } else if (tag == "l") {
+    } else if (s.tag == "l") {
       if (tokens.size() < 2) fail("{}:{}: a polyline needs at least 2 vertices", where, number);
       std::vector<long> idx;
       for (const auto& t : tokens) {
-        const std::string head = t.substr(0, t.find('/'));
-        long v = 0;
-        const auto [ptr, ec] = std::from_chars(head.data(), head.data() + head.size(), v);
-        if (ec != std::errc() || ptr != head.data() + head.size() || v == 0) {
-          fail("{}:{}: '{}' is not a vertex index", where, number, t);
+        long long spelled = 0;
+        const auto i = obj_vertex(t, vertices.size(), &spelled);
+        if (!i && spelled == 0) fail("{}:{}: '{}' is not a vertex index", where, number, t);
+        if (!i) {
+          fail("{}:{}: vertex index {} out of range (1..{} defined so far)", where, number, spelled, vertices.size());
         }
-        const long i = v > 0 ? v - 1 : static_cast<long>(vertices.size()) + v;
-        if (i < 0 || i >= static_cast<long>(vertices.size())) {
-          fail("{}:{}: vertex index {} out of range (1..{} defined so far)", where, number, v, vertices.size());
-        }
-        idx.push_back(i);
+        idx.push_back(static_cast<long>(*i));
       }
       std::size_t first = 0;
       if (idx.size() == 2 && idx[0] == last_end && !curves.empty()) {

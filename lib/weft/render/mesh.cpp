@@ -23,45 +23,39 @@
 #include <vtkTriangleFilter.h>
 
 #include "weft/core/error.h"
+#include "weft/core/obj_text.h"
 
 namespace weft::render {
 
 TriangleMesh load_obj(const std::filesystem::path& path) {
-  std::ifstream in(path);
+  std::ifstream in(path, std::ios::binary);
   if (!in) fail("mesh file '{}' cannot be opened (missing or unreadable)", path.string());
+  std::ostringstream text;
+  text << in.rdbuf();
+  const std::string all = text.str();
   TriangleMesh mesh;
-  std::string line;
-  std::size_t line_no = 0;
-  auto bad = [&](const std::string& why) { fail("mesh file '{}', line {}: {}", path.string(), line_no, why); };
-  while (std::getline(in, line)) {
-    ++line_no;
-    std::istringstream words(line);
-    std::string tag;
-    if (!(words >> tag) || tag[0] == '#') continue;
-    if (tag == "v") {
+  ObjStatements statements(all);
+  ObjStatement s;
+  auto bad = [&](const std::string& why) { fail("mesh file '{}', line {}: {}", path.string(), s.line, why); };
+  while (statements.next(s)) {
+    if (s.tag == "v") {
+      if (s.args.size() < 3) bad("a vertex needs 3 coordinates");
       Vec3 v;
       for (int k = 0; k < 3; ++k) {
-        std::string w;
-        if (!(words >> w)) bad("a vertex needs 3 coordinates");
-        double x = 0.0;
-        const auto [end, ec] = std::from_chars(w.data(), w.data() + w.size(), x);
-        if (ec != std::errc() || end != w.data() + w.size() || !std::isfinite(x)) bad("bad coordinate '" + w + "'");
-        v[k] = x;
+        const std::string& w = s.args[static_cast<std::size_t>(k)];
+        const auto x = obj_number(w);
+        if (!x) bad("bad coordinate '" + w + "'");
+        v[k] = *x;
       }
       mesh.vertices.push_back(v);
-    } else if (tag == "f") {
+    } else if (s.tag == "f") {
       std::vector<std::uint32_t> face;
-      std::string w;
-      while (words >> w) {
-        const std::string index_text = w.substr(0, w.find('/'));
-        long long index = 0;
-        const auto [end, ec] = std::from_chars(index_text.data(), index_text.data() + index_text.size(), index);
-        if (ec != std::errc() || end != index_text.data() + index_text.size() || index == 0)
-          bad("bad face index '" + w + "'");
-        const auto count = static_cast<long long>(mesh.vertices.size());
-        if (index < 0) index += count + 1;  // OBJ: negative indices count back from the last vertex
-        if (index < 1 || index > count) bad("face index " + w + " out of range");
-        face.push_back(static_cast<std::uint32_t>(index - 1));
+      for (const std::string& w : s.args) {
+        long long spelled = 0;
+        const auto index = obj_vertex(w, mesh.vertices.size(), &spelled);
+        if (!index && spelled == 0) bad("bad face index '" + w + "'");
+        if (!index) bad("face index " + w + " out of range");
+        face.push_back(static_cast<std::uint32_t>(*index));
       }
       if (face.size() < 3) bad("a face needs at least 3 vertices");
       for (std::size_t k = 1; k + 1 < face.size(); ++k) mesh.triangles.push_back({face[0], face[k], face[k + 1]});

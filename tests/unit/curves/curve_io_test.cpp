@@ -185,6 +185,16 @@ TEST_F(CurveFiles, ObjEdgeByEdgeExportChainsIntoOnePolyline) {
   EXPECT_EQ(curves[1].points[0][0], 8.0);
 }
 
+TEST_F(CurveFiles, ObjSignedNumbersTrailingCommentsAndContinuationsAreRead) {
+  // All valid OBJ: a '+' sign, a comment after an element, a line continued with a backslash.
+  write_bytes(dir_ / "forms.obj", "v +3e-3 0 0\nv 1 +0 0 # second\nv 2 \\\n 1 0\nl 1 2 \\\n 3 # the yarn\n");
+  const auto curves = read_obj_curves(dir_ / "forms.obj");
+  ASSERT_EQ(curves.size(), 1U);
+  ASSERT_EQ(curves[0].points.size(), 3U);
+  EXPECT_EQ(curves[0].points[0][0], 3e-3);
+  EXPECT_EQ(curves[0].points[2][1], 1.0);
+}
+
 TEST_F(CurveFiles, CorruptObjFilesAreRejected) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"v 0 0 0\nv 1 1 1\nl 1 3\n", "out of range"},

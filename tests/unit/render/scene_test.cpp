@@ -235,6 +235,15 @@ TEST(ObjReader, ReadsPolygonsAndNegativeIndices) {
   fs::remove(p);
 }
 
+TEST(ObjReader, ReadsSignedNumbersTrailingCommentsAndContinuations) {
+  const fs::path p = fs::temp_directory_path() / "weft_render_forms.obj";
+  std::ofstream(p) << "v +0 0 0\nv 1 0 0 # x\nv 1 \\\n 1 0\nf 1 2 3 # one triangle\n";
+  const TriangleMesh m = load_obj(p);
+  ASSERT_EQ(m.triangles.size(), 1U);
+  EXPECT_EQ(m.vertices[2][1], 1.0);
+  fs::remove(p);
+}
+
 TEST(ObjReader, BadIndexNamesFileAndLine) {
   const fs::path p = fs::temp_directory_path() / "weft_render_bad.obj";
   {
