@@ -123,9 +123,17 @@ std::vector<Curve> parse_bcc(std::string_view data, const std::string& where, in
   // The declared counts must account for every byte before anything is reserved, so a hostile
   // header cannot ask for a huge allocation.
   if (curve_count > body / 4 || point_count > body / 12 || curve_count * 4 + point_count * 12 != body) {
-    fail("{}: BCC header declares {} curves and {} points ({} bytes) but the file has {} bytes after the header", where,
-         curve_count, point_count,
-         curve_count <= body / 4 && point_count <= body / 12 ? curve_count * 4 + point_count * 12 : 0, body);
+    // The bytes they take: a 4-byte count per curve and 12 bytes per point, in 64 bits or more.
+    std::uint64_t counts = 0;
+    std::uint64_t points = 0;
+    std::uint64_t implied = 0;
+    const bool overflow = __builtin_mul_overflow(curve_count, std::uint64_t{4}, &counts) ||
+                          __builtin_mul_overflow(point_count, std::uint64_t{12}, &points) ||
+                          __builtin_add_overflow(counts, points, &implied);
+    fail(
+        "{}: BCC header declares {} curves and {} points, which take {} bytes after the 64-byte header, but the file "
+        "has {}",
+        where, curve_count, point_count, overflow ? "more than 18446744073709551615" : std::to_string(implied), body);
   }
   const auto* p = h + kBccHeaderBytes;
   const auto* end = h + size;

@@ -7,6 +7,9 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <string>
+
+#include <fmt/format.h>
 
 #include "weft/core/error.h"
 #include "weft/curves/curve_io.h"
@@ -125,6 +128,27 @@ struct Corruption {
   std::function<void(std::string&)> damage;
   const char* expected;  // part of the message
 };
+
+TEST_F(CurveFiles, BccCountsThatDoNotFitSayWhatTheyTakeAndWhatTheFileHas) {
+  const std::string header = bcc_bytes({}, "").substr(0, 64);
+  const auto with_counts = [&](std::uint64_t curves, std::uint64_t points) {
+    std::string b = header;
+    std::memcpy(&b[8], &curves, 8);
+    std::memcpy(&b[16], &points, 8);
+    try {
+      (void)parse_bcc(b + std::string(20, '\0'), "h.bcc");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const std::string m = with_counts(1, 99);
+  EXPECT_NE(m.find(fmt::format("1 curves and 99 points, which take {} bytes", 1 * 4 + 99 * 12)), std::string::npos)
+      << m;
+  EXPECT_NE(m.find("the file has 20"), std::string::npos) << m;
+  const std::string huge = with_counts(std::numeric_limits<std::uint64_t>::max(), 1);
+  EXPECT_NE(huge.find("take more than 18446744073709551615 bytes"), std::string::npos) << huge;
+}
 
 TEST_F(CurveFiles, CorruptBccFilesAreRejectedWithTheirName) {
   write_bcc(dir_ / "good.bcc", sample_curves());
