@@ -6,6 +6,8 @@
 #include <numbers>
 #include <sstream>
 
+#include <fmt/format.h>
+
 #include "data_gen/cloth/pattern.h"
 #include "data_gen/cloth/voxelize.h"
 #include "data_gen/cloth/yarn.h"
@@ -109,7 +111,10 @@ ClothBuild build_cloth(const ClothSpec& input, ProgressSink& progress, bool spre
   build.centerlines = cloth_centerlines(build.spec);
   if (build.centerlines.curves.empty()) fail("cloth: the pattern produced no yarns");
   build.estimate = estimate_cloth(build.spec, build.centerlines);
-  check_budget(build.estimate, budget, asker);
+  check_budget(build.estimate, budget, asker,
+               build.spec.pattern == "import"
+                   ? fmt::format("cloth of {} at input_scale {}", build.spec.input, build.spec.input_scale)
+                   : "cloth");
   build.fibers = generate_fibers(build.spec, build.centerlines, progress);
   const double generate_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   VoxelizeOptions options;

@@ -26,8 +26,15 @@ constexpr double kStationBytes = sizeof(Station);  // centreline frames, held wh
 // axis in random orientation: πr² + (mean perimeter 1.5πh)·r + (mean projected area 1.5h²).
 double dilated_area(double r, double h) { return kPi * r * r + 1.5 * kPi * h * r + 1.5 * h * h; }
 
-// Saturating conversion: an absurd input (a scale off by 10⁶) must give a huge estimate, not UB.
-std::uint64_t count(double x) { return x >= 1.8e19 ? ~0ULL : static_cast<std::uint64_t>(std::max(0.0, x)); }
+// Saturating conversion: an absurd input (a scale off by 10⁶) must give a huge estimate, not UB;
+// past 64 bits (or NaN, from ∞ − ∞) the estimate is marked as overflowed.
+std::uint64_t count(double x, bool& overflow) {
+  if (!(x < 1.8e19)) {
+    overflow = true;
+    return ~0ULL;
+  }
+  return static_cast<std::uint64_t>(std::max(0.0, x));
+}
 
 }  // namespace
 
@@ -73,19 +80,22 @@ ClothEstimate estimate_cloth(const ClothSpec& spec, const CurveSet& centerlines)
     leaves += L * dilated_area(yarn_envelope_radius(y) + y.fiber_radius, H) / (H * H * H) + 0.5 * plies * hairs;
   }
   e.fiber_length = length;
-  e.fibers = count(fibers);
-  e.fiber_points = count(points);
-  e.fiber_bytes = count(points * sizeof(Point3) + fibers * kFiberBytes);
-  e.active_voxels = count(voxels);
-  e.leaves = count(std::ceil(leaves));
+  e.overflow = !std::isfinite(length);
+  bool& o = e.overflow;
+  e.fibers = count(fibers, o);
+  e.fiber_points = count(points, o);
+  e.fiber_bytes = count(points * sizeof(Point3) + fibers * kFiberBytes, o);
+  e.active_voxels = count(voxels, o);
+  e.leaves = count(std::ceil(leaves), o);
   // Internal nodes: one 16³ node per 128³ voxels touched (32 KiB), bounded by the leaves.
   const double internal = std::min(leaves, std::max(1.0, leaves / 64.0)) * (4096 * 8 + 1024) + 32768 * 8 + 8192;
-  e.grid_bytes = count(leaves * kLeafBytes + internal);
+  e.grid_bytes = count(leaves * kLeafBytes + internal, o);
   const double voxelize = bins * kBinBytes;  // pieces themselves are not stored
   const double vtk = points * kVtkPointBytes + fibers * kVtkCellBytes;
-  e.transient_bytes = count(std::max({voxelize, vtk, stations * kStationBytes}));
+  e.transient_bytes = count(std::max({voxelize, vtk, stations * kStationBytes}), o);
   e.peak_bytes = count(points * sizeof(Point3) + fibers * kFiberBytes + leaves * kLeafBytes + internal +
-                       std::max({voxelize, vtk, stations * kStationBytes}));
+                           std::max({voxelize, vtk, stations * kStationBytes}),
+                       o);
   return e;
 }
 
@@ -98,8 +108,9 @@ ClothEstimate estimate_cloth(const ClothSpec& spec) {
   probe.weft_count = std::min(spec.weft_count, kProbe);
   const ClothEstimate p = estimate_cloth(probe, cloth_centerlines(probe));
   const double f = static_cast<double>(spec.warp_count) * spec.weft_count / (probe.warp_count * probe.weft_count);
-  const auto scale = [f](std::uint64_t v) { return count(static_cast<double>(v) * f); };
   ClothEstimate e;
+  e.overflow = p.overflow || !std::isfinite(p.fiber_length * f);
+  const auto scale = [&](std::uint64_t v) { return count(static_cast<double>(v) * f, e.overflow); };
   e.fiber_length = p.fiber_length * f;
   e.fibers = scale(p.fibers);
   e.fiber_points = scale(p.fiber_points);
@@ -118,12 +129,20 @@ std::string describe(const ClothEstimate& e) {
                      static_cast<double>(e.active_voxels), format_bytes(e.grid_bytes), format_bytes(e.peak_bytes));
 }
 
-void check_budget(const ClothEstimate& e, std::uint64_t budget_bytes, FrontEnd asker) {
+void check_budget(const ClothEstimate& e, std::uint64_t budget_bytes, FrontEnd asker, const std::string& subject) {
   const std::uint64_t budget = budget_bytes > 0 ? budget_bytes : default_memory_budget();
+  if (e.overflow) {
+    // Saturated counts are not figures: say what overflowed instead of printing 2⁶⁴ − 1.
+    const Spelling options{"--input-scale, --yarns, --voxel-size", "input_scale=, yarns=, voxel_size="};
+    fail(
+        "{}: the estimate overflows ({:.3g} mm of fibre; fibres, points or bytes past 2^64): far beyond any "
+        "memory (check {})",
+        subject, e.fiber_length, options.in(asker));
+  }
   if (e.peak_bytes > budget) {
     const Spelling options{"--max-memory; check --input-scale, --yarns, --voxel-size",
                            "max_memory_mb=; check input_scale=, yarns=, voxel_size="};
-    fail("cloth: estimated {}, over the memory budget of {} ({})", describe(e), format_bytes(budget),
+    fail("{}: estimated {}, over the memory budget of {} ({})", subject, describe(e), format_bytes(budget),
          options.in(asker));
   }
 }

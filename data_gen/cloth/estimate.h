@@ -26,6 +26,9 @@ struct ClothEstimate {
   std::uint64_t grid_bytes = 0;       ///< the OpenVDB tree (what its memUsage() reports)
   std::uint64_t transient_bytes = 0;  ///< largest short-lived buffer: voxelizer pieces and bins, or the VTK copy
   std::uint64_t peak_bytes = 0;       ///< fibres + grid + transient
+  /// A count past 64 bits or a length past double's range (a scale off by 10¹⁰⁰): the counts
+  /// above are then saturated, not figures, and check_budget refuses the cloth saying so.
+  bool overflow = false;
 };
 
 /// @brief The estimate for a resolved spec and its centrelines (in mm).
@@ -52,7 +55,9 @@ std::string describe(const ClothEstimate& e);
 
 /// Throws weft::Error (naming the estimate and the budget, and the options that set them in the
 /// words of `asker`: `--max-memory` or `max_memory_mb=`) when e.peak_bytes exceeds `budget_bytes`
-/// (0 = default_memory_budget()).
-void check_budget(const ClothEstimate& e, std::uint64_t budget_bytes, FrontEnd asker = FrontEnd::cli);
+/// (0 = default_memory_budget()), or when the estimate overflowed. The message starts with
+/// `subject` (an import names its file and scale).
+void check_budget(const ClothEstimate& e, std::uint64_t budget_bytes, FrontEnd asker = FrontEnd::cli,
+                  const std::string& subject = "cloth");
 
 }  // namespace weft::cloth

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "data_gen/cloth/yarn.h"
 #include "weft/core/error.h"
 #include "weft/curves/curve_io.h"
 
@@ -119,10 +120,19 @@ CurveSet cloth_centerlines(const ClothSpec& spec) {
       if (!(curve_length(set.curves[i]) > 0.0))
         fail("{}: curve {} has no length (fewer than two distinct points)", spec.input, i);
     }
-    for (auto& c : set.curves) {
-      for (auto& p : c.points) {
-        for (double& v : p) v *= spec.input_scale;
+    for (std::size_t i = 0; i < set.curves.size(); ++i) {
+      for (auto& p : set.curves[i].points) {
+        for (double& v : p) {
+          v *= spec.input_scale;
+          if (!std::isfinite(v))
+            fail("{}: input_scale {} takes curve {} beyond the range of numbers (a coordinate of {})", spec.input,
+                 spec.input_scale, i, v);
+        }
       }
+      // Imported yarns take the warp's parameters (direction 0). Said here, with the file and the
+      // scale, not later by a yarn that cannot name either.
+      if (const auto why = centerline_problem(set.curves[i], spec.warp_yarn.sample_step); !why.empty())
+        fail("{}: curve {} at input_scale {} {}", spec.input, i, spec.input_scale, why);
     }
     set.direction.assign(set.curves.size(), 0);
     return set;

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
+
+#include <fmt/format.h>
 
 // CGAL is here for the minimum-distance fibre placement: a Delaunay triangulation answers
 // "nearest placed fibre to this candidate" in O(log n) expected time with exact predicates, which
@@ -111,18 +114,48 @@ std::vector<FiberSeed> sample_ply_cross_section(const YarnParams& yarn, int coun
   return seeds;
 }
 
-std::vector<Station> centerline_stations(const Curve& curve, double step) {
+namespace {
+
+/// A centreline's points without repeats (they have no tangent), closed curves closed, and the
+/// arc length at each.
+struct CleanCenterline {
+  std::vector<Point3> points;
+  std::vector<double> cumulative;
+  double length() const { return cumulative.empty() ? 0.0 : cumulative.back(); }
+};
+
+CleanCenterline clean_centerline(const Curve& curve) {
   std::vector<Point3> pts = curve.points;
   if (curve.closed && pts.size() > 1) pts.push_back(pts.front());
-  // Drop repeated points: they have no tangent.
-  std::vector<Point3> clean;
+  CleanCenterline c;
   for (const auto& p : pts) {
-    if (clean.empty() || norm(sub(p, clean.back())) > 1e-12) clean.push_back(p);
+    if (c.points.empty() || norm(sub(p, c.points.back())) > 1e-12) c.points.push_back(p);
   }
-  std::vector<double> cumulative(clean.size(), 0.0);
-  for (std::size_t i = 1; i < clean.size(); ++i) cumulative[i] = cumulative[i - 1] + norm(sub(clean[i], clean[i - 1]));
-  const double length = cumulative.empty() ? 0.0 : cumulative.back();
-  if (clean.size() < 2 || !(length > step * 1e-3)) fail("yarn centreline: fewer than two distinct points");
+  c.cumulative.assign(c.points.size(), 0.0);
+  for (std::size_t i = 1; i < c.points.size(); ++i)
+    c.cumulative[i] = c.cumulative[i - 1] + norm(sub(c.points[i], c.points[i - 1]));
+  return c;
+}
+
+std::string centerline_problem(const CleanCenterline& c, double step) {
+  if (c.points.size() < 2) return "has fewer than two distinct points (1e-12 mm apart)";
+  if (!(c.length() > step * 1e-3))
+    return fmt::format("is {:.3g} mm long, under a thousandth of the yarn's sample step {:.3g} mm", c.length(), step);
+  return {};
+}
+
+}  // namespace
+
+std::string centerline_problem(const Curve& curve, double step) {
+  return centerline_problem(clean_centerline(curve), step);
+}
+
+std::vector<Station> centerline_stations(const Curve& curve, double step) {
+  const CleanCenterline c = clean_centerline(curve);
+  if (const auto why = centerline_problem(c, step); !why.empty()) fail("yarn centreline {}", why);
+  const std::vector<Point3>& clean = c.points;
+  const std::vector<double>& cumulative = c.cumulative;
+  const double length = c.length();
   const auto m = static_cast<std::size_t>(std::max(1.0, std::ceil(length / step)));
   std::vector<Station> st(m + 1);
   std::size_t seg = 1;

@@ -4,6 +4,7 @@
 /// any centreline.
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "data_gen/cloth/fibers.h"
@@ -40,10 +41,15 @@ struct Station {
   double s = 0.0;
 };
 
+/// @brief Why `curve` cannot carry a yarn sampled every `step` mm ("has …" or "is …", to follow
+/// the curve's name), or "" when it can: it needs two
+/// points more than 1e-12 mm apart (repeated points have no tangent) and a length over `step`/1000.
+std::string centerline_problem(const Curve& curve, double step);
+
 /// @brief Stations at uniform arc length (spacing ≤ `step`) along `curve`, with frames by the
 /// double-reflection rotation-minimising method of Wang et al. 2008 (TOG 27(1)), so fibres do
-/// not pick up a spurious twist from the frame. Throws weft::Error for curves shorter than
-/// `step`/1000 or with repeated points only.
+/// not pick up a spurious twist from the frame. Throws weft::Error for a curve with a
+/// centerline_problem.
 std::vector<Station> centerline_stations(const Curve& curve, double step);
 
 /// @brief All fibres of one yarn around `centerline`: `ply_count` plies at `ply_offset` twisted

@@ -2,10 +2,12 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "data_gen/cloth/cloth.h"
+#include "data_gen/cloth/pattern.h"
 #include "weft/core/error.h"
 
 namespace weft::cloth {
@@ -92,6 +94,33 @@ TEST(Cloth, SpecJsonRejectsBadFields) {
   j["warp_yarn"]["fiber_radius"] = -0.1;
   EXPECT_THROW(cloth_spec_from_json(j.dump(), "in.json"), Error);
   EXPECT_THROW(load_cloth_spec("/nonexistent/cloth.json"), Error);
+}
+
+TEST(Cloth, AnInputScaleThatBreaksTheCurvesNamesTheFileAndTheScale) {
+  const fs::path obj = fs::temp_directory_path() / "weft_scaled_curve.obj";
+  std::ofstream(obj) << "v 0 0 0\nv 2 0 0\nl 1 2\n";
+  const auto message = [&](double scale) {
+    ClothSpec spec = default_cloth_spec();
+    spec.pattern = "import";
+    spec.input = obj.string();
+    spec.input_scale = scale;
+    try {
+      (void)cloth_centerlines(resolve(spec));
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const std::string tiny = message(1e-300);
+  EXPECT_NE(tiny.find(obj.string() + ": curve 0 at input_scale 1e-300 has fewer than two distinct"), std::string::npos)
+      << tiny;
+  const std::string short_one = message(1e-6);
+  EXPECT_NE(short_one.find("at input_scale 1e-06 is 2e-06 mm long, under a thousandth"), std::string::npos)
+      << short_one;
+  const std::string huge = message(1e308);
+  EXPECT_NE(huge.find("input_scale 1e+308 takes curve 0 beyond the range of numbers"), std::string::npos) << huge;
+  EXPECT_EQ(message(1.0), "accepted");
+  fs::remove(obj);
 }
 
 TEST(Cloth, ALeadingUtf8ByteOrderMarkIsSkipped) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <string>
 
 #include "data_gen/cloth/cloth.h"
 #include "data_gen/cloth/estimate.h"
@@ -126,7 +127,17 @@ TEST(ClothEstimate, RefusesOverTheBudgetBeforeGenerating) {
   huge.curves = {Curve{{{0, 0, 0}, {1e300, 0, 0}}, false}};
   huge.direction = {0};
   const ClothEstimate e = estimate_cloth(default_cloth_spec(), huge);
-  EXPECT_THROW(check_budget(e, 1ULL << 40U), Error);
+  EXPECT_TRUE(e.overflow);
+  try {
+    check_budget(e, 1ULL << 40U, FrontEnd::cli, "cloth of c.obj at input_scale 1e+300");
+    ADD_FAILURE() << "an overflowing estimate was accepted";
+  } catch (const Error& error) {
+    // Said as an overflow, not as 2⁶⁴ − 1 fibres.
+    const std::string m = error.what();
+    EXPECT_NE(m.find("cloth of c.obj at input_scale 1e+300: the estimate overflows"), std::string::npos) << m;
+    EXPECT_EQ(m.find(std::to_string(~0ULL)), std::string::npos) << m;
+  }
+  EXPECT_FALSE(estimate_cloth(default_cloth_spec()).overflow);
 }
 
 }  // namespace
