@@ -106,7 +106,10 @@ void run_render_matrix_command(const study::StudySpec& study, const MatrixCliOpt
   if (given.output_file) usage_fail("-o: the study matrix writes a folder: give --out DIR");
   // The library's defaults (docs/render.md §6e), then what the command line gave.
   study::MatrixSpec m = study::default_matrix_spec(given.quick);
-  if (given.factors) m.study.factors = study.factors;
+  if (given.factors) {
+    m.study.factors = study.factors;
+    m.study.factors_given = true;
+  }
   if (given.memory) m.study.memory_rules = study.memory_rules;
   m.study.scale = study.scale;
   m.study.components = study.components;

@@ -187,6 +187,7 @@ int run(const RenderCliOptions& o, const Context& ctx) {
       if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
         usage_fail("--study-factors: a factor is given twice ({})", fmt::join(o.study_factors, ","));
       spec.factors = sorted;
+      spec.factors_given = true;
     }
     if (!o.study_window.empty()) {
       as_usage([&] { fit::check_scale_text(o.study_window); });

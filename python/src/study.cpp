@@ -74,6 +74,7 @@ st::StudySpec study_spec(const py::dict& o, const char* call, bool matrix) {
       std::vector<int> sorted = *f;  // the CLI runs them in increasing order
       std::sort(sorted.begin(), sorted.end());
       spec.factors = sorted;
+      spec.factors_given = true;
       check();
     });
   }

@@ -77,8 +77,8 @@ double albedo_k_max(const render::Rgb& albedo) {
 
 render::Rgb corrected_albedo(const render::Rgb& albedo, double k) { return (albedo * k).cwiseMax(0.0).cwiseMin(1.0); }
 
-std::vector<AlbedoFit> fit_albedo(const SceneDesc& scene, const StudySpec& spec, ProgressSink& progress) {
-  check_study_spec(spec);
+std::vector<AlbedoFit> fit_albedo(const SceneDesc& scene, const StudySpec& requested, ProgressSink& progress) {
+  check_study_spec(requested);
   check_study_scene(scene);
   // Named copies, not a structured binding: lambdas below capture them (clang < 16 refuses
   // to capture bindings).
@@ -87,7 +87,8 @@ std::vector<AlbedoFit> fit_albedo(const SceneDesc& scene, const StudySpec& spec,
   const std::size_t shape = where.second;
   const render::MediumDesc& fine_desc = scene.media.at(medium);
   const volume::Grid fine = volume::Grid::load(fine_desc.file, fine_desc.grid_name);
-  check_factors_for_grid(spec.factors, fine);
+  StudySpec spec = requested;
+  spec.factors = factors_for_grid(requested, fine);
   const bool root = dist::is_root();
   FolderRollback outputs(spec.work_dir, root);  // a failed fit leaves no coarse grid behind
 

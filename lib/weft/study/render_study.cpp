@@ -150,6 +150,34 @@ void check_factors_for_grid(const std::vector<int>& factors, const volume::Grid&
   }
 }
 
+std::vector<int> factors_for_grid(const StudySpec& spec, const volume::Grid& fine) {
+  if (spec.factors_given) {
+    check_factors_for_grid(spec.factors, fine);
+    return spec.factors;
+  }
+  const volume::IndexBox box = fine.active_bbox();
+  if (box.empty()) return spec.factors;
+  const auto extent = box.extent();
+  const std::int64_t largest = *std::max_element(extent.begin(), extent.end());
+  std::vector<int> kept;
+  std::vector<int> dropped;
+  for (const int f : spec.factors) (f < largest ? kept : dropped).push_back(f);
+  if (kept.empty()) check_factors_for_grid(spec.factors, fine);  // says why, and what would do
+  for (const auto& [f, k] : spec.albedo_factors) {
+    if (std::find(kept.begin(), kept.end(), f) == kept.end())
+      fail(
+          "study: albedo factor {}:{:g} names a coarsening factor the grid is too small for (factors below {} "
+          "only)",
+          f, k, largest);
+  }
+  if (!dropped.empty() && spec.log)
+    spec.log(fmt::format(
+        "default coarsening factor{} {} left out: one coarse voxel would hold the whole active box "
+        "of grid '{}' ({}x{}x{} voxels)",
+        dropped.size() > 1 ? "s" : "", fmt::join(dropped, ", "), fine.name(), extent[0], extent[1], extent[2]));
+  return kept;
+}
+
 void check_study_scene(const SceneDesc& scene, const StudySpec& spec) {
   const Target target = find_target(scene);
   // A k past albedo_k_max clamps every channel at 1: it renders as k_max does, so it is a typo or
@@ -157,8 +185,10 @@ void check_study_scene(const SceneDesc& scene, const StudySpec& spec) {
   // fit prints them, rounded by up to 5e-6 relative) pass when the fit ended at k_max.
   const Rgb& albedo = scene.media.at(target.medium).albedo;
   const double k_max = albedo_k_max(albedo);
+  // An albedo of 0 in every channel stays 0 for any k: nothing is clamped, so nothing to refuse.
+  const bool any_scattering = (albedo > 0.0).any();
   for (const auto& [f, k] : spec.albedo_factors) {
-    if (k > k_max * (1.0 + 1e-5))
+    if (any_scattering && k > k_max * (1.0 + 1e-5))
       fail(
           "study: albedo factor {}:{:g} takes the albedo ({:g}, {:g}, {:g}) of medium '{}' above 1 in every channel "
           "that is not 0 (each is clamped at 1, so it renders as k = {:.6g} does); use k <= {:.6g}",
@@ -167,14 +197,15 @@ void check_study_scene(const SceneDesc& scene, const StudySpec& spec) {
   if (!spec.components.empty()) check_component_scene(scene);
 }
 
-StudyResult run_study(const SceneDesc& scene, const StudySpec& spec, ProgressSink& progress) {
-  check_study_spec(spec);
-  check_study_scene(scene, spec);
+StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, ProgressSink& progress) {
+  check_study_spec(requested);
+  check_study_scene(scene, requested);
   const Target target = find_target(scene);
   const MediumDesc& fine_desc = scene.media.at(target.medium);
   const volume::Grid fine = volume::Grid::load(fine_desc.file, fine_desc.grid_name);
   if (fine.active_voxel_count() == 0) fail("study: grid '{}' has no active voxels", fine_desc.file);
-  check_factors_for_grid(spec.factors, fine);
+  StudySpec spec = requested;
+  spec.factors = factors_for_grid(requested, fine);
   // The statistics scale: the yarn diameter of the grid's provenance, as `weft validate`.
   const volume::Provenance provenance = volume::read_provenance(fine);
   fit::StatisticsScale scale;

@@ -80,11 +80,15 @@ inline constexpr std::string_view kStudyRendersStage = "study renders";
 
 struct StudySpec {
   std::vector<int> factors{2, 4, 8, 16};  ///< coarsening factors, each in [2, 4096], no repeats
-  double seconds = 10.0;                  ///< wall-time budget per candidate image (when spp == 0)
-  int spp = 0;                            ///< > 0: every candidate at this spp instead of a budget
-  int max_spp = 1 << 16;                  ///< cap of a budgeted render
-  int reference_spp = 1024;               ///< the reference: the fine grid at this spp
-  std::uint64_t seed = 1;                 ///< first images; second images and the reference derive theirs
+  /// The caller chose `factors` (CLI --study-factors, Python factors=): each must suit the grid
+  /// (check_factors_for_grid). Otherwise they are the defaults, and those too coarse for a small
+  /// cloth are dropped with a line to `log` (factors_for_grid).
+  bool factors_given = false;
+  double seconds = 10.0;     ///< wall-time budget per candidate image (when spp == 0)
+  int spp = 0;               ///< > 0: every candidate at this spp instead of a budget
+  int max_spp = 1 << 16;     ///< cap of a budgeted render
+  int reference_spp = 1024;  ///< the reference: the fine grid at this spp
+  std::uint64_t seed = 1;    ///< first images; second images and the reference derive theirs
   /// The statistics scale of the slab's law and of the validation (fit::resolve_scale, as
   /// `weft validate --window`): "yarn" needs a grid whose provenance records the yarn diameter
   /// (otherwise weft::Error before anything is written: no voxel-dependent fallback).
@@ -126,6 +130,13 @@ void check_study_spec(const StudySpec& spec);
 /// the slab-gamma candidate is the one-box model, sized to the cloth. Checked where the fine grid
 /// is loaded (run_study, fit_albedo), before anything is rendered or written.
 void check_factors_for_grid(const std::vector<int>& factors, const volume::Grid& fine);
+
+/// The factors a study of `fine` runs: `spec.factors` when the caller gave them (refused by
+/// check_factors_for_grid if one is too coarse), else the defaults that suit the grid, each one
+/// dropped said to `spec.log`: a small cloth's default 16× would be one voxel, and a user who
+/// asked for no factor should get the study of those that mean something, not a refusal. Throws
+/// weft::Error when no default suits it, or when an albedo factor names a dropped one.
+[[nodiscard]] std::vector<int> factors_for_grid(const StudySpec& spec, const volume::Grid& fine);
 
 /// Throws weft::Error unless `scene` has exactly one grid medium with an exponential law filling
 /// one box shape (what run_study needs), and, when `spec` asks for components, no reflecting

@@ -264,5 +264,37 @@ TEST(StudyBaselines, AFactorWhoseOneVoxelHoldsTheWholeGridIsRefused) {
   }
 }
 
+TEST(StudyBaselines, DefaultFactorsTooCoarseForASmallGridAreLeftOutGivenOnesRefused) {
+  volume::Grid g(0.1);  // active box 16 x 5 x 3 voxels, as above
+  for (int i = 3; i < 19; ++i)
+    for (int j = 0; j < 5; ++j)
+      for (int k = -1; k < 2; ++k) g.set_value(i, j, k, 0.5F);
+  StudySpec s;  // the defaults 2, 4, 8, 16: 16 would be one voxel
+  std::vector<std::string> said;
+  s.log = [&](const std::string& line) { said.push_back(line); };
+  EXPECT_EQ(factors_for_grid(s, g), (std::vector<int>{2, 4, 8}));
+  ASSERT_EQ(said.size(), 1U);
+  EXPECT_NE(said[0].find("16 left out"), std::string::npos) << said[0];
+  s.factors_given = true;  // the same factors asked for: refused, not trimmed
+  EXPECT_THROW((void)factors_for_grid(s, g), Error);
+  s.factors = {2, 4};
+  EXPECT_EQ(factors_for_grid(s, g), (std::vector<int>{2, 4}));
+  s.factors_given = false;  // no default fits: refused, saying what would
+  s.factors = {16, 32};
+  EXPECT_THROW((void)factors_for_grid(s, g), Error);
+  s.factors = {2, 16};  // an albedo factor on a default that is left out
+  s.albedo_factors = {{16, 1.1}};
+  EXPECT_THROW((void)factors_for_grid(s, g), Error);
+}
+
+TEST(StudyBaselines, AnyAlbedoFactorIsTakenForAMediumThatDoesNotScatter) {
+  const TempDir dir("albedo_zero");
+  render::SceneDesc scene = cube_scene(dir.path, [](int, int, int) { return 0.5F; });
+  scene.media.at("cloth").albedo = render::Rgb(0.0, 0.0, 0.0);
+  StudySpec s = small_spec(dir.path);
+  s.albedo_factors = {{2, 1.5}};  // 0 × k stays 0: nothing clamps
+  EXPECT_NO_THROW(check_study_scene(scene, s));
+}
+
 }  // namespace
 }  // namespace weft::study
