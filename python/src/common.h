@@ -188,6 +188,12 @@ inline PyLaw py_law(const transmittance::LawPtr& law) { return std::const_pointe
 /// by the module's init).
 PyObject* warning_category();
 
+/// Whether `value` is a number: Python's and NumPy's alike (numbers.Real, where NumPy registers its
+/// scalars: np.float32(0.5) and np.int64(1) are numbers as 0.5 and 1 are), never a bool.
+bool is_real_number(const py::handle& value);
+/// The same for integers (numbers.Integral: int, np.int64, ...), never a bool.
+bool is_integer_number(const py::handle& value);
+
 /// Parses an axis given as 0/1/2, "x"/"y"/"z" (signs allowed, direction sense ignored).
 int axis_index(const py::object& axis, const char* what);
 

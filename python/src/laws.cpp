@@ -82,10 +82,10 @@ tr::LawPtr make_const(const std::string& name, const py::kwargs& kwargs) {
       if (!py::isinstance<py::str>(value)) throw py::type_error("law: sampler must be a str");
       spec.sampler = value.cast<std::string>();
     } else {
-      if (py::isinstance<py::bool_>(value) || !(py::isinstance<py::float_>(value) || py::isinstance<py::int_>(value)))
+      if (!is_real_number(value))
         throw py::type_error(fmt::format("law {}: parameter {} must be a number, got {}", name, k,
                                          py::str(py::type::of(value)).cast<std::string>()));
-      spec.params[k] = value.cast<double>();
+      spec.params[k] = py::float_(py::reinterpret_borrow<py::object>(value)).cast<double>();
     }
   }
   return tr::make_law(spec);

@@ -12,10 +12,26 @@
 
 namespace weft::python {
 
+namespace {
+bool is_bool(const py::handle& value) {
+  // NumPy's np.bool_ is no Python bool, but as much a flag.
+  return py::isinstance<py::bool_>(value) ||
+         py::str(py::type::of(value).attr("__name__")).cast<std::string>() == "bool_";
+}
+bool is_instance_of(const py::handle& value, const char* abc) {
+  const int r = PyObject_IsInstance(value.ptr(), py::module_::import("numbers").attr(abc).ptr());
+  if (r < 0) throw py::error_already_set();
+  return r == 1;
+}
+}  // namespace
+
+bool is_real_number(const py::handle& value) { return !is_bool(value) && is_instance_of(value, "Real"); }
+bool is_integer_number(const py::handle& value) { return !is_bool(value) && is_instance_of(value, "Integral"); }
+
 int axis_index(const py::object& axis, const char* what) {
-  if (py::isinstance<py::bool_>(axis)) throw py::type_error(std::string(what) + ": expected 0, 1, 2 or 'x', 'y', 'z'");
-  if (py::isinstance<py::int_>(axis)) {
-    const long a = arg_cast<long>(axis, what, "0, 1 or 2");
+  if (is_bool(axis)) throw py::type_error(std::string(what) + ": expected 0, 1, 2 or 'x', 'y', 'z'");
+  if (is_integer_number(axis)) {
+    const long a = arg_cast<long>(py::int_(axis), what, "0, 1 or 2");
     if (a < 0 || a > 2) fail("{}: axis must be 0, 1 or 2, got {}", what, a);
     return static_cast<int>(a);
   }
@@ -32,10 +48,11 @@ int axis_index(const py::object& axis, const char* what) {
 double finite(const char* what, double value) { return require_finite(what, value); }
 
 std::string path_arg(const py::object& path, const char* what) {
-  if (!py::isinstance<py::str>(path) && !py::hasattr(path, "__fspath__"))
-    throw py::type_error(std::string(what) + " must be a str or os.PathLike, got " +
+  if (!py::isinstance<py::str>(path) && !py::isinstance<py::bytes>(path) && !py::hasattr(path, "__fspath__"))
+    throw py::type_error(std::string(what) + " must be a str, bytes or os.PathLike, got " +
                          py::str(py::type::of(path).attr("__name__")).cast<std::string>());
-  return py::str(py::module_::import("os").attr("fspath")(path)).cast<std::string>();
+  // os.fsdecode: a bytes path (or a PathLike giving bytes) in the filesystem's encoding, as open() takes it.
+  return py::module_::import("os").attr("fsdecode")(path).cast<std::string>();
 }
 
 PyObject* warning_category() {

@@ -198,7 +198,7 @@ def test_the_brief_examples():
         weft.measure_beam(GRID, rays_per_column="two")
     with pytest.raises(weft.Error, match=r"^Law.T: t must be an array .*, got NoneType None$"):
         LAW.T(None)
-    with pytest.raises(weft.Error, match=r"^Grid.save: path must be a str or os.PathLike, got int$"):
+    with pytest.raises(weft.Error, match=r"^Grid.save: path must be a str, bytes or os.PathLike, got int$"):
         GRID.save(3)
     with pytest.raises(weft.Error, match=r"^measure_beam: progress must be a callable"):
         weft.measure_beam(GRID, "x", sigma=1, progress=3)
@@ -251,3 +251,23 @@ def test_a_callback_error_is_raised_as_itself():
 
     with pytest.raises(Mine):
         weft.measure_beam(GRID, "x", sigma=1, progress=progress)
+
+
+def test_numpy_numbers_and_bytes_paths_are_taken_as_their_python_equals(small_cloth, tmp_path):
+    # NumPy registers its scalars as numbers.Real / numbers.Integral: a notebook's np.float32 or
+    # np.int64 is the number it holds, everywhere a number is taken (a bool is not a number).
+    law = weft.law("gamma", alpha=0.5, mean_extinction=1.0)
+    for alpha, mean in ((np.float32(0.5), 1.0), (0.5, np.int64(1)), (np.float64(0.5), np.int32(1))):
+        assert np.array_equal(weft.law("gamma", alpha=alpha, mean_extinction=mean).T([0.3, 2.0]), law.T([0.3, 2.0]))
+    with pytest.raises(weft.Error, match="must be a number, got <class 'bool'>"):
+        weft.law("gamma", alpha=True, mean_extinction=1.0)
+    grid = small_cloth.grid
+    a = weft.measure_beam(grid, 2, sigma=1.0)
+    b = weft.measure_beam(grid, np.int64(2), sigma=1.0)
+    assert np.array_equal(a.log_T, b.log_T)
+    with pytest.raises(weft.Error, match="expected 0, 1, 2"):
+        weft.measure_beam(grid, np.bool_(True), sigma=1.0)
+    # bytes paths, as open() and os.fspath take them
+    path = tmp_path / "g.vdb"
+    grid.save(bytes(path))
+    assert weft.load_grid(bytes(path)).active_voxel_count == grid.active_voxel_count

@@ -245,8 +245,10 @@ def _axes_text(axes):
                         % type(axes).__name__) from None
     out = []
     for a in parts:
-        if isinstance(a, bool) or not isinstance(a, (str, int)):
+        if type(a).__name__ in ("bool", "bool_") or not isinstance(a, (str, _numbers.Integral)):
             raise ArgumentTypeError("validate: axes must be names like ('x', 'z') or indices (0, 2), got %r" % (a,))
+        if not isinstance(a, str):
+            a = int(a)  # np.int64 too
         out.append(a if isinstance(a, str) else ("x", "y", "z")[a] if 0 <= a <= 2 else str(a))
     return ",".join(out)
 
@@ -272,9 +274,10 @@ def _path_or_none(what, value):
     """A folder or file path (str or os.PathLike) as text, or None."""
     if value is None:
         return None
-    if not isinstance(value, (str, _os.PathLike)):
-        raise ArgumentTypeError("%s must be a path (str or os.PathLike) or None, got %s" % (what, type(value).__name__))
-    return _os.fspath(value)
+    if not isinstance(value, (str, bytes, _os.PathLike)):
+        raise ArgumentTypeError("%s must be a path (str, bytes or os.PathLike) or None, got %s"
+                                % (what, type(value).__name__))
+    return _os.fsdecode(value)
 
 
 def _integer(what, value, low=0, high=_MAX_INT):
