@@ -68,7 +68,11 @@ void check_writable_folder(const fs::path& dir) {
   {
     std::ofstream f(probe, std::ios::binary);
     if (!f) {
-      const std::string reason = std::error_code(errno, std::generic_category()).message();
+      // ENOENT for a folder that exists is a file system that makes no new files (/proc, /sys):
+      // the C library's "No such file or directory" would read as if the folder were missing.
+      const int error = errno;
+      const std::string reason = error == ENOENT ? std::string("this file system takes no new files")
+                                                 : std::error_code(error, std::generic_category()).message();
       fail("output folder '{}' cannot be written{}: {}", dir.string(),
            at == fs::absolute(dir, ec) ? std::string() : fmt::format(" (nothing can be created in '{}')", at.string()),
            reason);
