@@ -39,7 +39,7 @@ std::string slab_scene(double d) {
 
 TEST(Translation, SlabFarFromTheOriginRendersTheSameMean) {
   const test::Estimate at_origin = test::image_mean(render(parse_scene(slab_scene(0.0), "slab.json", ".")).image);
-  // The offsets beyond 1e4 reach the scene's kMaxReach (1e5) only in Embree's frame, which moves
+  // The offsets beyond 1e4 reach the triangles' limit (1e11) only in Embree's frame, which moves
   // with the scene: 1e8 is as traceable as 0 (docs/render.md §1 gives the range, ~1e9 extents).
   for (const double d : {1e2, 1e3, 1e4, 1e6, 1e8}) {
     const test::Estimate moved = test::image_mean(render(parse_scene(slab_scene(d), "slab.json", ".")).image);
