@@ -125,24 +125,24 @@ void add_curves(RTCDevice device, RTCScene scene, const CurveBuffers& b, const V
 }
 
 /// A ray for Embree, in its frame (docs/render.md §1, "Where Embree's floats are"), or none when
-/// it cannot meet any shape. Every shape lies within kMaxReach of the frame (checked when the
-/// geometry is built); a ray that starts farther out (a collision deep in an unbounded medium) is
-/// started where it enters that cube, `lead` along it, so Embree never meets an origin beyond what
-/// its float tests can trace. Ordinary rays start where they are (lead 0).
+/// it cannot meet any shape. Every shape lies within `cube` of the frame (Geometry::cube_); a ray
+/// that starts farther out (a far camera, a collision deep in an unbounded medium) is started
+/// where it enters that cube, `lead` along it, so Embree never meets an origin beyond what its
+/// float tests can trace. Ordinary rays start where they are (lead 0).
 std::optional<RTCRay> embree_ray(const Vec3& o_world, const Vec3& d, double tmin, double tmax, const Vec3& frame,
-                                 double& lead) {
+                                 double cube, double& lead) {
   Vec3 o = o_world - frame;
   lead = 0.0;
-  if (o.cwiseAbs().maxCoeff() > kMaxReach) {
+  if (o.cwiseAbs().maxCoeff() > cube) {
     double t_near = 0.0;
     double t_far = std::numeric_limits<double>::infinity();
     for (int k = 0; k < 3; ++k) {
       if (d[k] == 0.0) {
-        if (std::abs(o[k]) > kMaxReach) return std::nullopt;
+        if (std::abs(o[k]) > cube) return std::nullopt;
         continue;
       }
-      const double t0 = (-kMaxReach - o[k]) / d[k];
-      const double t1 = (kMaxReach - o[k]) / d[k];
+      const double t0 = (-cube - o[k]) / d[k];
+      const double t1 = (cube - o[k]) / d[k];
       t_near = std::max(t_near, std::min(t0, t1));
       t_far = std::min(t_far, std::max(t0, t1));
     }
@@ -181,12 +181,36 @@ Vec3 frame_for(const Vec3& lo, const Vec3& hi) {
 
 }  // namespace
 
-void require_traceable(double reach, const Vec3& frame, const std::string& what) {
-  if (reach <= kMaxReach) return;
+double Geometry::max_reach(Traced kind) const {
+  // Rays start anywhere in the shapes' cube (embree_ray), and the curves' test takes the distance
+  // from the origin among its lengths: beside curves, every shape keeps the curves' reach.
+  const double beside = has_curves_ ? kMaxReachCurves : kMaxReachSpheres;
+  switch (kind) {
+    case Traced::curves:
+      return kMaxReachCurves;
+    case Traced::triangles:
+      return std::min(kMaxReachTriangles, beside);
+    case Traced::spheres:
+      return std::min(kMaxReachSpheres, beside);
+    case Traced::camera:
+      // A far camera's rays are started where they enter the shapes' cube (embree_ray), in
+      // double: exact while its double spacing stays below the smallest ray offset.
+      return kMaxExtentsAway * min_extent_;
+  }
+  return 0.0;
+}
+
+void Geometry::require_traceable(double reach, Traced kind, const std::string& what) const {
+  const double limit = max_reach(kind);
+  if (reach <= limit) return;
+  const char* name = kind == Traced::curves      ? "curves"
+                     : kind == Traced::triangles ? "triangles"
+                     : kind == Traced::spheres   ? "spheres"
+                                                 : "the camera (1e10 extents of the smallest shape)";
   fail(
-      "{} {:.3g} from the ray tracer's origin ({:.6g}, {:.6g}, {:.6g}), beyond the {:.0e} that single-precision "
-      "Embree can trace (docs/render.md §1, \"Where Embree's floats are\")",
-      what, reach, frame.x(), frame.y(), frame.z(), kMaxReach);
+      "{} {:.3g} from the ray tracer's origin ({:.6g}, {:.6g}, {:.6g}), beyond the {:.3g} that single-precision "
+      "Embree can trace for {} (docs/render.md §1, \"Where Embree's floats are\")",
+      what, reach, frame_.x(), frame_.y(), frame_.z(), limit, name);
 }
 
 Geometry::Geometry(const SceneDesc& scene, const std::map<std::string, int>& material_index,
@@ -265,26 +289,38 @@ Geometry::Geometry(const SceneDesc& scene, const std::map<std::string, int>& mat
     });
     lo = lo.cwiseMin(s.lo);
     hi = hi.cwiseMax(s.hi);
+    s.extent = std::max(1e-6, (s.hi - s.lo).maxCoeff());
     shapes_.push_back(std::move(s));
   }
   if (shapes_.empty()) return;
   frame_ = frame_for(lo, hi);
   extent_ = std::max(1e-6, (hi - lo).maxCoeff());
+  min_extent_ = extent_;
+  for (const ShapeInfo& s : shapes_) {
+    min_extent_ = std::min(min_extent_, s.extent);
+    has_curves_ = has_curves_ || s.kind == ShapeKind::curves;
+  }
   // World coordinates are doubles: their spacing at the frame, 2^-52·|frame|, must stay below the
-  // ray offsets (kSpawnOffset·extent), else rays start inside the surface they leave
-  // (docs/render.md §1, "Where Embree's floats are").
+  // smallest ray offset (kSpawnOffset·the smallest shape's extent), else rays start inside the
+  // surface they leave (docs/render.md §1, "Where Embree's floats are").
   const double away = frame_.cwiseAbs().maxCoeff();
-  if (away > kMaxExtentsAway * extent_)
+  if (away > kMaxExtentsAway * min_extent_)
     fail(
-        "{}: shapes: the scene (extent {:.3g}) lies {:.3g} from the world origin, {:.2g} times its extent; beyond "
-        "{:.0e} times, double precision is coarser than the ray offsets (docs/render.md §1, \"Where Embree's floats "
-        "are\"): move it nearer the origin",
-        scene.source, extent_, away, away / extent_, kMaxExtentsAway);
+        "{}: shapes: the scene's smallest shape (extent {:.3g}) lies {:.3g} from the world origin, {:.2g} times its "
+        "extent; beyond {:.0e} times, double precision is coarser than the ray offsets (docs/render.md §1, \"Where "
+        "Embree's floats are\"): move it nearer the origin",
+        scene.source, min_extent_, away, away / min_extent_, kMaxExtentsAway);
   for (std::size_t i = 0; i < shapes_.size(); ++i) {
     const ShapeInfo& s = shapes_[i];
+    // Rays from beyond every shape and beyond where every Embree test takes an origin as it is
+    // (the curves' reach) are started where they enter this cube.
+    cube_ = std::max(cube_, reach(s.lo, s.hi));
     in_shape(i, [&] {
-      // The one rule of what Embree can trace, for every kind, after scale and translate.
-      require_traceable(reach(s.lo, s.hi), frame_, "coordinates reach");
+      // The one rule of what Embree can trace, by the test each kind meets, after scale and translate.
+      const Traced kind = s.kind == ShapeKind::sphere   ? Traced::spheres
+                          : s.kind == ShapeKind::curves ? Traced::curves
+                                                        : Traced::triangles;
+      require_traceable(reach(s.lo, s.hi), kind, "coordinates reach");
       const auto id = static_cast<unsigned>(i);
       switch (s.kind) {
         case ShapeKind::sphere:
@@ -311,8 +347,8 @@ double Geometry::reach(const Vec3& lo, const Vec3& hi) const {
   return std::max((lo - frame_).cwiseAbs().maxCoeff(), (hi - frame_).cwiseAbs().maxCoeff());
 }
 
-double Geometry::spawn_offset(const Vec3& p) const {
-  return kSpawnOffset * (extent_ + (p - frame_).cwiseAbs().maxCoeff());
+double Geometry::spawn_offset(const Vec3& p, int shape) const {
+  return kSpawnOffset * (shapes_[static_cast<std::size_t>(shape)].extent + (p - frame_).cwiseAbs().maxCoeff());
 }
 
 Geometry::~Geometry() = default;
@@ -323,7 +359,7 @@ std::optional<SurfaceHit> Geometry::intersect(const Vec3& o, const Vec3& d, doub
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   double lead = 0.0;
-  const std::optional<RTCRay> ray = embree_ray(o, d, tmin, tmax, frame_, lead);
+  const std::optional<RTCRay> ray = embree_ray(o, d, tmin, tmax, frame_, cube_, lead);
   if (!ray) return std::nullopt;
   RTCRayHit rh{};
   rh.ray = *ray;
@@ -416,12 +452,16 @@ double Geometry::clearance(const Vec3& p, const Vec3& d) const {
   if (shapes_.empty() || shapes_.size() > kMaxShapes) return 0.0;
   // Embree works in float: vertices, ray origin and direction are rounded to 6e-8 of the
   // coordinates in its frame and its hit distances are exact to a few such units (divided by the
-  // direction component across the face hit). Every surface is moved by the ray offset at p (1e-5
-  // of those coordinates) towards p, so the bound stays below Embree's distance at any angle.
-  const double delta = spawn_offset(p);
+  // direction component across the face hit). Every surface of a shape is moved towards p by the
+  // larger of the shape's ray offsets at p and at its farthest corner (1e-5 of the shape's extent
+  // plus the coordinates of the ray's origin or of the shape's vertices, the larger of which
+  // bounds those units), so the bound stays below Embree's distance at any angle.
   constexpr double kInf = std::numeric_limits<double>::infinity();
   double bound = kInf;
-  for (const ShapeInfo& s : shapes_) {
+  for (std::size_t i = 0; i < shapes_.size(); ++i) {
+    const ShapeInfo& s = shapes_[i];
+    const int id = static_cast<int>(i);
+    const double delta = std::max({spawn_offset(p, id), spawn_offset(s.lo, id), spawn_offset(s.hi, id)});
     if (s.kind == ShapeKind::sphere) {
       bound = std::min(bound, std::max(0.0, std::abs((p - s.center).norm() - s.radius) - delta));
       continue;
@@ -464,7 +504,7 @@ bool Geometry::occluded(const Vec3& o, const Vec3& d, double tmin, double tmax) 
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   double lead = 0.0;
-  std::optional<RTCRay> ray = embree_ray(o, d, tmin, tmax, frame_, lead);
+  std::optional<RTCRay> ray = embree_ray(o, d, tmin, tmax, frame_, cube_, lead);
   if (!ray) return false;
   {
     const HeldFpExceptions hold;  // as in intersect()

@@ -31,30 +31,37 @@ struct ShapeInfo {
   std::size_t curve_segments = 0;  ///< curves: round linear segments in the BVH
   Vec3 lo{0, 0, 0};                ///< axis-aligned bounds (a box shape is exactly its bounds)
   Vec3 hi{0, 0, 0};
+  double extent = 1.0;  ///< (hi − lo).maxCoeff(), for Geometry::spawn_offset
 };
 
-/// What single-precision Embree can trace (docs/render.md §1, "Where Embree's floats are"): every
-/// coordinate it is given, relative to its frame, within ±kMaxReach. Its round-linear-curve test
-/// squares a discriminant of degree 6 in the lengths it meets (segment, radius, origin); with every
-/// length at most the cube's diagonal 2√3·kMaxReach its terms stay below float's 3.4e38 with a
-/// margin of 10 (the triangle test, degree 3, would allow 1e12; spheres, degree 2, Embree's own
-/// origin limit 1.8e19).
-inline constexpr double kMaxReach = 1e5;
-
-/// Ray offsets off a surface, relative to the coordinates in Embree's frame and the scene's size
-/// (float hit points: 1e-5 is ~170 float spacings).
+/// Ray offsets off a surface, relative to the hit shape's size and the hit point's coordinates in
+/// Embree's frame (float hit points: 1e-5 is ~170 float spacings).
 inline constexpr double kSpawnOffset = 1e-5;
 
-/// How far from the world origin a scene may lie, in its extents: the double spacing there
-/// (2^-52 of the distance, 2.2e-6 extents at 1e10) stays 4.5 times below the smallest ray offset
-/// (kSpawnOffset extents). Measured: the slab of tests/unit/render/translation_test.cpp renders
-/// the same mean at 8e10 extents and black at 8e11.
+/// How far a point may lie from the origin its double coordinates are taken from, in extents of
+/// the smallest shape: the double spacing there (2^-52 of the distance, 2.2e-6 extents at 1e10)
+/// stays 4.5 times below the smallest ray offset (kSpawnOffset extents). It bounds the scene's
+/// distance from the world origin and the camera's from Embree's frame. Measured: the slab of
+/// tests/unit/render/translation_test.cpp renders the same mean at 8e10 extents and black at 8e11.
 inline constexpr double kMaxExtentsAway = 1e10;
 
-/// The one check of kMaxReach, for shapes (after scale and translate, with radii) and the camera:
-/// throws weft::Error "<what> <reach> from …" (what: "coordinates reach", "camera.position reaches") when `reach` (the
-/// largest |coordinate − frame|) is beyond it.
-void require_traceable(double reach, const Vec3& frame, const std::string& what);
+/// What a reach limit is for (docs/render.md §1, "Where Embree's floats are", the table): each
+/// Embree test multiplies lengths up to a degree, and float's 3.4e38 bounds the products.
+enum class Traced {
+  curves,     ///< round linear curves: a discriminant of degree 6
+  triangles,  ///< meshes, rectangles and boxes (all triangles in Embree): degree 3
+  spheres,    ///< degree 2
+  camera,     ///< the camera's lens: its rays start in double precision (kMaxExtentsAway)
+};
+
+/// The largest |coordinate − frame|∞ of each kind of shape (after scale and translate, radii
+/// included). With every length at most the cube's diagonal 2√3·reach, each test's terms stay
+/// below float's 3.4e38 by a margin of 10: curves 32·L⁶ (measured: change at 1e7, vanish at
+/// 1e8), triangles L³ (same mean to 1e12, abort at 1e13), spheres L² (hold to 1e17; Embree
+/// asserts ray origins within 1.8e19).
+inline constexpr double kMaxReachCurves = 1e5;
+inline constexpr double kMaxReachTriangles = 1e11;
+inline constexpr double kMaxReachSpheres = 1e15;
 
 struct SurfaceHit {
   double t = 0.0;
@@ -94,16 +101,23 @@ class Geometry {
   [[nodiscard]] const std::vector<ShapeInfo>& shapes() const { return shapes_; }
   /// Uniform point on a shape's surface (pdf 1/area).
   [[nodiscard]] AreaSample sample_area(int shape, Pcg32& rng) const;
-  /// Size of the scene's bounding box (for ray offsets).
+  /// Size of the scene's bounding box.
   [[nodiscard]] double extent() const { return extent_; }
   /// The world point that is Embree's origin (docs/render.md §1, "Where Embree's floats are").
   [[nodiscard]] const Vec3& frame() const { return frame_; }
   /// The largest |coordinate − frame()| of a box, for require_traceable.
   [[nodiscard]] double reach(const Vec3& lo, const Vec3& hi) const;
-  /// How far a ray leaving a surface at `p` starts off it (along the normal): kSpawnOffset of the
-  /// scene's extent plus p's coordinates in Embree's frame, where its floats round them. The
-  /// same at any translation of the scene, since the frame moves with it.
-  [[nodiscard]] double spawn_offset(const Vec3& p) const;
+  /// The one table of what weft traces (docs/render.md §1): the largest reach of each kind; the
+  /// camera's is kMaxExtentsAway of the smallest shape.
+  [[nodiscard]] double max_reach(Traced kind) const;
+  /// The one check of it: throws weft::Error "<what> <reach> from …" (what: "coordinates reach",
+  /// "camera.position reaches") when `reach` (the largest |coordinate − frame()|) is beyond it.
+  void require_traceable(double reach, Traced kind, const std::string& what) const;
+  /// How far a ray leaving shape `shape` at `p` starts off it (along the normal): kSpawnOffset of
+  /// that shape's extent plus p's coordinates in Embree's frame, where its floats round the hit
+  /// (pbrt-v4 likewise bounds a hit's error by its own primitive's coordinates). Another shape's
+  /// size does not enter: a large ground leaves the offsets on a small medium as they were.
+  [[nodiscard]] double spawn_offset(const Vec3& p, int shape) const;
 
  private:
   /// intersect() for a lone box or sphere, in closed form.
@@ -113,6 +127,9 @@ class Geometry {
   std::unique_ptr<Impl> impl_;
   std::vector<ShapeInfo> shapes_;
   double extent_ = 1.0;
+  double min_extent_ = 1.0;  ///< of the smallest shape (kMaxExtentsAway)
+  bool has_curves_ = false;
+  double cube_ = kMaxReachCurves;  ///< rays starting beyond this reach are started where they enter it
   Vec3 frame_{0, 0, 0};
   bool lone_convex_ = false;
 };

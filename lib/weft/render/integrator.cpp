@@ -187,7 +187,7 @@ Rgb Integrator<kMedia, kNonExp>::li(Vec3 o, Vec3 d, Pcg32& rng, PathCounters& co
         origin = Origin::source;
       }
       escaped = !entering && w_.geometry->lone_convex();
-      o = offset(hit->p, hit->n, d);
+      o = offset(*hit, d);
       tmin = 0.0;
       continue;
     }
@@ -202,7 +202,7 @@ Rgb Integrator<kMedia, kNonExp>::li(Vec3 o, Vec3 d, Pcg32& rng, PathCounters& co
         const LightSample ls = w_.lights.sample(hit->p, *w_.geometry, rng);
         const double cos_i = n.dot(ls.wi);
         if (ls.pdf > 0.0 && cos_i > 0.0 && (ls.le > 0.0).any()) {
-          const double tr = shadow(offset(hit->p, hit->n, ls.wi), ls, medium, Origin::source, rng, counters);
+          const double tr = shadow(offset(*hit, ls.wi), ls, medium, Origin::source, rng, counters);
           if (tr > 0.0) {
             const double f_pdf = cos_i / kPi;
             const double mis = ls.delta ? 1.0 : power_heuristic(ls.pdf, f_pdf);
@@ -238,7 +238,7 @@ Rgb Integrator<kMedia, kNonExp>::li(Vec3 o, Vec3 d, Pcg32& rng, PathCounters& co
     }
     if (dead(beta)) break;
     prev_point = hit->p;
-    o = offset(hit->p, hit->n, d);
+    o = offset(*hit, d);
     tmin = 0.0;
     if (!roulette(beta, depth, rng)) break;
   }
@@ -246,9 +246,9 @@ Rgb Integrator<kMedia, kNonExp>::li(Vec3 o, Vec3 d, Pcg32& rng, PathCounters& co
 }
 
 template <bool kMedia, bool kNonExp>
-Vec3 Integrator<kMedia, kNonExp>::offset(const Vec3& p, const Vec3& n, const Vec3& dir) const {
-  const double scale = w_.geometry->spawn_offset(p);
-  return p + (n.dot(dir) > 0.0 ? scale : -scale) * n;
+Vec3 Integrator<kMedia, kNonExp>::offset(const SurfaceHit& hit, const Vec3& dir) const {
+  const double scale = w_.geometry->spawn_offset(hit.p, hit.shape);
+  return hit.p + (hit.n.dot(dir) > 0.0 ? scale : -scale) * hit.n;
 }
 
 template <bool kMedia, bool kNonExp>
@@ -317,7 +317,7 @@ double Integrator<kMedia, kNonExp>::shadow(Vec3 x, const LightSample& ls, int me
       origin = Origin::source;
     }
     escaped = !entering && w_.geometry->lone_convex();
-    x = offset(hit->p, hit->n, wi);
+    x = offset(*hit, wi);
     if (finite) {
       aim();
       remaining = dist;

@@ -37,7 +37,7 @@ class Integrator {
   [[nodiscard]] Rgb li(Vec3 o, Vec3 d, Pcg32& rng, PathCounters& counters) const;
 
  private:
-  [[nodiscard]] Vec3 offset(const Vec3& p, const Vec3& n, const Vec3& dir) const;
+  [[nodiscard]] Vec3 offset(const SurfaceHit& hit, const Vec3& dir) const;
   bool roulette(Rgb& beta, int depth, Pcg32& rng) const;
   [[nodiscard]] double shadow(Vec3 x, const LightSample& ls, int medium, transmittance::Origin origin, Pcg32& rng,
                               PathCounters& counters) const;

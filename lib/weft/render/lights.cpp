@@ -28,7 +28,7 @@ LightSample LightSet::sample(const Vec3& x, const Geometry& geometry, Pcg32& rng
       ls.pdf = select * dist2 / (s.area * cos_l);
       ls.le = light.radiance;
       ls.point = a.p;
-      ls.margin = geometry.spawn_offset(a.p) + 1e-6 * ls.dist;
+      ls.margin = geometry.spawn_offset(a.p, light.shape) + 1e-6 * ls.dist;
       break;
     }
     case Light::Kind::point: {

@@ -62,7 +62,7 @@ Probe probe_medium(const World& w, Vec3 o, const Vec3& d) {
         (s.material >= 0 && w.materials[static_cast<std::size_t>(s.material)].kind == MaterialKind::dielectric);
     const bool inside = hit->n.dot(d) > 0.0;
     if (boundary) return {inside ? s.interior : s.exterior, hit->shape, inside};
-    o = hit->p + w.geometry->spawn_offset(hit->p) * d;  // past it, as integrator.cpp's offset
+    o = hit->p + w.geometry->spawn_offset(hit->p, hit->shape) * d;  // past it, as integrator.cpp's offset
   }
   return {};
 }
@@ -123,14 +123,13 @@ World build_world(const SceneDesc& scene) {
   }
   w.geometry = std::make_unique<Geometry>(scene, material_index, medium_index);
   if (!w.geometry->shapes().empty()) {
-    // The camera's rays start within its lens: the same rule as every shape (geometry.h); a scene
+    // The camera's rays start within its lens: the one table of limits (geometry.h); a scene
     // without shapes traces nothing.
-    const Vec3& frame = w.geometry->frame();
     const double at = w.geometry->reach(scene.camera.position, scene.camera.position);
     try {
-      require_traceable(at, frame, "camera.position reaches");
-      require_traceable(at + scene.camera.aperture_radius, frame,
-                        "camera.position plus camera.aperture_radius reaches");
+      w.geometry->require_traceable(at, Traced::camera, "camera.position reaches");
+      w.geometry->require_traceable(at + scene.camera.aperture_radius, Traced::camera,
+                                    "camera.position plus camera.aperture_radius reaches");
     } catch (const Error& e) {
       fail("{}: {}", scene.source, e.what());
     }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <string>
 #include <utility>
@@ -97,7 +98,7 @@ TEST(Clearance, LoneConvexShapeIsNotHitAfterLeavingIt) {
     const auto exit = g.intersect(p, d, 0.0, std::numeric_limits<double>::infinity());
     ASSERT_TRUE(exit.has_value());
     // The integrator's offset along the outward normal.
-    const double scale = g.spawn_offset(exit->p);
+    const double scale = g.spawn_offset(exit->p, exit->shape);
     const Vec3 out = exit->p + (exit->n.dot(d) > 0.0 ? scale : -scale) * exit->n;
     ASSERT_FALSE(g.intersect(out, d, 0.0, std::numeric_limits<double>::infinity()).has_value());
   }
@@ -106,7 +107,7 @@ TEST(Clearance, LoneConvexShapeIsNotHitAfterLeavingIt) {
   EXPECT_FALSE(Geometry(two, {}, {}).lone_convex());
 }
 
-// docs/render.md §1, "Where Embree's floats are": a ray may start beyond kMaxReach (a collision
+// docs/render.md §1, "Where Embree's floats are": a ray may start beyond the cube all shapes lie in (a collision
 // deep in an unbounded medium); it is started where it enters the cube all shapes lie in, and
 // meets them at the same distance.
 TEST(Reach, RaysFromBeyondTheReachMeetWhatTheyPointAt) {
@@ -128,52 +129,91 @@ TEST(Reach, RaysFromBeyondTheReachMeetWhatTheyPointAt) {
   }
 }
 
-// The one rule, for every kind of shape after its scale and translate (geometry.h kMaxReach).
-TEST(Reach, EveryShapeKindBeyondTheReachIsRefused) {
+// The one table, for every kind of shape after its scale and translate (geometry.h, Traced): each
+// kind is refused beyond its own reach and traced within it.
+TEST(Reach, EveryShapeKindIsRefusedBeyondItsOwnReach) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "weft_reach_test";
   std::filesystem::create_directories(dir);
   std::ofstream(dir / "tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
   std::ofstream(dir / "line.obj") << "v 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2 3\n";
-  const double beyond = 2.0 * kMaxReach;
-  std::vector<std::pair<std::string, ShapeDesc>> cases;
-  ShapeDesc s;
-  s.radius = beyond;
-  cases.emplace_back("sphere radius", s);
-  cases.emplace_back("box", box({0, 0, 0}, {1, beyond, 1}));
-  s = {};
-  s.kind = ShapeKind::rectangle;
-  s.corner = {0, 0, 0};
-  s.edge_u = {beyond, 0, 0};
-  s.edge_v = {0, 1, 0};
-  cases.emplace_back("rectangle", s);
-  s = {};
-  s.kind = ShapeKind::mesh;
-  s.file = (dir / "tri.obj").string();
-  s.scale = beyond;
-  cases.emplace_back("mesh scale", s);
-  s.scale = 1.0;
-  s.translate = {0, 0, -beyond};
-  cases.emplace_back("mesh translate", s);
-  s = {};
-  s.kind = ShapeKind::curves;
-  s.file = (dir / "line.obj").string();
-  s.radius = beyond;
-  cases.emplace_back("curves radius", s);
-  s.radius = 0.01;
-  s.scale = beyond;
-  cases.emplace_back("curves scale", s);
-  for (const auto& [name, shape] : cases) {
+  struct Case {
+    std::string name;
+    double limit;
+    std::function<ShapeDesc(double)> at;  // the shape reaching about `reach`
+  };
+  const std::vector<Case> cases = {
+      {"sphere radius", kMaxReachSpheres,
+       [](double r) {
+         ShapeDesc s;
+         s.radius = r;
+         return s;
+       }},
+      {"box", kMaxReachTriangles,
+       [](double r) {
+         return box({0, 0, 0}, {1, r, 1});
+       }},
+      {"rectangle", kMaxReachTriangles,
+       [](double r) {
+         ShapeDesc s;
+         s.kind = ShapeKind::rectangle;
+         s.corner = {0, 0, 0};
+         s.edge_u = {r, 0, 0};
+         s.edge_v = {0, 1, 0};
+         return s;
+       }},
+      {"mesh scale", kMaxReachTriangles,
+       [&](double r) {
+         ShapeDesc s;
+         s.kind = ShapeKind::mesh;
+         s.file = (dir / "tri.obj").string();
+         s.scale = r;
+         return s;
+       }},
+      {"mesh translate", kMaxReachTriangles,
+       [&](double r) {
+         ShapeDesc s;
+         s.kind = ShapeKind::mesh;
+         s.file = (dir / "tri.obj").string();
+         s.translate = {0, 0, -r};
+         return s;
+       }},
+      {"curves radius", kMaxReachCurves,
+       [&](double r) {
+         ShapeDesc s;
+         s.kind = ShapeKind::curves;
+         s.file = (dir / "line.obj").string();
+         s.radius = r;
+         return s;
+       }},
+      {"curves scale", kMaxReachCurves,
+       [&](double r) {
+         ShapeDesc s;
+         s.kind = ShapeKind::curves;
+         s.file = (dir / "line.obj").string();
+         s.radius = 0.01;
+         s.scale = r;
+         return s;
+       }},
+  };
+  for (const Case& c : cases) {
     SceneDesc scene;
     scene.source = "reach.json";
-    scene.shapes = {box({-1, -1, -1}, {1, 1, 1}), shape};
+    scene.shapes = {box({-1, -1, -1}, {1, 1, 1}), c.at(0.5 * c.limit)};
+    EXPECT_NO_THROW(Geometry(scene, {}, {})) << c.name << " within its reach";
+    scene.shapes[1] = c.at(2.0 * c.limit);
     try {
       const Geometry g(scene, {}, {});
-      ADD_FAILURE() << name << " must be refused";
+      ADD_FAILURE() << c.name << " must be refused";
     } catch (const Error& e) {
       EXPECT_NE(std::string(e.what()).find("reach.json: shapes[1]: coordinates reach"), std::string::npos)
-          << name << ": " << e.what();
+          << c.name << ": " << e.what();
     }
   }
+  // Beside curves, every ray origin meets the curves' test: a ground beyond their reach is refused.
+  SceneDesc beside;
+  beside.source = "reach.json";
+  beside.shapes = {cases[5].at(0.01), cases[1].at(2.0 * kMaxReachCurves)};
+  EXPECT_THROW(Geometry(beside, {}, {}), Error);
   std::filesystem::remove_all(dir);
 }
 

@@ -163,7 +163,7 @@ TEST(SceneFile, RelativeFilesResolveOnceAgainstTheSceneFolder) {
 }
 
 // Embree stores floats: a shape scaled out of float's range would silently vanish from the image
-// or abort inside Embree; beyond kMaxReach (docs/render.md §1) it is refused.
+// or abort inside Embree; beyond its kind's reach (docs/render.md §1) it is refused.
 TEST(SceneFile, CoordinatesBeyondFloatRangeAreAnError) {
   const SceneDesc s = parse_scene(
       R"({"materials": {"w": {}}, "shapes": [{"type": "sphere", "radius": 1e300, "material": "w"}]})", "big.json", ".");
@@ -175,7 +175,7 @@ TEST(SceneFile, CoordinatesBeyondFloatRangeAreAnError) {
   }
 }
 
-// Embree's floats trace coordinates within kMaxReach of its frame (docs/render.md §1): a camera
+// A camera far beyond the shapes (docs/render.md §1, kMaxExtentsAway of the smallest shape): a camera
 // or lens beyond it is refused before any ray is traced (it used to abort inside Embree).
 TEST(SceneFile, CameraBeyondWhatEmbreeTracesIsAnError) {
   const std::string shapes = R"("materials": {"w": {}}, "shapes": [{"type": "sphere", "material": "w"}])";
