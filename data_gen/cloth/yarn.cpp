@@ -138,7 +138,7 @@ CleanCenterline clean_centerline(const Curve& curve) {
 }
 
 std::string centerline_problem(const CleanCenterline& c, double step) {
-  if (c.points.size() < 2) return "has fewer than two distinct points (1e-12 mm apart)";
+  if (c.points.size() < 2) return "has fewer than two distinct points (points closer than 1e-12 mm count as one)";
   if (!(c.length() > step * 1e-3))
     return fmt::format("is {:.3g} mm long, under a thousandth of the yarn's sample step {:.3g} mm", c.length(), step);
   return {};
