@@ -312,6 +312,20 @@ def _one_line(call, message):
     return line if named else "%s: %s" % (call, line)
 
 
+def _holds_odd(args, kwargs):
+    """Whether an argument is None, a str or bytes, the values pybind11 lets through where a bool
+    or an array is taken (the module's docstring). A plain loop, not a generator: it runs on every
+    call of such a binding, and the generator doubled the cost of a scalar ``Law.T``."""
+    for v in args:
+        if v is None or isinstance(v, (str, bytes)):
+            return True
+    if kwargs:
+        for v in kwargs.values():
+            if v is None or isinstance(v, (str, bytes)):
+                return True
+    return False
+
+
 def checked(fn, call):
     """``fn`` whose bad arguments raise weft.Error naming ``call`` and the argument."""
     if getattr(fn, "_weft_checked", False):
@@ -323,7 +337,7 @@ def checked(fn, call):
 
     @_functools.wraps(fn)
     def call_checked(*args, **kwargs):
-        if precheck and any(v is None or isinstance(v, (str, bytes)) for v in (*args, *kwargs.values())):
+        if precheck and _holds_odd(args, kwargs):
             arguments = _bound(call, signature, args, kwargs)
             odd = {n for n, v in arguments.items() if v is None or isinstance(v, (str, bytes))}
             wrong = _mismatch(call, signature, arguments, odd)
