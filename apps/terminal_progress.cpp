@@ -43,9 +43,10 @@ void TerminalProgress::end() noexcept {
   if (!enabled_) return;
   // end() must not throw (it runs in destructors, docs/python.md "Interrupting a call"): a
   // final redraw that fails is dropped.
+  // A stage a signal stopped ends where it stood ("stopped after"), not full.
   try {
     const std::lock_guard lock(mutex_);
-    draw(total_, true);
+    draw(interrupt_signal() != 0 ? last_done_ : total_, true);
   } catch (...) {
     return;
   }
@@ -58,7 +59,7 @@ void TerminalProgress::draw(std::uint64_t done, bool final) {
   const int filled = static_cast<int>(fraction * kWidth);
   const double rate = elapsed > 0 ? static_cast<double>(done) / elapsed : 0.0;
   // Before the first unit is done there is no rate, so no estimate: "eta --", not "eta 0.0s".
-  const std::string when = final ? fmt::format("took {:.1f}s", elapsed)
+  const std::string when = final ? fmt::format("{} {:.1f}s", interrupt_signal() != 0 ? "stopped after" : "took", elapsed)
                            : rate > 0
                                ? fmt::format("eta {:.1f}s", static_cast<double>(total_ - std::min(done, total_)) / rate)
                                : std::string("eta --");

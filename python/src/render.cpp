@@ -89,15 +89,8 @@ void init_render(py::module_& m) {
         options.seed = seed;
         options.integrator = integrator_choice(integrator);
         options.time_budget_seconds = require_non_negative("render: time_budget", time_budget);
-        // Progress is reported per tile and pass: at least 32 sample passes (a time budget already
-        // gives passes of 1 spp) keep Ctrl-C and a raising callback prompt (docs/python.md
-        // "Interrupting a call"); the image does not depend on the passes (render.h: sample s of
-        // pixel p always draws from the same stream).
-        if (options.time_budget_seconds == 0.0) {
-          constexpr int kPasses = 32;
-          options.spp_per_pass = std::max(1, (options.spp.value_or(scene.integrator.spp) + kPasses - 1) / kPasses);
-          options.on_pass = [](int /*spp_done*/, double /*seconds*/, const rd::Image& /*image*/) {};
-        }
+        // Progress and Ctrl-C come per unit of the render, which render() keeps short at any spp
+        // (render/tiling.h, Tiling::kMaxUnitSamples).
         const rd::World world = run_released(progress, [&](ProgressSink&) { return rd::build_world(scene); });
         warn_all(rd::world_warnings(world));
         auto result = run_released(progress, [&](ProgressSink& p) { return rd::render(world, options, p); });

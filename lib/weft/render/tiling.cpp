@@ -7,13 +7,28 @@
 
 namespace weft::render {
 
-Tiling::Tiling(int width, int height, int spp_per_pass) {
-  for (;; side /= 2) {
-    tiles_x = (width + side - 1) / side;
-    tiles_y = (height + side - 1) / side;
-    const long next_samples = static_cast<long>(side / 2) * (side / 2) * spp_per_pass;
-    if (side == 1 || count() >= kMinTiles || next_samples < kMinSamples) break;
+int Tiling::side_for(int width, int height, int spp_per_pass) {
+  for (int s = kMaxSide;; s /= 2) {
+    const auto tiles = static_cast<std::size_t>((width + s - 1) / s) * static_cast<std::size_t>((height + s - 1) / s);
+    const long next_samples = static_cast<long>(s / 2) * (s / 2) * spp_per_pass;
+    if (s == 1 || tiles >= kMinTiles || next_samples < kMinSamples) return s;
   }
+}
+
+int Tiling::bounded_pass_spp(int width, int height, int spp) {
+  // Fewer samples per pass can only keep the tiles as large or make them larger, so each step
+  // lowers the pass below the last one's bound M / side², and the loop ends.
+  int pass = std::max(1, spp);
+  for (;;) {
+    const long side = side_for(width, height, pass);
+    if (pass == 1 || side * side * pass <= kMaxUnitSamples) return pass;
+    pass = static_cast<int>(std::max(1L, kMaxUnitSamples / (side * side)));
+  }
+}
+
+Tiling::Tiling(int width, int height, int spp_per_pass) : side(side_for(width, height, spp_per_pass)) {
+  tiles_x = (width + side - 1) / side;
+  tiles_y = (height + side - 1) / side;
   // The key of tile (tx, ty): the bits of tx and ty interleaved from their least significant
   // up, so that sorting by it is a bit-reversed (van der Corput) sequence in each coordinate at
   // once: the first 4 units fall in the 4 quadrants of the film, the first 16 in its 16 sixteenths,

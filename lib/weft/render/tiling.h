@@ -25,11 +25,22 @@ struct Tiling {
   static constexpr int kMaxSide = 16;
   static constexpr std::size_t kMinTiles = 1024;
   static constexpr long kMinSamples = 256;
+  /// The most samples one unit renders in a pass. A unit is where a render reports progress and
+  /// stops on a Ctrl-C, so it must stay short at any spp: 16 384 samples are 10–20 ms of a
+  /// homogeneous medium and ≈ 0.2 s of the cloth grid on one thread.
+  static constexpr long kMaxUnitSamples = 16384;
   int side = kMaxSide;
   int tiles_x = 1;
   int tiles_y = 1;
 
   Tiling(int width, int height, int spp_per_pass);
+  /// The side of the tiles of Tiling(width, height, spp_per_pass), without their order.
+  [[nodiscard]] static int side_for(int width, int height, int spp_per_pass);
+  /// The samples per pixel of a pass of a render of `spp` in as few passes as keep every unit
+  /// within kMaxUnitSamples: `spp` itself when its tiles stay within it, else fewer (1 at
+  /// least). Passes run one after another and every pixel sums its samples in sample order
+  /// across them, so the image does not depend on this split (docs/render.md §1).
+  [[nodiscard]] static int bounded_pass_spp(int width, int height, int spp);
   /// The tile that unit u renders (tile t covers pixels from x = (t mod tiles_x)·side,
   /// y = (t div tiles_x)·side).
   [[nodiscard]] std::size_t tile(std::size_t u) const { return order_[u]; }

@@ -3,12 +3,15 @@
 // standard errors of the rendered estimate (per-pixel sample variances), plus float rounding.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <memory>
 #include <numbers>
 #include <string>
+#include <string_view>
+#include <tuple>
 #include <vector>
 
 #include <fmt/format.h>
@@ -17,11 +20,13 @@
 
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
+#include "weft/core/progress.h"
 #include "weft/render/medium.h"
 #include "weft/render/mesh.h"
 #include "weft/render/render.h"
 #include "weft/render/scene.h"
 #include "weft/render/scene_checks.h"
+#include "weft/render/tiling.h"
 #include "weft/volume/grid.h"
 
 namespace weft::render {
@@ -250,6 +255,62 @@ TEST(Reproducibility, SamplePassesDoNotChangeTheImage) {
   const Image split = render(scene, passes).image;
   EXPECT_EQ(calls, 3);
   EXPECT_EQ(whole.rgb, split.rgb);
+}
+
+// A render of many samples per pixel runs in passes whose units hold at most
+// Tiling::kMaxUnitSamples samples each (a unit is where progress is reported and Ctrl-C stops),
+// and the image is the one that passes of any other size give.
+TEST(Reproducibility, AHighSppRenderRunsInShortUnitsWithTheSameImage) {
+  constexpr int kSpp = 40000;
+  const SceneDesc scene = scene_from(fmt::format(R"({{
+    "camera": {{"position": [0, 0, 3], "look_at": [0, 0, 0], "fov": 20, "width": 2, "height": 2}},
+    "integrator": {{"spp": {}, "seed": 3}},
+    "materials": {{"boundary": {{"type": "null"}}}},
+    "media": {{"m": {{"law": {{"name": "exponential", "mu": 1.5}}, "albedo": 0.8}}}},
+    "shapes": [{{"type": "sphere", "radius": 1, "material": "boundary", "interior": "m"}}],
+    "lights": [{{"type": "environment", "radiance": 1}}]
+  }})",
+                                                 kSpp));
+  struct Stages : ProgressSink {
+    std::uint64_t render_total = 0;
+    void begin(std::string_view label, std::uint64_t total) override {
+      if (label == "render") render_total = total;
+    }
+    void advance(std::uint64_t /*done_so_far*/) override {}
+    void end() noexcept override {}
+  } stages;
+  const World world = build_world(scene);
+  const RenderResult bounded = render(world, RenderOptions{}, stages);
+  // Every unit is one step of the stage: 4 pixels × kSpp samples over steps of at most the bound.
+  EXPECT_GE(stages.render_total * static_cast<std::uint64_t>(Tiling::kMaxUnitSamples), std::uint64_t{4} * kSpp);
+  EXPECT_EQ(bounded.stats.spp, kSpp);
+  RenderOptions other_passes;
+  other_passes.on_pass = [](int, double, const Image&) {};
+  other_passes.spp_per_pass = 7001;
+  const RenderResult split = render(scene, other_passes);
+  EXPECT_EQ(bounded.image.rgb, split.image.rgb);
+  EXPECT_EQ(bounded.image.variance, split.image.variance);
+}
+
+TEST(Tiling, APassKeepsEveryUnitWithinTheBoundAndTakesAllSamplesWhenItCan) {
+  for (const auto& [w, h, spp] : {std::tuple{64, 64, 1024},
+                                  {256, 256, 64},
+                                  {1024, 768, 8},
+                                  {2, 2, 40000},
+                                  {64, 64, 1000000},
+                                  {1, 1, 1},
+                                  {3000, 2000, 100000},
+                                  {1, 1, 2000000000}}) {
+    const int pass = Tiling::bounded_pass_spp(w, h, spp);
+    const long side = Tiling::side_for(w, h, pass);
+    EXPECT_GE(pass, 1);
+    EXPECT_LE(pass, spp);
+    EXPECT_TRUE(pass == 1 || side * side * pass <= Tiling::kMaxUnitSamples) << w << "x" << h << " at " << spp;
+    const long whole = Tiling::side_for(w, h, spp);
+    if (whole * whole * spp <= Tiling::kMaxUnitSamples) {
+      EXPECT_EQ(pass, spp) << w << "x" << h << " at " << spp;
+    }
+  }
 }
 
 TEST(Reproducibility, SeedChangesTheNoise) {
