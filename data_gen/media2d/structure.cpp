@@ -53,10 +53,17 @@ std::vector<double> delaunay_nearest(const Medium& medium, double& mean_degree) 
   std::vector<double> nearest(points.size(), std::numeric_limits<double>::infinity());
   std::size_t edges = 0;
   for (auto e = triangulation.edges_begin(); e != triangulation.edges_end(); ++e) {
-    const double length = std::sqrt(CGAL::to_double(triangulation.segment(*e).squared_length()));
     const auto face = e->first;
     const std::uint32_t a = face->vertex(PeriodicDelaunay::cw(e->second))->info();
     const std::uint32_t b = face->vertex(PeriodicDelaunay::ccw(e->second))->info();
+    // The length from the two centres' nearest periodic images, not from CGAL's segment: the
+    // segment adds the edge's periodic offset to one end, and which end, and so the rounding,
+    // follows CGAL's insertion order, which its spatial sort randomises from a process-wide
+    // generator: the last bit of the mean then depended on which realizations a rank had
+    // triangulated before. periodic_delta is antisymmetric bit for bit, and a 1-sheeted
+    // covering's edges are shorter than half the period, so the nearest image is the edge.
+    const Point2 d = periodic_delta(medium.centers[a], medium.centers[b]);
+    const double length = std::sqrt(d.x * d.x + d.y * d.y);
     nearest[a] = std::min(nearest[a], length);
     nearest[b] = std::min(nearest[b], length);
     ++edges;
