@@ -20,6 +20,10 @@ endif()
 
 if(WEFT_BUILD_TESTS)
   find_package(GTest CONFIG REQUIRED)
+  # Debian ships GoogleMock apart (libgmock-dev); GTestConfig.cmake includes its targets optionally.
+  if(NOT TARGET GTest::gmock)
+    message(FATAL_ERROR "GoogleTest was found without GoogleMock, which the unit tests' matchers need (Debian: libgmock-dev)")
+  endif()
 endif()
 if(WEFT_BUILD_BENCH)
   find_package(benchmark CONFIG REQUIRED)

@@ -1,3 +1,4 @@
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,6 +8,7 @@
 
 #include "data_gen/cloth/voxelize.h"
 #include "data_gen/cloth/yarn.h"
+#include "error_matchers.h"
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
 
@@ -312,31 +314,18 @@ TEST(Voxelizer, BadVoxelSizesAndMemoryBudgetAreRefusedBeforeAllocating) {
   VoxelizeOptions o;
   for (double bad : {0.0, -0.01, std::nan("")}) {
     o.voxel_size = bad;
-    try {
-      voxelize(f, o, report);
-      ADD_FAILURE() << bad;
-    } catch (const Error& e) {
-      EXPECT_NE(std::string(e.what()).find("voxel_size"), std::string::npos) << e.what();
-    }
+    EXPECT_THAT([&] { voxelize(f, o, report); }, ::testing::ThrowsMessage<Error>(::testing::HasSubstr("voxel_size")))
+        << bad;
   }
   o.voxel_size = 1e-5;
   o.max_memory_bytes = 1 << 20;  // 1 MiB
-  try {
-    voxelize(f, o, report);
-    ADD_FAILURE() << "over budget accepted";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("memory budget"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("(--max-memory)"), std::string::npos) << e.what();
-  }
+  EXPECT_THAT([&] { voxelize(f, o, report); },
+              weft::test::throws_one_line_error_with({"memory budget", "(--max-memory)"}));
   // Asked from Python, the budget is named in Python's words.
   o.asker = FrontEnd::python;
-  try {
-    voxelize(f, o, report);
-    ADD_FAILURE() << "over budget accepted";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("(max_memory_mb=)"), std::string::npos) << e.what();
-    EXPECT_EQ(std::string(e.what()).find("--"), std::string::npos) << e.what();
-  }
+  EXPECT_THAT([&] { voxelize(f, o, report); },
+              ::testing::ThrowsMessage<Error>(::testing::AllOf(::testing::HasSubstr("(max_memory_mb=)"),
+                                                               ::testing::Not(::testing::HasSubstr("--")))));
   o.asker = FrontEnd::cli;
   // Absurdly small voxels are refused by the cheap bound (no per-piece pass, no allocation).
   o.voxel_size = 1e-12;

@@ -1,3 +1,4 @@
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -48,12 +49,8 @@ TEST(AtomicFile, FailedWriteLeavesNothing) {
 }
 
 TEST(AtomicFile, MissingFolderIsAClearError) {
-  try {
-    weft::write_text_atomically("/nonexistent-weft-folder/x.txt", "x");
-    FAIL() << "expected weft::Error";
-  } catch (const weft::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("/nonexistent-weft-folder"), std::string::npos);
-  }
+  EXPECT_THAT([] { weft::write_text_atomically("/nonexistent-weft-folder/x.txt", "x"); },
+              ::testing::ThrowsMessage<weft::Error>(::testing::HasSubstr("/nonexistent-weft-folder")));
 }
 
 TEST(AtomicFile, TemporaryKeepsExtension) {

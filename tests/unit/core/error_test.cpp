@@ -1,9 +1,10 @@
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
-#include <string>
 
+#include "error_matchers.h"
 #include "weft/core/error.h"
 
 namespace {
@@ -16,13 +17,8 @@ TEST(Error, RequirePositiveRejectsNanZeroNegativeAndInf) {
 }
 
 TEST(Error, MessageNamesTheParameter) {
-  try {
-    weft::require_non_negative("voxel size", -3.0);
-    FAIL();
-  } catch (const weft::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("voxel size"), std::string::npos);
-    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
-  }
+  EXPECT_THAT([] { weft::require_non_negative("voxel size", -3.0); },
+              weft::test::throws_one_line_error_with({"voxel size"}));
 }
 
 }  // namespace

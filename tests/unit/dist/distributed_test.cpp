@@ -6,6 +6,7 @@
 #include <fstream>
 #include <string>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "weft/core/parallel.h"
@@ -259,13 +260,12 @@ TEST(UnitStore, ResumeRefusesAnotherRunsUnits) {
   UnitStore other(dir, "key B", true);
   UnitsOptions how;
   how.store = &other;
-  try {
-    (void)run_units(
-        2, [](std::size_t) { return Bytes{7}; }, how);
-    FAIL() << "no exception";
-  } catch (const UnitFailure& e) {
-    EXPECT_NE(std::string(e.what()).find("different run"), std::string::npos) << e.what();
-  }
+  EXPECT_THAT(
+      [&] {
+        (void)run_units(
+            2, [](std::size_t) { return Bytes{7}; }, how);
+      },
+      ::testing::ThrowsMessage<UnitFailure>(::testing::HasSubstr("different run")));
   // A fresh (not resumed) run with another key starts over instead.
   UnitStore fresh(dir, "key B", false);
   how.store = &fresh;

@@ -1,5 +1,6 @@
 #include "weft/render/local_gamma.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "error_matchers.h"
 #include "weft/core/error.h"
 #include "weft/core/rng.h"
 #include "weft/volume/grid.h"
@@ -131,14 +133,8 @@ TEST(LocalGamma, ShadowTransmittanceIsExactWhileLargeAndUnbiasedBelow) {
 }
 
 TEST(LocalGamma, MissingFileAndBadSigmaAreOneLineErrors) {
-  try {
-    LocalGammaField f("/nonexistent/fields.vdb", 1.0);
-    FAIL() << "a missing file must be refused";
-  } catch (const Error& e) {
-    const std::string msg = e.what();
-    EXPECT_NE(msg.find("/nonexistent/fields.vdb"), std::string::npos) << msg;
-    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
-  }
+  EXPECT_THAT([] { const LocalGammaField f("/nonexistent/fields.vdb", 1.0); },
+              weft::test::throws_one_line_error_with({"/nonexistent/fields.vdb"}));
   const fs::path ok = write_fields("sigma", {1.0}, {0.1});
   EXPECT_THROW(LocalGammaField(ok, -1.0), Error);
   EXPECT_THROW(LocalGammaField(ok, std::nan("")), Error);

@@ -8,8 +8,10 @@
 #include <limits>
 #include <string>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "error_matchers.h"
 #include "weft/core/error.h"
 #include "weft/transmittance/erlang.h"
 #include "weft/transmittance/exponential.h"
@@ -27,14 +29,7 @@ constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
 /// Runs `f`, expects weft::Error, and checks that the one-line message contains every `part`.
 void expect_error(const std::function<void()>& f, std::initializer_list<std::string> parts) {
-  try {
-    f();
-    ADD_FAILURE() << "no weft::Error thrown";
-  } catch (const Error& e) {
-    const std::string message = e.what();
-    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-    for (const auto& part : parts) EXPECT_NE(message.find(part), std::string::npos) << message << " lacks " << part;
-  }
+  EXPECT_THAT(f, weft::test::throws_one_line_error_with(parts));
 }
 
 TEST(LawValidation, RejectsNanNegativeAndNonPositive) {
