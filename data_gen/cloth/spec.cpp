@@ -10,6 +10,7 @@
 
 #include "weft/core/error.h"
 #include "weft/core/file_kind.h"
+#include "weft/core/json_input.h"
 
 namespace weft::cloth {
 namespace {
@@ -405,12 +406,7 @@ std::string cloth_spec_json(const ClothSpec& spec) {
 }
 
 ClothSpec cloth_spec_from_json(const std::string& text, const std::string& where) {
-  json j;
-  try {
-    j = json::parse(skip_utf8_bom(text));
-  } catch (const json::exception& e) {
-    fail("{}: not valid JSON: {}", where, e.what());
-  }
+  json j = parse_json_input(text, where);
   if (!j.is_object()) fail("{}: expected a JSON object", where);
   ClothSpec spec;
   for (auto it = j.begin(); it != j.end(); ++it) {

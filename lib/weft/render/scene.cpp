@@ -11,6 +11,7 @@
 
 #include "weft/core/error.h"
 #include "weft/core/file_kind.h"
+#include "weft/core/json_input.h"
 #include "weft/core/names.h"
 #include "weft/core/paths.h"
 #include "weft/curves/curve_io.h"
@@ -30,20 +31,6 @@ void shrink_film(CameraDesc& camera, int longest) {
 }
 
 using nlohmann::json;
-
-TextPosition position_of(std::string_view text, std::size_t offset) {
-  TextPosition pos;
-  offset = std::min(offset, text.size());
-  for (std::size_t i = 0; i < offset; ++i) {
-    if (text[i] == '\n') {
-      ++pos.line;
-      pos.column = 1;
-    } else {
-      ++pos.column;
-    }
-  }
-  return pos;
-}
 
 namespace {
 
@@ -388,25 +375,10 @@ LightDesc parse_light(const json& j, const std::string& where, const std::filesy
 }  // namespace
 
 SceneDesc parse_scene(std::string_view json_text, const std::string& source, const std::filesystem::path& base_dir) {
-  json_text = skip_utf8_bom(json_text);
   // A file of another kind (a .vdb grid, an image) gets named, not a parser's "invalid JSON: ' B'".
-  if (!looks_like_json(json_text.substr(0, 512)))
-    fail("{}: not a scene JSON (looks like {})", source, file_kind(json_text.substr(0, 512)));
-  json root;
-  try {
-    root = json::parse(json_text.begin(), json_text.end());
-  } catch (const json::parse_error& e) {
-    // nlohmann reports the byte just past the offending token; users want line and column.
-    const std::size_t offset = e.byte == 0 ? 0 : e.byte - 1;
-    const TextPosition pos = position_of(json_text, offset);
-    std::string what = e.what();
-    const auto colon = what.rfind(": ");
-    if (colon != std::string::npos) what = what.substr(colon + 2);
-    fail("{}:{}:{}: invalid JSON: {}", source, pos.line, pos.column, what);
-  } catch (const json::out_of_range& e) {
-    // A number beyond double range (1e999): nlohmann throws out_of_range, not parse_error (fuzz_scene).
-    fail("{}: invalid JSON: {}", source, e.what());
-  }
+  if (!looks_like_json(skip_utf8_bom(json_text).substr(0, 512)))
+    fail("{}: not a scene JSON (looks like {})", source, file_kind(skip_utf8_bom(json_text).substr(0, 512)));
+  const json root = parse_json_input(json_text, source);
   // weft gen's cloth.json is JSON too: say what it is and how to render it, not "unknown key 'crimp'".
   if (root.is_object() && !root.contains("camera") && !root.contains("shapes") &&
       (root.contains("warp_yarn") || root.contains("pattern")))

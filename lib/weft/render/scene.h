@@ -167,11 +167,4 @@ struct SceneDesc {
 /// Writes the scene back to JSON (every field, canonical form).
 [[nodiscard]] std::string scene_to_json(const SceneDesc& scene);
 
-/// Line and column (1-based) of byte offset `offset` in `text`.
-struct TextPosition {
-  std::size_t line = 1;
-  std::size_t column = 1;
-};
-[[nodiscard]] TextPosition position_of(std::string_view text, std::size_t offset);
-
 }  // namespace weft::render

@@ -81,7 +81,8 @@ TEST(Cloth, SpecJsonRejectsBadFields) {
       {with("warp_spacing", "wide"), "warp_spacing"},
       {with("colour", 3), "colour"},
       {with("warp_count", 2.5), "warp_count"},
-      {"{ not json", "not valid JSON"},
+      {"{ not json", "invalid JSON"},
+      {R"({"pattern": "plain", "pattern": "twill"})", "key 'pattern' appears twice"},
   };
   for (const auto& [text, expected] : cases) {
     // An init-capture: clang before 16 (clang-tidy here is 14) cannot capture a structured binding.

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "weft/core/error.h"
+#include "weft/core/json_input.h"
 #include "weft/render/builtin_scenes.h"
 #include "weft/render/cloth_scene.h"
 #include "weft/render/mesh.h"
@@ -66,6 +67,24 @@ TEST(SceneFile, InvalidJsonReportsLineAndColumn) {
   EXPECT_NE(e.find("test.json:3:15"), std::string::npos) << e;
   EXPECT_NE(e.find("invalid JSON"), std::string::npos) << e;
   EXPECT_EQ(e.find('\n'), std::string::npos) << "one line: " << e;
+}
+
+TEST(SceneFile, AKeyGivenTwiceIsAnErrorNamingItAndItsObject) {
+  // nlohmann keeps the last of two equal keys: "spp": 16, "spp": 4 rendered at 4 without a word.
+  const std::string e = error_of(R"({"integrator": {"spp": 16, "spp": 4}})");
+  EXPECT_NE(e.find("key 'spp' appears twice in 'integrator'"), std::string::npos) << e;
+  EXPECT_EQ(e.find('\n'), std::string::npos) << "one line: " << e;
+  const std::string m =
+      error_of(R"({"media": {"m": {"albedo": 0.5, "law": {"name": "exponential", "mu": 1, "mu": 2}}}})");
+  EXPECT_NE(m.find("key 'mu' appears twice in 'media.m.law'"), std::string::npos) << m;
+  const std::string top = error_of(R"({"shapes": [], "shapes": []})");
+  EXPECT_NE(top.find("key 'shapes' appears twice in the top-level object"), std::string::npos) << top;
+  const std::string in_array = error_of(R"({"shapes": [{"type": "sphere", "type": "box"}]})");
+  EXPECT_NE(in_array.find("key 'type' appears twice in 'shapes[]'"), std::string::npos) << in_array;
+  // Equal keys in different objects are no duplicate.
+  EXPECT_NO_THROW((void)parse_scene(
+      R"({"camera": {"fov": 30}, "media": {"a": {"law": {"name": "exponential", "mu": 1}}, "b": {"law": {"name": "exponential", "mu": 1}}}})",
+      "t.json", "."));
 }
 
 TEST(SceneFile, PositionOfCountsLinesAndColumnsFromOne) {
