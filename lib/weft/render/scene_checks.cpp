@@ -30,6 +30,11 @@ std::vector<std::string> world_warnings(const World& world) {
           "so it does not affect the image",
           world.medium_names[i]));
   }
+  // Nothing emits: every path's radiance is 0 and the image is black whatever the scene holds
+  // (weft.render({}) rendered a black 256×256 film without a word).
+  if (world.lights.empty())
+    out.emplace_back(
+        "the scene has no light (nothing in \"lights\" and no shape with \"emission\"), so the image is black");
   return out;
 }
 

@@ -706,6 +706,22 @@ TEST(ZeroExtinction, IsAVacuumWithAWarningInEveryMode) {
   }
 }
 
+// A scene with nothing that emits renders black, and says so; one light is enough to silence it.
+TEST(SceneWarnings, ASceneWithoutLightSaysItsImageIsBlack) {
+  const std::string dark = R"({
+    "camera": {"position": [0, 0, 3], "look_at": [0, 0, 0], "width": 4, "height": 4},
+    "materials": {"d": {"type": "diffuse", "albedo": 0.5}},
+    "shapes": [{"type": "sphere", "radius": 1, "material": "d"}]})";
+  const World w = build_world(scene_from(dark));
+  const std::vector<std::string> warnings = world_warnings(w);
+  ASSERT_EQ(warnings.size(), 1U);
+  EXPECT_NE(warnings[0].find("no light"), std::string::npos) << warnings[0];
+  for (const float v : render(w).image.rgb) EXPECT_EQ(v, 0.0F);
+  std::string lit = dark;
+  lit.insert(lit.rfind('}'), R"(, "lights": [{"type": "point", "position": [0, 2, 2], "intensity": 1}])");
+  EXPECT_TRUE(world_warnings(build_world(scene_from(lit))).empty());
+}
+
 // An EXR holds finite pixels only: a mean beyond float's range is refused with its count, and
 // neither file is written.
 TEST(ImageFiles, NonFinitePixelsAreRefused) {
