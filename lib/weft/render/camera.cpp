@@ -3,11 +3,15 @@
 #include <cmath>
 #include <numbers>
 
+#include "weft/render/frame.h"
+
 namespace weft::render {
 
 Camera::Camera(const CameraDesc& d) : position(d.position), width(d.width), height(d.height) {
-  forward = (d.look_at - d.position).normalized();
-  right = forward.cross(d.up).normalized();
+  // unit_vector, not normalized(): a look_at 1e-300 from the position or a tiny "up" is a valid
+  // direction whose squared length underflows.
+  forward = unit_vector(d.look_at - d.position);
+  right = unit_vector(forward.cross(d.up));
   up = right.cross(forward);
   tan_half = std::tan(0.5 * d.fov_deg * std::numbers::pi / 180.0);
   aspect = static_cast<double>(d.width) / d.height;

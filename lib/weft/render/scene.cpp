@@ -16,6 +16,7 @@
 #include "weft/core/paths.h"
 #include "weft/curves/curve_io.h"
 #include "weft/render/environment.h"
+#include "weft/render/frame.h"
 #include "weft/render/medium.h"
 #include "weft/render/mesh.h"
 #include "weft/render/render.h"
@@ -172,8 +173,11 @@ CameraDesc parse_camera(const json& j, const std::string& where) {
   c.width = r.integer("width", c.width, 1, 16384);
   c.height = r.integer("height", c.height, 1, 16384);
   r.finish();
-  if ((c.look_at - c.position).norm() == 0.0) fail("{}: 'look_at' equals 'position'", where);
-  if ((c.look_at - c.position).cross(c.up).norm() == 0.0) fail("{}: 'up' is parallel to the view direction", where);
+  // Directions by unit_vector (render/frame.h): a tiny but non-zero vector is a direction.
+  if ((c.look_at - c.position).isZero(0.0)) fail("{}: 'look_at' equals 'position'", where);
+  if (unit_vector(c.up).isZero(0.0)) fail("{}: 'up' must not be zero", where);
+  if (unit_vector(c.look_at - c.position).cross(c.up).isZero(0.0))
+    fail("{}: 'up' is parallel to the view direction", where);
   return c;
 }
 
@@ -351,8 +355,8 @@ LightDesc parse_light(const json& j, const std::string& where, const std::filesy
       break;
     case LightKind::directional:
       l.direction = r.vec3("direction", l.direction);
-      if (l.direction.norm() == 0.0) fail("{}: 'direction' must not be zero", where);
-      l.direction.normalize();
+      if (unit_vector(l.direction).isZero(0.0)) fail("{}: 'direction' must not be zero", where);
+      l.direction = unit_vector(l.direction);
       l.intensity = r.rgb("irradiance", l.intensity);
       break;
     case LightKind::environment:

@@ -706,6 +706,28 @@ TEST(ZeroExtinction, IsAVacuumWithAWarningInEveryMode) {
   }
 }
 
+// A direction is a direction at any scale: an "up", a view or a light direction whose squared
+// length underflows renders as its unit vector does (they were "parallel" or "zero", or NaN).
+TEST(SceneDirections, TinyButNonZeroVectorsAreTheirUnitVectors) {
+  const auto scene = [](const std::string& look_at, const std::string& up, const std::string& light) {
+    return scene_from(fmt::format(R"({{
+      "camera": {{"position": [0, 0, 0], "look_at": {}, "up": {}, "fov": 40, "width": 6, "height": 5}},
+      "integrator": {{"spp": 2, "seed": 4}},
+      "materials": {{"d": {{"type": "diffuse", "albedo": 0.5}}}},
+      "shapes": [{{"type": "sphere", "center": [0.3, 0.2, -3], "radius": 1, "material": "d"}}],
+      "lights": [{{"type": "directional", "direction": {}, "irradiance": 2}}]}})",
+                                  look_at, up, light));
+  };
+  const Image unit = render(scene("[0, 0, -1]", "[0, 1, 0]", "[0.2, -1, -0.3]")).image;
+  const Image tiny = render(scene("[0, 0, -1e-300]", "[0, 1e-300, 0]", "[2e-301, -1e-300, -3e-301]")).image;
+  EXPECT_EQ(unit.rgb, tiny.rgb);
+  EXPECT_GT(*std::max_element(unit.rgb.begin(), unit.rgb.end()), 0.0F);
+  EXPECT_THAT([&] { (void)scene("[0, 0, -1]", "[0, 0, 0]", "[0, -1, 0]"); },
+              weft::test::throws_one_line_error_with({"'up' must not be zero"}));
+  EXPECT_THAT([&] { (void)scene("[0, 0, -1]", "[0, 0, 1e-300]", "[0, -1, 0]"); },
+              weft::test::throws_one_line_error_with({"'up' is parallel"}));
+}
+
 // A scene with nothing that emits renders black, and says so; one light is enough to silence it.
 TEST(SceneWarnings, ASceneWithoutLightSaysItsImageIsBlack) {
   const std::string dark = R"({
