@@ -37,6 +37,16 @@ def test_a_grid_object_in_a_scene_renders_as_its_file(tmp_path, small_cloth):
     assert isinstance(scene["media"]["cloth"]["file"], weft.Grid)  # the caller's dict is left as it was
 
 
+def test_an_empty_grid_in_a_scene_is_named_by_its_key_and_base_dir_must_be_a_folder(tmp_path, small_cloth):
+    scene = weft.cloth_scene(small_cloth.grid, width=8, height=6)
+    scene["media"]["cloth"]["file"] = weft.Grid(voxel_size=0.01)
+    with pytest.raises(weft.Error, match=r"media\.cloth\.file: the weft\.Grid is empty") as caught:
+        weft.render(scene, spp=1)
+    assert "weft-scene-" not in str(caught.value)  # not the temporary file it would have been written to
+    with pytest.raises(weft.Error, match="is not a folder"):
+        weft.render("furnace", spp=1, base_dir=tmp_path / "missing")
+
+
 @pytest.mark.parametrize("kwargs", [{"lighting": "disco"}, {"tilt": 95}, {"width": 0}])
 def test_cloth_scene_bad_views(small_cloth, kwargs):
     with pytest.raises(weft.Error):

@@ -412,7 +412,7 @@ def render(scene, spp=None, seed=None, integrator="auto", time_budget=0.0, stats
 
     Renders a scene with weft's path tracer (docs/render.md): ``scene`` is a scene file path,
     the name of a built-in scene (``weft.builtin_scene_names()``) or a dict of the scene JSON
-    (docs/scene-format.md; relative file names resolve against ``base_dir``, default the current
+    (docs/scene-format.md; relative file names resolve against ``base_dir``, an existing folder, default the current
     folder). ``spp``/``seed`` override the scene's. Linear RGB, rows from the top. With
     ``stats=True`` returns ``(image, stats)`` where stats holds the per-pixel ``variance`` of the
     mean and the run's counters. Same pixels as ``weft render`` for the same seed and spp, for any
@@ -438,6 +438,9 @@ def _scene_with_files(scene, stack):
         for key, kind in (("file", Grid), ("fields", LocalFields)):
             value = medium.get(key)
             if isinstance(value, kind):
+                # Named here: the renderer would name only the temporary file it reads.
+                if kind is Grid and value.active_voxel_count == 0:
+                    raise Error("render: media.%s.%s: the weft.Grid is empty (no active voxel)" % (name, key))
                 if folder is None:
                     folder = stack.enter_context(_tempfile.TemporaryDirectory(prefix="weft-scene-"))
                 path = _os.path.join(folder, "%s.%s.vdb" % (len(_os.listdir(folder)), key))
@@ -460,6 +463,8 @@ def _scene_kind(scene, what):
 def _render_scene(scene, spp, seed, integrator, time_budget, stats, base_dir, progress, threads):
     kind, text = _scene_kind(scene, "render")
     base_dir = _path_or_none("render: base_dir", base_dir)
+    if base_dir is not None and not _os.path.isdir(base_dir):
+        raise Error("render: base_dir %r is not a folder" % base_dir)
     time_budget = _number("render: time_budget", time_budget)
     if spp is not None:
         spp = _integer("render: spp", spp, 1, _weft._max_spp)
