@@ -412,8 +412,8 @@ def render(scene, spp=None, seed=None, integrator="auto", time_budget=0.0, stats
 
     Renders a scene with weft's path tracer (docs/render.md): ``scene`` is a scene file path,
     the name of a built-in scene (``weft.builtin_scene_names()``) or a dict of the scene JSON
-    (docs/scene-format.md; relative file names resolve against ``base_dir``, an existing folder, default the current
-    folder). ``spp``/``seed`` override the scene's. Linear RGB, rows from the top. With
+    (docs/scene-format.md; relative file names resolve against ``base_dir``, an existing
+    folder, default the current folder). ``spp``/``seed`` override the scene's. Linear RGB, rows from the top. With
     ``stats=True`` returns ``(image, stats)`` where stats holds the per-pixel ``variance`` of the
     mean and the run's counters. Same pixels as ``weft render`` for the same seed and spp, for any
     ``threads=``. In a dict, a grid medium's "file" may be a ``weft.Grid`` and a local-gamma
