@@ -263,6 +263,11 @@ int run(const RenderCliOptions& o, const Context& ctx) {
       render::RenderOptions ref;
       ref.spp = o.reference_spp > 0 ? o.reference_spp : (o.quick ? 8 : 16) * *options.spp;
       ref.seed = options.seed.value_or(scene.integrator.seed) + 0x9E3779B97F4A7C15ULL;
+      if (*ref.spp < *options.spp)
+        ctx.warn(
+            fmt::format("the reference has fewer samples ({} spp) than the series' last image ({} spp): the "
+                        "RMSE there is mostly the reference's own noise",
+                        *ref.spp, *options.spp));
       ctx.say(fmt::format("rendering the reference at {} spp", *ref.spp));
       conv.reference = render::render(world, ref, ctx.progress).image;
       if (dist::is_root()) {
@@ -272,6 +277,7 @@ int run(const RenderCliOptions& o, const Context& ctx) {
       }
     } else {
       conv.reference = render::read_exr(o.convergence);
+      render::check_reference(*conv.reference, o.convergence);
     }
     const render::Image& reference = *conv.reference;
     if (reference.width != scene.camera.width || reference.height != scene.camera.height)

@@ -49,6 +49,17 @@ LogLogFit fit_log_log(const std::vector<double>& x, const std::vector<double>& y
   return fit;
 }
 
+void check_reference(const Image& reference, const std::string& source) {
+  for (std::size_t i = 0; i < reference.rgb.size(); ++i) {
+    const float v = reference.rgb[i];
+    if (std::isfinite(v) && v >= 0.0F) continue;
+    const std::size_t pixel = i / 3;
+    const auto width = static_cast<std::size_t>(std::max(1, reference.width));
+    fail("reference '{}': pixel (x {}, y {}) channel {} is {}: a radiance image has no negative or non-finite value",
+         source, pixel % width, pixel / width, "RGB"[i % 3], v);
+  }
+}
+
 double mean_variance(const Image& image) {
   if (image.variance.empty()) return 0.0;
   double sum = 0.0;

@@ -4,6 +4,7 @@
 /// error against a reference and the log–log rate of that error (the contact sheet of its images:
 /// contact_sheet.h).
 
+#include <string>
 #include <vector>
 
 #include "weft/render/image.h"
@@ -21,6 +22,11 @@ struct LogLogFit {
 /// Fits the points with x > 0 and y > 0 (others are skipped). Throws weft::Error for fewer than
 /// two usable points, or when all usable x are equal.
 [[nodiscard]] LogLogFit fit_log_log(const std::vector<double>& x, const std::vector<double>& y);
+
+/// Throws weft::Error naming `source` and the first offending pixel when `reference` is not a
+/// radiance image: a negative or non-finite value (an EXR may hold either, e.g. a difference image),
+/// against which an RMSE would measure nothing a render converges to.
+void check_reference(const Image& reference, const std::string& source);
 
 /// Mean over pixels and channels of the variance of the pixel estimates (0 if the image carries none).
 [[nodiscard]] double mean_variance(const Image& image);

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "error_matchers.h"
 #include "weft/core/error.h"
 #include "weft/core/rng.h"
 
@@ -64,6 +65,18 @@ TEST(Convergence, ReferenceNoiseIsRemovedFromTheRmse) {
   EXPECT_NEAR(mean_variance(reference), 0.09, 1e-7);
   // Never below 0 when the reference is noisier than the difference.
   EXPECT_EQ(rmse_against_noisy_reference(reference, constant_image(4, 3, 1.0F, 1.0F)), 0.0);
+}
+
+// A reference is a radiance image: the first negative or non-finite value is named; zeros are
+// fine (a black background).
+TEST(Convergence, AReferenceWithANegativeOrNonFiniteValueIsRefused) {
+  Image reference = constant_image(4, 3, 0.0F);
+  EXPECT_NO_THROW(check_reference(reference, "ref.exr"));
+  reference.rgb[3 * (4 * 2 + 1) + 1] = -0.25F;
+  EXPECT_THAT([&] { check_reference(reference, "ref.exr"); },
+              weft::test::throws_one_line_error_with({"ref.exr", "pixel (x 1, y 2) channel G is -0.25"}));
+  reference.rgb[3 * (4 * 2 + 1) + 1] = std::nanf("");
+  EXPECT_THAT([&] { check_reference(reference, "ref.exr"); }, weft::test::throws_one_line_error_with({"channel G"}));
 }
 
 }  // namespace
