@@ -6,7 +6,9 @@
 #include <filesystem>
 #include <memory>
 #include <set>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -65,8 +67,9 @@ constexpr std::array<Output, 5> kOutputs{{{"grid", "cloth.vdb", "grid"},
                                           {"config", "cloth.json", "parameters"},
                                           {"fibers-bcc", "fibers.bcc", "fibres as BCC"}}};
 
-// "grid,fibers" → the set of outputs; every name checked before anything runs.
-std::set<std::string> parse_outputs(const std::string& list, bool fibers_bcc) {
+// "grid,fibers" → the set of outputs, or the problem of the first name that is none ("" when
+// every name is known).
+std::pair<std::set<std::string>, std::string> read_outputs(const std::string& list) {
   std::set<std::string> out;
   std::string known;
   for (const auto& o : kOutputs) known += (known.empty() ? "" : ", ") + std::string(o.name);
@@ -77,15 +80,19 @@ std::set<std::string> parse_outputs(const std::string& list, bool fibers_bcc) {
     if (name == "all") {
       for (const auto& o : kOutputs) out.insert(o.name);
     } else if (std::none_of(kOutputs.begin(), kOutputs.end(), [&](const Output& o) { return name == o.name; })) {
-      fail("--write: unknown output '{}' (known: {}, all)", name, known);
+      return {{},
+              name.empty() ? fmt::format("an empty output name in '{}' (known: {}, all)", list, known)
+                           : fmt::format("unknown output '{}' (known: {}, all)", name, known)};
     } else {
       out.insert(name);
     }
     start = comma + 1;
   }
-  if (fibers_bcc) out.insert("fibers-bcc");
-  return out;
+  return {out, ""};
 }
+
+// --write checked while the command line is parsed: a bad name is a usage error (exit 2).
+const CLI::Validator output_list([](std::string& text) { return read_outputs(text).second; }, "LIST", "outputs");
 
 // "512M", "2G", "1.5GiB", "1000000" (bytes) → MiB.
 double parse_memory_mb(const std::string& text) {
@@ -161,8 +168,10 @@ std::string yarn_parameter_help() {
       "config = cloth.json (every parameter; weft gen --config cloth.json rebuilds the same grid),\n"
       "fibers-bcc = fibers.bcc (every fibre as a BCC polyline, for weft render). The summary lists\n"
       "each file written with its size. The memory a run needs is estimated from the centrelines\n"
-      "before any fibre is made and a run over --max-memory is refused with the estimate. With the grid,\n"
-      "scene.json (weft render <out>/scene.json renders the grid as a medium) is written too.";
+      "before any fibre is made and a run over --max-memory, or over 1e12 steps of work (about an hour\n"
+      "of one core), is refused with the estimate, naming a flyaway parameter when one is most of it.\n"
+      "With the grid, scene.json (weft render <out>/scene.json renders the grid as a medium) is written\n"
+      "too.";
   return text;
 }
 
@@ -303,12 +312,14 @@ const Registrar kGen{Command{
       sub.add_option("--out", o->out, "Output folder (created if missing)")->capture_default_str();
       sub.add_option("--write", o->write,
                      "Outputs, comma separated: grid, fibers, yarns, config, fibers-bcc, or all (list below)")
+          ->check(output_list)
           ->capture_default_str();
       sub.add_flag("--fibers-bcc", o->fibers_bcc, "Also write the fibres as fibers.bcc (same as adding fibers-bcc)");
       sub.footer(yarn_parameter_help());
       CLI::App* app = &sub;
       return [o, app](const Context& ctx) -> int {
-        const std::set<std::string> outputs = parse_outputs(o->write, o->fibers_bcc);
+        std::set<std::string> outputs = read_outputs(o->write).first;  // checked by output_list
+        if (o->fibers_bcc) outputs.insert("fibers-bcc");
         const ClothSpec spec = make_spec(*app, *o);
         // Under mpirun the voxelizer's leaves are spread over the ranks; rank 0 gets the grid and
         // writes (docs/scale-out.md).
@@ -317,9 +328,14 @@ const Registrar kGen{Command{
         // The summary's figures first: the grid and the fibres are released as soon as their
         // files are written, so that the run's peak is the voxelizer's, not the outputs'.
         const auto& r = build.report;
-        const std::string made =
-            fmt::format("{} cloth, {} yarns, {} fibres ({:.1f} mm of fibre), seed {}", build.spec.pattern,
-                        build.centerlines.curves.size(), r.fiber_count, build.fibers.length(), build.spec.seed);
+        // Loops reshape regular fibres and add none: said as how many and on how many fibres.
+        const cloth::FiberSet& f = build.fibers;
+        const std::string made = fmt::format(
+            "{} cloth, {} yarns, {} fibres ({:.1f} mm of fibre) with {} hairs and {} loop flyaways on {} of "
+            "them, seed {}",
+            build.spec.pattern, build.centerlines.curves.size(), r.fiber_count, f.length(),
+            f.count(cloth::FiberKind::hair), f.loops, f.count(cloth::FiberKind::loop), build.spec.seed);
+        const std::vector<std::string> warnings = cloth::cloth_warnings(build);
         const std::string memory = fmt::format("memory: grid {} (OpenVDB), fibres {}; estimated before generating: {}",
                                                format_bytes(build.grid.memory_bytes()),
                                                format_bytes(build.fibers.points.size() * sizeof(cloth::Point3)),
@@ -372,8 +388,8 @@ const Registrar kGen{Command{
                         r.generate_seconds, r.voxelize_seconds, r.fiber_count / std::max(r.voxelize_seconds, 1e-9),
                         r.active_voxels / std::max(r.voxelize_seconds, 1e-9), ctx.ranks(), ctx.threads()));
         ctx.say(memory);
-        if (files.entries().empty()) ctx.say("wrote nothing (--write is empty)");
         files.say(ctx);
+        for (const std::string& w : warnings) ctx.warn(w);
         return 0;
       };
     },

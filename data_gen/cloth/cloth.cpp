@@ -99,6 +99,44 @@ volume::Provenance cloth_provenance(const ClothBuild& build) {
   return p;
 }
 
+std::vector<std::string> cloth_warnings(const ClothBuild& build, FrontEnd asker) {
+  std::vector<std::string> out;
+  const ClothSpec& spec = build.spec;
+  // The yarns the centrelines use: knit and imported cloths only the warp's.
+  bool warp = false;
+  bool weft = false;
+  for (int d : build.centerlines.direction) (d == 1 ? weft : warp) = true;
+  // One line when both directions would say the same.
+  const bool one = !weft || !warp ||
+                   (spec.warp_yarn.loop_density == spec.weft_yarn.loop_density &&
+                    loop_coverage(spec.warp_yarn) == loop_coverage(spec.weft_yarn));
+  const auto saturated = [&](const YarnParams& y, const char* which) {
+    const double c = loop_coverage(y);
+    if (!(c > 1.0)) return;
+    const Spelling option{"--set loop_density", "loop_density"};
+    out.push_back(fmt::format(
+        "{}: {}={:.3g} puts {:.3g} loop flyaways over each fibre point (loop_density x migration_period / "
+        "fiber_count > 1): the fibres are pulled out nearly everywhere, so more loops change the cloth little and "
+        "cost time (loops reshape regular fibres and add none)",
+        which, option.in(asker), y.loop_density, c));
+  };
+  if (one) {
+    saturated(warp ? spec.warp_yarn : spec.weft_yarn, warp && weft ? "yarns" : "yarn");
+  } else {
+    saturated(spec.warp_yarn, "warp yarn");
+    saturated(spec.weft_yarn, "weft yarn");
+  }
+  if (build.report.overlap_fraction > kOverlapWarning) {
+    const Spelling options{"--spacing, --crimp or fiber_min_spacing",
+                           "warp_spacing=, weft_spacing=, crimp= or fiber_min_spacing"};
+    out.push_back(fmt::format(
+        "{:.1f} % of the fibre volume overlaps other fibres and was clamped at C = 1 (over {:.0f} %): the grid holds "
+        "that much less fibre than the fibres, which pass through each other (check {})",
+        100.0 * build.report.overlap_fraction, 100.0 * kOverlapWarning, options.in(asker)));
+  }
+  return out;
+}
+
 ClothBuild build_cloth(const ClothSpec& input, ProgressSink& progress, bool spread_over_ranks, FrontEnd asker) {
   ClothBuild build;
   build.spec = resolve(input);

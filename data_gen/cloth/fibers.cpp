@@ -1,5 +1,6 @@
 #include "data_gen/cloth/fibers.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -33,6 +34,11 @@ void FiberSet::append(const FiberSet& source) {
   ply.insert(ply.end(), other.ply.begin(), other.ply.end());
   fiber.insert(fiber.end(), other.fiber.begin(), other.fiber.end());
   kind.insert(kind.end(), other.kind.begin(), other.kind.end());
+  loops += other.loops;
+}
+
+std::size_t FiberSet::count(FiberKind k) const {
+  return static_cast<std::size_t>(std::count(kind.begin(), kind.end(), k));
 }
 
 double FiberSet::volume() const {

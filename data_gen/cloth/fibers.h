@@ -35,6 +35,8 @@ struct FiberSet {
   std::vector<std::int32_t> ply;    ///< ply within the yarn
   std::vector<std::int32_t> fiber;  ///< fibre within the ply (hairs numbered after the regular fibres)
   std::vector<FiberKind> kind;
+  /// Loop flyaways drawn: each reshapes one of the regular fibres (those of kind loop), none adds one.
+  std::uint64_t loops = 0;
 
   [[nodiscard]] std::size_t size() const { return radius.size(); }
   /// Appends one polyline; ignored when it has fewer than two points.
@@ -46,6 +48,8 @@ struct FiberSet {
   [[nodiscard]] double volume() const;
   /// Total polyline length (mm).
   [[nodiscard]] double length() const;
+  /// Number of fibres of kind `k`.
+  [[nodiscard]] std::size_t count(FiberKind k) const;
   /// Number of line segments over all fibres.
   [[nodiscard]] std::uint64_t segment_count() const { return points.size() - size(); }
 };

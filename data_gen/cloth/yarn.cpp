@@ -44,10 +44,14 @@ double normal_deviate(Pcg32& rng, double mean, double sd) {
 }
 
 // Number of events for an expected count λ: floor(λ) plus one with probability frac(λ), so the
-// mean is exact and a density of 0 gives none.
-int event_count(double expected, Pcg32& rng) {
+// mean is exact and a density of 0 gives none. The estimate (estimate.h) refuses counts past any
+// memory first; a direct caller past 2⁵³ is refused here, where the count would stop being exact.
+std::uint64_t event_count(double expected, Pcg32& rng, const YarnParams& y, const char* what) {
+  if (!(expected < 0x1p53))
+    fail("yarn '{}': {:.3g} {} in one piece of yarn, far beyond any memory (lower its density)", y.preset, expected,
+         what);
   const double whole = std::floor(expected);
-  return static_cast<int>(whole) + (rng.uniform() < expected - whole ? 1 : 0);
+  return static_cast<std::uint64_t>(whole) + (rng.uniform() < expected - whole ? 1U : 0U);
 }
 
 }  // namespace
@@ -250,6 +254,7 @@ struct PlyPlan {
   std::vector<std::vector<Loop>> loops;  // per fibre, sorted by centre
   std::vector<std::uint8_t> has_loop;    // per fibre: some station lies inside one of its loops
   std::vector<Hair> hairs;               // in draw order (pieces in order)
+  std::uint64_t loop_count = 0;          // loops drawn
 };
 
 struct YarnPlan {
@@ -277,15 +282,26 @@ std::pair<double, double> piece_span(const YarnPlan& plan, std::size_t p) {
   return {a, b};
 }
 
-// Draws the random part of a yarn (cross-sections, loops, hairs): O(fibres + flyaways), serial
-// per yarn and cheap next to the points.
-YarnPlan plan_yarn(const Curve& centerline, const YarnParams& y, std::uint64_t seed, std::int32_t yarn_id) {
+// The yarn's stations (the frames its points are made on) and pieces; the random part follows in
+// plan_flyaways, once the points to make are known to the progress report.
+YarnPlan plan_stations(const Curve& centerline, const YarnParams& y, std::int32_t yarn_id) {
   validate(y, "yarn");
   YarnPlan plan;
   plan.y = &y;
   plan.yarn_id = yarn_id;
   plan.st = centerline_stations(centerline, y.sample_step);
   plan.pieces = (plan.st.size() - 1 + kPieceStations - 1) / kPieceStations;
+  return plan;
+}
+
+bool by_centre(const Loop& u, const Loop& v) { return u.center != v.center ? u.center < v.center : u.order < v.order; }
+
+// Draws the random part of a yarn (cross-sections, loops, hairs): O(fibres + flyaways), serial
+// per yarn and cheap next to the points unless the loops are dense; `task` is asked whether to go
+// on every kReportSteps flyaways.
+void plan_flyaways(YarnPlan& plan, std::uint64_t seed, ProgressTask& task) {
+  const YarnParams& y = *plan.y;
+  const std::int32_t yarn_id = plan.yarn_id;
   const double P = y.migration_period;
   const double ds = plan.st[1].s - plan.st[0].s;
   const std::size_t m = plan.st.size() - 1;
@@ -297,11 +313,15 @@ YarnPlan plan_yarn(const Curve& centerline, const YarnParams& y, std::uint64_t s
     pp.loops.resize(static_cast<std::size_t>(y.fiber_count));
     pp.has_loop.assign(static_cast<std::size_t>(y.fiber_count), 0);
     std::size_t order = 0;
+    std::uint64_t drawn = 0;
+    std::vector<std::size_t> before(static_cast<std::size_t>(y.fiber_count));
     for (std::size_t p = 0; p < plan.pieces; ++p) {
       Pcg32 piece_rng = p == 0 ? rng : piece_stream(seed, yarn_id, ply, p);
       const auto [a, b] = piece_span(plan, p);
-      const int loops = event_count(y.loop_density * (b - a), piece_rng);
-      for (int i = 0; i < loops; ++i) {
+      for (std::size_t j = 0; j < before.size(); ++j) before[j] = pp.loops[j].size();
+      const std::uint64_t loops = event_count(y.loop_density * (b - a), piece_rng, y, "loop flyaways");
+      for (std::uint64_t i = 0; i < loops; ++i) {
+        if (++drawn % kReportSteps == 0) task.step(0);
         Loop l;
         l.fiber = static_cast<int>(piece_rng.uniform_below(static_cast<std::uint32_t>(y.fiber_count)));
         l.center = a + (b - a) * piece_rng.uniform();
@@ -309,8 +329,16 @@ YarnPlan plan_yarn(const Curve& centerline, const YarnParams& y, std::uint64_t s
         l.order = order++;
         pp.loops[static_cast<std::size_t>(l.fiber)].push_back(l);
       }
-      const int hairs = event_count(y.hair_density * (b - a), piece_rng);
-      for (int h = 0; h < hairs; ++h) {
+      // Each fibre's loops sorted by centre, piece by piece: a piece's centres lie in [a, b] and
+      // the next piece's in [b, …], so the runs join into the order one sort of all would give.
+      for (std::size_t j = 0; j < before.size(); ++j) {
+        auto& mine = pp.loops[j];
+        std::sort(mine.begin() + static_cast<std::ptrdiff_t>(before[j]), mine.end(), by_centre);
+      }
+      task.step(0);
+      const std::uint64_t hairs = event_count(y.hair_density * (b - a), piece_rng, y, "hair flyaways");
+      for (std::uint64_t h = 0; h < hairs; ++h) {
+        if (++drawn % kReportSteps == 0) task.step(0);
         Hair hair;
         hair.s0 = a + (b - a) * piece_rng.uniform();
         hair.theta0 = kTwoPi * piece_rng.uniform();
@@ -324,12 +352,10 @@ YarnPlan plan_yarn(const Curve& centerline, const YarnParams& y, std::uint64_t s
         pp.hairs.push_back(hair);
       }
     }
+    pp.loop_count = order;
     // A fibre is a loop fibre when a station falls inside one of its loops; only the stations
     // within half a period of each centre need checking (same test as the point pass).
     for (auto& loops : pp.loops) {
-      std::sort(loops.begin(), loops.end(), [](const Loop& u, const Loop& v) {
-        return u.center != v.center ? u.center < v.center : u.order < v.order;
-      });
       for (const Loop& l : loops) {
         const auto k0 = static_cast<std::size_t>(std::max(0.0, std::floor((l.center - 0.5 * P) / ds) - 1.0));
         const auto k1 =
@@ -340,39 +366,62 @@ YarnPlan plan_yarn(const Curve& centerline, const YarnParams& y, std::uint64_t s
       }
     }
   }
-  return plan;
 }
 
 // Fills stations [k0, k1) of every regular fibre of `ply`, and every hair drawn in piece `piece`,
 // into the output arrays at their planned places.
 void fill_piece(const YarnPlan& plan, int ply, std::size_t piece, const std::vector<std::uint64_t>& hair_first,
-                std::size_t hair_begin, std::size_t hair_end, std::uint64_t ply_point0, Point3* points) {
+                std::size_t hair_begin, std::size_t hair_end, std::uint64_t ply_point0, Point3* points,
+                ProgressTask& task) {
   const YarnParams& y = *plan.y;
   const PlyPlan& pp = plan.plies[static_cast<std::size_t>(ply)];
   const std::size_t n_st = plan.st.size();
   const std::size_t k0 = piece * kPieceStations;
   const std::size_t k1 = piece + 1 == plan.pieces ? n_st : k0 + kPieceStations;
   const double half = 0.5 * y.migration_period;
+  const auto by_order = [](const Loop* u, const Loop* v) { return u->order < v->order; };
+  // The loops over the current point in draw order (the order they apply in), and a scratch list.
   std::vector<const Loop*> active;
+  std::vector<const Loop*> merged;
+  std::uint64_t work = 0;  // steps since the last report (yarn_cost's unit)
+  std::uint64_t made = 0;  // regular fibre points made since then
   for (int j = 0; j < y.fiber_count; ++j) {
     const FiberSeed& fs = pp.seeds[static_cast<std::size_t>(j)];
     const std::vector<Loop>& loops = pp.loops[static_cast<std::size_t>(j)];
     Point3* out = points + ply_point0 + static_cast<std::uint64_t>(j) * n_st;
-    // Loops sorted by centre: those within half a period of s start at `first` (linear in the
-    // stations and loops, where testing every loop at every station was quadratic in length).
-    auto first = std::lower_bound(loops.begin(), loops.end(), plan.st[k0].s - 2.0 * half,
-                                  [](const Loop& l, double c) { return l.center < c; });
+    // Loops sorted by centre: [lo, hi) are those within half a period of s, widened by a relative
+    // margin so that every loop the test |d| < 0.5 below accepts is in despite rounding; `active`
+    // holds them in draw order, updated as s moves on (those left behind dropped, those reached
+    // merged in), so a point costs 1 + its loops. Sorting them at every point cost a log factor
+    // more, over a window of a whole period each side (twice the loops).
+    const auto margin = [half](double s) { return 1e-9 * (half + std::abs(s)); };
+    const double s0 = plan.st[k0].s;
+    auto lo = std::lower_bound(loops.begin(), loops.end(), s0 - half - margin(s0),
+                               [](const Loop& l, double c) { return l.center < c; });
+    auto hi = lo;
+    active.clear();
     for (std::size_t k = k0; k < k1; ++k) {
       const double s = plan.st[k].s;
       // Migration (Zhao et al. 2016, Eq. 3), phase from the fibre's own angle as in the paper.
       double R =
           0.5 * fs.R *
           (y.rho_max + y.rho_min + (y.rho_max - y.rho_min) * std::cos(fs.theta + kTwoPi * s / y.migration_period));
-      while (first != loops.end() && first->center < s - 2.0 * half) ++first;
-      active.clear();
-      for (auto it = first; it != loops.end() && it->center <= s + 2.0 * half; ++it) active.push_back(&*it);
-      if (active.size() > 1) {
-        std::sort(active.begin(), active.end(), [](const Loop* u, const Loop* v) { return u->order < v->order; });
+      const double low = s - half - margin(s);
+      if (lo != loops.end() && lo->center < low) {
+        while (lo != loops.end() && lo->center < low) ++lo;
+        hi = std::max(hi, lo);
+        std::erase_if(active, [low](const Loop* l) { return l->center < low; });
+      }
+      const auto reached = hi;
+      while (hi != loops.end() && hi->center <= s + half + margin(s)) ++hi;
+      if (hi != reached) {
+        const auto kept = static_cast<std::ptrdiff_t>(active.size());
+        for (auto it = reached; it != hi; ++it) active.push_back(&*it);
+        std::sort(active.begin() + kept, active.end(), by_order);
+        merged.clear();
+        std::merge(active.begin(), active.begin() + kept, active.begin() + kept, active.end(),
+                   std::back_inserter(merged), by_order);
+        active.swap(merged);
       }
       for (const Loop* l : active) {
         const double d = (s - l->center) / y.migration_period;
@@ -384,6 +433,12 @@ void fill_piece(const YarnPlan& plan, int ply, std::size_t piece, const std::vec
       }
       const double theta = fs.theta + y.ply_twist * y.fiber_twist * kTwoPi * s / y.fiber_pitch;
       out[k] = ply_point(plan.st[k], y, ply, R, theta);
+      ++made;
+      work += 1 + active.size();
+      if (work >= kReportSteps) {
+        task.step(made);
+        made = work = 0;
+      }
     }
   }
   for (std::size_t h = hair_begin; h < hair_end; ++h) {
@@ -395,7 +450,13 @@ void fill_piece(const YarnPlan& plan, int ply, std::size_t piece, const std::vec
       // Hair: leaves the ply surface (R = ρmax) and rises linearly while turning about the ply.
       out[k] = ply_point(frame_at(plan.st, s), y, ply, y.rho_max + t * hair.rise, hair.theta0 + t * hair.turn);
     }
+    work += hair.segments + 1;
+    if (work >= kReportSteps) {
+      task.step(made);
+      made = work = 0;
+    }
   }
+  task.step(made);
 }
 
 }  // namespace
@@ -403,8 +464,15 @@ void fill_piece(const YarnPlan& plan, int ply, std::size_t piece, const std::vec
 FiberSet build_yarns(const std::vector<YarnJob>& jobs, std::uint64_t seed, ProgressSink& progress) {
   std::vector<YarnPlan> plans(jobs.size());
   parallel_units(jobs.size(), [&](std::size_t i) {
-    plans[i] = plan_yarn(*jobs[i].centerline, *jobs[i].params, seed, jobs[i].yarn_id);
+    plans[i] = plan_stations(*jobs[i].centerline, *jobs[i].params, jobs[i].yarn_id);
   });
+  // One unit of progress per regular fibre point (hairs are a small share of any yarn's points).
+  std::uint64_t regular_points = 0;
+  for (const auto& plan : plans)
+    regular_points += static_cast<std::uint64_t>(plan.y->ply_count) * static_cast<std::uint64_t>(plan.y->fiber_count) *
+                      plan.st.size();
+  ProgressTask task(progress, "generating fibres", regular_points);
+  parallel_units(plans.size(), [&](std::size_t i) { plan_flyaways(plans[i], seed, task); });
   // Layout: per yarn, per ply, the regular fibres (one point per station) then the hairs. Every
   // polyline's place is known before any point is made, so pieces write straight into the output.
   FiberSet out;
@@ -414,6 +482,7 @@ FiberSet build_yarns(const std::vector<YarnJob>& jobs, std::uint64_t seed, Progr
     plan.first_fiber = fibers;
     plan.first_point = points;
     for (const auto& pp : plan.plies) {
+      out.loops += pp.loop_count;
       fibers += pp.seeds.size() + pp.hairs.size();
       points += pp.seeds.size() * plan.st.size();
       for (const auto& h : pp.hairs) points += h.segments + 1;
@@ -458,6 +527,7 @@ FiberSet build_yarns(const std::vector<YarnJob>& jobs, std::uint64_t seed, Progr
           p += plan.st.size();
         }
         auto& firsts = hair_first[i][static_cast<std::size_t>(ply)];
+        firsts.reserve(pp.hairs.size());
         for (std::size_t h = 0; h < pp.hairs.size(); ++h) {
           firsts.push_back(p);
           out.offsets[f] = p;
@@ -481,14 +551,51 @@ FiberSet build_yarns(const std::vector<YarnJob>& jobs, std::uint64_t seed, Progr
     }
     out.offsets[f] = p;
   }
-  ProgressTask task(progress, "generating fibres", units.size());
   parallel_units(units.size(), [&](std::size_t u) {
     const Unit& unit = units[u];
     fill_piece(plans[unit.yarn], unit.ply, unit.piece, hair_first[unit.yarn][static_cast<std::size_t>(unit.ply)],
-               unit.hair_begin, unit.hair_end, unit.ply_point0, out.points.data());
-    task.step();
+               unit.hair_begin, unit.hair_end, unit.ply_point0, out.points.data(), task);
   });
   return out;
+}
+
+double loop_coverage(const YarnParams& y) { return y.loop_density * y.migration_period / y.fiber_count; }
+
+double mean_of_floored_normal(double floor, double mean, double sd) {
+  if (!(sd > 0.0)) return std::max(floor, mean);
+  const double z = (floor - mean) / sd;
+  const double cdf = 0.5 * std::erfc(-z / std::numbers::sqrt2);
+  const double pdf = std::exp(-0.5 * z * z) / std::sqrt(kTwoPi);
+  return mean + (floor - mean) * cdf + sd * pdf;
+}
+
+YarnCost yarn_cost(const YarnParams& y, double length) {
+  YarnCost c;
+  const double plies = y.ply_count;
+  const double fibres = y.fiber_count;
+  c.stations = std::max(1.0, std::ceil(length / y.sample_step)) + 1.0;
+  c.loops = plies * y.loop_density * length;
+  c.hairs = plies * y.hair_density * length;
+  c.hair_length = std::min(length, mean_of_floored_normal(y.sample_step, y.hair_length_mean, y.hair_length_sd));
+  // A hair has ⌈length/step⌉ segments (at least one), so on average ⌈mean/step⌉ + ½ + 1 points.
+  const double hair_points = std::ceil(std::max(c.hair_length, y.sample_step) / y.sample_step) + 1.5;
+  const double regular_points = plies * fibres * c.stations;
+  c.points = regular_points + c.hairs * hair_points;
+  // Bytes held while the points are made: the stations; per loop a Loop and per hair a Hair and
+  // its first point's index, all twice for the vectors' growth; per regular fibre its seed, its
+  // loop list and its loop flag.
+  c.loop_bytes = 2.0 * c.loops * sizeof(Loop);
+  c.plan_bytes = c.stations * sizeof(Station) + c.loop_bytes + 2.0 * c.hairs * (sizeof(Hair) + sizeof(std::uint64_t)) +
+                 plies * fibres * (sizeof(FiberSeed) + sizeof(std::vector<Loop>) + 1.0);
+  // Steps, each about as costly as a voxel read of a pass over a grid (volume/pass_budget.h): a
+  // point made (and looked at once more for the loop flags); at each regular point its loops,
+  // c = loop_coverage on average, kept in draw order and blended, 4 steps each (measured: 6 ns a
+  // loop at a point, where a pass reads a voxel in 3 ns; docs/cloth.md "Estimate before
+  // spending"); each loop drawn and sorted among its fibre's loops of its piece.
+  const double per_fibre_piece = c.loops / (plies * fibres) * std::min(1.0, kPieceStations * y.sample_step / length);
+  c.loop_steps = regular_points * 4.0 * loop_coverage(y) + c.loops * (1.0 + std::log2(1.0 + per_fibre_piece));
+  c.steps = c.points + regular_points + c.loop_steps;
+  return c;
 }
 
 FiberSet yarn_fibers(const Curve& centerline, const YarnParams& y, std::uint64_t seed, std::int32_t yarn_id) {

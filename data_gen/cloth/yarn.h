@@ -61,10 +61,41 @@ std::vector<Station> centerline_stations(const Curve& curve, double step);
 /// can be built in any order; see build_yarns for the pieces.
 FiberSet yarn_fibers(const Curve& centerline, const YarnParams& yarn, std::uint64_t seed, std::int32_t yarn_id);
 
+/// @brief Mean number of loop flyaways over one point of a regular fibre: c = loop_density ×
+/// migration_period / fiber_count (a loop covers one migration period of one of the ply's
+/// fibres). Loops are Poisson along each fibre, so a share 1 − e^(−c) of the fibre length lies in
+/// a loop; past c ≈ 1 every fibre is pulled out nearly everywhere and more loops change the
+/// cloth little but cost time (each point blends every loop over it, build_yarns).
+double loop_coverage(const YarnParams& yarn);
+
+/// @brief E[max(floor, X)] for X ~ N(mean, sd): the mean of a quantity the generator draws from a
+/// normal law and floors (a loop radius at rho_max, a hair's length at sample_step, its rise at
+/// 0): mean + (floor − mean)·Φ(z) + sd·φ(z), z = (floor − mean)/sd.
+double mean_of_floored_normal(double floor, double mean, double sd);
+
+/// @brief What build_yarns spends on one yarn whose centreline is `length` mm long, in
+/// expectation (the estimate of estimate.h adds it up before anything is made).
+struct YarnCost {
+  double stations = 0.0;     ///< centreline stations (points of each regular fibre)
+  double hair_length = 0.0;  ///< mean axial length of a hair, mm (within the yarn's length)
+  double points = 0.0;       ///< fibre points, regular and hair, all plies
+  double loops = 0.0;        ///< loop flyaways drawn, all plies
+  double hairs = 0.0;        ///< hair flyaways drawn, all plies
+  double plan_bytes = 0.0;   ///< the random part held while points are made: stations, loops, hairs
+  double loop_bytes = 0.0;   ///< the loops' share of plan_bytes
+  double steps = 0.0;        ///< a point made, a loop drawn, sorted or blended at a point
+  double loop_steps = 0.0;   ///< the loops' share of steps
+};
+YarnCost yarn_cost(const YarnParams& yarn, double length);
+
 /// Stations (points along every regular fibre) per yarn piece: about 20 mm of yarn at the
 /// default 0.02 mm step, so the built-in weaves have one piece per yarn and a long imported yarn
 /// has hundreds.
 inline constexpr std::size_t kPieceStations = 1024;
+
+/// Work (a point made, a loop blended into a point, a flyaway drawn) a thread does between two
+/// progress reports of build_yarns: a few milliseconds (6 ns a loop at a point, yarn_cost).
+inline constexpr std::uint64_t kReportSteps = std::uint64_t{1} << 20U;
 
 /// One yarn to build: its centreline, its parameters and its id (the `yarn` of its fibres).
 struct YarnJob {
@@ -85,7 +116,11 @@ struct YarnJob {
 /// place. Fibres stay whole polylines across pieces (the path at arc length s depends on s only),
 /// and the output is identical for any thread count. Loops are found per station from a list
 /// sorted by centre, so time is linear in length (testing every loop at every station, as before,
-/// made one yarn quadratic: 0.5 / 1.8 / 6.7 s at 2 500 / 5 000 / 10 000 centreline points).
+/// made one yarn quadratic: 0.5 / 1.8 / 6.7 s at 2 500 / 5 000 / 10 000 centreline points), and
+/// the loops over a point are kept in draw order from one point to the next (a point costs
+/// 1 + its loops, yarn_cost). Progress ("generating fibres", one unit a regular fibre point) is
+/// reported at least every kReportSteps steps of a thread, drawing included, so a Cancelled
+/// from the sink stops a run of dense loops within that much work.
 FiberSet build_yarns(const std::vector<YarnJob>& jobs, std::uint64_t seed, ProgressSink& progress = null_progress());
 
 }  // namespace weft::cloth

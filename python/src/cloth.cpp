@@ -55,6 +55,7 @@ void init_cloth(py::module_& m) {
         cl::validate(spec);
         auto build =
             run_released(progress, [&](ProgressSink& p) { return cl::build_cloth(spec, p, false, FrontEnd::python); });
+        warn_all(cl::cloth_warnings(build, FrontEnd::python), "weft.gen");
         py::dict out;
         out["grid"] = py::cast(std::move(build.grid));
         out["fibers"] = fibers_dict(build.fibers);

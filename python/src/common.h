@@ -187,6 +187,8 @@ inline PyLaw py_law(const transmittance::LawPtr& law) { return std::const_pointe
 /// weft.Warning, the category of every warning the module raises (a UserWarning subclass; made
 /// by the module's init).
 PyObject* warning_category();
+/// Raises each line as a weft.Warning "<call>: <line>" (with the GIL held), at the caller's line.
+void warn_all(const std::vector<std::string>& warnings, const char* call);
 
 /// Whether `value` is a number: Python's and NumPy's alike (numbers.Real, where NumPy registers its
 /// scalars: np.float32(0.5) and np.int64(1) are numbers as 0.5 and 1 are), never a bool.

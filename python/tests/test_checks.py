@@ -122,6 +122,15 @@ def test_an_unused_medium_is_a_warning_in_python():
         weft.render(scene, spp=1)
 
 
+def test_saturated_loops_are_a_warning_of_gen_in_the_callers_words():
+    loopy = {"preset": "cotton", "loop_density": 100}
+    with pytest.warns(weft.Warning, match=r"weft.gen: yarns: loop_density=100 puts 3 loop flyaways over each fibre"):
+        weft.gen(yarns=(2, 2), voxel_size=0.05, warp_yarn=loopy, weft_yarn=loopy)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the preset's 2 loops per mm: no warning
+        weft.gen(yarns=(2, 2), voxel_size=0.05)
+
+
 def test_an_unused_medium_is_a_warning_in_the_cli(tmp_path, weft_bin):
     path = tmp_path / "scene.json"
     path.write_text(json.dumps(scene_with_spare_medium()))

@@ -39,6 +39,35 @@ bool same_grid(const volume::Grid& a, const volume::Grid& b) {
   return true;
 }
 
+TEST(Cloth, WarnsOfSaturatedLoopsAndOfALargeClampedOverlap) {
+  EXPECT_TRUE(cloth_warnings(build_cloth(small_spec(), null_progress())).empty());
+  // Yarns 10 µm apart lie in one another.
+  ClothSpec close = small_spec();
+  close.warp_spacing = close.weft_spacing = 0.01;
+  const ClothBuild b = build_cloth(close, null_progress());
+  ASSERT_GT(b.report.overlap_fraction, kOverlapWarning);
+  const auto w = cloth_warnings(b);
+  ASSERT_EQ(w.size(), 1U);
+  EXPECT_NE(w[0].find("of the fibre volume overlaps other fibres and was clamped at C = 1 (over 10 %)"),
+            std::string::npos)
+      << w[0];
+  // Loops: 3 over each fibre point, said once for both directions' equal yarns, in each front
+  // end's words; a knit has one yarn.
+  ClothSpec loops = small_spec();
+  loops.warp_yarn.loop_density = loops.weft_yarn.loop_density = 100.0;
+  const ClothBuild l = build_cloth(loops, null_progress());
+  const auto cli = cloth_warnings(l);
+  ASSERT_EQ(cli.size(), 1U);
+  EXPECT_EQ(cli[0].rfind("yarns: --set loop_density=100 puts 3 loop flyaways over each fibre point", 0), 0U) << cli[0];
+  const auto py = cloth_warnings(l, FrontEnd::python);
+  ASSERT_EQ(py.size(), 1U);
+  EXPECT_EQ(py[0].rfind("yarns: loop_density=100 puts", 0), 0U) << py[0];
+  loops.weft_yarn.loop_density = 2.0;
+  const auto warp_only = cloth_warnings(build_cloth(loops, null_progress()));
+  ASSERT_EQ(warp_only.size(), 1U);
+  EXPECT_EQ(warp_only[0].rfind("warp yarn: ", 0), 0U) << warp_only[0];
+}
+
 TEST(Cloth, JsonRoundTripRebuildsAnIdenticalGrid) {
   const ClothSpec spec = small_spec();
   const ClothBuild first = build_cloth(spec, null_progress());

@@ -13,7 +13,10 @@
 #include "data_gen/cloth/pattern.h"
 #include "error_matchers.h"
 #include "weft/core/error.h"
+#include "weft/core/memory.h"
+#include "weft/core/progress.h"
 #include "weft/curves/curve_io.h"
+#include "weft/volume/pass_budget.h"
 
 namespace weft::cloth {
 namespace {
@@ -130,6 +133,82 @@ TEST(ClothEstimate, RefusesOverTheBudgetBeforeGenerating) {
                   ::testing::AllOf(::testing::HasSubstr("cloth of c.obj at input_scale 1e+300: the estimate overflows"),
                                    ::testing::Not(::testing::HasSubstr(std::to_string(~0ULL))))));
   EXPECT_FALSE(estimate_cloth(default_cloth_spec()).overflow);
+}
+
+// Flyaways: the loops the build draws, and the fibre length, voxels and leaves that dense loops,
+// far-reaching loops and high hairs add, each within 2x of the build; the peak bounds the loops'
+// memory. Small cloths at 20 µm, so that each build takes well under a second.
+TEST(ClothEstimate, FlyawaysWithinTwiceOfWhatTheBuildMakes) {
+  ClothSpec base = default_cloth_spec();
+  base.warp_count = base.weft_count = 2;
+  base.voxel_size = 0.02;
+  const auto with = [&](const char* field, double value) {
+    ClothSpec spec = base;
+    for (YarnParams* y : {&spec.warp_yarn, &spec.weft_yarn}) {
+      for (const auto& f : yarn_fields()) {
+        if (std::string(f.name) == field) y->*(f.real) = value;
+      }
+    }
+    return resolve(spec);
+  };
+  // Dense loops, 12 over each fibre point: past saturation.
+  const ClothSpec dense = with("loop_density", 400.0);
+  check_estimate(dense);
+  const ClothBuild b = build_cloth(dense, null_progress());
+  EXPECT_NEAR(static_cast<double>(b.estimate.loops) / static_cast<double>(b.fibers.loops), 1.0, 0.05);
+  EXPECT_GT(b.estimate.plan_bytes, b.estimate.loop_bytes);
+  EXPECT_GE(b.estimate.peak_bytes, b.estimate.fiber_bytes + b.estimate.loop_bytes);
+  EXPECT_GT(2 * b.estimate.loop_steps, b.estimate.steps);
+  // Loops whose radius spreads over tens of ply radii, and hairs that rise by 20 ply radii.
+  check_estimate(with("loop_radius_sd", 30.0));
+  check_estimate(with("hair_span_mean", 20.0));
+}
+
+/// Records whether any stage of work began.
+class StageSink final : public ProgressSink {
+ public:
+  void begin(std::string_view label, std::uint64_t) override { began += std::string(label) + ";"; }
+  void advance(std::uint64_t) override {}
+  void end() noexcept override {}
+  std::string began;
+};
+
+TEST(ClothEstimate, AHugeLoopDensityIsRefusedBeforeAnyFibreNamingIt) {
+  // Memory: 1e8 loops per mm of ply are ~10⁹ loops for the 2x2 weave.
+  ClothSpec spec = default_cloth_spec();
+  spec.warp_count = spec.weft_count = 2;
+  spec.warp_yarn.loop_density = spec.weft_yarn.loop_density = 1e8;
+  StageSink sink;
+  try {
+    (void)build_cloth(resolve(spec), sink);
+    ADD_FAILURE() << "1e8 loops per mm were accepted";
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("over the memory budget"), std::string::npos) << m;
+    EXPECT_NE(m.find("from --set loop_density=1e+08"), std::string::npos) << m;
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+  }
+  EXPECT_EQ(sink.began, "");
+  // Work: few loops (little memory) but each over 10⁹ points of its fibre (one fibre a ply, a
+  // migration period of 100 m), in Python's words.
+  spec.warp_yarn.loop_density = spec.weft_yarn.loop_density = 1e4;
+  spec.warp_yarn.fiber_count = spec.weft_yarn.fiber_count = 1;
+  spec.warp_yarn.migration_period = spec.weft_yarn.migration_period = 1e5;
+  const ClothEstimate e = estimate_cloth(resolve(spec));
+  EXPECT_GT(e.steps, volume::kMaxPassSteps);
+  EXPECT_LT(e.peak_bytes, default_memory_budget());
+  try {
+    (void)build_cloth(resolve(spec), sink, false, FrontEnd::python);
+    ADD_FAILURE() << "a build of " << e.steps << " steps was accepted";
+  } catch (const Error& error) {
+    const std::string m = error.what();
+    EXPECT_NE(m.find("cloth: making the fibres would take"), std::string::npos) << m;
+    EXPECT_NE(m.find("from loop_density=1e+04"), std::string::npos) << m;
+  }
+  EXPECT_EQ(sink.began, "");
+  // The default cloth is far from both limits.
+  const ClothEstimate d = estimate_cloth(default_cloth_spec());
+  EXPECT_LT(d.steps, 1e-4 * volume::kMaxPassSteps);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <numbers>
@@ -8,6 +9,7 @@
 #include "data_gen/cloth/yarn.h"
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
+#include "weft/core/progress.h"
 
 namespace weft::cloth {
 namespace {
@@ -316,6 +318,62 @@ TEST(YarnModel, LongYarnPiecesAreThreadCountInvariantAndSeamless) {
   EXPECT_NEAR(static_cast<double>(hairs), expected, 5.0 * std::sqrt(expected));
   EXPECT_LT(*std::min_element(hair_roots.begin(), hair_roots.end()), 0.1 * 60.0);
   EXPECT_GT(*std::max_element(hair_roots.begin(), hair_roots.end()), 0.9 * 60.0);
+}
+
+// Loops reshape regular fibres and add none; the set counts the loops drawn: density × length
+// per ply, each ply's count within one of its mean (floor plus a Bernoulli draw, one piece).
+TEST(YarnModel, LoopsAddNoFibreAndAreCountedAtTheirDensity) {
+  YarnParams y = no_flyaways(yarn_preset("cotton"));
+  const FiberSet none = yarn_fibers(straight_x(2.0), y, 3, 0);
+  y.loop_density = 123.4;
+  const FiberSet f = yarn_fibers(straight_x(2.0), y, 3, 0);
+  EXPECT_EQ(f.size(), none.size());
+  EXPECT_EQ(none.loops, 0U);
+  EXPECT_NEAR(static_cast<double>(f.loops), y.loop_density * 2.0 * y.ply_count, y.ply_count);
+  EXPECT_GT(f.count(FiberKind::loop), 0U);
+  EXPECT_EQ(f.count(FiberKind::loop) + f.count(FiberKind::regular), none.size());
+}
+
+/// Counts progress reports; throws Cancelled at report `stop_at` (0: never).
+class CountingSink final : public ProgressSink {
+ public:
+  explicit CountingSink(std::uint64_t stop_at = 0) : stop_at_(stop_at) {}
+  void begin(std::string_view, std::uint64_t total) override { total_ = total; }
+  void advance(std::uint64_t done) override {
+    done_ = std::max(done_.load(), done);
+    if (++reports_ == stop_at_) throw Cancelled();
+  }
+  void end() noexcept override {}
+  [[nodiscard]] std::uint64_t reports() const { return reports_.load(); }
+  [[nodiscard]] std::uint64_t done() const { return done_.load(); }
+  [[nodiscard]] std::uint64_t total() const { return total_; }
+
+ private:
+  std::uint64_t stop_at_;
+  std::uint64_t total_ = 0;
+  std::atomic<std::uint64_t> reports_{0};
+  std::atomic<std::uint64_t> done_{0};
+};
+
+// Dense loops make a point cost 1 + its loops: progress comes every kReportSteps of that work,
+// not once per piece of yarn, so a Cancelled from the sink stops the build within it.
+TEST(YarnModel, DenseLoopsReportProgressByWorkAndStopWhenCancelled) {
+  YarnParams y = no_flyaways(yarn_preset("cotton"));
+  y.loop_density = 4e4;  // 1200 loops over each fibre point
+  const Curve c = straight_x(2.0);
+  const std::vector<YarnJob> jobs{YarnJob{&c, &y, 0}};
+  CountingSink sink;
+  const FiberSet f = build_yarns(jobs, 9, sink);
+  // The bar ends full: one unit per regular fibre point.
+  EXPECT_EQ(sink.total(), f.points.size());
+  EXPECT_EQ(sink.done(), sink.total());
+  const double work = static_cast<double>(f.points.size()) * loop_coverage(y);
+  // Half the expected count: the loops over a point are Poisson around loop_coverage. One unit
+  // per (ply, piece), as before, would give 2 x 2 reports here.
+  EXPECT_GE(static_cast<double>(sink.reports()), 0.5 * work / static_cast<double>(kReportSteps)) << work;
+  EXPECT_GT(sink.reports(), 3U * static_cast<std::uint64_t>(y.ply_count));
+  CountingSink stopper(3);
+  EXPECT_THROW((void)build_yarns(jobs, 9, stopper), Cancelled);
 }
 
 }  // namespace
