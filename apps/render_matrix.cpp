@@ -73,10 +73,6 @@ const CLI::Validator cloth_tilt(
     },
     render::cloth_tilt_range(), "cloth_tilt");
 
-bool MatrixCliOptions::any() const {
-  return !cloths.empty() || !lightings.empty() || !tilts.empty() || !film.empty() || yarns > 0 || resume;
-}
-
 void add_matrix_options(CLI::App& sub, MatrixCliOptions& o) {
   sub.add_option("--study-cloths", o.cloths,
                  "--study matrix (no scene, no --lighting/--tilt): cloth patterns of weft gen, comma-separated "

@@ -23,8 +23,6 @@ struct MatrixCliOptions {
   std::vector<int> film;
   int yarns = 0;
   bool resume = false;
-  /// Whether any was given (they are refused without the matrix).
-  [[nodiscard]] bool any() const;
 };
 
 /// Camera tilts of the default cloth's scene (--tilt, --study-tilts): the library's one range,

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <limits>
 #include <string_view>
+#include <vector>
 
 #include "weft/core/atomic_file.h"
 
@@ -19,6 +20,18 @@ double usage_positive(const char* option, double value) {
 double usage_non_negative(const char* option, double value) {
   if (!(std::isfinite(value) && value >= 0.0)) usage_fail("{} must be finite and >= 0, got {}", option, value);
   return value;
+}
+
+void usage_needs(const CLI::App& sub, std::initializer_list<const char*> names, bool condition, std::string_view what) {
+  if (condition) return;
+  std::vector<std::string> given;
+  for (const char* name : names) {
+    if (sub.count(name) > 0) given.emplace_back(name);
+  }
+  if (given.empty()) return;
+  std::string list = given.front();
+  for (std::size_t i = 1; i < given.size(); ++i) list += (i + 1 == given.size() ? " and " : ", ") + given[i];
+  usage_fail("{} {} {}", list, given.size() == 1 ? "needs" : "need", what);
 }
 
 namespace {

@@ -11,7 +11,9 @@
 /// main.cpp maps CLI::ParseError and UsageError to exit 2; any other weft::Error to 1.
 
 #include <cmath>
+#include <initializer_list>
 #include <string>
+#include <string_view>
 #include <utility>
 
 #include <fmt/format.h>
@@ -50,6 +52,12 @@ decltype(auto) as_usage(F&& f) {
 double usage_positive(const char* option, double value);
 /// @brief `value` finite and >= 0, else UsageError naming `option`.
 double usage_non_negative(const char* option, double value);
+
+/// @brief Refuses the options `names` of `sub` that the command line gave, unless `condition`:
+/// UsageError "--a and --b need <what>", naming only those given. The one check of every command
+/// for an option that acts only with another (--fibre-rays with --fibres, --resume with the
+/// study matrix): refused, never silently ignored.
+void usage_needs(const CLI::App& sub, std::initializer_list<const char*> names, bool condition, std::string_view what);
 
 /// CLI11 validators (parse time, exit 2). Unlike CLI::PositiveNumber they refuse NaN and ±inf.
 /// Finite and > 0.

@@ -6,11 +6,11 @@
 #include <fmt/format.h>
 
 #include "command.h"
-#include "data_gen/cloth/voxelize.h"
 #include "grid_input.h"
 #include "usage.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
+#include "weft/core/memory.h"
 #include "weft/core/parse_number.h"
 #include "weft/volume/dense.h"
 #include "weft/volume/renderer_export.h"
@@ -62,7 +62,6 @@ int run(const ExportOptions& o, const Context& ctx) {
     }
   }
   if (!mitsuba && !pbrt) usage_fail("--format: give mitsuba, pbrt or both");
-  if (o.max_memory_mb < 0.0) usage_fail("--max-memory-mb must be >= 0, got {}", o.max_memory_mb);
   check_grid_input(o.input);
   volume::ExportMedium medium;
   medium.albedo = as_usage([&] { return parse_albedo(o.albedo); });
@@ -81,14 +80,8 @@ int run(const ExportOptions& o, const Context& ctx) {
   const volume::IndexBox box = grid.active_bbox();
   medium.sigma = loaded.sigma.sigma;
   const volume::WorldBox world = volume::world_box(grid, box);
-  const std::uint64_t budget = o.max_memory_mb > 0.0 ? static_cast<std::uint64_t>(o.max_memory_mb * 1024.0 * 1024.0)
-                                                     : cloth::default_memory_budget();
-  if (mitsuba && volume::dense_bytes(box) > budget) {
-    fail("{}: the dense volume of {} voxels would take {:.4g} MiB, over the limit of {:.4g} MiB",
-         (fs::path(o.out) / "mitsuba" / "cloth.vol").string(), volume::dense_bytes(box) / sizeof(float),
-         static_cast<double>(volume::dense_bytes(box)) / (1024.0 * 1024.0),
-         static_cast<double>(budget) / (1024.0 * 1024.0));
-  }
+  const std::uint64_t budget = memory_budget_bytes("--max-memory-mb", o.max_memory_mb);
+  if (mitsuba) volume::check_mitsuba_vol(box, fs::path(o.out) / "mitsuba" / "cloth.vol", budget);
   const std::string xml = mitsuba ? volume::mitsuba_scene_xml(world, "cloth.vol", medium, view) : std::string();
   const std::string pbrt_text = pbrt ? volume::pbrt_scene(world, "cloth.nvdb", medium, view) : std::string();
   const fs::path out(o.out);
@@ -128,8 +121,10 @@ const Registrar kExport{Command{
       sub.add_option("--width", o->width, "Image width of the scenes")->capture_default_str();
       sub.add_option("--height", o->height, "Image height of the scenes")->capture_default_str();
       sub.add_option("--spp", o->spp, "Samples per pixel of the scenes")->capture_default_str();
+      // A memory limit, as gen's --max-memory and Python's max_memory_mb=: finite and > 0.
       sub.add_option("--max-memory-mb", o->max_memory_mb,
-                     "Refuse a dense .vol above this many MiB (default: half the RAM)");
+                     "Refuse a dense .vol above this many MiB, > 0 (default: half the RAM)")
+          ->check(positive);
       sub.footer(
           "Writes OUT/mitsuba/cloth.xml + cloth.vol (Mitsuba 3 heterogeneous medium, gridvolume with nearest\n"
           "filtering, scale = sigma) and OUT/pbrt/cloth.pbrt + cloth.nvdb (pbrt-v4 nanovdb medium, grid 'density').\n"

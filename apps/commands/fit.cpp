@@ -14,6 +14,7 @@
 #include "grid_input.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
+#include "weft/core/parse_number.h"
 #include "weft/fit/gamma_moments.h"
 #include "weft/fit/least_squares.h"
 #include "weft/fit/local_fields.h"
@@ -73,13 +74,10 @@ MeasuredBeams read_beams(const fs::path& path, const BeamsRecord& now) {
     std::istringstream s(line);
     std::string cell;
     while (std::getline(s, cell, ',')) {
-      try {
-        std::size_t used = 0;
-        f.push_back(std::stod(cell, &used));
-        if (used != cell.size()) throw std::invalid_argument(cell);
-      } catch (const std::exception&) {
-        fail("{}:{}: '{}' is not a number", path.string(), row, cell);
-      }
+      // parse_number: a deep beam's T may be subnormal (measure writes 1e-310), which std::stod refused.
+      const std::optional<double> x = parse_number(cell);
+      if (!x) fail("{}:{}: '{}' is not a number", path.string(), row, cell);
+      f.push_back(*x);
     }
     if (f.size() != 8) fail("{}:{}: expected 8 fields, got {}", path.string(), row, f.size());
     const std::array<double, 3> d{f[1], f[2], f[3]};
@@ -109,25 +107,24 @@ const Registrar kFit{Command{
       sub.add_option("--block", o->block,
                      "Also write local fields per block of B^3 voxels to local_fields.vdb (0 = off)")
           ->capture_default_str();
-      CLI::Option* fields_option =
-          sub.add_option("--fields", o->fields,
-                         "With --block: render (mean and variance per axis, the 4 grids the local-gamma medium reads) "
-                         "or all (also alpha and beta per axis: 10 grids, for analysis); the variances are stored as "
-                         "16-bit floats when they fit (always for concentrations; docs/render.md 5b \"Storage\")")
-              ->check(CLI::IsMember({"render", "all"}))
-              ->capture_default_str();
+      sub.add_option("--fields", o->fields,
+                     "With --block: render (mean and variance per axis, the 4 grids the local-gamma medium reads) "
+                     "or all (also alpha and beta per axis: 10 grids, for analysis); the variances are stored as "
+                     "16-bit floats when they fit (always for concentrations; docs/render.md 5b \"Storage\")")
+          ->check(CLI::IsMember({"render", "all"}))
+          ->capture_default_str();
       sub.add_option("--beams", o->beams, "beams.csv from `weft measure`: adds least-squares fits and model errors")
           ->check(file_name);
       sub.add_option(
              "--out", o->out,
              "Output folder (created if missing): fit.json; with --block local_fields.vdb and local_fields_scene.json")
           ->capture_default_str();
-      return [o, fields_option](const Context& ctx) -> int {
+      return [o, &sub](const Context& ctx) -> int {
         check_grid_input(o->input);
         as_usage([&] { fit::check_scale_text(o->window); });
         if (o->block < 0 || o->block > fit::kMaxLocalBlock)
           usage_fail("--block must be in 0..{} voxels (0 = off), got {}", fit::kMaxLocalBlock, o->block);
-        if (fields_option->count() > 0 && o->block == 0) usage_fail("--fields needs --block");
+        usage_needs(sub, {"--fields"}, o->block > 0, "--block");
         const auto dirs = as_usage([&] { return fit::parse_axes(o->axes); });
         const LoadedGrid loaded = load_grid_input(o->input);
         const volume::Grid& grid = loaded.grid;

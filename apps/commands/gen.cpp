@@ -2,11 +2,13 @@
 // curves) voxelized to a grid of fibre volume fraction.
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <memory>
 #include <set>
 #include <string>
+#include <system_error>
 #include <utility>
 #include <vector>
 
@@ -96,14 +98,12 @@ const CLI::Validator output_list([](std::string& text) { return read_outputs(tex
 
 // "512M", "2G", "1.5GiB", "1000000" (bytes) → MiB.
 double parse_memory_mb(const std::string& text) {
-  std::size_t used = 0;
+  // The number by std::from_chars, as weft::parse_number (locale-free; 1e-320 is a number), then a unit.
+  const char* first = text.data() + (text.starts_with('+') ? 1 : 0);
   double value = 0.0;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    usage_fail("--max-memory: '{}' is not a size (e.g. 512M, 4G)", text);
-  }
-  std::string unit = text.substr(used);
+  const auto [end, ec] = std::from_chars(first, text.data() + text.size(), value);
+  if (ec != std::errc() || end == first) usage_fail("--max-memory: '{}' is not a size (e.g. 512M, 4G)", text);
+  std::string unit(end, text.data() + text.size());
   if (!unit.empty() && (unit.back() == 'B' || unit.back() == 'b')) unit.pop_back();
   if (unit.size() == 2 && (unit[1] == 'i' || unit[1] == 'I')) unit.pop_back();
   double bytes = value;
@@ -119,8 +119,10 @@ double parse_memory_mb(const std::string& text) {
   } else {
     usage_fail("--max-memory: unknown unit in '{}' (use K, M, G or T)", text);
   }
-  if (!(bytes > 0.0) || !std::isfinite(bytes)) usage_fail("--max-memory: must be > 0, got '{}'", text);
-  return bytes / (1024.0 * 1024.0);
+  if (!(bytes > 0.0) || !std::isfinite(bytes)) usage_fail("--max-memory: must be finite and > 0, got '{}'", text);
+  // Less than a byte is a byte (as memory_budget_bytes rounds up): 1e-320 bytes in MiB would
+  // underflow to 0, the spec's "default".
+  return std::max(bytes, 1.0) / (1024.0 * 1024.0);
 }
 
 void set_yarn_field(cloth::YarnParams& yarn, const std::string& key, const std::string& value,

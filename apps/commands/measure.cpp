@@ -13,11 +13,13 @@
 #include "data_gen/cloth/grid_fibres.h"
 #include "grid_input.h"
 #include "weft/core/atomic_file.h"
+#include "weft/core/distinct.h"
 #include "weft/core/error.h"
 #include "weft/fibres/fibre_beam.h"
 #include "weft/volume/beam.h"
 #include "weft/volume/beam_checks.h"
 #include "weft/volume/grid.h"
+#include "weft/volume/lattice.h"
 #include "weft/volume/scatterer.h"
 #include "weft/volume/voxel_rule.h"
 #include "written_files.h"
@@ -43,8 +45,6 @@ struct MeasureOptions {
   bool fibres = false;
   int fibre_rays = 1;
   double fibre_extinction = 0.0;  // 0: opaque
-  CLI::Option* fibre_extinction_option = nullptr;
-  CLI::Option* fibre_rays_option = nullptr;
   std::string voxel_rule = "linear";
 };
 
@@ -72,21 +72,19 @@ const Registrar kMeasure{Command{
       sub.add_option("--scatterer-rays", o->scatterer_rays,
                      "Rays of each kind for --scatterer; a request over 1e12 steps or the memory budget is refused "
                      "before any beam starts (docs/robustness.md \"Work and memory budgets\")")
+          ->check(at_least(static_cast<long long>(volume::kMinScattererRays)))
           ->capture_default_str();
       sub.add_option("--scatterer-direction", o->scatterer_direction,
                      "Fixed direction of --scatterer rays (default: isotropic)");
       sub.add_flag("--fibres", o->fibres,
                    "Also trace the beams through the fibres the grid was generated from (regenerated from its "
                    "weft gen provenance), on the same ray lattice: fibres.csv and the voxel-fibre difference");
-      o->fibre_rays_option =
-          sub.add_option(
-                 "--fibre-rays", o->fibre_rays,
-                 "Jittered rays per lattice cell of the fibre beams (--fibres); a beam over 1e12 steps is refused "
-                 "before it starts (docs/robustness.md \"Work and memory budgets\")")
-              ->capture_default_str();
-      o->fibre_extinction_option =
-          sub.add_option("--fibre-extinction", o->fibre_extinction,
-                         "Extinction inside the fibres [1/length] for --fibres (default: opaque fibres)");
+      sub.add_option("--fibre-rays", o->fibre_rays,
+                     "Jittered rays per lattice cell of the fibre beams (--fibres); a beam over 1e12 steps is refused "
+                     "before it starts (docs/robustness.md \"Work and memory budgets\")")
+          ->capture_default_str();
+      sub.add_option("--fibre-extinction", o->fibre_extinction,
+                     "Extinction inside the fibres [1/length] for --fibres (default: opaque fibres)");
       sub.add_option("--voxel-rule", o->voxel_rule,
                      "How concentration becomes extinction in the voxel beams: linear (sigma C) | opaque "
                      "(-max(sigma, 1/h) ln(1 - C), docs/validate.md)")
@@ -94,11 +92,20 @@ const Registrar kMeasure{Command{
       sub.add_option("--out", o->out,
                      "Output folder (created if missing): beams.csv, measure.json, scatterer.csv with --scatterer")
           ->capture_default_str();
-      return [o](const Context& ctx) -> int {
+      return [o, &sub](const Context& ctx) -> int {
         const auto t_start = std::chrono::steady_clock::now();
         check_grid_input(o->input);
+        usage_needs(sub, {"--scatterer-rays", "--scatterer-direction"}, o->scatterer, "--scatterer");
+        usage_needs(sub, {"--fibre-rays", "--fibre-extinction"}, o->fibres, "--fibres");
         std::vector<std::array<double, 3>> dirs;
         for (const auto& d : o->directions) dirs.push_back(as_usage([&] { return volume::parse_direction(d); }));
+        // A direction given twice would trace the same rays again (same seed, same curve).
+        as_usage([&] {
+          require_distinct(
+              "--direction", dirs,
+              [&](std::size_t i) { return fmt::format("beam {}", volume::direction_label(dirs[i])); },
+              [](const std::array<double, 3>& d) { return volume::unit_direction(d, "beam"); });
+        });
         const auto method = as_usage([&] { return volume::parse_beam_method(o->method); });
         const std::array<double, 3> scatterer_direction =
             o->scatterer_direction.empty() ? std::array<double, 3>{0.0, 0.0, 1.0}
@@ -109,10 +116,9 @@ const Registrar kMeasure{Command{
         const auto rule = as_usage([&] { return volume::parse_voxel_rule(o->voxel_rule); });
         if (rule != volume::VoxelRule::linear && o->input.extinction())
           usage_fail("--voxel-rule {} needs concentration values, not --values extinction", o->voxel_rule);
-        if (!o->fibres && (o->fibre_extinction_option->count() > 0 || o->fibre_rays_option->count() > 0))
-          usage_fail("--fibre-rays and --fibre-extinction need --fibres");
         if (o->fibre_rays < 1) usage_fail("--fibre-rays must be >= 1, got {}", o->fibre_rays);
-        if (o->fibre_extinction_option->count() > 0 && !(o->fibre_extinction > 0.0))
+        const bool fibre_extinction_given = sub.count("--fibre-extinction") > 0;
+        if (fibre_extinction_given && !(o->fibre_extinction > 0.0))
           usage_fail("--fibre-extinction must be > 0, got {}", o->fibre_extinction);
         const LoadedGrid loaded = load_grid_input(o->input);
         // The fibres first: a grid that does not name its fibres is refused before any beam.
@@ -136,7 +142,7 @@ const Registrar kMeasure{Command{
         const double sigma = ruled ? 1.0 : loaded.sigma.sigma;
         const std::string values =
             ruled ? fmt::format("{} ({} voxel rule)", o->input.values, o->voxel_rule) : o->input.values;
-        const double fibre_kappa = o->fibre_extinction_option->count() > 0 ? o->fibre_extinction : fibres::kOpaque;
+        const double fibre_kappa = fibre_extinction_given ? o->fibre_extinction : fibres::kOpaque;
 
         // The scatterer rays' budget before any beam runs (docs/robustness.md "Work and memory budgets").
         volume::ScattererSpec ss;

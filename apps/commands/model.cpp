@@ -8,6 +8,7 @@
 #include <cstring>
 #include <iterator>
 #include <memory>
+#include <optional>
 #include <span>
 #include <sstream>
 #include <string>
@@ -18,9 +19,9 @@
 
 #include "command.h"
 #include "weft/core/error.h"
+#include "weft/core/parse_number.h"
 #include "weft/core/rng.h"
 #include "weft/transmittance/draws.h"
-#include "weft/transmittance/gamma_concentration.h"
 #include "weft/transmittance/law_json.h"
 #include "weft/transmittance/pair.h"
 #include "weft/transmittance/registry.h"
@@ -72,21 +73,18 @@ struct ModelOptions {
   std::uint64_t seed = 1;
 };
 
-double parse_number(const std::string& what, const std::string& text) {
-  errno = 0;
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE) {
-    usage_fail("{}: expected a number, got '{}'", what, text);
-  }
-  return value;
+/// An option's number (weft::parse_number: subnormals are numbers, a value past double's range is not).
+double number_option(const std::string& what, const std::string& text) {
+  const std::optional<double> value = parse_number(text);
+  if (!value) usage_fail("{}: expected a number, got '{}'", what, text);
+  return *value;
 }
 
 std::vector<double> parse_distances(const std::string& list) {
   std::vector<double> out;
   std::stringstream in(list);
   for (std::string item; std::getline(in, item, ',');) {
-    const double t = parse_number("--t", item);
+    const double t = number_option("--t", item);
     if (std::isnan(t) || t < 0.0) usage_fail("--t: distances must be >= 0, got '{}'", item);
     out.push_back(t);
   }
@@ -128,14 +126,21 @@ std::string help_footer() {
   return out;
 }
 
-int run(const ModelOptions& o, const std::vector<bool>& given_flags, const Context& ctx) {
+int run(const ModelOptions& o, const std::vector<bool>& given_flags, const CLI::App& sub, const Context& ctx) {
+  // --sample N prints N draws (none for 0, as Python's Law.sample(0)); the options of the draws
+  // do nothing without it.
+  const bool sampling = sub.count("--sample") > 0;
+  usage_needs(sub, {"--sampler", "--from", "--seed"}, sampling, "--sample");
+  // p ∝ T (S.55-S.57) is not a sampler of the law (it draws another density): it is the source law
+  // of the reciprocal pair given as T_S, p_Q = T_S/l_S (docs/transmittance.md), the same draws.
+  if (o.sampler == "proportional")
+    usage_fail(
+        "--sampler proportional: p proportional to T is the source law of the pair given as T_S "
+        "(p_Q = T_S/l_S): draw it with --given S --from source");
   tr::LawSpec spec;
   spec.name = o.law;
   spec.table = o.table;
-  // The gamma law's p ∝ T sampling (S.55–S.57) is a sampler of the app, not a registry law.
-  const bool proportional = o.sampler == "proportional";
-  if (proportional && o.law != "gamma") usage_fail("--sampler proportional is only for the gamma law");
-  spec.sampler = proportional ? std::string() : o.sampler;
+  spec.sampler = o.sampler;  // the registry's rule: which laws offer a choice (weft.law's sampler= too)
   bool any_parameter = !o.table.empty();
   // A law with list parameters (gamma-mixture) reads each flag as a comma-separated list,
   // element j under the registry key "<key>_<j+1>".
@@ -146,11 +151,11 @@ int run(const ModelOptions& o, const std::vector<bool>& given_flags, const Conte
       std::stringstream in(o.values[i]);
       std::size_t j = 0;
       for (std::string item; std::getline(in, item, ',');)
-        spec.params[tr::list_parameter_key(kParamFlags[i].key, j++)] = parse_number(kParamFlags[i].flag, item);
+        spec.params[tr::list_parameter_key(kParamFlags[i].key, j++)] = number_option(kParamFlags[i].flag, item);
       if (j == 0 || o.values[i].back() == ',')
         usage_fail("{}: expected a comma-separated list of numbers, got '{}'", kParamFlags[i].flag, o.values[i]);
     } else {
-      spec.params[kParamFlags[i].key] = parse_number(kParamFlags[i].flag, o.values[i]);
+      spec.params[kParamFlags[i].key] = number_option(kParamFlags[i].flag, o.values[i]);
     }
     any_parameter = true;
   }
@@ -183,7 +188,7 @@ int run(const ModelOptions& o, const std::vector<bool>& given_flags, const Conte
   if (o.sample < 0) usage_fail("--sample: expected a count >= 0, got {}", o.sample);
   if (static_cast<std::uint64_t>(o.sample) > tr::kMaxDraws)
     usage_fail("--sample: at most 1e9 samples per run, got {} (run several seeds)", o.sample);
-  if (o.sample > 0) {
+  if (sampling) {
     const tr::Origin from = as_usage([&] { return tr::parse_origin(o.from); });
     // Streamed chunk by chunk (N may be far larger than memory); each chunk is a progress report,
     // where Ctrl-C or SIGTERM stops the run (what was printed before stays printed). With --json,
@@ -198,7 +203,7 @@ int run(const ModelOptions& o, const std::vector<bool>& given_flags, const Conte
                    {"pair", tr::to_string(pair.mode())},
                    {"from", tr::to_string(from)},
                    {"sampled_law", {{"law", drawn.name()}, {"parameters", parameters_json(drawn)}}},
-                   {"sampling", proportional ? "proportional to T (S.55-S.57)" : drawn.sampling_method()},
+                   {"sampling", drawn.sampling_method()},
                    {"seed", o.seed},
                    {"count", o.sample},
                    {"units", {{"t", "length"}}}};
@@ -214,13 +219,9 @@ int run(const ModelOptions& o, const std::vector<bool>& given_flags, const Conte
         fail("cannot write samples to stdout: {}", std::strerror(errno));
       out.clear();
     };
-    const auto* gamma = proportional ? &dynamic_cast<const tr::GammaConcentration&>(pair.law(from)) : nullptr;
     std::uint64_t taken = 0;
     tr::draw_in_chunks(
-        static_cast<std::uint64_t>(o.sample), o.seed, ctx.progress,
-        [&](Pcg32& rng) {
-          return gamma != nullptr ? gamma->sample_proportional_to_transmittance(rng) : pair.sample(from, rng);
-        },
+        static_cast<std::uint64_t>(o.sample), o.seed, ctx.progress, [&](Pcg32& rng) { return pair.sample(from, rng); },
         [&](std::span<const double> chunk) {
           for (const double t : chunk) {
             if (o.json) {
@@ -232,7 +233,7 @@ int run(const ModelOptions& o, const std::vector<bool>& given_flags, const Conte
           }
           flush();
         });
-    if (o.json) out += "\n  ]\n}\n";
+    if (o.json) out += taken == 0 ? "]\n}\n" : "\n  ]\n}\n";
     flush();
     if (std::fflush(stdout) != 0) fail("cannot write samples to stdout: {}", std::strerror(errno));
     return 0;
@@ -304,23 +305,25 @@ const Registrar kModel{Command{
       flags.push_back(law_option);
       sub.add_option("--table", o->table, "tabulated: CSV file with columns t [length], T [1]")->check(file_name);
       sub.add_option("--sampler", o->sampler,
-                     "gamma-path: marsaglia-tsang (default) or inversion; gamma: proportional draws t with "
-                     "p proportional to T (S.55-S.57, needs alpha > 1)");
+                     "With --sample, where the law offers several: gamma-path marsaglia-tsang (default) or "
+                     "inversion (p proportional to T, S.55-S.57: --given S --from source)");
       sub.add_option("--t", o->t, "Comma-separated distances t [length] to evaluate")->capture_default_str();
       sub.add_flag("--json", o->json,
                    "Print one JSON object (law, parameters, mean free paths, points; with --sample: the samples)");
       sub.add_option("--given", o->given, "The law given is T_Q (Q, source) or T_S (S, scatterer)")
           ->capture_default_str();
       sub.add_option("--pair", o->pair, "reciprocal (derive the partner) or same (T_S = T_Q)")->capture_default_str();
-      sub.add_option("--sample", o->sample, "Print N sampled free-flight distances [length], one per line");
-      sub.add_option("--from", o->from, "Sample segments starting at a source or a scatterer")->capture_default_str();
-      sub.add_option("--seed", o->seed, "Random seed for --sample")->capture_default_str();
+      sub.add_option("--sample", o->sample,
+                     "Print N sampled free-flight distances [length], one per line (0: none), instead of T at --t");
+      sub.add_option("--from", o->from, "With --sample: segments starting at a source or a scatterer")
+          ->capture_default_str();
+      sub.add_option("--seed", o->seed, "With --sample: the random seed")->capture_default_str();
       sub.footer(help_footer());
-      return [o, flags](const Context& ctx) -> int {
+      return [o, flags, &sub](const Context& ctx) -> int {
         std::vector<bool> given;
         given.reserve(flags.size());
         for (auto* f : flags) given.push_back(f->count() > 0);
-        return run(*o, given, ctx);
+        return run(*o, given, sub, ctx);
       };
     }}};
 

@@ -125,7 +125,7 @@ struct Convergence {
   std::vector<int> sheet_spp;
 };
 
-int run(const RenderCliOptions& o, const Context& ctx) {
+int run(const RenderCliOptions& o, const CLI::App& sub, const Context& ctx) {
   if (o.list) {
     for (const auto& name : render::builtin_scene_names()) fmt::print("{}\n", name);
     return 0;
@@ -133,10 +133,16 @@ int run(const RenderCliOptions& o, const Context& ctx) {
   std::string label;
   const bool default_scene = o.scene.empty();
   render::SceneDesc scene;
-  if (!default_scene && (!o.lighting.empty() || o.tilt >= 0.0))
-    usage_fail("--lighting and --tilt set up the default cloth's scene: give no scene file");
+  usage_needs(sub, {"--lighting", "--tilt"}, default_scene, "the default cloth's scene (give no scene file)");
   // --study with no scene, --lighting or --tilt: the study matrix, which makes its own scenes.
   const bool matrix = o.study && default_scene && o.lighting.empty() && o.tilt < 0.0;
+  usage_needs(sub,
+              {"--study-time", "--study-spp", "--study-factors", "--study-window", "--study-memory", "--study-albedo",
+               "--study-components"},
+              o.study, "--study");
+  usage_needs(sub,
+              {"--study-cloths", "--study-lightings", "--study-tilts", "--study-film", "--study-yarns", "--resume"},
+              matrix, "the study matrix (--study with no scene, --lighting or --tilt)");
   if (default_scene && !matrix) {
     label = render::kDefaultScene;
     render::ClothView view;
@@ -167,15 +173,9 @@ int run(const RenderCliOptions& o, const Context& ctx) {
   if (o.spp > 0) options.spp = o.spp;
   options.seed = o.seed;
   options.time_budget_seconds = o.time_budget;
-  if (o.reference_spp > 0 && o.convergence != "auto" && !o.study)
-    usage_fail("--reference-spp needs --convergence auto or --study");
+  usage_needs(sub, {"--reference-spp"}, o.convergence == "auto" || o.study, "--convergence auto or --study");
   if (!std::isfinite(o.study_time))
     usage_fail("--study-time: must be a finite number of seconds, got {}", o.study_time);
-  if (!o.study && (o.study_time > 0.0 || o.study_spp > 0 || !o.study_factors.empty() || !o.study_window.empty() ||
-                   !o.study_memory.empty() || !o.study_albedo.empty() || !o.study_components.empty()))
-    usage_fail(
-        "--study-time, --study-spp, --study-factors, --study-window, --study-memory, --study-albedo and "
-        "--study-components need --study");
   if (o.study) {
     if (!o.convergence.empty()) usage_fail("--study and --convergence are separate runs: give one");
     if (o.spp > 0 || o.time_budget > 0.0)
@@ -214,10 +214,6 @@ int run(const RenderCliOptions& o, const Context& ctx) {
         spec.albedo_factors.emplace_back(static_cast<int>(*f), *k);
       }
     }
-    if (!matrix && o.matrix.any())
-      usage_fail(
-          "--study-cloths, --study-lightings, --study-tilts, --study-film, --study-yarns and --resume set up the "
-          "study matrix (--study with no scene, --lighting or --tilt)");
     if (matrix) {
       MatrixStudyChoices given;
       given.factors = !o.study_factors.empty();
@@ -486,7 +482,7 @@ const Registrar kRender{Command{
       sub.add_option("--exposure", o->exposure, "Scale before sRGB conversion of the PNG")->check(positive);
       sub.add_flag("--list-scenes", o->list, "List the built-in scenes and exit");
       sub.add_flag("--print-scene", o->print_scene, "Print the scene as canonical JSON and exit");
-      return [o](const Context& ctx) -> int { return run(*o, ctx); };
+      return [o, &sub](const Context& ctx) -> int { return run(*o, sub, ctx); };
     },
     /*distributed=*/true}};
 

@@ -394,6 +394,7 @@ const Registrar kSim2d{Command{
         spec.structure_max_points = o->structure_max_points;
         spec.seed = o->seed;
         if (o->quick && o->paper) usage_fail("sim2d: --quick and --paper exclude each other");
+        usage_needs(sub, {"--boundary-t", "--eta12"}, !o->no_boundary, "the boundary experiment (no --no-boundary)");
         // Presets fill only what the user did not set explicitly.
         auto unset = [&sub](const char* name) { return sub.count(name) == 0; };
         if (o->quick) {

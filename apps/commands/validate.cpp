@@ -111,13 +111,12 @@ const Registrar kValidate{Command{
       sub.add_flag("--fibres", o->fibres,
                    "Also measure each axis through the fibres the grid was generated from (opaque, same rays): "
                    "T_fibre and the voxelization error T_gt - T_fibre in report.json (docs/validate.md)");
-      return [o](const Context& ctx) -> int {
+      return [o, &sub](const Context& ctx) -> int {
         const auto t_start = std::chrono::steady_clock::now();
         if (o->fibres && (o->sweep || o->corpus))
           usage_fail("--fibres goes with a validation, not --sweep or --corpus");
-        if (o->quick && !o->sweep && !o->corpus) usage_fail("--quick needs --sweep or --corpus");
-        if (o->resume && !o->sweep && !o->corpus) usage_fail("--resume needs --sweep or --corpus");
-        if (!o->cases.empty() && !o->corpus) usage_fail("--cases needs --corpus");
+        usage_needs(sub, {"--quick", "--resume"}, o->sweep || o->corpus, "--sweep or --corpus");
+        usage_needs(sub, {"--cases"}, o->corpus, "--corpus");
         if (o->scenes && (o->sweep || o->corpus))
           usage_fail("--scenes goes with a validation, not --sweep or --corpus");
         if (o->scenes && o->input.extinction()) usage_fail("--scenes needs a concentration grid (a cloth)");

@@ -13,6 +13,7 @@
 #include "data_gen/cloth/yarn.h"
 #include "weft/core/error.h"
 #include "weft/core/file_kind.h"
+#include "weft/core/memory.h"
 #include "weft/core/parallel.h"
 #include "weft/core/paths.h"
 #include "weft/volume/provenance.h"
@@ -142,7 +143,7 @@ ClothBuild build_cloth(const ClothSpec& input, ProgressSink& progress, bool spre
   build.spec = resolve(input);
   validate(build.spec);
   const auto t0 = std::chrono::steady_clock::now();
-  const auto budget = static_cast<std::uint64_t>(build.spec.max_memory_mb * 1024.0 * 1024.0);
+  const std::uint64_t budget = memory_budget_bytes("max_memory_mb", build.spec.max_memory_mb);
   // Woven and knit specs are checked before their centrelines are made (a huge --yarns would
   // spend minutes and gigabytes on those alone); imports on the curves they read.
   if (build.spec.pattern != "import") check_budget(estimate_cloth(build.spec), budget, asker);

@@ -13,6 +13,7 @@
 #include "data_gen/media2d/realization_tallies.h"
 #include "data_gen/media2d/reciprocity.h"
 #include "data_gen/media2d/tally.h"
+#include "weft/core/distinct.h"
 #include "weft/core/error.h"
 #include "weft/core/memory.h"
 #include "weft/dist/distributed.h"
@@ -76,6 +77,13 @@ void validate(const SimulationSpec& spec) {
   for (const double theta : spec.thetas_deg) {
     if (!std::isfinite(theta)) fail("sim2d: source angle theta must be finite, got {}", theta);
   }
+  // Each eta and angle is a case of its own: one given twice would be simulated again.
+  require_distinct("sim2d: eta", spec.etas);
+  require_distinct("sim2d: source angle theta", spec.thetas_deg);
+  if (spec.structure_realizations > spec.realizations) {
+    fail("sim2d: structure realizations must be <= the realizations per eta ({}), got {}", spec.realizations,
+         spec.structure_realizations);
+  }
   if (std::min(spec.structure_realizations, spec.realizations) > 0 && spec.structure_max_points < 16) {
     fail("sim2d: structure max points must be >= 16, got {}", spec.structure_max_points);
   }
@@ -104,6 +112,7 @@ void validate(const SimulationSpec& spec) {
         fail("sim2d: eta12 (correlation of the second medium with the first) must be in [0, 1], got {}", e);
       }
     }
+    require_distinct("sim2d: eta12", spec.eta12);
   }
 }
 

@@ -3,7 +3,7 @@
 #include <string>
 
 #include "common.h"
-#include "data_gen/cloth/voxelize.h"
+#include "weft/core/memory.h"
 #include "weft/volume/dense.h"
 #include "weft/volume/grid.h"
 #include "weft/volume/provenance.h"
@@ -30,9 +30,9 @@ vol::IndexBox to_box(const std::optional<Box>& box, const vol::Grid& grid) {
 
 py::array_t<float> to_numpy(const vol::Grid& grid, const std::optional<Box>& box, std::optional<double> max_memory_mb) {
   const vol::IndexBox b = to_box(box, grid);
-  const double limit_mb = max_memory_mb ? require_positive("to_numpy: max_memory_mb", *max_memory_mb)
-                                        : static_cast<double>(cloth::default_memory_budget()) / (1024.0 * 1024.0);
-  const auto limit = static_cast<std::uint64_t>(std::min(limit_mb * 1024.0 * 1024.0, 1.8e19));
+  // A given limit is finite and > 0, as `weft export --max-memory-mb` and `weft gen --max-memory`.
+  const std::uint64_t limit = memory_budget_bytes(
+      "to_numpy: max_memory_mb", max_memory_mb ? require_positive("to_numpy: max_memory_mb", *max_memory_mb) : 0.0);
   std::vector<float> values;
   {
     py::gil_scoped_release release;

@@ -1,5 +1,6 @@
 """Grids through Python: dense round trips, .vdb files, metadata, memory checks, bad input."""
 
+import math
 import os
 
 import numpy as np
@@ -73,6 +74,12 @@ def test_memory_check_refuses_before_allocating():
     with pytest.raises(weft.Error, match="limit"):
         g.to_numpy(((0, 0, 0), (99, 99, 99)), max_memory_mb=1.0)  # 3.8 MiB > 1 MiB
     assert g.to_numpy(((0, 0, 0), (99, 99, 99)), max_memory_mb=4.0).shape == (100, 100, 100)
+    # A limit is finite and > 0 (as `weft export --max-memory-mb`); a tiny one is 1 byte, never "no limit".
+    for bad in [0.0, -1.0, math.inf, math.nan]:
+        with pytest.raises(weft.Error, match="max_memory_mb must be finite and > 0"):
+            g.to_numpy(((0, 0, 0), (1, 1, 1)), max_memory_mb=bad)
+    with pytest.raises(weft.Error, match="over the limit of 1 byte"):
+        g.to_numpy(((0, 0, 0), (1, 1, 1)), max_memory_mb=1e-320)
 
 
 def test_provenance_of_generated_cloth(small_cloth, small_cloth_spec):

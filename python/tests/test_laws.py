@@ -100,6 +100,33 @@ def test_seeds_are_reproducible_and_differ():
     assert law.sample(0).shape == (0,)
 
 
+def test_sampler_choice_is_the_clis(run_cli, weft_bin):
+    # One rule (the registry) for weft.law(sampler=) and `weft model --sampler`: only gamma-path has a choice.
+    law = weft.law("gamma-path", k=2.0, theta=1.0, sampler="inversion")
+    out = run_cli("model", "--law", "gamma-path", "--k", "2", "--theta", "1", "--pair", "same",
+                  "--sampler", "inversion", "--sample", "200", "--seed", "5")
+    np.testing.assert_array_equal(law.sample(200, seed=5), np.array([float(v) for v in out.split()]))
+    for sampler in ["proportional", "inversion"]:
+        with pytest.raises(weft.Error, match="gamma law: no choice of sampler"):
+            weft.law("gamma", mean_extinction=2.0, alpha=2.0, sampler=sampler)
+    cli = subprocess.run([weft_bin, "model", "--law", "gamma", "--mean-extinction", "2", "--alpha", "2",
+                          "--sampler", "inversion", "--sample", "3"], capture_output=True, text=True)
+    assert cli.returncode == 2 and "gamma law: no choice of sampler" in cli.stderr
+    # p proportional to T (S.55-S.57) is the source law of the pair given as T_S, in both front ends.
+    gamma = weft.law("gamma", mean_extinction=2.0, alpha=2.0)
+    out = run_cli("model", "--law", "gamma", "--mean-extinction", "2", "--alpha", "2", "--given", "S",
+                  "--from", "source", "--sample", "100", "--seed", "4")
+    np.testing.assert_array_equal(weft.TransmittancePair.reciprocal(gamma, "scatterer").source.sample(100, seed=4),
+                                  np.array([float(v) for v in out.split()]))
+
+
+def test_subnormal_parameters_as_the_cli(run_cli):
+    law = weft.law("exponential", mu=1e-320)
+    out = run_cli("model", "--law", "exponential", "--mu", "1e-320", "--t", "1", "--json")
+    assert '"mu": 1e-320' in out or '"mu": 9.99988671826831e-321' in out
+    assert law.T(1.0) == 1.0
+
+
 @pytest.mark.parametrize("origin", ["source", "scatterer"])
 def test_samples_identical_to_cli(run_cli, origin):
     law = weft.law("gamma", alpha=0.5, mean_extinction=1.0)

@@ -80,6 +80,21 @@ grep -q '\"infinite\"' model_sample_json.out && test \"$(tail -n 1 model_sample_
 s=$(sed -n '/\"samples\": \\[/,/^  \\]/p' model_sample_json.out | sed '1d' | sed '$d' | tr -d ' ,' | \
 sed 's/\"infinite\"/inf/') && shift && t=$(\"$0\" model \"$@\") && test -n \"$t\" && test \"$s\" = \"$t\""
   --json --law gamma-mixture --weights 0.2,0.8 --alpha 1,3 --mean-extinction 0,5 --sample 300 --seed 4)
+# --sample 0 draws nothing, as Python's Law.sample(0): no table, an empty "samples" with --json.
+weft_model_output_test(sample_zero "test -z \"$(cat)\"" --law exponential --mu 1 --sample 0)
+weft_model_output_test(sample_zero_json
+  "grep -q '\"count\": 0' && grep -qF '\"samples\": []' model_sample_zero_json.out"
+  --law exponential --mu 1 --sample 0 --json)
+# The sampler chosen is recorded with the draws (the law's parameters and the sampled law's).
+weft_model_output_test(sampler_json
+  "test $(grep -c '\"sampler\": \"inversion\"') -eq 2 && grep -q '\"sampling\": \"inversion' model_sampler_json.out"
+  --law gamma-path --k 2 --theta 1 --pair same --sampler inversion --sample 2 --json)
+# Subnormal numbers are numbers (Python reads them too): mu = 1e-320 leaves T(1) = 1.
+weft_model_output_test(subnormal_mu "grep -E '^ +1 +1 +9.99988867[0-9]*e-321 '" --law exponential --mu 1e-320 --t 1)
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/model_subnormal.csv "t,T\n0,1\n1,1e-320\n")
+weft_model_output_test(subnormal_table "grep -E '^ +1 +9.99988867[0-9]*e-321 '"
+  --law tabulated --table ${CMAKE_CURRENT_BINARY_DIR}/model_subnormal.csv --t 1)
+
 weft_model_output_test(gamma_mixture_sample
   "awk '$1 == \"inf\" { n++ } END { exit !(NR == 4000 && n > 673 && n < 927) }'"
   --law gamma-mixture --weights 0.2,0.8 --alpha 1,3 --mean-extinction 0,5 --sample 4000 --seed 4)
@@ -93,8 +108,9 @@ weft_model_error_test(misspelt_law "did you mean .gamma." --law gamme --alpha 1 
 weft_model_error_test(incomplete_set "accepted set" --law gamma --alpha 1)
 weft_model_error_test(no_reciprocal "infinite mean free path" --law gamma --alpha 0.5 --mean-extinction 1 --given S)
 weft_model_error_test(no_reciprocal_k "p_Q(0) = +inf" --law gamma-path --k 0.5 --theta 1)
-weft_model_error_test(proportional_alpha "alpha > 1"
-  --law gamma --alpha 0.8 --mean-extinction 1 --sampler proportional --sample 3)
+# p proportional to T (S.55-S.57) is the source law of the pair given as T_S; for alpha <= 1, l_S = inf.
+weft_model_error_test(proportional_alpha "infinite mean free path"
+  --law gamma --alpha 0.8 --mean-extinction 1 --given S --from source --sample 3)
 weft_model_error_test(missing_table "cannot open" --law tabulated --table /nonexistent/weft-table.csv)
 weft_model_error_test(negative_t "distances must be >= 0" --t 1,-2)
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/model_rising.csv "t,T\n0,1\n1,0.5\n2,0.8\n")

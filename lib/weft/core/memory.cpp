@@ -4,8 +4,12 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 #include <fmt/format.h>
+
+#include "weft/core/error.h"
 
 namespace weft {
 
@@ -20,7 +24,18 @@ std::uint64_t default_memory_budget() {
   return usable / 2U;
 }
 
+std::uint64_t memory_budget_bytes(const char* what, double mib) {
+  require_non_negative(what, mib);
+  if (mib == 0.0) return default_memory_budget();
+  // 2^64 as a double: anything at or above it saturates (the cast would be undefined).
+  constexpr double kTwo64 = 18446744073709551616.0;
+  const double bytes = std::ceil(mib * 1024.0 * 1024.0);
+  if (bytes >= kTwo64) return std::numeric_limits<std::uint64_t>::max();
+  return std::max<std::uint64_t>(1U, static_cast<std::uint64_t>(bytes));
+}
+
 std::string format_bytes(std::uint64_t bytes) {
+  if (bytes == 1U) return "1 byte";
   if (bytes < 1024U) return fmt::format("{} bytes", bytes);
   const double kib = static_cast<double>(bytes) / 1024.0;
   if (kib < 1024.0) return fmt::format("{:.1f} KiB", kib);

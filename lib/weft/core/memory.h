@@ -13,6 +13,13 @@ namespace weft {
 /// smaller, since an allocation past the limit fails however much RAM there is.
 std::uint64_t default_memory_budget();
 
+/// @brief A memory limit given in MiB (`--max-memory`, `export --max-memory-mb`, Python's
+/// `max_memory_mb=`) in bytes: 0 is default_memory_budget(); any other limit is rounded up, so a
+/// tiny one stays a limit (1 byte) instead of reading as 0, the guards' "default", and saturates
+/// at 2^64 - 1. Throws weft::Error (naming `what`) for a NaN, infinite or negative `mib`: the
+/// front ends refuse those first, as usage errors.
+std::uint64_t memory_budget_bytes(const char* what, double mib);
+
 /// A byte count for a message, in the unit that keeps it readable ("812 bytes", "3.4 KiB",
 /// "27.1 MiB", "2.05 GiB"); a small budget never reads as "0.0 MiB".
 std::string format_bytes(std::uint64_t bytes);

@@ -240,6 +240,10 @@ double GammaPath::sample(Pcg32& rng) const {
   return sampler_ == GammaSampler::inversion ? sample_inversion(rng) : sample_marsaglia_tsang(rng);
 }
 
+std::string GammaPath::sampler_choice() const {
+  return sampler_ == GammaSampler::marsaglia_tsang ? std::string() : to_string(sampler_);
+}
+
 std::string GammaPath::sampling_method() const {
   return sampler_ == GammaSampler::inversion ? "inversion: theta*gamma_q_inv(k, u) (Boost.Math)"
                                              : "rejection: Marsaglia-Tsang 2000 (k < 1: G(k+1)*u^(1/k))";

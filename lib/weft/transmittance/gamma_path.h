@@ -44,6 +44,7 @@ class GammaPath final : public Law {
   [[nodiscard]] double hazard(double t) const override;
   [[nodiscard]] double sample(Pcg32& rng) const override;
   [[nodiscard]] std::string sampling_method() const override;
+  [[nodiscard]] std::string sampler_choice() const override;
   /// kθ (k/λ when built from a rate); +∞ where it overflows.
   [[nodiscard]] double mean_free_path() const override;
   [[nodiscard]] std::unique_ptr<Law> clone() const override { return std::make_unique<GammaPath>(*this); }

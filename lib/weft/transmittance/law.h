@@ -50,6 +50,9 @@ class Law {
   [[nodiscard]] virtual double sample(Pcg32& rng) const = 0;
   /// How `sample` works, for reports ("inversion", "Marsaglia-Tsang", ...).
   [[nodiscard]] virtual std::string sampling_method() const = 0;
+  /// The sampler chosen where the law offers several (LawSpec::sampler: gamma-path's
+  /// "inversion"); empty for the default one, so spec_of round-trips the choice.
+  [[nodiscard]] virtual std::string sampler_choice() const { return {}; }
 
   /// ℓ = ∫₀^∞ T(t) dt; +∞ when the integral diverges.
   [[nodiscard]] virtual double mean_free_path() const = 0;

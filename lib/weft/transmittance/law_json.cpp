@@ -32,6 +32,7 @@ LawSpec spec_of(const Law& law) {
   LawSpec spec;
   spec.name = law.name();
   for (const auto& p : law.parameters()) spec.params[p.name] = p.value;
+  spec.sampler = law.sampler_choice();
   return spec;
 }
 

@@ -23,7 +23,7 @@ namespace weft::transmittance {
 /// The spec as JSON (name, parameters, table and sampler when set).
 [[nodiscard]] nlohmann::json law_to_json(const LawSpec& spec);
 
-/// The spec that rebuilds `law` through make_law: its name and parameters().
+/// The spec that rebuilds `law` through make_law: its name, parameters() and sampler_choice().
 [[nodiscard]] LawSpec spec_of(const Law& law);
 
 /// Reads a law (a name, or an object as above); throws weft::Error naming `where` and the key.

@@ -1,15 +1,16 @@
 #include "weft/transmittance/tabulated.h"
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include "weft/core/error.h"
 #include "weft/core/file_kind.h"
+#include "weft/core/parse_number.h"
 #include "weft/transmittance/overflow.h"
 
 namespace weft::transmittance {
@@ -78,30 +79,25 @@ Tabulated Tabulated::from_csv(const std::string& path) {
     ++line_number;
     const auto first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos || line[first] == '#') continue;
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::istringstream fields(line);
+    std::string spaced = line;  // the line as written stays for the messages
+    std::replace(spaced.begin(), spaced.end(), ',', ' ');
+    std::istringstream fields(spaced);
     std::string a;
     std::string b;
     std::string extra;
     fields >> a >> b;
-    auto parse = [&](const std::string& text, double& out) {
-      if (text.empty()) return false;
-      errno = 0;
-      char* end = nullptr;
-      out = std::strtod(text.c_str(), &end);
-      return end == text.c_str() + text.size() && errno != ERANGE;
-    };
-    double tv = 0.0;
-    double vv = 0.0;
-    const bool ok = parse(a, tv) && parse(b, vv);
-    if (!ok) {
+    // parse_number: locale-free, subnormals (1e-320) are numbers, a value past double's range is not.
+    const std::optional<double> tv = parse_number(a);
+    const std::optional<double> vv = parse_number(b);
+    if (!tv || !vv) {
       if (!seen_data && line_number == 1) continue;  // header row
+      if (!line.empty() && line.back() == '\r') line.pop_back();
       fail("tabulated law: {}:{}: expected two numbers 't,T', got '{}'", path, line_number, line);
     }
     if (fields >> extra) fail("tabulated law: {}:{}: expected two columns 't,T', got more", path, line_number);
     seen_data = true;
-    t.push_back(tv);
-    value.push_back(vv);
+    t.push_back(*tv);
+    value.push_back(*vv);
   }
   if (t.empty()) fail("tabulated law: table file '{}' has no samples", path);
   return {std::move(t), std::move(value), path};

@@ -6,6 +6,7 @@
 #include <openvdb/tools/Dense.h>
 
 #include "weft/core/error.h"
+#include "weft/core/memory.h"
 #include "weft/volume/grid_openvdb.h"
 
 namespace weft::volume {
@@ -45,9 +46,9 @@ std::vector<float> to_dense(const Grid& grid, const IndexBox& box, std::uint64_t
   const std::uint64_t bytes = dense_bytes(box);
   if (bytes > max_bytes) {
     const auto e = box.extent();
-    fail("dense copy: box ({}, {}, {})..({}, {}, {}) is {}x{}x{} voxels = {:.4g} MiB, over the limit of {:.4g} MiB",
-         box.min[0], box.min[1], box.min[2], box.max[0], box.max[1], box.max[2], e[0], e[1], e[2],
-         static_cast<double>(bytes) / (1024.0 * 1024.0), static_cast<double>(max_bytes) / (1024.0 * 1024.0));
+    fail("dense copy: box ({}, {}, {})..({}, {}, {}) is {}x{}x{} voxels = {:.4g} MiB, over the limit of {}", box.min[0],
+         box.min[1], box.min[2], box.max[0], box.max[1], box.max[2], e[0], e[1], e[2],
+         static_cast<double>(bytes) / (1024.0 * 1024.0), format_bytes(max_bytes));
   }
   std::vector<float> values(bytes / sizeof(float));
   copy_to_dense(grid, box, values.data());

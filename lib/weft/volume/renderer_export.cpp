@@ -14,6 +14,7 @@
 
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
+#include "weft/core/memory.h"
 #include "weft/volume/dense.h"
 #include "weft/volume/grid_openvdb.h"
 
@@ -106,14 +107,18 @@ void append_bytes(std::vector<char>& out, const void* p, std::size_t n) {
 
 }  // namespace
 
-void write_mitsuba_vol(const Grid& grid, const IndexBox& box, const fs::path& path, std::uint64_t max_bytes) {
-  const WorldBox w = world_box(grid, box);
+void check_mitsuba_vol(const IndexBox& box, const fs::path& path, std::uint64_t max_bytes) {
   const std::uint64_t bytes = dense_bytes(box);
   if (bytes > max_bytes) {
-    fail("{}: the dense volume of {} voxels would take {:.4g} MiB, over the limit of {:.4g} MiB", path.string(),
-         bytes / sizeof(float), static_cast<double>(bytes) / (1024.0 * 1024.0),
-         static_cast<double>(max_bytes) / (1024.0 * 1024.0));
+    fail("{}: the dense volume of {} voxels would take {}, over the limit of {}", path.string(), bytes / sizeof(float),
+         format_bytes(bytes), format_bytes(max_bytes));
   }
+}
+
+void write_mitsuba_vol(const Grid& grid, const IndexBox& box, const fs::path& path, std::uint64_t max_bytes) {
+  const WorldBox w = world_box(grid, box);
+  check_mitsuba_vol(box, path, max_bytes);
+  const std::uint64_t bytes = dense_bytes(box);
   const auto e = box.extent();
   for (const auto n : e) {
     if (n > std::numeric_limits<std::int32_t>::max())

@@ -37,9 +37,13 @@ struct WorldBox {
 };
 [[nodiscard]] WorldBox world_box(const Grid& grid, const IndexBox& box);
 
+/// @brief Refuses (weft::Error naming `path`) a dense volume of `box` above `max_bytes`: what
+/// write_mitsuba_vol checks, for a front end to call before it writes any file.
+void check_mitsuba_vol(const IndexBox& box, const std::filesystem::path& path, std::uint64_t max_bytes);
+
 /// @brief Mitsuba's binary grid volume ("VOL", version 3, encoding 1 = float32, one channel;
 /// little endian): resolution, world bounding box, then values with x fastest. Covers `box`;
-/// refuses (weft::Error) a dense array above `max_bytes`. Written atomically.
+/// refuses a dense array above `max_bytes` (check_mitsuba_vol). Written atomically.
 void write_mitsuba_vol(const Grid& grid, const IndexBox& box, const std::filesystem::path& path,
                        std::uint64_t max_bytes);
 

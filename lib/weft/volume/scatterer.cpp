@@ -34,7 +34,8 @@ struct ScattererPlan {
 
 ScattererPlan plan_of(const Grid& grid, const ScattererSpec& spec) {
   require_positive("scatterer rays: scale (sigma)", spec.scale);
-  if (spec.rays < 2) fail("scatterer rays: need at least 2 rays, got {}", spec.rays);
+  if (spec.rays < kMinScattererRays)
+    fail("scatterer rays: need at least {} rays, got {}", kMinScattererRays, spec.rays);
   if (grid.active_voxel_count() == 0) fail("scatterer rays: grid '{}' has no active voxels", grid.name());
   ScattererPlan p;
   if (spec.fixed_direction) p.fixed = unit_direction(spec.direction, "scatterer rays");

@@ -17,9 +17,12 @@ namespace weft::volume {
 /// S rays start at points drawn ∝ value inside the box, Q rays at points drawn uniformly in
 /// the box; both in uniformly random directions (or `direction` when set). Reciprocity predicts
 /// p_Q(t) = T_S(t)/ℓ_S = μ̄·T_S(t) with μ̄ the mean extinction at Q origins (= p_Q(0)).
+/// The fewest rays of each kind a request may give: the standard errors need two.
+inline constexpr std::uint64_t kMinScattererRays = 2;
+
 struct ScattererSpec {
   double scale = 1.0;
-  std::uint64_t rays = 100000;
+  std::uint64_t rays = 100000;  ///< of each kind, >= kMinScattererRays
   std::uint64_t seed = 1;
   bool fixed_direction = false;
   std::array<double, 3> direction{0.0, 0.0, 1.0};

@@ -20,6 +20,15 @@ TEST(ParseNumber, ReadsWholeNumbers) {
   EXPECT_TRUE(std::isnan(*parse_number("nan")));
 }
 
+TEST(ParseNumber, SubnormalsAreNumbers) {
+  // strtod sets ERANGE for them; they are doubles all the same (Python's float() reads them too).
+  EXPECT_EQ(parse_number("1e-320"), 1e-320);
+  EXPECT_EQ(parse_number("-4.9e-324"), -std::numeric_limits<double>::denorm_min());
+  // Past double's range either way is not a number: 1e-400 would silently read as 0.
+  EXPECT_FALSE(parse_number("1e-400").has_value());
+  EXPECT_FALSE(parse_number("1e400").has_value());
+}
+
 TEST(ParseNumber, RefusesAnythingAroundTheNumber) {
   for (const char* bad : {"", " 1", "1 ", "1mm", "0x", "--1", "+-1", "+", "1,5", "one", "1e", "1e999"})
     EXPECT_FALSE(parse_number(bad).has_value()) << "'" << bad << "'";

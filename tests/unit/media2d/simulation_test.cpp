@@ -246,5 +246,31 @@ TEST(Sim2d, RejectsBadSpecs) {
   EXPECT_THROW(validate(s), Error);
 }
 
+TEST(Sim2d, RefusesACaseGivenTwiceAndStructureBeyondTheRealizations) {
+  const auto message = [](const SimulationSpec& s) {
+    try {
+      validate(s);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(message(small_spec({0.0, 0.5})), "");
+  EXPECT_EQ(message(small_spec({0.0, 0.5, 0.0})), "sim2d: eta: 0 is given twice");
+  SimulationSpec s = small_spec({0.0});
+  s.thetas_deg = {30.0, 0.0, 30.0};
+  EXPECT_EQ(message(s), "sim2d: source angle theta: 30 is given twice");
+  s = small_spec({0.0});
+  s.boundary = true;
+  s.boundary_t = 2.0;
+  s.eta12 = {0.5, 0.5};
+  EXPECT_EQ(message(s), "sim2d: eta12: 0.5 is given twice");
+  s = small_spec({0.0});
+  s.structure_realizations = s.realizations;
+  EXPECT_EQ(message(s), "");
+  s.structure_realizations = s.realizations + 1;
+  EXPECT_EQ(message(s), "sim2d: structure realizations must be <= the realizations per eta (12), got 13");
+}
+
 }  // namespace
 }  // namespace weft::media2d

@@ -35,6 +35,17 @@ TEST(LawJson, RoundTripRebuildsTheSameLaw) {
   }
 }
 
+TEST(LawJson, TheSamplerChoiceSurvivesTheRoundTrip) {
+  // spec_of records a non-default sampler (what `weft model --json` prints), not the default one.
+  const LawPtr inversion = make_law({"gamma-path", {{"k", 2.5}, {"theta", 0.4}}, "", "inversion"});
+  EXPECT_EQ(law_to_json(spec_of(*inversion)).value("sampler", ""), "inversion");
+  const LawPtr back = make_law(law_from_json(law_to_json(spec_of(*inversion)), "test"));
+  EXPECT_EQ(back->sampling_method(), inversion->sampling_method());
+  const LawPtr fallback = make_law({"gamma-path", {{"k", 2.5}, {"theta", 0.4}}, "", ""});
+  EXPECT_FALSE(law_to_json(spec_of(*fallback)).contains("sampler"));
+  EXPECT_NE(fallback->sampling_method(), inversion->sampling_method());
+}
+
 TEST(LawJson, InfinityIsTheStringInf) {
   EXPECT_EQ(parameter_to_json(inf, "w", "alpha"), json("inf"));
   LawSpec spec{"gamma", {{"mean_extinction", 2.0}, {"alpha", inf}}, "", ""};

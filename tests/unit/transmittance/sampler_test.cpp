@@ -17,6 +17,7 @@
 #include "weft/transmittance/gamma_concentration.h"
 #include "weft/transmittance/gamma_path.h"
 #include "weft/transmittance/linear.h"
+#include "weft/transmittance/pair.h"
 #include "weft/transmittance/tabulated.h"
 
 namespace weft::transmittance {
@@ -132,6 +133,22 @@ TEST(GammaLaw, ProportionalToTransmittanceSamplingMatchesItsCdf) {
     const auto samples = draw([&](Pcg32& rng) { return law.sample_proportional_to_transmittance(rng); }, 55);
     const double d = ks_statistic(samples, [&](double t) { return law.cdf_proportional_to_transmittance(t); });
     EXPECT_LT(d, ks_critical_value(kSamples)) << "alpha = " << alpha;
+  }
+}
+
+TEST(GammaLaw, ProportionalToTransmittanceIsTheSourceLawOfThePairGivenAsScatterer) {
+  // p ∝ T (S.55-S.57) is p_Q = T_S/l_S of the reciprocal pair given as T_S, which `weft model
+  // --given S --from source` and Python's TransmittancePair.reciprocal(law, 'scatterer') draw:
+  // the same draws from the same stream, up to rounding of the partner's parameters.
+  for (double alpha : {1.5, 2.0, 7.0}) {
+    const auto law = std::make_shared<GammaConcentration>(2.0, alpha);
+    const TransmittancePair pair = TransmittancePair::reciprocal(law, Origin::scatterer);
+    Pcg32 a = stream_for(11, 0);
+    Pcg32 b = stream_for(11, 0);
+    for (int i = 0; i < 1000; ++i) {
+      const double direct = law->sample_proportional_to_transmittance(a);
+      EXPECT_NEAR(pair.sample(Origin::source, b), direct, 1e-12 * direct) << "alpha = " << alpha;
+    }
   }
 }
 
