@@ -187,6 +187,9 @@ inline PyLaw py_law(const transmittance::LawPtr& law) { return std::const_pointe
 /// weft.Warning, the category of every warning the module raises (a UserWarning subclass; made
 /// by the module's init).
 PyObject* warning_category();
+/// Raises each line as a weft.Warning prefixed by `call` ("weft.render: ..."); an error when
+/// warnings are errors (warnings.simplefilter("error")).
+void warn_all(const char* call, const std::vector<std::string>& warnings);
 
 /// Whether `value` is a number: Python's and NumPy's alike (numbers.Real, where NumPy registers its
 /// scalars: np.float32(0.5) and np.int64(1) are numbers as 0.5 and 1 are), never a bool.

@@ -66,6 +66,12 @@ PyObject* warning_category() {
   return category;
 }
 
+void warn_all(const char* call, const std::vector<std::string>& warnings) {
+  for (const std::string& w : warnings) {
+    if (PyErr_WarnEx(warning_category(), fmt::format("{}: {}", call, w).c_str(), 2) != 0) throw py::error_already_set();
+  }
+}
+
 }  // namespace weft::python
 
 PYBIND11_MODULE(_weft, m) {

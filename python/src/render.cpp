@@ -49,12 +49,6 @@ rd::Image image_of_array(const ImageArray& a, const char* what) {
   return image;
 }
 
-void warn_all(const std::vector<std::string>& warnings) {
-  for (const std::string& w : warnings) {
-    if (PyErr_WarnEx(warning_category(), ("weft.render: " + w).c_str(), 2) != 0) throw py::error_already_set();
-  }
-}
-
 }  // namespace
 
 rd::SceneDesc scene_of(const std::string& kind, const std::string& text, const std::string& base_dir) {
@@ -80,7 +74,7 @@ void init_render(py::module_& m) {
         // The CLI's scene warnings (render/scene_checks.h), as weft.Warning (an error under
         // warnings.simplefilter("error")): the description's before the world is built, the
         // world's after.
-        warn_all(rd::scene_warnings(scene));
+        warn_all("weft.render", rd::scene_warnings(scene));
         rd::RenderOptions options;
         if (spp) {
           if (*spp < 1) fail("render: spp must be >= 1, got {}", *spp);
@@ -92,7 +86,7 @@ void init_render(py::module_& m) {
         // Progress and Ctrl-C come per unit of the render, which render() keeps short at any spp
         // (render/tiling.h, Tiling::kMaxUnitSamples).
         const rd::World world = run_released(progress, [&](ProgressSink&) { return rd::build_world(scene); });
-        warn_all(rd::world_warnings(world));
+        warn_all("weft.render", rd::world_warnings(world));
         auto result = run_released(progress, [&](ProgressSink& p) { return rd::render(world, options, p); });
         py::array_t<float> image = image_array(result.image, result.image.rgb);
         if (!stats) return image;
