@@ -154,6 +154,8 @@ const Registrar kFit{Command{
         }
         const auto& measured = beams.axis;
         const fit::StatisticsScale scale = fit::resolve_scale(o->window, grid, loaded.provenance, ctx.progress);
+        const fit::ScaleUse scale_used = fit::scale_use(scale, grid, false);
+        for (const auto& note : scale_used.notes) ctx.warn(note);
 
         std::array<fit::ConcentrationStats, 3> stats;
         for (int a = 0; a < 3; ++a)
@@ -200,7 +202,11 @@ const Registrar kFit{Command{
                        {"values", o->input.values},
                        {"sigma", sigma},
                        {"sigma_source", loaded.sigma.source},
-                       {"window", {{"rule", scale.rule}, {"source", scale.source}, {"length", scale.length}}},
+                       {"window",
+                        {{"rule", scale.rule},
+                         {"source", scale.source},
+                         {"length", scale.length},
+                         {"length_used", scale_used.length}}},
                        {"axes", axes},
                        {"isotropic", {{"mean", iso.mean}, {"variance", iso.variance}, {"fit", fit_json(iso_fit)}}}};
         if (!o->beams.empty()) report["beams_not_fitted"] = not_fitted;

@@ -190,6 +190,8 @@ const Registrar kValidate{Command{
         const fit::StatisticsScale scale = fit::resolve_scale(o->window, grid, provenance, ctx.progress);
         timings["scale"] = seconds_since(t0);
         spec.scale = scale.length;
+        const fit::ScaleUse scale_used = fit::scale_use(scale, grid, spec.predictive_models);
+        for (const auto& note : scale_used.notes) ctx.warn(note);
         const fit::Validation v = fit::validate(grid, spec, ctx.progress);
         std::optional<FibreCheck> fibre_check;  // before any output: a grid without its fibres writes nothing
         if (o->fibres)
@@ -211,7 +213,10 @@ const Registrar kValidate{Command{
         report["units"] = fmt::format("lengths in {}; sigma in 1/{}", units, units);
         report["input"] = input;
         report["sigma_source"] = sigma.source;
-        report["window"] = {{"rule", scale.rule}, {"source", scale.source}, {"length", scale.length}};
+        report["window"] = {{"rule", scale.rule},
+                            {"source", scale.source},
+                            {"length", scale.length},
+                            {"length_used", scale_used.length}};
         report["window_meaning"] =
             "scale L of every predictive model: window of the window statistics (all positions along every column, "
             "stride one voxel), cell of the across-beam groups and block of the local fields";

@@ -296,6 +296,8 @@ void init_measure(py::module_& m) {
           spec.scale = scale.length;
           return fit::validate(grid, spec, p);
         });
+        const fit::ScaleUse used = fit::scale_use(scale, grid, spec.predictive_models, FrontEnd::python);
+        warn_all(used.notes, "weft.validate");
         py::list curves;
         for (const fit::AxisValidation& a : v.axes) {
           py::dict c;
@@ -315,6 +317,7 @@ void init_measure(py::module_& m) {
         window_info["rule"] = scale.rule;
         window_info["source"] = scale.source;
         window_info["length"] = py::make_tuple(scale.length[0], scale.length[1], scale.length[2]);
+        window_info["length_used"] = py::make_tuple(used.length[0], used.length[1], used.length[2]);
         return py::make_tuple(fit::validation_json(v), curves, sigma_source, window_info);
       },
       py::arg("grid"), py::kw_only(), py::arg("sigma") = py::none(), py::arg("window") = "yarn",

@@ -179,6 +179,42 @@ def test_none_and_str_are_refused_before_pybind11_reads_them(name, parameter, ba
         call_with(name, parameter, bad, tmp_path, True)
 
 
+# pybind11's array caster (forcecast) converts any NumPy array or sequence: a complex kept its real
+# part (with only NumPy's ComplexWarning), a str array was parsed, a bool read as 0 or 1.
+NOT_REAL = [np.array([1 + 5j]), np.array(["1.5"]), np.array([b"1"]), np.array([True]), np.array([0.5], object),
+            np.array(["2020-01-01"], "datetime64[D]"), np.array([1], "timedelta64[s]"),
+            np.zeros(1, [("a", "f8")]), np.complex64(1), np.bool_(True), True, 1 + 5j, [True, 0.5], [[0.5], [1j]]]
+NOT_REAL_IDS = ["complex", "str", "bytes", "bool", "object", "datetime", "timedelta", "void", "np.complex64",
+                "np.bool_", "True", "1+5j", "list-bool", "nested-complex"]
+
+
+@pytest.mark.parametrize("name, parameter", typed("numpy.ndarray"))
+@pytest.mark.parametrize("bad", NOT_REAL, ids=NOT_REAL_IDS)
+def test_arrays_refuse_what_is_not_a_real_number(name, parameter, bad, tmp_path):
+    with pytest.raises(weft.ArgumentTypeError, match="^%s: %s must be an array .* of numbers, got " % (
+            re.escape(name), parameter)):
+        call_with(name, parameter, bad, tmp_path, True)
+
+
+@pytest.mark.parametrize("keyword", [False, True], ids=["positional", "keyword"])
+@pytest.mark.parametrize("name, parameter", typed("float") + typed("int"))
+@pytest.mark.parametrize("bad", [True, np.bool_(False), np.complex128(1)], ids=["True", "np.bool_", "np.complex128"])
+def test_a_bool_or_a_complex_is_not_a_number(name, parameter, bad, keyword, tmp_path):
+    with pytest.raises(weft.ArgumentTypeError, match="^%s: %s must be " % (re.escape(name), parameter)):
+        call_with(name, parameter, bad, tmp_path, keyword)
+
+
+def test_real_arrays_of_every_width_are_taken():
+    law = weft.law("gamma", mean_extinction=2, alpha=0.5)
+    expected = law.T(np.array([0.0, 1.0, 2.0]))
+    for dtype in (np.float16, np.float32, np.int8, np.int64, np.uint8, np.uint64):
+        assert np.array_equal(law.T(np.array([0, 1, 2], dtype)), expected), dtype
+    assert np.array_equal(law.T([0, 1.0, np.float32(2)]), expected)
+    for dtype in (np.float64, np.int16, np.uint16):
+        grid = weft.Grid.from_numpy(np.ones((2, 3, 4), dtype), voxel_size=0.1)
+        assert grid.active_voxel_count == 24, dtype
+
+
 @pytest.mark.parametrize("call", [
     lambda: weft.measure_beam(GRID, seed=-1),
     lambda: weft.measure_beam(GRID, "x", seed=-1, sigma=1),

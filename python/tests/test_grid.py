@@ -124,6 +124,22 @@ def test_the_smallest_voxel_openvdb_represents_is_accepted_and_named():
         weft.Grid.from_numpy(np.ones((2, 2, 2)), voxel_size=1.4e-5)
 
 
+def test_an_origin_openvdb_cannot_copy_is_refused_when_the_grid_is_made(tmp_path):
+    # OpenVDB recomputes h = (t + h) - t on every copy and write (t = origin + h/2): 0 from
+    # |t| = 2^54 h on, where origin 1e20 made save fail ("Non-zero scale values required").
+    values = np.ones((6, 5, 4), np.float32) * 0.3
+    for origin in (2.0**52 * 0.1, -(2.0**52) * 0.1, 1e15):
+        g = weft.Grid.from_numpy(values, voxel_size=0.1, origin=[origin, 0, 0])
+        g.save(tmp_path / "f.vdb")
+        back = weft.load_grid(tmp_path / "f.vdb")
+        assert back.voxel_size == 0.1 and back.origin == g.origin
+        # OpenVDB's own copy would have voxels of 0.125 at 1e15: weft's keep the grid's
+        assert weft.extinction_grid(g, sigma=2.0).voxel_size == 0.1
+    for origin in (2.0**54 * 0.1, 1e20):
+        with pytest.raises(weft.Error, match=r"^grid 'density': origin \(.*\) is too far from 0 for voxels of 0.1: "):
+            weft.Grid.from_numpy(values, voxel_size=0.1, origin=[origin, 0, 0])
+
+
 def _write(folder, name, data):
     path = os.path.join(folder, name)
     with open(path, "wb") as f:

@@ -200,6 +200,10 @@ def test_fit_bad_input():
         weft.gamma_from_moments(-1.0, 0.1, 1.0)
     with pytest.raises(weft.Error):
         weft.gamma_from_moments(0.5, 0.1, np.nan)
+    # concentrations are >= 0: a zero mean holds no variance (it was dropped, giving T = 1)
+    with pytest.raises(weft.Error, match="mean concentration 0 with variance 0.1 is impossible"):
+        weft.gamma_from_moments(0.0, 0.1, 10)
+    assert weft.gamma_from_moments(0.0, 0.0, 10).alpha == np.inf
     with pytest.raises(TypeError):
         weft.window_stats("grid", "x")
     c = weft.measure_beam(g, "x", sigma=1)
@@ -239,6 +243,22 @@ def test_validate_refuses_a_grid_without_sigma():
         for name, err in axis["errors"].items():
             if name != "least-squares":
                 assert err["rms_abs_T"] < 1e-9, name
+
+
+def test_validate_says_when_the_window_cannot_be_measured_or_is_clamped():
+    uniform = weft.Grid.from_numpy(np.full((4, 4, 4), 0.3, np.float32), voxel_size=0.1)
+    plate = weft.Grid.from_numpy(np.full((1, 10, 10), 0.3, np.float32), voxel_size=0.1)
+    for g in (uniform, plate):
+        with pytest.raises(weft.Error, match=r"^yarn scale: cannot be measured on grid 'density': its "
+                                             r"concentration is uniform .*: pass window=LENGTH"):
+            weft.validate(g, sigma=2, window="yarn-measured")
+    g, _ = random_grid()
+    with pytest.warns(weft.Warning, match="window=1e-09 is shorter than half a voxel") as caught:
+        report = weft.validate(g, sigma=2, window=1e-9, axes="x")
+    assert any("reproduce the ground truth" in str(w.message) for w in caught)
+    h = g.voxel_size
+    assert report["window"]["length"] == (1e-9,) * 3 and report["window"]["length_used"] == (h, h, h)
+    assert report["axes"][0]["stats"]["window"] == h
 
 
 def test_validate_does_not_depend_on_where_the_array_starts():

@@ -9,9 +9,13 @@ from the call's signature (pybind11's, parsed from the docstring) and raised aga
 ``ArgumentTypeError``, a ``weft.Error`` that is also a ``TypeError`` (``except TypeError`` keeps
 working), or as a ``weft.Error`` for an integer out of its C++ type's range; both name the call
 and the argument. An exception raised by Python code the call ran (a progress callback's own
-error) passes unchanged. pybind11 lets two values through without a word, so they are checked
-before the call: None where a bool or an array is taken (it reads as False or NaN), and a str
-where an array is taken ("1.5" reads as a number).
+error) passes unchanged. pybind11 lets some values through without a word, so they are checked
+before the call: None where a bool or an array is taken (it reads as False or NaN), a str where
+an array is taken ("1.5" reads as a number), a bool where a number, an integer or an array is
+taken (it reads as 1), and, where an array is taken, a complex number or a NumPy array or scalar
+whose dtype is not a real number (kinds b, c, U, S, O, V, M, m: the array caster's forcecast
+keeps a complex's real part, parses a str array, reads a bool as 0 or 1); real kinds (f, i, u)
+are taken.
 """
 
 import ast as _ast
@@ -19,6 +23,8 @@ import functools as _functools
 import inspect as _inspect
 import numbers as _numbers
 import re as _re
+
+import numpy as _numpy
 
 from ._weft import Error
 
@@ -35,6 +41,9 @@ ArgumentTypeError.__module__ = "weft"
 _INCOMPATIBLE = ("incompatible function arguments", "incompatible constructor arguments")
 _INT_MAX = 2**31 - 1  # the narrowest C++ integer a binding takes (int); anything above may be refused
 _INT64_MIN = -(2**63)
+_REAL_KINDS = "fiu"  # NumPy dtype kinds that are real numbers: float, signed and unsigned integer
+# Parameter types whose values are checked before the call (the values pybind11 would misread).
+_PRECHECKED = _re.compile(r"\b(bool|int|float|numpy\.ndarray)\b")
 
 
 # ---- pybind11 signatures ---------------------------------------------------------------------
@@ -186,7 +195,7 @@ def _fits(annotation, value):
     if value is None:
         return head == "None"
     if head == "int":
-        if isinstance(value, float):
+        if isinstance(value, (float, bool, _numpy.bool_)):
             return False
         try:
             value.__index__()
@@ -194,8 +203,10 @@ def _fits(annotation, value):
             return False
         return True
     if head == "float":
-        if isinstance(value, (str, bytes, bytearray)):
+        if isinstance(value, (str, bytes, bytearray, bool)):
             return False
+        if isinstance(value, _numpy.generic) and value.dtype.kind not in _REAL_KINDS:
+            return False  # np.bool_, np.complex128 (float() would keep its real part)
         try:
             float(value)
         except (TypeError, ValueError, OverflowError):
@@ -206,11 +217,10 @@ def _fits(annotation, value):
     if head == "str":
         return isinstance(value, (str, bytes))
     if head == "numpy.ndarray":
-        if isinstance(value, (str, bytes)):
-            return False
-        import numpy
+        if isinstance(value, (str, bytes)) or isinstance(value, (list, tuple)) and _odd(value):
+            return False  # NumPy would read [True, 0.5] as floats
         try:
-            return numpy.asarray(value).dtype.kind in "biuf"
+            return _numpy.asarray(value).dtype.kind in _REAL_KINDS
         except (TypeError, ValueError):
             return False
     if head == "Set":
@@ -249,9 +259,11 @@ def _int_out_of_range(annotation, value):
 
 
 def _shown(value):
-    if value is None or isinstance(value, (bool, int, float, str, bytes)):
+    if value is None or isinstance(value, (bool, int, float, complex, str, bytes)):
         text = repr(value)
         return "%s %s" % (type(value).__name__, text if len(text) <= 40 else text[:37] + "...")
+    if isinstance(value, _numpy.ndarray):
+        return "ndarray of %s" % value.dtype
     return type(value).__name__
 
 
@@ -312,16 +324,50 @@ def _one_line(call, message):
     return line if named else "%s: %s" % (call, line)
 
 
+# Values that may be odd (_odd); anything else is not, which is all a plain number costs.
+_SUSPECT = (str, bytes, bool, complex, list, tuple, _numpy.ndarray, _numpy.generic)
+# Per type, whether its values may be odd: one dict lookup per argument (a float, an int, a weft
+# object), cheaper than isinstance against the eight types above.
+_SUSPECT_TYPES = {type(None): True}
+
+
+def _suspect_type(t):
+    suspect = _SUSPECT_TYPES[t] = issubclass(t, _SUSPECT)
+    return suspect
+
+
+def _odd(v):
+    """Whether ``v`` is a value pybind11 may take where it should not (the module's docstring):
+    None, a str or bytes, a bool, a complex, a NumPy array or scalar of a kind that is not a real
+    number, or a list or tuple holding any of these (at any depth)."""
+    if type(v) is _numpy.ndarray:
+        return v.dtype.kind not in _REAL_KINDS
+    if v is None:
+        return True
+    if not isinstance(v, _SUSPECT):
+        return False
+    if isinstance(v, (_numpy.ndarray, _numpy.generic)):
+        return v.dtype.kind not in _REAL_KINDS
+    if isinstance(v, (list, tuple)):
+        for item in v:
+            suspect = _SUSPECT_TYPES.get(type(item))
+            if (_suspect_type(type(item)) if suspect is None else suspect) and _odd(item):
+                return True
+        return False
+    return True  # str, bytes, bool, complex
+
+
 def _holds_odd(args, kwargs):
-    """Whether an argument is None, a str or bytes, the values pybind11 lets through where a bool
-    or an array is taken (the module's docstring). A plain loop, not a generator: it runs on every
-    call of such a binding, and the generator doubled the cost of a scalar ``Law.T``."""
+    """Whether an argument is _odd. Plain loops, not generators, and a type lookup before _odd: it
+    runs on every call of such a binding (a generator doubled the cost of a scalar ``Law.T``)."""
     for v in args:
-        if v is None or isinstance(v, (str, bytes)):
+        suspect = _SUSPECT_TYPES.get(type(v))
+        if (_suspect_type(type(v)) if suspect is None else suspect) and _odd(v):
             return True
     if kwargs:
         for v in kwargs.values():
-            if v is None or isinstance(v, (str, bytes)):
+            suspect = _SUSPECT_TYPES.get(type(v))
+            if (_suspect_type(type(v)) if suspect is None else suspect) and _odd(v):
                 return True
     return False
 
@@ -333,13 +379,13 @@ def checked(fn, call):
     signature = _signature(fn)
     compiled = type(fn).__name__ in ("builtin_function_or_method", "instancemethod")
     precheck = compiled and signature is not None and any(
-        _generic(p.annotation)[0] in ("bool", "numpy.ndarray") for p in signature.parameters.values())
+        isinstance(p.annotation, str) and _PRECHECKED.search(p.annotation) for p in signature.parameters.values())
 
     @_functools.wraps(fn)
     def call_checked(*args, **kwargs):
         if precheck and _holds_odd(args, kwargs):
             arguments = _bound(call, signature, args, kwargs)
-            odd = {n for n, v in arguments.items() if v is None or isinstance(v, (str, bytes))}
+            odd = {n for n, v in arguments.items() if _odd(v)}
             wrong = _mismatch(call, signature, arguments, odd)
             if wrong is not None:
                 raise wrong

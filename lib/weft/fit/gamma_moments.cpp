@@ -22,8 +22,13 @@ GammaFit gamma_from_moments(double mean, double variance, double sigma) {
   g.var_concentration = variance;
   constexpr double inf = std::numeric_limits<double>::infinity();
   if (mean == 0.0) {
-    // A vacuum: every sample is 0 (a non-negative variable with zero mean), T ≡ 1.
-    g.var_concentration = 0.0;
+    // A vacuum: every sample is 0 (a non-negative variable with zero mean), T ≡ 1; so its
+    // variance is 0, and a variance given with a zero mean describes no concentration at all.
+    if (variance > 0.0)
+      fail(
+          "gamma fit: mean concentration 0 with variance {} is impossible (concentrations are >= 0, so a zero mean "
+          "means every sample is 0 and the variance is 0)",
+          variance);
     g.alpha = inf;
     g.beta = inf;
     return g;

@@ -26,7 +26,8 @@ struct GammaFit {
   [[nodiscard]] double mean_extinction() const { return sigma * mean_concentration; }
 };
 
-/// Moment matching; throws weft::Error for negative or non-finite inputs or σ ≤ 0.
+/// Moment matching; throws weft::Error for negative or non-finite inputs, σ ≤ 0, or a zero mean
+/// with a positive variance (impossible for concentrations ≥ 0).
 [[nodiscard]] GammaFit gamma_from_moments(double mean, double variance, double sigma);
 /// The law of `fit` from the transmittance library: gamma, or exponential when Var C = 0
 /// (including the vacuum, μ = 0).

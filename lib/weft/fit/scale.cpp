@@ -3,10 +3,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
 #include "weft/core/parse_number.h"
+#include "weft/fit/window_stats.h"
 #include "weft/volume/columns.h"
 
 namespace weft::fit {
@@ -82,15 +84,21 @@ std::vector<double> smoothed(const std::vector<double>& r, int w) {
 
 }  // namespace
 
-double lag_at_inverse_e(const std::vector<double>& r) {
+std::optional<double> lag_falling_to_inverse_e(const std::vector<double>& r) {
   const double threshold = std::exp(-1.0);
+  if (r.empty()) return std::nullopt;
+  if (r[0] <= threshold) return 0.0;  // no correlation at all (a uniform grid's R is all zeros)
   for (std::size_t l = 1; l < r.size(); ++l) {
     if (r[l] <= threshold) {
-      const double prev = r[l - 1];
+      const double prev = r[l - 1];  // > threshold >= r[l]: the interpolation never divides by 0
       return static_cast<double>(l) - 1.0 + (prev - threshold) / (prev - r[l]);
     }
   }
-  return r.empty() ? 0.0 : static_cast<double>(r.size() - 1);
+  return std::nullopt;
+}
+
+double lag_at_inverse_e(const std::vector<double>& r) {
+  return lag_falling_to_inverse_e(r).value_or(r.empty() ? 0.0 : static_cast<double>(r.size() - 1));
 }
 
 std::vector<double> autocorrelation(const volume::Grid& grid, int axis, int max_lag, ProgressSink& progress) {
@@ -135,22 +143,50 @@ double correlation_length(const volume::Grid& grid, int axis, ProgressSink& prog
   return n * h;
 }
 
-double measured_yarn_scale(const volume::Grid& grid, ProgressSink& progress) {
+double measured_yarn_scale(const volume::Grid& grid, ProgressSink& progress, FrontEnd asker) {
   if (grid.active_voxel_count() == 0) fail("yarn scale: grid '{}' has no active voxels", grid.name());
   const double h = grid.voxel_size();
-  std::array<double, 3> per_axis{};
+  const Spelling length{"--window LENGTH", "window=LENGTH"};
+  const auto unmeasurable = [&](const std::string& why) {
+    fail("yarn scale: cannot be measured on grid '{}': {}: pass {} (about the yarn diameter, in the grid's units)",
+         grid.name(), why, length.in(asker));
+  };
+  // Per axis 3 ℓ_y, or a lower bound (3 × the largest lag) where the smoothed R stays above 1/e.
+  // An axis one voxel long has no lag and says nothing.
+  struct Axis {
+    double scale = 0.0;
+    bool lower_bound = false;
+    char name = 'x';
+  };
+  std::vector<Axis> axes;
   for (int axis = 0; axis < 3; ++axis) {
     const int n = static_cast<int>(grid.active_bbox().extent()[static_cast<std::size_t>(axis)]);
+    if (n < 2) continue;
     // Lags up to half the extent (at most 256): the yarn-scale part must fit in the box.
     const int max_lag = std::clamp(n / 2, 1, 256);
     const auto r = autocorrelation(grid, axis, max_lag, progress);
+    // R(0) is the box variance, the same along every axis: 0 only when C is uniform.
+    if (!(r[0] > 0.0)) unmeasurable("its concentration is uniform over the active box (no structure to correlate)");
     const double fibre = lag_at_inverse_e(r);
     const int w = std::max(1, static_cast<int>(std::lround(fibre)));
-    const double yarn = lag_at_inverse_e(smoothed(r, w));
-    per_axis[static_cast<std::size_t>(axis)] = 3.0 * yarn * h;
+    const std::optional<double> yarn = lag_falling_to_inverse_e(smoothed(r, w));
+    axes.push_back({3.0 * yarn.value_or(static_cast<double>(max_lag)) * h, !yarn, "xyz"[axis]});
   }
-  std::sort(per_axis.begin(), per_axis.end());
-  return per_axis[1];
+  if (axes.empty()) unmeasurable("its active box is one voxel (no structure to correlate)");
+  // The median over the axes (the lower of two when the box is one voxel thick along the third).
+  std::sort(axes.begin(), axes.end(), [](const Axis& a, const Axis& b) { return a.scale < b.scale; });
+  const Axis& median = axes[(axes.size() - 1) / 2];
+  if (median.lower_bound) {
+    std::string names;
+    for (const Axis& a : axes) {
+      if (a.lower_bound) names += fmt::format("{}{}", names.empty() ? "" : ", ", a.name);
+    }
+    unmeasurable(fmt::format(
+        "the autocorrelation of C never falls to 1/e within half the box along {} (the structure is larger than the "
+        "grid)",
+        names));
+  }
+  return median.scale;
 }
 
 void check_scale_text(const std::string& text) {
@@ -181,7 +217,7 @@ StatisticsScale resolve_scale(const std::string& text, const volume::Grid& grid,
   }
   if (text == "yarn-measured") {
     s.rule = "yarn-measured";
-    s.length.fill(measured_yarn_scale(grid, progress));
+    s.length.fill(measured_yarn_scale(grid, progress, asker));
     s.source = "yarn scale measured from the voxels (depends on the voxel size: docs/validate.md)";
     return s;
   }
@@ -204,6 +240,54 @@ StatisticsScale resolve_scale(const std::string& text, const volume::Grid& grid,
   s.length.fill(*v);
   s.source = "given length";
   return s;
+}
+
+ScaleUse scale_use(const StatisticsScale& scale, const volume::Grid& grid, bool local_models, FrontEnd asker) {
+  if (grid.active_voxel_count() == 0) fail("window: grid '{}' has no active voxels", grid.name());
+  const double h = grid.voxel_size();
+  const auto extent = grid.active_bbox().extent();
+  const Spelling option{"--window ", "window="};
+  // Clamped axes grouped by (what happened, length given): one line for the usual equal lengths.
+  struct Clamp {
+    bool shorter = false;
+    double given = 0.0;
+    std::string axes;
+  };
+  std::vector<Clamp> clamps;
+  std::string one_voxel;
+  ScaleUse use;
+  for (std::size_t a = 0; a < 3; ++a) {
+    const int n = static_cast<int>(extent[a]);
+    const double given = scale.length[a];
+    const int w = window_voxels(given, h, n);
+    use.length[a] = w * h;
+    const char axis = "xyz"[a];
+    if (w == 1) one_voxel += fmt::format("{}{}", one_voxel.empty() ? "" : ", ", axis);
+    if (!(given > 0.0)) continue;  // the extent, by definition
+    const double voxels = std::round(given / h);
+    if (voxels >= 1.0 && voxels <= n) continue;
+    const bool shorter = voxels < 1.0;
+    const auto same = std::find_if(clamps.begin(), clamps.end(),
+                                   [&](const Clamp& c) { return c.shorter == shorter && c.given == given; });
+    if (same != clamps.end()) {
+      same->axes += fmt::format(", {}", axis);
+    } else {
+      clamps.push_back({shorter, given, std::string(1, axis)});
+    }
+  }
+  for (const Clamp& c : clamps) {
+    use.notes.push_back(c.shorter
+                            ? fmt::format("{}{:g} is shorter than half a voxel ({:g}) along {}: one voxel is used",
+                                          option.in(asker), c.given, h, c.axes)
+                            : fmt::format("{}{:g} is longer than the active box along {}: the box's extent is used",
+                                          option.in(asker), c.given, c.axes));
+  }
+  if (local_models && !one_voxel.empty())
+    use.notes.push_back(fmt::format(
+        "the window is one voxel along {}: the local models' blocks then hold each voxel's own value and reproduce "
+        "the ground truth instead of predicting it",
+        one_voxel));
+  return use;
 }
 
 }  // namespace weft::fit

@@ -22,9 +22,13 @@
 /// fibre-scale part; the 1/e lag of the smoothed R is the yarn-scale correlation length ℓ_y; the
 /// yarn scale is 3 ℓ_y (a yarn's cross-section decorrelates over about a third of its diameter:
 /// checked against the provenance diameter of weft's own cloths, docs/validate.md), the median
-/// over the three axes.
+/// over the axes longer than one voxel. It cannot be measured, and is refused naming why and
+/// suggesting a length, when C is uniform over the box (R is 0: no structure) or when the
+/// median axis's smoothed R stays above 1/e up to half the box (the structure is larger than the
+/// grid: only a lower bound).
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,6 +44,23 @@ struct StatisticsScale {
   std::array<double, 3> length{};  ///< per axis, world units (0 = the extent along that axis)
   std::string source;              ///< human-readable: where the length came from
 };
+
+/// What a scale becomes on a grid: per axis the length the statistics and the local models use
+/// (fit::window_voxels: round(L/h) voxels clamped to 1..n, n the active box's extent along the
+/// axis; the extent for 0), and a warning line for every clamp, so a window of 1e-9 or 1e9 is
+/// never changed in silence (report.json records both lengths: `window.length`,
+/// `window.length_used`).
+struct ScaleUse {
+  std::array<double, 3> length{};  ///< per axis, world units
+  std::vector<std::string> notes;  ///< one line per clamp (and per one-voxel window, see scale_use)
+};
+
+/// The ScaleUse of `scale` on `grid`. With `local_models` (validate's predictions), a window of
+/// one voxel along an axis also gets a note: the local models' blocks then hold each voxel's own
+/// value, so along that axis they reproduce the ground truth instead of predicting it (measured:
+/// RMS error 2e-16 on T).
+[[nodiscard]] ScaleUse scale_use(const StatisticsScale& scale, const volume::Grid& grid, bool local_models,
+                                 FrontEnd asker = FrontEnd::cli);
 
 /// Parses `text` (one of the names above or a positive length) and resolves it for `grid`.
 /// Throws weft::Error for an unknown name or a non-positive length (naming the option as `asker`
@@ -65,11 +86,15 @@ void check_scale_text(const std::string& text);
 [[nodiscard]] std::vector<double> autocorrelation(const volume::Grid& grid, int axis, int max_lag,
                                                   ProgressSink& progress = null_progress());
 
-/// The measured yarn scale (world units), from the voxels alone (see the file comment).
-[[nodiscard]] double measured_yarn_scale(const volume::Grid& grid, ProgressSink& progress = null_progress());
+/// The measured yarn scale (world units), from the voxels alone (see the file comment); throws
+/// weft::Error when it cannot be measured, naming the alternative as `asker` writes it.
+[[nodiscard]] double measured_yarn_scale(const volume::Grid& grid, ProgressSink& progress = null_progress(),
+                                         FrontEnd asker = FrontEnd::cli);
 
-/// The first lag (interpolated linearly, in lags) at which `r` falls to 1/e; r.size() − 1 when
-/// it never does.
+/// The first lag (interpolated linearly, in lags) at which `r` falls to 1/e (0 when r(0) is
+/// already there, as for a uniform grid's all-zero R); nullopt when it never does.
+[[nodiscard]] std::optional<double> lag_falling_to_inverse_e(const std::vector<double>& r);
+/// lag_falling_to_inverse_e, or r.size() − 1 when r never falls to 1/e.
 [[nodiscard]] double lag_at_inverse_e(const std::vector<double>& r);
 
 }  // namespace weft::fit

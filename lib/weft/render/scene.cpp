@@ -122,6 +122,15 @@ class Reader {
     if ((c < 0.0).any()) fail("{}: '{}' must be >= 0, got {}", where_, key, v.dump());
     return c;
   }
+  /// An albedo: a colour of at most 1 in every channel. Every material that has one (diffuse
+  /// reflectance, mirror and dielectric tint) and every medium (single-scattering albedo Λ)
+  /// multiplies the path's throughput by it at each bounce, so above 1 it creates energy
+  /// (docs/scene-format.md).
+  Rgb albedo(const Rgb& fallback) {
+    Rgb c = rgb("albedo", fallback);
+    if ((c > 1.0).any()) fail("{}: 'albedo' must be <= 1 to conserve energy, got {}", where_, j_.at("albedo").dump());
+    return c;
+  }
 
   /// Throws for the first key that nothing read, naming the closest known key.
   void finish() const {
@@ -202,10 +211,7 @@ MaterialDesc parse_material(const json& j, const std::string& where) {
   Reader r(j, where);
   MaterialDesc m;
   m.kind = parse_choice(where, "material type", r.string("type", "diffuse"), kMaterialKinds);
-  if (m.kind != MaterialKind::null)
-    m.albedo = r.rgb("albedo", m.kind == MaterialKind::diffuse ? m.albedo : Rgb(1, 1, 1));
-  if (m.kind == MaterialKind::diffuse && (m.albedo > 1.0).any())
-    fail("{}: diffuse 'albedo' must be <= 1 to conserve energy", where);
+  if (m.kind != MaterialKind::null) m.albedo = r.albedo(m.kind == MaterialKind::diffuse ? m.albedo : Rgb(1, 1, 1));
   if (m.kind == MaterialKind::dielectric) m.ior = r.positive("ior", m.ior);
   r.finish();
   return m;
@@ -227,8 +233,7 @@ MediumDesc parse_medium(const json& j, const std::string& where, const std::file
         r.string("memory", std::string(transmittance::memory_rule_name(transmittance::kDefaultMemoryRule))),
         memory_rules());
     m.law = transmittance::LawSpec{};  // no law: the fields carry one gamma law per voxel
-    m.albedo = r.rgb("albedo", m.albedo);
-    if ((m.albedo > 1.0).any()) fail("{}: 'albedo' must be <= 1", where);
+    m.albedo = r.albedo(m.albedo);
     m.g = r.number("g", m.g);
     if (!(m.g > -1.0 && m.g < 1.0)) fail("{}: 'g' must be in (-1, 1), got {}", where, m.g);
     r.finish();
@@ -270,8 +275,7 @@ MediumDesc parse_medium(const json& j, const std::string& where, const std::file
     if (!m.scatterer_law.table.empty())
       m.scatterer_law.table = resolve_file(m.scatterer_law.table, base_dir, where, nullptr);
   }
-  m.albedo = r.rgb("albedo", m.albedo);
-  if ((m.albedo > 1.0).any()) fail("{}: 'albedo' must be <= 1", where);
+  m.albedo = r.albedo(m.albedo);
   m.g = r.number("g", m.g);
   if (!(m.g > -1.0 && m.g < 1.0)) fail("{}: 'g' must be in (-1, 1), got {}", where, m.g);
   r.finish();

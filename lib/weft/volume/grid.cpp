@@ -26,6 +26,29 @@ void ensure_openvdb_initialized() {
 
 namespace {
 
+// OpenVDB rebuilds a linear transform from its 4×4 matrix whenever it copies one (every file
+// write copies the grid first, and so does deepCopy): math::simplify takes the voxel size as
+// (t + h) − t in doubles, t the translation (origin + h/2). The sum rounds to half an ulp of t,
+// so once |t| nears 2⁵³·h (ulp(t) ≥ 2h) the recomputed size is 0 and OpenVDB throws
+// ArithmeticError "Non-zero scale values required" (origin 1e20, h = 0.1: on save, long after
+// the grid was made). Such a transform is refused where it is set, by OpenVDB's own copy.
+// Below that the copy only rounds h (to 0.125 for 0.1 at t = 1e15): weft's own copies share
+// the transform instead (deep_copy), and a file keeps the transform as set.
+void require_copyable_transform(const openvdb::math::Transform& transform, const std::string& what) {
+  try {
+    (void)transform.copy();
+  } catch (const openvdb::ArithmeticError&) {
+    const double h = transform.voxelSize()[0];
+    const openvdb::Vec3d t = transform.indexToWorld(openvdb::Vec3d(0.0));
+    fail(
+        "{}: origin ({:g}, {:g}, {:g}) is too far from 0 for voxels of {:g}: OpenVDB recomputes the voxel size as "
+        "(origin + h) - origin in doubles whenever it copies or writes a grid, which gives ({:g}, {:g}, {:g}) here "
+        "(|origin| must stay well below 2^53 h = {:.3g}): move the origin nearer 0 (subtract a common offset)",
+        what, t[0] - 0.5 * h, t[1] - 0.5 * h, t[2] - 0.5 * h, h, (t[0] + h) - t[0], (t[1] + h) - t[1],
+        (t[2] + h) - t[2], 0x1p53 * h);
+  }
+}
+
 // Uniform scale (plus translation) is what the DDA and the voxel-size-based physics assume.
 void require_uniform_scale(const openvdb::FloatGrid& grid, const std::string& where) {
   const auto& map = *grid.transform().baseMap();
@@ -42,6 +65,7 @@ void require_uniform_scale(const openvdb::FloatGrid& grid, const std::string& wh
   }
   if (!(size[0] > 0.0) || !std::isfinite(size[0]))
     fail("{}: grid '{}' has voxel size {}", where, grid.getName(), size[0]);
+  require_copyable_transform(grid.transform(), fmt::format("{}: grid '{}'", where, grid.getName()));
 }
 
 bool valid_value(float v) { return std::isfinite(v) && v >= 0.0f; }
@@ -98,6 +122,16 @@ openvdb::math::Transform::Ptr voxel_transform(double h) {
 }  // namespace
 
 Grid make_grid(std::shared_ptr<Grid::Impl> impl) { return Grid(std::move(impl)); }
+
+openvdb::FloatGrid::Ptr deep_copy(const Grid& grid) {
+  const openvdb::FloatGrid& source = *grid.impl().grid;
+  openvdb::FloatGrid::Ptr copy = source.deepCopy();
+  // deepCopy's transform is rebuilt by math::simplify, which rounds h far from 0 (see
+  // require_copyable_transform); the source's own is shared instead: weft never changes a
+  // transform in place (set_origin makes a new one), so sharing it is a copy.
+  copy->setTransform(openvdb::ConstPtrCast<openvdb::math::Transform>(source.transformPtr()));
+  return copy;
+}
 
 Grid wrap_openvdb(openvdb::FloatGrid::Ptr grid) {
   require_uniform_scale(*grid, "grid");
@@ -192,8 +226,10 @@ std::array<double, 3> Grid::origin() const {
 void Grid::set_origin(const std::array<double, 3>& origin) {
   const double h = voxel_size();
   // OpenVDB puts voxel centres at integer index coordinates: index i covers [i-0.5, i+0.5).
+  for (double c : origin) require_finite("grid origin", c);
   auto xform = voxel_transform(h);
   xform->postTranslate(openvdb::Vec3d(origin[0] + 0.5 * h, origin[1] + 0.5 * h, origin[2] + 0.5 * h));
+  require_copyable_transform(*xform, fmt::format("grid '{}'", name()));
   impl_->grid->setTransform(xform);
 }
 

@@ -51,6 +51,9 @@ class Grid {
   /// World position of the centre of voxel (0,0,0) minus half a voxel: index (i,j,k) covers
   /// [origin + voxel_size·i, origin + voxel_size·(i+1)) per axis.
   [[nodiscard]] std::array<double, 3> origin() const;
+  /// Throws weft::Error for a non-finite origin or one so far from 0 (near 2⁵³ voxels) that
+  /// OpenVDB, which recomputes the voxel size as (origin + h) − origin on every copy and write,
+  /// gets 0 (grid.cpp, require_copyable_transform); Grid::load refuses such a file too.
   void set_origin(const std::array<double, 3>& origin);
 
   [[nodiscard]] std::uint64_t active_voxel_count() const;

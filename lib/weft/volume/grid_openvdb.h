@@ -15,6 +15,9 @@ struct Grid::Impl {
 /// Wraps an existing OpenVDB grid (shares it); checks it has a uniform-scale transform.
 Grid make_grid(std::shared_ptr<Grid::Impl> impl);
 Grid wrap_openvdb(openvdb::FloatGrid::Ptr grid);
+/// A deep copy of the grid's tree and metadata with the grid's own transform (OpenVDB's deepCopy
+/// recomputes the voxel size from the transform, which rounds it for an origin far from 0).
+openvdb::FloatGrid::Ptr deep_copy(const Grid& grid);
 
 /// @brief Voxel reads by index through an accessor that keep the last leaf's buffer and mask:
 /// a ray's reads come leaf after leaf, so most skip the accessor's own cache check and node

@@ -213,7 +213,7 @@ std::string mitsuba_scene_xml(const WorldBox& box, const std::string& vol_file, 
 }
 
 void write_nanovdb(const Grid& grid, const fs::path& path) {
-  openvdb::FloatGrid::Ptr copy = grid.impl().grid->deepCopy();
+  openvdb::FloatGrid::Ptr copy = deep_copy(grid);
   copy->setName("density");  // the grid pbrt-v4's nanovdb medium looks up
   const auto handle = nanovdb::openToNanoVDB(*copy);
   if (!handle || handle.grid<float>() == nullptr) fail("{}: NanoVDB conversion failed", path.string());

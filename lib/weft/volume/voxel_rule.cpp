@@ -22,7 +22,7 @@ Grid extinction_grid(const Grid& concentration, double sigma, VoxelRule rule) {
   const double k = rule == VoxelRule::linear ? sigma : std::max(sigma, 1.0 / h);
   // The floor makes a full voxel's optical depth across one voxel −max(σh, 1)·ln(floor) ≥ 13.8.
   const double c_max = 1.0 - kOpaqueFloor;
-  openvdb::FloatGrid::Ptr out = concentration.impl().grid->deepCopy();
+  openvdb::FloatGrid::Ptr out = deep_copy(concentration);
   for (auto it = out->tree().beginValueOn(); it; ++it) {
     const double c = static_cast<double>(*it);
     if (rule == VoxelRule::opaque && !(c >= 0.0 && c <= 1.0 + 1e-6))

@@ -154,6 +154,18 @@ TEST(Fit, GammaMomentsAndTheirLaw) {
   EXPECT_THROW((void)gamma_from_moments(0.1, 0.1, 0.0), Error);
 }
 
+TEST(Fit, AZeroMeanHoldsNoVariance) {
+  // C ≥ 0 with mean 0 is 0 everywhere: a variance with it is impossible, not a vacuum to drop it for.
+  EXPECT_TRUE(gamma_from_moments(0.0, 0.0, 10.0).vacuum());
+  try {
+    (void)gamma_from_moments(0.0, 0.1, 10.0);
+    ADD_FAILURE() << "mean 0 with variance 0.1 was taken";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("mean concentration 0 with variance 0.1 is impossible"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Fit, PoolWeighsAxesEqually) {
   ConcentrationStats a;
   a.mean = 0.2;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "../error_of.h"
 #include "test_grids.h"
 #include "weft/core/error.h"
 #include "weft/fit/models.h"
@@ -20,6 +21,7 @@ namespace {
 using volume::Grid;
 
 using test::box_grid;
+using weft::test::error_of;
 
 std::vector<double> depths_of(const Grid& g, const std::array<double, 3>& d) {
   volume::BeamSpec b;
@@ -165,6 +167,66 @@ TEST(Scale, ResolvesNamesFromProvenanceAndVoxels) {
   EXPECT_THROW((void)resolve_scale("yran", g, p), Error);
   EXPECT_THROW((void)resolve_scale("-2", g, p), Error);
   EXPECT_THROW((void)resolve_scale("0", g, p), Error);
+}
+
+bool holds(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+TEST(Scale, AYarnScaleThatCannotBeMeasuredIsRefusedSayingWhy) {
+  const volume::Provenance none;
+  // Uniform C: R is 0 at every lag (it was −inf through the 1/e interpolation). A plate one voxel
+  // thick has no lag along that axis either.
+  for (const Grid& g : {box_grid(4, 4, 4, 0.3f, 0.1), box_grid(1, 10, 10, 0.3f, 0.1)}) {
+    const std::string e = error_of([&] { (void)resolve_scale("yarn-measured", g, none); });
+    EXPECT_TRUE(holds(e, "yarn scale: cannot be measured on grid 'density': its concentration is uniform")) << e;
+    EXPECT_TRUE(holds(e, "pass --window LENGTH")) << e;
+    const std::string p =
+        error_of([&] { (void)resolve_scale("yarn-measured", g, none, null_progress(), FrontEnd::python); });
+    EXPECT_TRUE(holds(p, "pass window=LENGTH")) << p;
+  }
+  // Slabs along x only: along y and z R stays 1, so the median axis gives only a lower bound.
+  Grid slabs = box_grid(8, 8, 8, 0.0f, 0.1);
+  for (int i = 0; i < 8; i += 2) {
+    for (int j = 0; j < 8; ++j) {
+      for (int k = 0; k < 8; ++k) slabs.set_value(i, j, k, 0.5f);
+    }
+  }
+  const std::string e = error_of([&] { (void)resolve_scale("yarn-measured", slabs, none); });
+  EXPECT_TRUE(holds(e, "never falls to 1/e within half the box along y, z")) << e;
+  // A plate with structure in its plane is measured from the two axes that have lags.
+  Grid plate = box_grid(1, 12, 12, 0.0f, 0.1);
+  for (int j = 0; j < 12; ++j) {
+    for (int k = 0; k < 12; ++k) plate.set_value(0, j, k, static_cast<float>(((3 * j + 5 * k) % 7) / 10.0));
+  }
+  const double scale = measured_yarn_scale(plate);
+  EXPECT_TRUE(std::isfinite(scale) && scale > 0.0) << scale;
+}
+
+TEST(Scale, AClampedWindowIsReportedWithTheLengthUsed) {
+  const Grid g = test::patterned_grid();  // 16 x 12 x 6 voxels of 0.05
+  StatisticsScale s;
+  s.rule = "length";
+  s.length.fill(1e-9);
+  const ScaleUse tiny = scale_use(s, g, true);
+  for (double l : tiny.length) EXPECT_DOUBLE_EQ(l, 0.05);
+  ASSERT_EQ(tiny.notes.size(), 2U);
+  EXPECT_TRUE(holds(tiny.notes[0], "--window 1e-09 is shorter than half a voxel (0.05) along x, y, z: one voxel"))
+      << tiny.notes[0];
+  EXPECT_TRUE(holds(tiny.notes[1], "one voxel along x, y, z: the local models")) << tiny.notes[1];
+  EXPECT_EQ(scale_use(s, g, false).notes.size(), 1U);  // fit: no local models
+  s.length.fill(1e9);
+  const ScaleUse huge = scale_use(s, g, true, FrontEnd::python);
+  EXPECT_DOUBLE_EQ(huge.length[0], 16 * 0.05);
+  EXPECT_DOUBLE_EQ(huge.length[2], 6 * 0.05);
+  ASSERT_EQ(huge.notes.size(), 1U);
+  EXPECT_TRUE(holds(huge.notes[0], "window=1e+09 is longer than the active box along x, y, z")) << huge.notes[0];
+  // Within the box: no note; rounding to whole voxels is not a clamp. The length used is the
+  // window of the statistics.
+  s.length = {0.2, 0.26, 0.0};
+  const ScaleUse fits = scale_use(s, g, true);
+  EXPECT_TRUE(fits.notes.empty());
+  for (int a = 0; a < 3; ++a)
+    EXPECT_DOUBLE_EQ(fits.length[static_cast<std::size_t>(a)],
+                     window_stats(g, a, s.length[static_cast<std::size_t>(a)]).window);
 }
 
 TEST(Scale, AutocorrelationOfAPeriodicFieldHasItsPeriod) {

@@ -124,6 +124,21 @@ TEST(SceneFile, NegativeAndOutOfRangeParametersAreRejected) {
             std::string::npos);
 }
 
+TEST(SceneFile, AnAlbedoAboveOneIsRefusedForEveryMaterialAndMedium) {
+  // Each multiplies the throughput at a bounce: above 1 it creates energy (a dielectric sphere of
+  // albedo 3 under an environment of 1 rendered a mean of 6.75).
+  for (const char* text : {R"({"materials": {"w": {"type": "diffuse", "albedo": 1.5}}})",
+                           R"({"materials": {"w": {"type": "mirror", "albedo": [0.5, 1.5, 0.5]}}})",
+                           R"({"materials": {"w": {"type": "dielectric", "ior": 1.5, "albedo": 3.0}}})",
+                           R"({"media": {"m": {"law": "exponential", "albedo": 1.01}}})"}) {
+    const std::string e = error_of(text);
+    EXPECT_NE(e.find("'albedo' must be <= 1 to conserve energy, got "), std::string::npos) << text << ": " << e;
+  }
+  for (const char* kind : {"diffuse", "mirror", "dielectric"}) {
+    EXPECT_EQ(error_of(fmt::format(R"({{"materials": {{"w": {{"type": "{}", "albedo": 1}}}}}})", kind)), "") << kind;
+  }
+}
+
 TEST(SceneFile, DanglingNamesSuggestTheClosestDefinedOne) {
   const std::string e = error_of(R"({"materials": {"white": {}}, "shapes": [{"type": "sphere", "material": "whte"}]})");
   EXPECT_NE(e.find("material 'whte' is not defined (did you mean 'white'?)"), std::string::npos) << e;

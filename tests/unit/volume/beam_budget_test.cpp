@@ -8,6 +8,7 @@
 #include <cmath>
 #include <string>
 
+#include "../error_of.h"
 #include "weft/core/error.h"
 #include "weft/core/progress.h"
 #include "weft/volume/beam.h"
@@ -19,16 +20,7 @@
 namespace weft::volume {
 namespace {
 
-/// The message of the weft::Error `f` throws ("" when it returns; other exceptions propagate).
-template <typename F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using weft::test::error_of;
 
 /// Two voxels 10⁶ voxels apart on every axis: a box of 10¹⁸ voxels around two active ones.
 Grid far_apart() {

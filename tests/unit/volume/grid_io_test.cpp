@@ -1,8 +1,11 @@
 // .vdb files through Grid::save and Grid::load, and the pre-check of check_vdb_file
 // (docs/robustness.md "Fuzzing", finding 4): valid files of any size and compressibility are read
-// back exactly; corrupt counts are still refused before OpenVDB allocates them.
+// back exactly; corrupt counts are still refused before OpenVDB allocates them; an origin too far
+// for OpenVDB to copy the voxel size is refused when set, and copies keep it where OpenVDB rounds.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -18,6 +21,7 @@
 #include "weft/volume/grid.h"
 #include "weft/volume/grid_io.h"
 #include "weft/volume/grid_openvdb.h"
+#include "weft/volume/voxel_rule.h"
 
 namespace weft::volume {
 namespace {
@@ -126,6 +130,59 @@ TEST(GridLoad, RefusesALeafCountItsArraysDoNotHold) {
   const auto message = load_with_leaf_count(513);
   EXPECT_NE(message.find("corrupt (grid metadata: a "), std::string::npos) << message;
   EXPECT_NE(message.find("bytes, expected 513)"), std::string::npos) << message;
+}
+
+/// Grid::set_origin's message for `origin` along x (voxels of `h`), "" when it is taken.
+std::string origin_error(double origin, double h) {
+  Grid g(h);
+  try {
+    g.set_origin({origin, 0.0, 0.0});
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(GridOrigin, IsRefusedWhereOpenVdbCouldNotCopyTheVoxelSize) {
+  // OpenVDB copies a transform (every write, every deepCopy) by recomputing h = (t + h) − t in
+  // doubles, t = origin + h/2: 0 once ulp(t) > 2h, i.e. from |t| = 2⁵⁴·h on (ulp(2⁵⁴h) ∈ (2h, 4h]);
+  // at 2⁵² h the ulp is at most h, so the recomputed size is at least h/2. Origin 1e20 (h = 0.1)
+  // made the save throw "Non-zero scale values required" long after the grid was made.
+  for (const double h : {0.1, 0.003, 2.0}) {
+    for (const double origin : {0x1p52 * h, -0x1p52 * h}) {
+      ASSERT_EQ(origin_error(origin, h), "") << h << ' ' << origin;
+      Grid g(h);
+      g.set_origin({origin, -origin, 0.5 * origin});
+      g.set_value(0, 1, 2, 0.5F);
+      g.set_value(3, 1, 2, 0.25F);
+      const auto path = std::filesystem::temp_directory_path() / "weft_grid_io_far_origin.vdb";
+      g.save(path);
+      const Grid back = Grid::load(path);
+      EXPECT_EQ(back.voxel_size(), h);
+      EXPECT_EQ(back.origin(), g.origin());
+      EXPECT_EQ(back.value(3, 1, 2), 0.25F);
+      std::filesystem::remove(path);
+    }
+    for (const double origin : {0x1p54 * h, -0x1p54 * h, 1e20}) {
+      const std::string e = origin_error(origin, h);
+      EXPECT_NE(e.find("grid 'density': origin ("), std::string::npos) << e;
+      EXPECT_NE(e.find(fmt::format("is too far from 0 for voxels of {:g}", h)), std::string::npos) << e;
+    }
+  }
+  EXPECT_NE(origin_error(std::nan(""), 0.1), "");
+}
+
+TEST(GridOrigin, ACopyKeepsTheVoxelSizeOpenVdbWouldRound) {
+  // At t = 1e15 OpenVDB's own copy (deepCopy, as extinction_grid made it) has voxels of 0.125
+  // along x for 0.1: weft's copies share the transform (deep_copy) and keep h and the origin.
+  Grid g(0.1);
+  g.set_origin({1e15, 1e15, 1e15});
+  g.set_value(0, 0, 0, 0.5F);
+  ASSERT_EQ(g.impl().grid->deepCopy()->voxelSize()[0], 0.125);  // the rounding avoided
+  const Grid mu = extinction_grid(g, 2.0, VoxelRule::linear);
+  EXPECT_EQ(mu.voxel_size(), 0.1);
+  EXPECT_EQ(mu.origin(), g.origin());
+  EXPECT_EQ(mu.value(0, 0, 0), 1.0F);
 }
 
 }  // namespace

@@ -67,6 +67,14 @@ int main(int argc, char** argv) {
   far->getAccessor().setValue(openvdb::Coord(0, 0, 0), 0.5f);
   far->getAccessor().setValue(openvdb::Coord(1000000, 1000000, 1000000), 0.5f);
   write(dir + "/far.vdb", far);
+  // uniform.vdb: 4×4×4 voxels of C = 0.3: no structure, so no yarn scale can be measured.
+  auto uniform = float_grid("density");
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 4; ++j) {
+      for (int k = 0; k < 4; ++k) uniform->getAccessor().setValue(openvdb::Coord(i, j, k), 0.3f);
+    }
+  }
+  write(dir + "/uniform.vdb", uniform);
   std::ofstream(dir + "/corrupt.vdb", std::ios::binary) << "this is not an OpenVDB file\n";
   return 0;
 }
