@@ -307,3 +307,27 @@ def test_numpy_numbers_and_bytes_paths_are_taken_as_their_python_equals(small_cl
     path = tmp_path / "g.vdb"
     grid.save(bytes(path))
     assert weft.load_grid(bytes(path)).active_voxel_count == grid.active_voxel_count
+
+
+def _half_built_in(error):
+    """(frame, name) of every traceback local that is a weft object whose constructor failed (a
+    type check only: any attribute of such an object reads uninitialised memory)."""
+    found = []
+    tb = error.__traceback__
+    while tb is not None:
+        for name, value in list(tb.tb_frame.f_locals.items()):
+            for item in value if isinstance(value, (tuple, list)) else (value,):
+                if type(item).__module__.startswith("weft") and type(type(item)).__name__ == "pybind11_type":
+                    found.append((tb.tb_frame.f_code.co_name, name))
+        tb = tb.tb_next
+    return found
+
+
+@pytest.mark.parametrize("name", sorted(n for n in weft.__all__ if isinstance(getattr(weft, n), type)
+                                        and type(getattr(weft, n)).__name__ == "pybind11_type"))
+def test_a_failed_constructor_leaves_no_half_built_object_in_the_traceback(name):
+    # pytest printing a failed test's locals, a debugger or IPython's verbose traceback would call
+    # a method of such an object and crash the interpreter.
+    with pytest.raises(weft.Error) as caught:
+        getattr(weft, name)(__not_an_argument__=1)
+    assert _half_built_in(caught.value) == []

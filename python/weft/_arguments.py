@@ -421,8 +421,28 @@ def checked(fn, call):
 
 def _not_constructible(cls):
     def __init__(self, *args, **kwargs):
+        self = None  # noqa: F841 -- half-built (_forgets_half_built); this frame is in the traceback
         raise ArgumentTypeError("weft.%s cannot be made directly: weft's functions return it (help(weft.%s))"
                                 % (cls.__name__, cls.__name__))
+    return __init__
+
+
+def _forgets_half_built(init):
+    """A compiled class's ``__init__`` that, when it raises, leaves no reference to the object it
+    failed to make in the traceback. pybind11 has allocated that object but not constructed its
+    C++ value, and any method or attribute of it reads uninitialised memory: pytest printing a
+    failed test's locals, a debugger or IPython's verbose traceback would crash the interpreter.
+    The frames of weft's wrappers held it in ``self``/``args``; they are dropped from the
+    traceback, and so is a suppressed context that held them too."""
+    @_functools.wraps(init)
+    def __init__(self, *args, **kwargs):
+        try:
+            init(self, *args, **kwargs)
+        except BaseException as error:  # noqa: B902 -- KeyboardInterrupt included
+            self = args = kwargs = None  # noqa: F841 -- this frame stays in the traceback
+            if error.__suppress_context__:
+                error.__context__ = None
+            raise error.with_traceback(None)
     return __init__
 
 
@@ -447,7 +467,8 @@ def check_class(cls, prefix):
         elif isinstance(value, classmethod):
             setattr(cls, member, classmethod(checked(value.__func__, call)))
         elif type(value).__name__ == "instancemethod":
-            setattr(cls, member, checked(value.__func__, call))
+            wrapped = checked(value.__func__, call)
+            setattr(cls, member, _forgets_half_built(wrapped) if member == "__init__" else wrapped)
         elif _inspect.isfunction(value):
             setattr(cls, member, checked(value, call))
     cls._weft_checked_class = True
