@@ -59,10 +59,10 @@ void TerminalProgress::draw(std::uint64_t done, bool final) {
   const int filled = static_cast<int>(fraction * kWidth);
   const double rate = elapsed > 0 ? static_cast<double>(done) / elapsed : 0.0;
   // Before the first unit is done there is no rate, so no estimate: "eta --", not "eta 0.0s".
-  const std::string when = final ? fmt::format("{} {:.1f}s", interrupt_signal() != 0 ? "stopped after" : "took", elapsed)
-                           : rate > 0
-                               ? fmt::format("eta {:.1f}s", static_cast<double>(total_ - std::min(done, total_)) / rate)
-                               : std::string("eta --");
+  const std::string when =
+      final      ? fmt::format("{} {:.1f}s", interrupt_signal() != 0 ? "stopped after" : "took", elapsed)
+      : rate > 0 ? fmt::format("eta {:.1f}s", static_cast<double>(total_ - std::min(done, total_)) / rate)
+                 : std::string("eta --");
   fmt::print(stderr, "\r{:<22} [{}{}] {:5.1f}% {:>10.3g}/s  {}\x1b[K", label_, std::string(filled, '#'),
              std::string(kWidth - filled, '.'), 100.0 * fraction, rate, when);
   if (final) fmt::print(stderr, "\n");

@@ -202,8 +202,8 @@ RenderResult render(const World& world, const RenderOptions& options, ProgressSi
   const bool passes = options.time_budget_seconds > 0.0 || static_cast<bool>(options.on_pass);
   // A render without passes of its own still runs in passes when its units would otherwise be
   // long: a unit is where progress is reported and a Ctrl-C stops (render/tiling.h).
-  const int per_pass = passes ? std::max(1, options.spp_per_pass)
-                              : Tiling::bounded_pass_spp(camera.width, camera.height, spp);
+  const int per_pass =
+      passes ? std::max(1, options.spp_per_pass) : Tiling::bounded_pass_spp(camera.width, camera.height, spp);
   const Tiling tiling(camera.width, camera.height, per_pass);
   const std::size_t tiles = tiling.count();
   const int pass_count = (spp + per_pass - 1) / per_pass;
