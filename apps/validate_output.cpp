@@ -69,8 +69,12 @@ viz::RenderOutcome save_transmittance_figure(const fit::Validation& v, const std
   std::vector<viz::Chart> panels;
   for (const auto& a : v.axes) {
     viz::Chart c;
-    const auto p = fit::predicted(a);
-    c.title = fmt::format("beam {}: predicted ({}) {:.2f} of the exponential's error", a.label, p.name, p.ratio);
+    if (v.models.wants(fit::kPredictedModel)) {
+      const auto p = fit::predicted(a);
+      c.title = fmt::format("beam {}: predicted ({}) {:.2f} of the exponential's error", a.label, p.name, p.ratio);
+    } else {
+      c.title = fmt::format("beam {}: models {}", a.label, v.models.text());
+    }
     c.x_label = fmt::format("depth t [{}]", units);
     c.y_label = "transmittance T(t)";
     c.log_y = true;
@@ -151,15 +155,18 @@ std::vector<std::string> summary_table(const fit::Validation& v) {
     row += v.axes.front().models[i].uses_ground_truth ? "  yes (reference)" : "  no";
     lines.push_back(row);
   }
+  const bool has_prediction = v.models.wants(fit::kPredictedModel);
   std::string predicted = fmt::format("predicted ({}, fixed before measuring):", fit::kPredictedModel);
   std::string best = "best model chosen with the ground truth (diagnostic):";
   for (const auto& a : v.axes) {
-    const auto p = fit::predicted(a);
-    predicted += fmt::format(" {} {:.3f}{}", a.label, p.ratio, p.ratio <= 1.0 / 3.0 ? "" : " (misses 1/3)");
+    if (has_prediction) {
+      const auto p = fit::predicted(a);
+      predicted += fmt::format(" {} {:.3f}{}", a.label, p.ratio, p.ratio <= 1.0 / 3.0 ? "" : " (misses 1/3)");
+    }
     const auto b = fit::best_by_ground_truth(a);
     best += fmt::format(" {} {} {:.3f}", a.label, b.name, b.ratio);
   }
-  lines.push_back(predicted);
+  if (has_prediction) lines.push_back(predicted);
   lines.push_back(best);
   return lines;
 }

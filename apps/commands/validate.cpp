@@ -54,6 +54,7 @@ struct ValidateOptions {
   std::vector<std::string> cases;
   bool scenes = false;
   bool fibres = false;  // the fibre ground truth beside T_gt (validate_fibres.h)
+  std::string models = "all";
 };
 
 const Registrar kValidate{Command{
@@ -111,12 +112,19 @@ const Registrar kValidate{Command{
       sub.add_flag("--fibres", o->fibres,
                    "Also measure each axis through the fibres the grid was generated from (opaque, same rays): "
                    "T_fibre and the voxelization error T_gt - T_fibre in report.json (docs/validate.md)");
+      sub.add_option("--models", o->models,
+                     "Models to compute beside the exponential baseline: all, predicted (the prediction alone, "
+                     "local-gamma-two-scale: the block statistics only, the cheapest run), or names separated by "
+                     "commas: gamma, empirical, gap-gamma, across-beam, local-exponential, local-gamma, "
+                     "local-gamma-renewal, local-gamma-two-scale, isotropic, least-squares")
+          ->capture_default_str();
       return [o, &sub](const Context& ctx) -> int {
         const auto t_start = std::chrono::steady_clock::now();
         if (o->fibres && (o->sweep || o->corpus))
           usage_fail("--fibres goes with a validation, not --sweep or --corpus");
         usage_needs(sub, {"--quick", "--resume"}, o->sweep || o->corpus, "--sweep or --corpus");
         usage_needs(sub, {"--cases"}, o->corpus, "--corpus");
+        usage_needs(sub, {"--models"}, !o->corpus && !o->sweep, "a validation, not --sweep or --corpus");
         if (o->scenes && (o->sweep || o->corpus))
           usage_fail("--scenes goes with a validation, not --sweep or --corpus");
         if (o->scenes && o->input.extinction()) usage_fail("--scenes needs a concentration grid (a cloth)");
@@ -134,6 +142,7 @@ const Registrar kValidate{Command{
         if (!o->sweep && !dist::is_root()) return 0;
         fit::ValidationSpec spec;
         spec.directions = as_usage([&] { return fit::parse_axes(o->axes); });
+        spec.models = as_usage([&] { return fit::ModelSelection::parse(o->models); });
         spec.rays_per_column = o->rays;
         spec.seed = o->seed;
         spec.method = as_usage([&] { return volume::parse_beam_method(o->method); });
@@ -190,7 +199,7 @@ const Registrar kValidate{Command{
         const fit::StatisticsScale scale = fit::resolve_scale(o->window, grid, provenance, ctx.progress);
         timings["scale"] = seconds_since(t0);
         spec.scale = scale.length;
-        const fit::ScaleUse scale_used = fit::scale_use(scale, grid, spec.predictive_models);
+        const fit::ScaleUse scale_used = fit::scale_use(scale, grid, spec.models.needs_blocks());
         for (const auto& note : scale_used.notes) ctx.warn(note);
         const fit::Validation v = fit::validate(grid, spec, ctx.progress);
         std::optional<FibreCheck> fibre_check;  // before any output: a grid without its fibres writes nothing
@@ -307,10 +316,9 @@ const Registrar kValidate{Command{
         std::string lengths;
         for (const auto& a : v.axes) lengths += fmt::format(" {}={:.4g}", a.label, a.scale);
         ctx.say(fmt::format("scale L ={} {} ({})", lengths, units, scale.source));
-        ctx.say(fmt::format(
-            "active: beams {}, window statistics, {} models, least-squares reference, exponential "
-            "baseline{}",
-            o->axes, v.axes.empty() ? 0 : v.axes.front().models.size(), o->no_plot ? "; plots off" : "; plots"));
+        ctx.say(fmt::format("active: beams {}, {}models {} ({} curves with the exponential baseline){}", o->axes,
+                            spec.models.needs_windows() ? "window statistics, " : "", spec.models.text(),
+                            v.axes.empty() ? 0 : v.axes.front().models.size(), o->no_plot ? "; plots off" : "; plots"));
         for (const auto& line : summary_table(v)) ctx.say(line);
         if (fibre_check) {
           for (const auto& line : fibre_check->summary) ctx.say(line);

@@ -271,7 +271,7 @@ void init_measure(py::module_& m) {
   m.def(
       "_validate_json",
       [](const vol::Grid& grid, const py::object& sigma, const std::string& window, const std::string& axes,
-         int rays_per_column, std::uint64_t seed, const py::object& progress) {
+         int rays_per_column, std::uint64_t seed, const std::string& models, const py::object& progress) {
         // The same rules as `weft validate --grid`: σ from sigma= or the provenance, the scale from
         // fit::resolve_scale, the report's science part from fit::validation_json; and the curves
         // behind it (the report's figure) as arrays.
@@ -287,6 +287,7 @@ void init_measure(py::module_& m) {
         // The checks of `weft validate`, in Python's words.
         fit::check_scale_text(window);
         spec.directions = fit::parse_axes(axes);
+        spec.models = fit::ModelSelection::parse(models);
         vol::check_rays_per_column(spec.directions, rays_per_column, false, FrontEnd::python);
         spec.rays_per_column = rays_per_column;
         spec.seed = seed;
@@ -296,7 +297,7 @@ void init_measure(py::module_& m) {
           spec.scale = scale.length;
           return fit::validate(grid, spec, p);
         });
-        const fit::ScaleUse used = fit::scale_use(scale, grid, spec.predictive_models, FrontEnd::python);
+        const fit::ScaleUse used = fit::scale_use(scale, grid, spec.models.needs_blocks(), FrontEnd::python);
         warn_all(used.notes, "weft.validate");
         py::list curves;
         for (const fit::AxisValidation& a : v.axes) {
@@ -321,7 +322,8 @@ void init_measure(py::module_& m) {
         return py::make_tuple(fit::validation_json(v), curves, sigma_source, window_info);
       },
       py::arg("grid"), py::kw_only(), py::arg("sigma") = py::none(), py::arg("window") = "yarn",
-      py::arg("axes") = "x,y,z", py::arg("rays_per_column") = 1, py::arg("seed") = 1, py::arg("progress") = py::none(),
+      py::arg("axes") = "x,y,z", py::arg("rays_per_column") = 1, py::arg("seed") = 1, py::arg("models") = "all",
+      py::arg("progress") = py::none(),
       "The validation's report (JSON text), its curves, sigma's and the window's source; use weft.validate.");
 }
 

@@ -51,3 +51,24 @@ def test_plot_validation_draws_the_figure(report, tmp_path):
     pytest.importorskip("matplotlib")
     fig = weft.plot_validation(report, tmp_path / "validation.png")
     assert len(fig.axes) == len(report["axes"]) and (tmp_path / "validation.png").stat().st_size > 0
+
+
+def test_the_prediction_alone_is_the_full_runs_prediction(report, small_cloth):
+    alone = weft.validate(small_cloth.grid, models="predicted")
+    assert alone["models_computed"] == "local-gamma-two-scale"
+    for full_axis, axis in zip(report["axes"], alone["axes"]):
+        assert set(axis["T"]) == {"local-gamma-two-scale", "exponential"}
+        assert axis["stats"] is None
+        np.testing.assert_array_equal(axis["T"]["local-gamma-two-scale"], full_axis["T"]["local-gamma-two-scale"])
+        assert axis["predicted"] == full_axis["predicted"]
+    some = weft.validate(small_cloth.grid, axes="z", models=("gamma", "local-gamma"))
+    assert some["models_computed"] == "gamma,local-gamma" and "predicted" not in some["axes"][0]
+    assert some["axes"][0]["acceptance_predicted_at_most_third_of_exponential"] is None
+
+
+@pytest.mark.parametrize("models, error", [("gamma,bogus", weft.Error), (("gamma", 3), weft.ArgumentTypeError),
+                                           (5, weft.ArgumentTypeError), ((), weft.Error),
+                                           ("least-squares", weft.Error)])
+def test_bad_model_lists_are_refused(small_cloth, models, error):
+    with pytest.raises(error, match="models"):
+        weft.validate(small_cloth.grid, models=models)

@@ -161,12 +161,14 @@ local_fields = _long_call(_weft.local_fields)
 
 
 def validate(grid, sigma=None, window="yarn", axes=("x", "y", "z"), rays_per_column=1, seed=1, progress=None,
-             threads=None):
+             threads=None, models="all"):
     """The main job on a grid, as ``weft validate --grid`` computes it and with its checks: sigma
     from the grid's provenance unless given, the statistics scale ``window`` ("yarn",
     "yarn-measured", "corr", "extent" or a length such as ``window=0.3``), ground truth along
     ``axes`` (``("x", "z")``, ``"x,z"`` or ``(0, 2)``), the paper's gamma law and every predictive
-    model. Returns the science part of report.json as Python objects:
+    model, or only the ``models`` named (``--models``: "all", "predicted" — the prediction alone,
+    the cheapest run —, or names such as ``("gamma", "local-gamma")``; the exponential baseline
+    always). Returns the science part of report.json as Python objects:
     ``["axes"][i]["errors"][model]["rms_abs_T"]``, ``["axes"][i]["models"][model]["uses_ground_truth"]``,
     ``["axes"][i]["predicted"]`` (the one prediction), ``["axes"][i]["best_by_ground_truth"]`` (a diagnostic chosen with T_gt), ..."""
     if not isinstance(grid, Grid):
@@ -174,11 +176,12 @@ def validate(grid, sigma=None, window="yarn", axes=("x", "y", "z"), rays_per_col
     if sigma is not None:
         sigma = _number("validate: sigma", sigma)
     window, axes = _window_text(window), _axes_text(axes)
+    models = _names_text("validate: models", models)
     rays_per_column = _integer("validate: rays_per_column", rays_per_column)
     seed = _integer("validate: seed", seed, 0, _MAX_SEED)
     text, curves, sigma_source, window_used = _run(
         lambda p: _validate_json(grid, sigma=sigma, window=window, axes=axes, rays_per_column=rays_per_column,
-                                 seed=seed, progress=p), threads, progress)
+                                 seed=seed, models=models, progress=p), threads, progress)
     report = _json.loads(text)
     report["sigma_source"] = sigma_source
     report["window"] = window_used
@@ -251,6 +254,23 @@ def _axes_text(axes):
             a = int(a)  # np.int64 too
         out.append(a if isinstance(a, str) else ("x", "y", "z")[a] if 0 <= a <= 2 else str(a))
     return ",".join(out)
+
+
+def _names_text(what, names):
+    """"a,b", ("a", "b") or "a" -> "a,b" (the library checks the names)."""
+    if isinstance(names, str):
+        return names
+    try:
+        parts = list(names)
+    except TypeError:
+        raise ArgumentTypeError("%s must be a name or a sequence of names, got %s"
+                                % (what, type(names).__name__)) from None
+    for n in parts:
+        if not isinstance(n, str):
+            raise ArgumentTypeError("%s must be names (str), got %r" % (what, n))
+    if not parts:
+        raise Error("%s: no name given" % what)
+    return ",".join(parts)
 
 
 _MAX_SEED = 2**64 - 1  # seeds are unsigned 64-bit, as the CLI's --seed

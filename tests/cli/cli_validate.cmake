@@ -25,6 +25,12 @@ add_test(NAME cli.validate.no_vti
                  -DOUT=${CMAKE_CURRENT_BINARY_DIR}/validate_no_vti -P ${CMAKE_CURRENT_SOURCE_DIR}/check_no_vti.cmake)
 set_tests_properties(cli.validate.no_vti PROPERTIES LABELS cli FIXTURES_REQUIRED weft_grids)
 
+# --models predicted: the prediction alone, the same numbers as in the full run.
+add_test(NAME cli.validate.models_predicted
+         COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DGRID=${WEFT_CLI_GRIDS}/good.vdb
+                 -DOUT=${CMAKE_CURRENT_BINARY_DIR}/validate_models -P ${CMAKE_CURRENT_SOURCE_DIR}/check_validate_models.cmake)
+set_tests_properties(cli.validate.models_predicted PROPERTIES LABELS cli FIXTURES_REQUIRED weft_grids)
+
 # Bad input: one line, non-zero exit, no output folder.
 function(weft_bad_input name expect)
   add_test(NAME cli.validate.bad.${name}
@@ -43,6 +49,8 @@ weft_bad_input(stretched "non-uniform voxel size" validate --grid ${WEFT_CLI_GRI
 weft_bad_input(empty "empty" validate --grid ${WEFT_CLI_GRIDS}/empty.vdb)
 weft_bad_input(sigma "sigma" validate --grid ${WEFT_CLI_GRIDS}/good.vdb --sigma -1)
 weft_bad_input(axes "not x, y or z" validate --grid ${WEFT_CLI_GRIDS}/good.vdb --axes x,w)
+weft_bad_input(models "'bogus' is not a model" validate --grid ${WEFT_CLI_GRIDS}/good.vdb --sigma 2 --models gamma,bogus)
+weft_bad_input(models_corpus "--models needs a validation" validate --corpus --models predicted)
 weft_bad_input(cloth_json "missing.json: no such file" validate --cloth ${WEFT_CLI_GRIDS}/missing.json)
 weft_bad_input(measure_missing "no such file" measure --grid ${WEFT_CLI_GRIDS}/does_not_exist.vdb)
 weft_bad_input(measure_empty "empty" measure --grid ${WEFT_CLI_GRIDS}/empty.vdb)

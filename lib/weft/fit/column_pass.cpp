@@ -329,7 +329,8 @@ void add_blocks(const int* k, const float* value, std::size_t count, int n, int 
 
 }  // namespace
 
-ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, ProgressSink& progress) {
+ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, PassParts want,
+                       ProgressSink& progress) {
   const int axis = reader.axis();
   const auto box = reader.box();
   const auto au = static_cast<std::size_t>((axis + 1) % 3);
@@ -342,7 +343,7 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
   st.nv = (ext[av] + w - 1) / w;
   st.nb = (n + w - 1) / w;
   const auto coarse = static_cast<std::size_t>(st.nu * st.nv);
-  const std::size_t cells = coarse * static_cast<std::size_t>(st.nb);
+  const std::size_t cells = want.blocks ? coarse * static_cast<std::size_t>(st.nb) : 0;
   if (cells > 50'000'000) fail("local fields: {} blocks of {} voxels is too many", cells, w);
   const std::size_t units = reader.tile_count();
   const std::size_t shards = std::min(kShards, units);
@@ -366,7 +367,7 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
     auto& part = parts[shard];
     if (scratch.bins.empty()) scratch.bins.assign((kZeroBin + 1) * 2, 0.0);
     auto& sb = blocks[shard];
-    sb.slot.assign(coarse, -1);
+    if (want.blocks) sb.slot.assign(coarse, -1);
     Group* group = nullptr;
     GroupKey group_key{};
     for (std::size_t unit = shard * units / shards; unit < (shard + 1) * units / shards; ++unit) {
@@ -385,16 +386,20 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
           const float* value = cols.value.data() + c * static_cast<std::size_t>(cols.depth);
           const std::size_t count = cols.count[c];
           const std::int64_t gv = group_v[static_cast<std::size_t>(iv)];
-          // Neighbouring columns share a group: the map is searched only when it changes.
-          if (group == nullptr || gu != group_key.first || gv != group_key.second) {
-            group_key = {gu, gv};
-            group = &part.groups[group_key];
+          if (want.windows) {
+            // Neighbouring columns share a group: the map is searched only when it changes.
+            if (group == nullptr || gu != group_key.first || gv != group_key.second) {
+              group_key = {gu, gv};
+              group = &part.groups[group_key];
+            }
+            Group& g = *group;
+            g.rays += 1.0;
+            add_windows(k, value, count, n, w, part, g, scratch);
           }
-          Group& g = *group;
-          g.rays += 1.0;
-          add_windows(k, value, count, n, w, part, g, scratch);
-          const auto coarse_column = static_cast<std::size_t>(gu * st.nv + gv);
-          add_blocks(k, value, count, n, w, reverse, sb, sb.place(coarse_column, st.nb), st.nb);
+          if (want.blocks) {
+            const auto coarse_column = static_cast<std::size_t>(gu * st.nv + gv);
+            add_blocks(k, value, count, n, w, reverse, sb, sb.place(coarse_column, st.nb), st.nb);
+          }
         }
       }
       task.step();
@@ -408,8 +413,8 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
   ws.bin_sum.assign(kBins, 0.0);
   st.sums.assign(cells, Sums{});
   st.cross.assign(cells, 0.0);
-  st.rays.assign(coarse, 0.0);
-  st.open.assign(coarse, 0.0);
+  st.rays.assign(want.blocks ? coarse : 0, 0.0);
+  st.open.assign(want.blocks ? coarse : 0, 0.0);
   for (std::size_t sh = 0; sh < shards; ++sh) {
     const auto& p = parts[sh];
     ws.all.merge(p.all);

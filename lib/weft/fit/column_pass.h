@@ -90,10 +90,18 @@ struct ColumnPass {
   BlockStats blocks;
 };
 
+/// Which of the pass's two statistics to gather (fit/model_selection.h): the windows cost most of
+/// the pass, the blocks little beyond reading the columns. A part not asked for stays empty.
+struct PassParts {
+  bool windows = true;
+  bool blocks = true;
+};
+
 /// Windows of w voxels (every position, stride one) and blocks of w³ voxels (anchored to the
 /// cloth: docs/validate.md "Blocks anchored to the cloth") along the reader's axis, the beam
 /// entering from the upper face when `reverse`. Shards of face patches, merged in shard order:
-/// the same bytes for any thread count.
-[[nodiscard]] ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, ProgressSink& progress);
+/// the same bytes for any thread count; each part's sums are the same whether the other is gathered.
+[[nodiscard]] ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, PassParts parts,
+                                     ProgressSink& progress);
 
 }  // namespace weft::fit::detail

@@ -67,13 +67,18 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
   const double sigma = spec.sigma;
   // One pass over the columns gives the windows of every model and the blocks of the local ones.
   StageClock clock;
-  const detail::ColumnPass pass = detail::column_pass(reader, reverse, w, progress);
+  const ModelSelection& models = spec.models;
+  const detail::ColumnPass pass =
+      detail::column_pass(reader, reverse, w, {models.needs_windows(), models.needs_blocks()}, progress);
   if (cost != nullptr) clock.lap(cost->statistics_seconds, cost->statistics_cpu_seconds);
   const detail::WindowSummary& ws = pass.windows;
   if (moments_out != nullptr) {
-    moments_out->mean = ws.moments.mean;
-    moments_out->variance = ws.moments.variance();
-    moments_out->samples = ws.moments.n;
+    *moments_out = ConcentrationStats{};
+    if (models.needs_windows()) {
+      moments_out->mean = ws.moments.mean;
+      moments_out->variance = ws.moments.variance();
+      moments_out->samples = ws.moments.n;
+    }
     moments_out->window_voxels = w;
     moments_out->window = w * h;
   }
@@ -91,7 +96,7 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
   };
   const double L = w * h;
   // The paper's law (Eq. 19–20) from all windows.
-  {
+  if (models.wants("gamma")) {
     const double mean = ws.all.mean();
     const double var = ws.all.var();
     add(
@@ -105,7 +110,7 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
         gamma_or_exponential(sigma, mean, var));
   }
   // Eq. 16 with the empirical distribution (histogram bins at their own mean).
-  {
+  if (models.wants("empirical")) {
     const double total = ws.all.n;
     std::vector<double> c;
     std::vector<double> p;
@@ -132,7 +137,7 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
         });
   }
   // Gap-aware gamma: empty windows see nothing, the others a gamma law.
-  {
+  if (models.wants("gap-gamma")) {
     const double f0 = ws.all.n > 0.0 ? ws.zeros / ws.all.n : 0.0;
     const double mean = ws.nonzero.mean();
     const double var = ws.nonzero.var();
@@ -153,7 +158,7 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
         [&](std::size_t, double t) { return gap_law->log_transmittance(t); }, gap_law);
   }
   // Across the beam: a gamma law per transverse cell of side L, mixed by rays.
-  {
+  if (models.wants("across-beam")) {
     // The registry's gamma-mixture law: one component per group, weight = its share of the rays.
     double rays = 0.0;
     for (const auto& [k, g] : ws.groups) rays += g.rays;
@@ -172,7 +177,7 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
   }
   // Local fields of blocks L³ (the statistics `weft fit --block` writes for rendering), clipped
   // to the active box so that each block holds exactly the beam's columns that cross it.
-  {
+  if (models.needs_blocks()) {
     const BlockStats& st = pass.blocks;
     double blocks = 0.0;
     for (const auto& b : st.sums) blocks += b.n > 0.0 && b.s > 0.0 ? 1.0 : 0.0;
@@ -186,14 +191,17 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
          Memory::per_block},
     };
     for (const auto& [name, description, memory] : kinds) {
+      if (!models.wants(name)) continue;
       auto curve = detail::block_field_curve(n, w, h, sigma, st, memory, depths);
       add(name, description, {{"block", L}, {"blocks", blocks}}, [&](std::size_t d, double) { return curve[d]; });
     }
-    auto curve = detail::two_scale_curve(n, w, h, sigma, st, depths);
-    add(kPredictedModel,
-        "blocks of side L; per ray a persistent gamma factor (its memory from the entry, variance from the measured "
-        "covariance of adjacent blocks) times an independent gamma factor per block (the prediction)",
-        {{"block", L}, {"blocks", blocks}}, [&](std::size_t d, double) { return curve[d]; });
+    if (models.wants(kPredictedModel)) {
+      auto curve = detail::two_scale_curve(n, w, h, sigma, st, depths);
+      add(kPredictedModel,
+          "blocks of side L; per ray a persistent gamma factor (its memory from the entry, variance from the measured "
+          "covariance of adjacent blocks) times an independent gamma factor per block (the prediction)",
+          {{"block", L}, {"blocks", blocks}}, [&](std::size_t d, double) { return curve[d]; });
+    }
   }
   if (cost != nullptr) clock.lap(cost->models_seconds, cost->models_cpu_seconds);
   return out;

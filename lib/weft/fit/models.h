@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "weft/core/progress.h"
+#include "weft/fit/model_selection.h"
 #include "weft/fit/window_stats.h"
 #include "weft/transmittance/law.h"
 #include "weft/volume/grid.h"
@@ -71,6 +72,9 @@ struct PredictionSpec {
   std::array<double, 3> direction{1, 0, 0};  ///< an axis direction (either sense)
   double sigma = 1.0;                        ///< μ = σ·value
   double scale = 0.0;                        ///< L in world units; 0 = the extent along the beam
+  /// The models to compute (isotropic and least-squares are validate's, not predict_axis's); the
+  /// pass gathers only the statistics they need.
+  ModelSelection models = ModelSelection::all();
 };
 
 /// What predict_axis spent, per stage: the one pass over the columns (the statistics) and the
@@ -84,12 +88,14 @@ struct PredictionCost {
   double models_cpu_seconds = 0.0;
 };
 
-/// Every predictive model above, in that order, on `depths` (distances from the entry face).
-/// Throws weft::Error for an empty grid, a non-axis direction or σ ≤ 0. When `moments_out` is
-/// given it receives the moments of the windows of length L the models were built from (what
+/// The predictive models above that `spec.models` names, in that order, on `depths` (distances
+/// from the entry face). Throws weft::Error for an empty grid, a non-axis direction or σ ≤ 0.
+/// When `moments_out` is given it receives the window length L, and, when the selection needs the
+/// windows, the moments of the windows of length L the models were built from (what
 /// fit::window_stats(grid, axis, L) computes, equal up to rounding: window sums here come from
-/// prefix sums), from the same pass, so validate reads the voxels once per beam for both; `cost`
-/// receives the time of each stage.
+/// prefix sums), from the same pass, so validate reads the voxels once per beam for both
+/// (`samples` stays 0 without them); `cost` receives the time of each stage. A model's curve does
+/// not depend on which others are computed.
 [[nodiscard]] std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const PredictionSpec& spec,
                                                        const std::vector<double>& depths,
                                                        ProgressSink& progress = null_progress(),

@@ -56,6 +56,7 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
     if (volume::beam_axis(d) < 0) fail("validate: beam {} is not along an axis", volume::direction_label(d));
   }
   Validation v;
+  v.models = spec.models;
   v.sigma = spec.sigma;
   v.voxel_size = grid.voxel_size();
   v.box = grid.active_bbox();
@@ -66,10 +67,13 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
   v.exponential = gamma_from_moments(v.mean_concentration, 0.0, spec.sigma);
   const auto exp_law = exponential_law(v.exponential);
 
-  // Window statistics per axis at its scale (sense does not matter); all three for isotropic.
-  // The predictive models of a beam are computed first, from the voxels alone, and their pass
-  // over the columns gives the axis's window statistics too (one read of the voxels per beam);
-  // window_stats reads an axis only when no beam's models did.
+  // Window statistics per axis at its scale (sense does not matter), when a model computed needs
+  // them; all three for isotropic. The predictive models of a beam are computed first, from the
+  // voxels alone, and their pass over the columns gives the axis's window statistics too (one
+  // read of the voxels per beam); window_stats reads an axis only when no beam's models did.
+  const ModelSelection& chosen = spec.models;
+  const bool axis_models = chosen.any_axis_model();
+  const bool windows = chosen.needs_windows();
   std::array<ConcentrationStats, 3> stats{};
   std::array<double, 3> stats_seconds{};
   std::array<double, 3> stats_cpu_seconds{};
@@ -86,7 +90,8 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
     beam.method = spec.method;
     return beam;
   };
-  if (spec.predictive_models) {
+  std::vector<double> window_length(spec.directions.size(), 0.0);
+  if (axis_models) {
     for (std::size_t i = 0; i < spec.directions.size(); ++i) {
       const auto& d = spec.directions[i];
       const auto a = static_cast<std::size_t>(volume::beam_axis(d));
@@ -96,9 +101,11 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
       ps.direction = d;
       ps.sigma = spec.sigma;
       ps.scale = spec.scale[a];
+      ps.models = chosen;
       ConcentrationStats moments;
       predictions[i] = predict_axis(grid, ps, beam_depths[i], progress, &moments, &prediction_cost[i]);
-      if (!have[a]) {
+      window_length[i] = moments.window;
+      if (windows && !have[a]) {
         stats[a] = moments;
         have[a] = true;
       }
@@ -112,7 +119,7 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
     clock.lap(stats_seconds[a], stats_cpu_seconds[a]);
     have[a] = true;
   };
-  if (spec.isotropic) {
+  if (chosen.wants("isotropic")) {
     const auto t0 = std::chrono::steady_clock::now();
     for (int a = 0; a < 3; ++a) stats_for(a);
     v.has_isotropic = true;
@@ -120,7 +127,7 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
     v.isotropic_fit = gamma_from_moments(v.isotropic_stats.mean, v.isotropic_stats.variance, spec.sigma);
     v.isotropic_seconds = seconds_since(t0);
   }
-  const auto iso_law = spec.isotropic ? model_law(v.isotropic_fit) : nullptr;
+  const auto iso_law = chosen.wants("isotropic") ? model_law(v.isotropic_fit) : nullptr;
 
   for (std::size_t i = 0; i < spec.directions.size(); ++i) {
     const auto& d = spec.directions[i];
@@ -130,11 +137,16 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
     const int axis = volume::beam_axis(d);
     const auto a = static_cast<std::size_t>(axis);
     const volume::BeamSpec beam = beam_spec(d);
-    const std::vector<double> depths = spec.predictive_models ? beam_depths[i] : volume::beam_depths(grid, beam);
-    stats_for(axis);
-    av.stats = stats[a];
-    av.scale = av.stats.window;
-    if (spec.predictive_models) {
+    const std::vector<double> depths = axis_models ? beam_depths[i] : volume::beam_depths(grid, beam);
+    if (windows) {
+      stats_for(axis);
+      av.has_stats = true;
+      av.stats = stats[a];
+      av.scale = av.stats.window;
+    } else {
+      av.scale = window_length[i];  // the blocks' side: what the local models were built on
+    }
+    if (axis_models) {
       av.stats_seconds = prediction_cost[i].statistics_seconds;
       av.stats_cpu_seconds = prediction_cost[i].statistics_cpu_seconds;
     } else {
@@ -142,9 +154,9 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
       av.stats_cpu_seconds = stats_cpu_seconds[a];
     }
     StageClock clock;
-    av.moment_fit = gamma_from_moments(av.stats.mean, av.stats.variance, spec.sigma);
+    if (av.has_stats) av.moment_fit = gamma_from_moments(av.stats.mean, av.stats.variance, spec.sigma);
     auto add_model = [&](ModelCurve m) { av.models.push_back(std::move(m)); };
-    {
+    if (chosen.wants("gamma")) {
       ModelCurve m;
       m.name = "gamma";
       m.description = "Eq. 19-20 (the paper): gamma concentration from the window statistics";
@@ -157,7 +169,7 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
       m.log_t = log_curve(*m.law, depths);
       add_model(std::move(m));
     }
-    if (spec.predictive_models) {
+    if (axis_models) {
       for (auto& p : predictions[i]) {
         if (p.name == "gamma") continue;  // the same law as above (one row per model)
         ModelCurve m;
@@ -198,7 +210,7 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
     // The least-squares reference needs three depths for its two parameters and a residual; a
     // grid one voxel thick along this beam has two (t = 0 and its one voxel), so the reference
     // row is left out there and nothing else changes (it is never a prediction).
-    if (spec.least_squares && av.ground_truth.size() >= 3) {
+    if (chosen.wants("least-squares") && av.ground_truth.size() >= 3) {
       av.lsq_fit = fit_gamma_to_curve(av.ground_truth, spec.sigma, av.moment_fit);
       ModelCurve m;
       m.name = "least-squares";

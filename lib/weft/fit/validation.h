@@ -12,6 +12,7 @@
 #include "weft/core/progress.h"
 #include "weft/fit/gamma_moments.h"
 #include "weft/fit/least_squares.h"
+#include "weft/fit/model_selection.h"
 #include "weft/fit/models.h"
 #include "weft/fit/window_stats.h"
 #include "weft/volume/beam.h"
@@ -27,12 +28,11 @@ struct ValidationSpec {
   /// Scale L of the statistics per axis (world units; 0 = the extent along that axis), from
   /// fit::resolve_scale (the yarn diameter by default).
   std::array<double, 3> scale{0.0, 0.0, 0.0};
-  /// Also evaluate the predictive models of fit/models.h (else only gamma and the baseline).
-  bool predictive_models = true;
+  /// The models to compute beside the exponential baseline (fit/model_selection.h); the
+  /// least-squares reference row only on axes with at least 3 depths.
+  ModelSelection models = ModelSelection::all();
   int rays_per_column = 1;
   std::uint64_t seed = 1;
-  bool isotropic = true;
-  bool least_squares = true;  ///< the least-squares reference row, on axes with at least 3 depths
   volume::BeamMethod method = volume::BeamMethod::automatic;
 };
 
@@ -52,6 +52,9 @@ struct AxisValidation {
   std::array<double, 3> direction{};
   std::string label;  ///< "+x"
   volume::TransmittanceCurve ground_truth;
+  /// The window statistics of length L along this axis and their gamma fit (Eq. 19–20): only
+  /// when a model computed needs them (has_stats).
+  bool has_stats = false;
   ConcentrationStats stats;
   GammaFit moment_fit;
   LeastSquaresFit lsq_fit;
@@ -70,6 +73,7 @@ struct AxisValidation {
 };
 
 struct Validation {
+  ModelSelection models = ModelSelection::all();  ///< what was computed (ValidationSpec::models)
   double sigma = 1.0;
   double voxel_size = 1.0;
   volume::IndexBox box;

@@ -234,8 +234,7 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, Progre
   fit::ValidationSpec vspec;
   vspec.sigma = target.sigma_stats;
   vspec.scale = scale.length;
-  vspec.least_squares = false;
-  vspec.isotropic = false;
+  vspec.models = fit::ModelSelection::all().without("least-squares").without("isotropic");
   const fit::Validation validation = fit::validate(fine, vspec, progress);
   std::map<std::string, std::pair<int, double>> votes;  // name → (axes, sum of ratios)
   for (const auto& axis : validation.axes) {

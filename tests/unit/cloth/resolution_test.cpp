@@ -34,7 +34,7 @@ Run run(const std::string& pattern, double h) {
   vs.sigma = *p.sigma;
   const auto scale = fit::resolve_scale("yarn", b.grid, p);
   vs.scale = scale.length;
-  vs.least_squares = false;
+  vs.models = fit::ModelSelection::all().without("least-squares");
   r.v = fit::validate(b.grid, vs);
   r.scale = scale.length[0];
   r.measured = fit::measured_yarn_scale(b.grid);
