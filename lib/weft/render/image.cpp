@@ -141,6 +141,10 @@ void write_rgb8_png(const std::filesystem::path& path, int width, int height, co
   write_atomically(path, [&](const std::filesystem::path& tmp) {
     vtkNew<vtkPNGWriter> writer;
     writer->SetFileName(tmp.c_str());
+    // zlib's fastest level, as for every picture weft writes (viz/vtk_support.cpp): the PNG is
+    // the sRGB view of the EXR, and at VTK's default (5) its compression on one thread was the
+    // longest serial stretch of a large film's render (docs/benchmarks.md "Threads").
+    writer->SetCompressionLevel(1);
     writer->SetInputData(data);
     writer->Write();
     if (writer->GetErrorCode() != 0 || !std::filesystem::exists(tmp) || std::filesystem::file_size(tmp) == 0)
