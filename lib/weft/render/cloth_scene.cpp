@@ -171,9 +171,11 @@ std::string scene_json(const volume::Grid& grid, const std::string& file_in_scen
       std::min(0.5 * size[u] / (kFill * tan_u), 0.5 * size[v] * std::cos(tilt) / (kFill * tan_v)) + size[n];
   const Vec3 towards_camera = (std::cos(tilt) * normal - std::sin(tilt) * ev).normalized();
   const Vec3 camera = centre + distance * towards_camera;
-  // The film's up is the normal's projection (sin·n + cos·ev once made orthogonal to the view);
-  // face-on the normal has none, and the projection's limit as the tilt goes to 0 is ev.
-  const Vec3 up = tilt > 0.0 ? normal : ev;
+  // The film's up is the normal's projection orthogonal to the view, n − (n·w)w = sin t (sin t n +
+  // cos t ev) for the view w = cos t n − sin t ev: written as the unit sin t n + cos t ev, exactly
+  // orthogonal to w at every tilt, ev face-on (where the normal has no projection), and never
+  // degenerate for a tilt of 1e-300 (a projection computed from n alone would be).
+  const Vec3 up = std::sin(tilt) * normal + std::cos(tilt) * ev;
   // The back light: an emitting rectangle 1.2× the patch, half the patch below it, facing it
   // (its normal edge_u × edge_v points at the cloth).
   const double below = 0.5 * extent;
