@@ -6,6 +6,7 @@
 #include <limits>
 #include <numbers>
 #include <string>
+#include <utility>
 
 #include "data_gen/media2d/disk_grid.h"
 #include "data_gen/media2d/law_fit.h"
@@ -79,7 +80,17 @@ void validate(const SimulationSpec& spec) {
   }
   // Each eta and angle is a case of its own: one given twice would be simulated again.
   require_distinct("sim2d: eta", spec.etas);
-  require_distinct("sim2d: source angle theta", spec.thetas_deg);
+  // Angles are the same case when they give the same direction (modulo 360°: direction_deg).
+  require_distinct(
+      "sim2d: source angle theta", spec.thetas_deg,
+      [&](std::size_t i) {
+        const Point2 d = direction_deg(spec.thetas_deg[i]);
+        return fmt::format("{} (direction ({:g}, {:g}), modulo 360 degrees)", spec.thetas_deg[i], d.x, d.y);
+      },
+      [](double theta) {
+        const Point2 d = direction_deg(theta);
+        return std::pair{d.x, d.y};
+      });
   if (spec.structure_realizations > spec.realizations) {
     fail("sim2d: structure realizations must be <= the realizations per eta ({}), got {}", spec.realizations,
          spec.structure_realizations);
