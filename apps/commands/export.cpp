@@ -53,6 +53,7 @@ int run(const ExportOptions& o, const Context& ctx) {
   std::stringstream ss(o.formats);
   std::string f;
   while (std::getline(ss, f, ',')) {
+    if ((f == "mitsuba" && mitsuba) || (f == "pbrt" && pbrt)) usage_fail("--format: '{}' is given twice", f);
     if (f == "mitsuba") {
       mitsuba = true;
     } else if (f == "pbrt") {
@@ -70,7 +71,7 @@ int run(const ExportOptions& o, const Context& ctx) {
   view.width = o.width;
   view.height = o.height;
   view.spp = o.spp;
-  medium.sigma = 1.0;
+  medium.sigma = o.input.sigma_given() ? o.input.sigma : 1.0;
   as_usage([&] { volume::validate(medium, view); });
 
   // σ the same way as validate, measure and fit: --sigma, else the grid's provenance
@@ -79,6 +80,7 @@ int run(const ExportOptions& o, const Context& ctx) {
   const volume::Grid& grid = loaded.grid;
   const volume::IndexBox box = grid.active_bbox();
   medium.sigma = loaded.sigma.sigma;
+  volume::validate(medium, view);  // σ from the grid's provenance
   const volume::WorldBox world = volume::world_box(grid, box);
   const std::uint64_t budget = memory_budget_bytes("--max-memory-mb", o.max_memory_mb);
   if (mitsuba) volume::check_mitsuba_vol(box, fs::path(o.out) / "mitsuba" / "cloth.vol", budget);

@@ -23,6 +23,11 @@ namespace fs = std::filesystem;
 
 void validate(const ExportMedium& medium, const ExportView& view) {
   require_positive("export: sigma", medium.sigma);
+  // Mitsuba 3's and pbrt-v4's scale is a float: a larger σ would be written as a number their
+  // parsers overflow to inf (or refuse), not as the medium asked for.
+  if (medium.sigma > static_cast<double>(std::numeric_limits<float>::max()))
+    fail("export: sigma {} is beyond a float ({:g}), which Mitsuba 3 and pbrt-v4 read the medium's scale as",
+         medium.sigma, static_cast<double>(std::numeric_limits<float>::max()));
   for (const double a : medium.albedo) {
     if (!(a >= 0.0 && a <= 1.0)) fail("export: albedo must be in [0, 1], got {}", a);
   }
