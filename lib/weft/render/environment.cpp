@@ -89,6 +89,10 @@ EnvironmentMap::EnvironmentMap(int width, int height, std::vector<float> rgb, do
       scale_(scale),
       dist_(sampling_weights(width, height, rgb_), width, height) {}
 
+bool EnvironmentMap::emits() const {
+  return scale_ > 0.0 && std::any_of(rgb_.begin(), rgb_.end(), [](float x) { return x > 0.0f; });
+}
+
 Vec3 EnvironmentMap::direction(double u, double v) {
   const double theta = kPi * v;
   const double phi = 2.0 * kPi * u - kPi;

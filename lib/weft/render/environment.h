@@ -66,6 +66,10 @@ class EnvironmentMap {
   [[nodiscard]] static Vec3 direction(double u, double v);
   static void coordinates(const Vec3& dir, double& u, double& v);
 
+  /// Whether any direction carries radiance (a scale > 0 and a pixel > 0): an all-black image
+  /// or a scale of 0 is a light that lights nothing.
+  [[nodiscard]] bool emits() const;
+
   [[nodiscard]] int width() const { return width_; }
   [[nodiscard]] int height() const { return height_; }
 

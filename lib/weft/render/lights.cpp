@@ -1,5 +1,7 @@
 #include "weft/render/lights.h"
 
+#include <algorithm>
+
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -129,6 +131,13 @@ LightSet build_lights(const SceneDesc& scene, const Geometry& geometry) {
     w.lights.push_back(light);
   }
   return w;
+}
+
+bool LightSet::emits() const {
+  return std::any_of(lights.begin(), lights.end(), [&](const Light& l) {
+    if (l.kind == Light::Kind::environment && environment_map) return environment_map->emits();
+    return (l.radiance > 0.0).any();
+  });
 }
 
 }  // namespace weft::render

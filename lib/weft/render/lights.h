@@ -41,6 +41,9 @@ struct LightSet {
   std::shared_ptr<const EnvironmentMap> environment_map;  ///< image environment (replaces the constant)
 
   [[nodiscard]] bool empty() const { return lights.empty(); }
+  /// Whether any light carries power: a radiance or intensity > 0 in some channel, an
+  /// environment image with a lit pixel and a scale > 0.
+  [[nodiscard]] bool emits() const;
   [[nodiscard]] std::size_t size() const { return lights.size(); }
 
   /// A light chosen uniformly, then a point or direction on it, seen from `x`. A shadow ray keeps

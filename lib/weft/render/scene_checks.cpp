@@ -32,9 +32,14 @@ std::vector<std::string> world_warnings(const World& world) {
   }
   // Nothing emits: every path's radiance is 0 and the image is black whatever the scene holds
   // (weft.render({}) rendered a black 256×256 film without a word).
-  if (world.lights.empty())
+  if (world.lights.empty()) {
     out.emplace_back(
         "the scene has no light (nothing in \"lights\" and no shape with \"emission\"), so the image is black");
+  } else if (!world.lights.emits()) {
+    out.emplace_back(
+        "every light of the scene emits nothing (intensity, radiance or emission 0, or an environment image that "
+        "is black or scaled by 0), so the image is black");
+  }
   return out;
 }
 

@@ -23,6 +23,7 @@
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
 #include "weft/core/progress.h"
+#include "weft/render/environment.h"
 #include "weft/render/medium.h"
 #include "weft/render/mesh.h"
 #include "weft/render/render.h"
@@ -742,6 +743,20 @@ TEST(SceneWarnings, ASceneWithoutLightSaysItsImageIsBlack) {
   std::string lit = dark;
   lit.insert(lit.rfind('}'), R"(, "lights": [{"type": "point", "position": [0, 2, 2], "intensity": 1}])");
   EXPECT_TRUE(world_warnings(build_world(scene_from(lit))).empty());
+  // Lights that are there but emit nothing make the same black image: said too.
+  std::string off = dark;
+  off.insert(off.rfind('}'), R"(, "lights": [{"type": "point", "position": [0, 2, 2], "intensity": 0},
+                                             {"type": "directional", "direction": [0, -1, 0], "irradiance": 0}])");
+  const std::vector<std::string> off_warnings = world_warnings(build_world(scene_from(off)));
+  ASSERT_EQ(off_warnings.size(), 1U);
+  EXPECT_NE(off_warnings[0].find("emits nothing"), std::string::npos) << off_warnings[0];
+}
+
+// An environment image that is black, or scaled by 0, lights nothing.
+TEST(EnvironmentMap, EmitsOnlyWithALitPixelAndAScaleAboveZero) {
+  EXPECT_TRUE(EnvironmentMap(2, 1, {0, 0, 0, 0, 0.5F, 0}, 1.0).emits());
+  EXPECT_FALSE(EnvironmentMap(2, 1, {0, 0, 0, 0, 0, 0}, 1.0).emits());
+  EXPECT_FALSE(EnvironmentMap(2, 1, {0, 0, 0, 0, 0.5F, 0}, 0.0).emits());
 }
 
 // An EXR holds finite pixels only: a mean beyond float's range is refused with its count, and
