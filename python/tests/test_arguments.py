@@ -227,6 +227,17 @@ def test_a_negative_seed_is_named(call):
     assert re.search(r"(^|: )seed must be >= 0, got -1$", str(e.value)), str(e.value)
 
 
+@pytest.mark.parametrize("call, message", [
+    (lambda: GRID.to_numpy(box=((0, 0, 0), (2**40, 1, 1))),
+     r"^Grid.to_numpy: box\[1\]\[0\] is out of the range of its C\+\+ integer type, got 1099511627776$"),
+    (lambda: weft.Grid.from_numpy(np.ones((2, 2, 2), np.float32), index_origin=(2**31, 0, 0)),
+     r"^Grid.from_numpy: index_origin\[0\] is out of the range of its C\+\+ integer type, got 2147483648$"),
+], ids=["to_numpy_box", "from_numpy_index_origin"])
+def test_an_integer_out_of_range_inside_a_sequence_is_named_with_its_place(call, message):
+    with pytest.raises(weft.Error, match=message):
+        call()
+
+
 def test_the_brief_examples():
     with pytest.raises(weft.Error, match=r"^measure_beam: seed must be >= 0, got -1$"):
         weft.measure_beam(GRID, seed=-1)

@@ -244,17 +244,35 @@ def _fits(annotation, value):
     return cls is None or isinstance(value, cls)
 
 
-def _int_out_of_range(annotation, value):
-    """For an int that pybind11 may have refused for its range: the problem, else None."""
-    if _generic(annotation)[0] == "Optional":
-        annotation = _generic(annotation)[1][0]
+def _int_out_of_range(annotation, value, where=""):
+    """For an int that pybind11 may have refused for its range, also inside a sequence or tuple
+    of them (``box=((0, 0, 0), (2**40, 1, 1))``): the problem, prefixed with the item's place
+    (``[1][0] is out of …``), else None."""
+    head, args = _generic(annotation)
+    if head == "Optional" and args:
+        return None if value is None else _int_out_of_range(args[0], value, where)
+    if head in ("List", "Sequence", "Tuple") and args:
+        if value is None or isinstance(value, (str, bytes, dict)) or not hasattr(type(value), "__getitem__"):
+            return None
+        items = list(value)
+        for i, item in enumerate(items):
+            if head == "Tuple":
+                if i >= len(args):
+                    return None
+                inner = args[i]
+            else:
+                inner = _fixed(args[0])[0]
+            problem = _int_out_of_range(inner, item, "%s[%d]" % (where, i))
+            if problem:
+                return problem
+        return None
     if annotation != "int" or value is None or not _fits("int", value):
         return None
     value = value.__index__()
     if _INT64_MIN <= value < 0:
-        return "must be >= 0, got %d" % value  # only an unsigned type refuses these
+        return "%s must be >= 0, got %d" % (where, value)  # only an unsigned type refuses these
     if value < _INT64_MIN or value > _INT_MAX:
-        return "is out of the range of its C++ integer type, got %d" % value
+        return "%s is out of the range of its C++ integer type, got %d" % (where, value)
     return None
 
 
@@ -302,7 +320,7 @@ def _diagnosed(call, signature, args, kwargs):
     ranges = [(name, problem) for name, value in arguments.items()
               for problem in [_int_out_of_range(signature.parameters[name].annotation, value)] if problem]
     if len(ranges) == 1:
-        return Error("%s: %s %s" % (call, ranges[0][0], ranges[0][1]))
+        return Error("%s: %s%s" % (call, ranges[0][0], ranges[0][1]))
     if ranges:
         return Error("%s: %s: one of these is out of its integer type's range" % (
             call, ", ".join("%s=%s" % (name, arguments[name]) for name, _ in ranges)))
