@@ -23,6 +23,8 @@ struct ShardBlocks {
   std::vector<double> rays;   ///< per place: beam columns
   std::vector<double> open;   ///< per place: columns empty over the whole depth
   std::vector<double> closed;
+  std::vector<double> slices;  ///< [place·depth + k]: Σ of the values at depth k (the profile)
+  std::size_t depth = 0;       ///< slices per place (0: no profile)
 
   std::size_t place(std::size_t coarse, std::int64_t nb) {
     if (slot[coarse] < 0) {
@@ -30,6 +32,7 @@ struct ShardBlocks {
       touched.push_back(coarse);
       sums.resize(sums.size() + static_cast<std::size_t>(nb));
       cross.resize(cross.size() + static_cast<std::size_t>(nb), 0.0);
+      slices.resize(slices.size() + depth, 0.0);
       rays.push_back(0.0);
       open.push_back(0.0);
       closed.push_back(0.0);
@@ -298,6 +301,7 @@ void add_blocks(const int* k, const float* value, std::size_t count, int n, int 
   sb.closed[place] += 1.0;
   Sums* block = &sb.sums[place * static_cast<std::size_t>(nb)];
   double* pair = &sb.cross[place * static_cast<std::size_t>(nb)];
+  double* profile = sb.depth > 0 ? &sb.slices[place * sb.depth] : nullptr;
   int prev_b = -2;
   double prev_m = 0.0;
   int cur_b = -1;
@@ -323,6 +327,7 @@ void add_blocks(const int* k, const float* value, std::size_t count, int n, int 
       sum = 0.0;
     }
     sum += static_cast<double>(value[i]);
+    if (profile != nullptr) profile[e] += static_cast<double>(value[i]);
   }
   flush();
 }
@@ -344,6 +349,12 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
   st.nb = (n + w - 1) / w;
   const auto coarse = static_cast<std::size_t>(st.nu * st.nv);
   const std::size_t cells = want.blocks ? coarse * static_cast<std::size_t>(st.nb) : 0;
+  const bool profile = want.blocks && want.profile;
+  st.depth = profile ? n : 0;
+  // The profile holds w values per block: a window of a few voxels on a large box would take
+  // gigabytes, refused before the pass like the blocks themselves.
+  if (profile && coarse * static_cast<std::size_t>(n) > 100'000'000)
+    fail("local fields: a depth profile of {} slices in {} coarse columns of {} voxels is too many", n, coarse, w);
   if (cells > 50'000'000) fail("local fields: {} blocks of {} voxels is too many", cells, w);
   const std::size_t units = reader.tile_count();
   const std::size_t shards = std::min(kShards, units);
@@ -368,6 +379,7 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
     if (scratch.bins.empty()) scratch.bins.assign((kZeroBin + 1) * 2, 0.0);
     auto& sb = blocks[shard];
     if (want.blocks) sb.slot.assign(coarse, -1);
+    sb.depth = static_cast<std::size_t>(st.depth);
     Group* group = nullptr;
     GroupKey group_key{};
     for (std::size_t unit = shard * units / shards; unit < (shard + 1) * units / shards; ++unit) {
@@ -415,6 +427,7 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
   st.cross.assign(cells, 0.0);
   st.rays.assign(want.blocks ? coarse : 0, 0.0);
   st.open.assign(want.blocks ? coarse : 0, 0.0);
+  st.slices.assign(coarse * static_cast<std::size_t>(st.depth), 0.0);
   for (std::size_t sh = 0; sh < shards; ++sh) {
     const auto& p = parts[sh];
     ws.all.merge(p.all);
@@ -444,6 +457,7 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
       }
       st.rays[c] += sb.rays[place];
       st.open[c] += sb.open[place];
+      for (std::size_t k = 0; k < sb.depth; ++k) st.slices[c * sb.depth + k] += sb.slices[place * sb.depth + k];
     }
   }
   return out;

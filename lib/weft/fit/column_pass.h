@@ -95,6 +95,7 @@ struct ColumnPass {
 struct PassParts {
   bool windows = true;
   bool blocks = true;
+  bool profile = true;  ///< with the blocks: the mean's depth profile inside them (BlockStats::slices)
 };
 
 /// Windows of w voxels (every position, stride one) and blocks of w³ voxels (anchored to the

@@ -128,11 +128,24 @@ std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const 
     double last = 0.0;  // log T at the last slice end evaluated, if no hazard was added since
     bool have_last = false;
     std::vector<double> scratch(p.size(), 0.0);
-    // Hazards of the live nodes over [a, b) of the current block: the gamma hazard of Q_b
-    // (α = 1/v_b, κ = μ v_b) with memory from the block's entry (transmittance::GammaCell's
-    // integral, node by node in node_hazards).
+    // Hazards of the live nodes over [a, b) of the current block, a and b in the block's
+    // profile-weighted distance from its entry (below): the gamma hazard of Q_b (α = 1/v_b,
+    // κ = μ v_b) with memory from the block's entry (transmittance::GammaCell's integral, node by
+    // node in node_hazards).
     auto hazards = [&](double a, double b, double* out) {
-      node_hazards(p.data(), live, sigma * mean, vb, a - entry, b - a, out);
+      node_hazards(p.data(), live, sigma * mean, vb, a, b - a, out);
+    };
+    // The depth profile inside the block (BlockStats::slices): the factor Q_b multiplies the
+    // whole block, so the optical depth to s inside it is σ P Q_b ∫ m(x) dx, the block's mean
+    // times the distance u(s) = L_b ∫₀ˢ m / ∫₀^{L_b} m — the hazard of the uniform block taken
+    // at u instead of s. u = s without a profile; at the block's end u = L_b exactly (cum/total
+    // = 1), so every block-end value is the uniform block's (docs/validate.md "The prediction").
+    const double* profile = st.depth > 0 ? &st.slices[c * static_cast<std::size_t>(st.depth)] : nullptr;
+    double block_total = 0.0;  // Σ of the profile over the current block
+    double block_length = 0.0;
+    double cum = 0.0;  // Σ of the profile over the block's slices before k
+    auto warped = [&](double cumulative, double distance) {
+      return profile != nullptr && block_total > 0.0 ? block_length * (cumulative / block_total) : distance;
     };
     // Open columns (no concentration along the whole beam) transmit everything, exactly.
     const double f_open = st.rays[c] > 0.0 ? st.open[c] / st.rays[c] : 0.0;
@@ -157,12 +170,24 @@ std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const 
         const double rel = mean > 0.0 ? b.var() / (mean * mean) : 0.0;
         vb = std::max(0.0, (1.0 + rel) / (1.0 + vp) - 1.0);
         entry = s0;
+        const int end = std::min(n, k + B);
+        block_length = (end - k) * h;
+        block_total = 0.0;
+        if (profile != nullptr) {
+          for (int j = k; j < end; ++j) block_total += profile[j];
+        }
+        cum = 0.0;
       }
+      // The slice [s0, s0 + h) in the block's warped distance: [u0, u1).
+      const double u0 = warped(cum, s0 - entry);
+      const double cum1 = cum + (profile != nullptr ? profile[k] : 0.0);
+      const double u1 = warped(cum1, s0 + h - entry);
+      cum = cum1;
       // A block without concentration adds exactly 0 to every node's hazard: at the slice's end
       // T is the value at the previous slice's end (H there was H + inc, the same additions).
       const bool still = !(mean > 0.0);
       // The slice's hazard once per node (the beam's depths are the slice ends, k·h).
-      if (!still) hazards(s0, s0 + h, inc.data());
+      if (!still) hazards(u0, u1, inc.data());
       bool ended = false;
       while (d < depths.size() && depths[d] <= s0 + h) {
         const double t = std::max(depths[d], s0);
@@ -175,7 +200,7 @@ std::vector<double> two_scale_curve(int n, int B, double h, double sigma, const 
           log_terms[d++][c] = last;
           continue;
         }
-        if (!still) hazards(s0, t, scratch.data());
+        if (!still) hazards(u0, u0 + (t - s0) / h * (u1 - u0), scratch.data());
         for (std::size_t j = 0; j < live; ++j) at[j] = -(H[j] + (still ? 0.0 : scratch[j]));
         log_terms[d++][c] = with_open(log_mean_exp_nodes(at.data(), live, p.size(), scratch.data()));
       }

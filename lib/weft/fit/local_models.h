@@ -56,6 +56,11 @@ struct BlockStats {
   std::vector<double> open;  ///< per coarse column: its columns empty over the whole depth
   /// [(cu·nv + cv)·nb + cb]: Σ over the columns of (mean in block cb) × (mean in block cb + 1)
   std::vector<double> cross;
+  /// The depth profile of the mean inside the blocks (only when gathered: PassParts::profile):
+  /// [(cu·nv + cv)·depth + k], Σ over the coarse column's columns of the value at depth k from
+  /// the entry face; `depth` slices per coarse column (0 when not gathered).
+  std::int64_t depth = 0;
+  std::vector<double> slices;
   [[nodiscard]] std::size_t index(std::int64_t u, std::int64_t v, std::int64_t b) const {
     return static_cast<std::size_t>((u * nv + v) * nb + b);
   }

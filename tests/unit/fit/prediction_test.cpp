@@ -189,6 +189,49 @@ TEST(Prediction, StatisticsPassGivesTheSameBitsForAnyThreadCount) {
   }
 }
 
+// The depth profile inside a block (BlockStats::slices, docs/validate.md "The prediction"): a
+// block whose concentration sits in its far half transmits everything until the beam reaches it,
+// and at every block end the prediction is the uniform block's.
+TEST(Prediction, TheProfileInsideABlockMovesItsHazardToWhereTheConcentrationIs) {
+  constexpr int nx = 24, ny = 8, nz = 8, B = 6;
+  Grid g(0.01);
+  g.set_origin({0, 0, 0});
+  for (int i = 0; i < nx; ++i) {
+    for (int j = 0; j < ny; ++j) {
+      for (int k = 0; k < nz; ++k) {
+        // In every block along x only its last 3 slices hold fibre, unevenly across the columns.
+        if (i % B >= 3) g.set_value(i, j, k, static_cast<float>(0.1 + 0.1 * ((i + 2 * j + 3 * k) % 5)));
+      }
+    }
+  }
+  // The first slice of the grid must hold a voxel for the box to start at the entry face.
+  g.set_value(0, 0, 0, 0.05f);
+  const volume::ColumnReader reader(g, 0);
+  volume::BeamSpec b;
+  b.direction = {1, 0, 0};
+  const auto depths = volume::beam_depths(g, b);
+  const double sigma = 40.0;
+  const double h = g.voxel_size();
+  const auto with = detail::column_pass(reader, false, B, {false, true, true}, null_progress());
+  const auto without = detail::column_pass(reader, false, B, {false, true, false}, null_progress());
+  ASSERT_EQ(with.blocks.depth, nx);
+  EXPECT_EQ(without.blocks.depth, 0);
+  const auto profiled = detail::two_scale_curve(nx, B, h, sigma, with.blocks, depths);
+  const auto uniform = detail::two_scale_curve(nx, B, h, sigma, without.blocks, depths);
+  ASSERT_EQ(profiled.size(), depths.size());
+  for (std::size_t d = 0; d < depths.size(); ++d) {
+    const double slices = depths[d] / h;
+    const auto k = static_cast<int>(std::lround(slices));
+    if (k % B == 0) {
+      EXPECT_NEAR(profiled[d], uniform[d], 1e-12 * (1.0 + std::abs(uniform[d]))) << "block end, depth " << k;
+    } else if (k < 3) {
+      // Only column (0, 0)'s first voxel before slice 3: nearly all of T is still there.
+      EXPECT_GT(profiled[d], uniform[d]) << "depth " << k;
+      EXPECT_GT(profiled[d], -0.05) << "depth " << k;
+    }
+  }
+}
+
 TEST(Prediction, ThePiecesBinIsTheHistogramsBin) {
   // bin_of_positive (the statistics pass, one per piece) reads the bin from the shifted bits;
   // bin_of takes exponent and mantissa apart: the same bin for every m > 0, at the octave edges,
