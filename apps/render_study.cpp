@@ -178,7 +178,7 @@ void run_render_study(const render::SceneDesc& scene, study::StudySpec spec, con
     ctx.say(fmt::format("{:<21} {:>7} {:>9.3g} {:>11.4g} {:>11.4g} {:>9.3g} {:>11.4g} {:>9.3g} {:>13.3g}", c.name,
                         c.spp, c.seconds, c.rmse, c.bias, c.bias_z(), c.noise, c.speedup,
                         r.cloth_mean > 0.0 ? 100.0 * c.cloth_bias / r.cloth_mean : 0.0));
-  ctx.say(r.best_predictive_note);
+  ctx.say(r.best_by_ground_truth_note);
   for (const auto& n : r.notes) ctx.say("note: " + n);
   ctx.say("headline: " + r.headline);
   outputs.keep();

@@ -238,7 +238,6 @@ std::vector<std::string> pattern_names() {
   return {"plain", "twill21", "twill22", "twill31", "satin5", "basket", "stockinette", "import"};
 }
 
-namespace {
 // Short names: the commonest member of each family.
 std::string canonical_pattern(const std::string& name) {
   if (name == "twill") return "twill22";
@@ -246,7 +245,6 @@ std::string canonical_pattern(const std::string& name) {
   if (name == "knit") return "stockinette";
   return name;
 }
-}  // namespace
 
 ClothSpec resolve(ClothSpec spec) {
   spec.pattern = canonical_pattern(spec.pattern);

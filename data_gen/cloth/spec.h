@@ -96,6 +96,10 @@ struct ClothSpec {
 
 /// Names accepted by ClothSpec::pattern.
 std::vector<std::string> pattern_names();
+/// The pattern a name stands for: the aliases twill, satin, knit are twill22, satin5, stockinette
+/// (the commonest member of each family); any other name is itself. What resolve() stores and
+/// every report names a cloth by, so an alias and its pattern are one cloth.
+std::string canonical_pattern(const std::string& name);
 /// Replaces the 0 = automatic spacings and crimp by their derived values and the pattern
 /// aliases twill, satin, knit by twill22, satin5, stockinette (idempotent).
 ClothSpec resolve(ClothSpec spec);

@@ -68,7 +68,7 @@ st::StudySpec study_spec(const py::dict& o, const char* call, bool matrix) {
   const bool quick = get<bool>(o, "quick").value_or(false);
   st::StudySpec spec = matrix ? st::default_matrix_spec(quick).study : st::default_study_spec(quick);
   spec.work_dir = "(the out folder)";  // set by the caller; checked here for the other fields
-  const auto check = [&] { st::check_study_spec(spec); };
+  const auto check = [&] { st::check_study_spec(spec, FrontEnd::python); };
   if (auto f = get<std::vector<int>>(o, "factors")) {
     argument(call, "factors=" + shown(*f), [&] {
       std::vector<int> sorted = *f;  // the CLI runs them in increasing order
@@ -87,6 +87,7 @@ st::StudySpec study_spec(const py::dict& o, const char* call, bool matrix) {
         spec.memory_rules.push_back(*rule);
       }
       if (spec.memory_rules.empty()) fail("no memory rule");
+      check();
     });
   }
   if (auto spp = get<int>(o, "spp")) {
@@ -230,7 +231,7 @@ void init_study(py::module_& m) {
         constexpr const char* call = "render_matrix";
         st::MatrixSpec spec = st::default_matrix_spec(get<bool>(o, "quick").value_or(false));
         spec.study = study_spec(o, call, true);
-        const auto check = [&] { st::check_matrix_spec(spec); };
+        const auto check = [&] { st::check_matrix_spec(spec, FrontEnd::python); };
         if (auto cloths = get<std::vector<std::string>>(o, "cloths"))
           argument(call, "cloths=" + shown(*cloths), [&] {
             spec.cloths = *cloths;
@@ -263,7 +264,8 @@ void init_study(py::module_& m) {
         check();
         // As the CLI: finished cases kept in <out>/matrix.units, keyed by the spec (--resume).
         std::optional<dist::UnitStore> store;
-        if (keep_units) store.emplace(fs::path(work_dir) / "matrix.units", st::matrix_key(spec), resume);
+        if (keep_units)
+          store.emplace(fs::path(work_dir) / "matrix.units", st::matrix_key(spec), resume, FrontEnd::python);
         const auto results =
             run_released(progress, [&](ProgressSink& p) { return st::run_matrix(spec, p, store ? &*store : nullptr); });
         const auto headlines = st::matrix_headlines(spec, results);

@@ -89,6 +89,10 @@ def test_study_shapes_and_rows(study):
         assert np.allclose(c.error_map[..., 0], np.abs(c.image - result.reference_image).mean(axis=2), atol=1e-6)
         assert c.to_dict() == result.to_dict()["candidates"][names.index(c.name)]
     assert result["slab-gamma"].factor == 0 and result["fine"].factor == 1
+    # (c), the validation's best model, is chosen against the ground truth: labelled so, also
+    # under its former key (docs/render.md §6c).
+    assert result.best_by_ground_truth["uses_ground_truth"] is True
+    assert result.best_predictive == result.best_by_ground_truth
     rows = result.rows()
     assert [r["name"] for r in rows] == names and "curve" not in rows[0] and "memory_bytes" in rows[0]
     assert result.csv.splitlines()[0].startswith("candidate,model,factor,spp")
@@ -182,6 +186,12 @@ def test_matrix_rows_headlines_and_resume(matrix):
     again = weft.render_matrix(quick=True, cloths="plain", lightings="back", tilts=45, factors=(2, 4), out=out,
                                resume=True)
     assert again.resumed == 1 and again.to_json() == result.to_json()
+    # Another spec is refused, naming Python's argument, not the CLI's flag (docs/python.md).
+    with pytest.raises(weft.Error, match=r"resume=True: '.*' holds the units of a different run.* without "
+                                         r"resume=True") as e:
+        weft.render_matrix(quick=True, cloths="plain", lightings="back", tilts=45, factors=(2, 4), spp=4, out=out,
+                           resume=True)
+    assert "--" not in str(e.value)
 
 
 def test_albedo_fitted_to_images_is_labelled(scene_file):
@@ -265,6 +275,10 @@ def test_shadowed_downsample_takes_sigma_from_the_provenance(small_cloth):
     (dict(factors=(1, 4)), r"render_study: factors=\[1, 4\]: .*factor 1"),
     (dict(factors=(2, 2)), r"factors=\[2, 2\]: .*twice"),
     (dict(memory=("segment", "bogus")), r"memory=\['segment', 'bogus'\]: unknown memory rule 'bogus'"),
+    (dict(memory="segment,segment"), r"memory=\['segment', 'segment'\]: study: memory rule 'segment' is given twice"),
+    (dict(components="local-gamma-renewal"),
+     r"components=\['local-gamma-renewal'\]: .*renewal is not one of the study's memory rules \(optical-depth\); "
+     r"add it to memory="),
     (dict(spp=0), r"spp=0: must be >= 1"),
     (dict(spp=4, seconds=2.0), r"spp= and seconds= exclude each other"),
     (dict(seconds=float("nan")), r"seconds=nan"),
@@ -306,12 +320,24 @@ def test_study_refuses_a_scene_without_one_grid_medium():
     (dict(yarns=0), r"yarns=0"),
     (dict(factors=()), r"factors=\[\]: .*no coarsening factors"),
     (dict(resume=True), r"resume=True needs out="),
+    # A repeated cloth (an alias is its pattern), light set-up, view or memory rule would render the
+    # same case or candidate twice under one name (docs/robustness.md).
+    (dict(cloths="twill,twill22"), r"cloths=\['twill', 'twill22'\]: render matrix: cloth 'twill22' \(as 'twill', "
+                                   r"'twill22'\) is given twice"),
+    (dict(cloths=("satin", "satin5")), r"cloth 'satin5' \(as 'satin', 'satin5'\) is given twice"),
+    (dict(lightings=("back", "back")), r"lightings=\['back', 'back'\]: render matrix: light set-up 'back' is given "
+                                       r"twice"),
+    (dict(tilts=(45, 45)), r"tilts=\[45, 45\]: render matrix: view at tilt 45 degrees is given twice"),
+    (dict(memory="segment,segment"), r"memory=\['segment', 'segment'\]: study: memory rule 'segment' is given twice"),
+    (dict(components="local-gamma-renewal"),
+     r"renewal is not one of the study's memory rules \(optical-depth, segment\); add it to memory="),
 ])
 def test_matrix_bad_input_is_one_error_naming_the_argument(tmp_path, kwargs, match):
     out = None if kwargs.get("resume") else tmp_path / "out"
     with pytest.raises(weft.Error, match=match) as e:
         weft.render_matrix(quick=True, out=out, **kwargs)
     assert "\n" not in str(e.value)
+    assert "--" not in str(e.value)  # never a CLI flag (docs/python.md "One set of checks")
     assert out is None or not out.exists()  # no empty folder left either
     with pytest.raises(TypeError, match="film must be"):
         weft.render_matrix(film=32)

@@ -105,8 +105,9 @@ class AlbedoFit(_Record):
 
 class StudyResult(_Record):
     """What ``weft.render_study`` returns: the fields of ``weft render --study``'s study.json
-    (``mode``, ``headline``, ``reference``, ``best_predictive``, ``slab_law``, ``notes``) as
-    attributes, ``candidates`` (StudyCandidate, also ``result["exponential-2x"]``), the images
+    (``mode``, ``headline``, ``reference``, ``best_by_ground_truth`` (chosen with the ground truth,
+    also under its former key ``best_predictive``), ``slab_law``, ``notes``) as attributes,
+    ``candidates`` (StudyCandidate, also ``result["exponential-2x"]``), the images
     (``reference_image``, ``reference_variance``: float32 (H, W, 3); ``cloth_mask``: bool (H, W)),
     ``albedo_fits`` (with ``albedo="fit"``), ``to_json()`` (study.json's text), ``csv`` and
     ``curves_csv`` (its .study.csv and .study.curves.csv), ``rows()`` (a table)."""

@@ -21,8 +21,8 @@ std::string read_file(const fs::path& p) {
 }
 }  // namespace
 
-UnitStore::UnitStore(fs::path folder, std::string key, bool resume)
-    : folder_(std::move(folder)), key_(std::move(key)), resume_(resume) {}
+UnitStore::UnitStore(fs::path folder, std::string key, bool resume, FrontEnd front)
+    : folder_(std::move(folder)), key_(std::move(key)), resume_(resume), front_(front) {}
 
 fs::path UnitStore::unit_path(std::size_t unit) const { return folder_ / fmt::format("unit-{:06}.bin", unit); }
 
@@ -31,10 +31,11 @@ void UnitStore::open() {
   const fs::path key_file = folder_ / "run.json";
   if (resume_ && fs::exists(key_file, ec)) {
     if (read_file(key_file) != key_) {
+      const std::string option = Spelling{"--resume", "resume=True"}.in(front_);
       fail(
-          "--resume: '{}' holds the units of a different run (its run.json differs from this run's options); "
-          "rerun with the same options, or without --resume to start over",
-          folder_.string());
+          "{}: '{}' holds the units of a different run (its run.json differs from this run's options); "
+          "rerun with the same options, or without {} to start over",
+          option, folder_.string(), option);
     }
     return;
   }

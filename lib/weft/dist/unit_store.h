@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "weft/core/front_end.h"
 #include "weft/dist/distributed.h"
 
 namespace weft::dist {
@@ -20,8 +21,9 @@ namespace weft::dist {
 /// `run.json` holds the same key and keeps the units it finds.
 class UnitStore {
  public:
-  /// `key` identifies the run (e.g. its options as JSON): units of a different key are refused.
-  UnitStore(std::filesystem::path folder, std::string key, bool resume);
+  /// `key` identifies the run (e.g. its options as JSON): units of a different key are refused,
+  /// naming the resume option as `front` spells it (`--resume`, Python's `resume=True`).
+  UnitStore(std::filesystem::path folder, std::string key, bool resume, FrontEnd front = FrontEnd::cli);
 
   /// @brief Creates or checks the folder (called by run_units on rank 0).
   void open();
@@ -34,6 +36,7 @@ class UnitStore {
 
   [[nodiscard]] const std::filesystem::path& folder() const { return folder_; }
   [[nodiscard]] bool resume() const { return resume_; }
+  [[nodiscard]] FrontEnd front_end() const { return front_; }
   /// Units found on disk by open() (0 for a fresh run).
   [[nodiscard]] std::size_t found() const { return found_; }
   void set_found(std::size_t n) { found_ = n; }
@@ -43,6 +46,7 @@ class UnitStore {
   std::filesystem::path folder_;
   std::string key_;
   bool resume_;
+  FrontEnd front_;
   std::size_t found_ = 0;
 };
 

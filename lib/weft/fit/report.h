@@ -26,8 +26,6 @@ struct ModelRatio {
 /// exponential baseline excluded) with the smallest RMS error on T against T_gt. Its
 /// uses_ground_truth is true: which model wins is known only after measuring.
 [[nodiscard]] ModelRatio best_by_ground_truth(const AxisValidation& axis);
-/// The former name of best_by_ground_truth (render's study still reads it).
-[[nodiscard]] inline ModelRatio best_predictive(const AxisValidation& axis) { return best_by_ground_truth(axis); }
 
 /// {"sigma": …, "exponential": …, "isotropic": …, "axes": [ … ]} as pretty-printed JSON.
 [[nodiscard]] std::string validation_json(const Validation& v);

@@ -12,6 +12,7 @@
 
 #include "data_gen/cloth/cloth.h"
 #include "weft/core/atomic_file.h"
+#include "weft/core/distinct.h"
 #include "weft/core/error.h"
 #include "weft/dist/distributed.h"
 #include "weft/dist/unit_store.h"
@@ -41,12 +42,14 @@ cloth::ClothSpec cloth_spec(const MatrixSpec& spec, const std::string& pattern) 
   return cloth::resolve(c);
 }
 
-/// The cloth's grid under work_dir/cloths/, named by a hash of its resolved generator spec, so a
-/// changed generator or spec makes a new file and an existing one is the same cloth.
+/// The cloth's grid under work_dir/cloths/, named by its pattern (alias resolved) and a hash of
+/// its resolved generator spec, so a changed generator or spec makes a new file and an existing
+/// one is the same cloth.
 fs::path cloth_file(const MatrixSpec& spec, const std::string& pattern) {
-  const std::string text = cloth::cloth_spec_json(cloth_spec(spec, pattern));
+  const cloth::ClothSpec c = cloth_spec(spec, pattern);
+  const std::string text = cloth::cloth_spec_json(c);
   return fs::absolute(spec.study.work_dir / "cloths" /
-                      fmt::format("{}_{:016x}.vdb", pattern, std::hash<std::string>{}(text)));
+                      fmt::format("{}_{:016x}.vdb", c.pattern, std::hash<std::string>{}(text)));
 }
 
 render::SceneDesc case_scene(const MatrixSpec& spec, const MatrixCase& c) {
@@ -177,22 +180,24 @@ MatrixCaseResult run_case(const MatrixSpec& spec, const MatrixCase& c, const Fac
 /// (b)): one unit per cloth, gathered on rank 0 and broadcast, so every rank takes the same numbers.
 std::vector<Factors> fit_factors(const MatrixSpec& spec, const std::vector<MatrixCase>& cases, dist::UnitStore* store,
                                  ProgressSink& progress) {
+  const std::vector<std::string> patterns = matrix_patterns(spec);
   std::vector<Factors> out(spec.cloths.size());
   std::vector<const MatrixCase*> fitted(spec.cloths.size(), nullptr);
   for (const auto& c : cases)
     if (c.fitted_on) fitted[c.cloth] = &c;
   std::optional<dist::UnitStore> fits;
-  if (store != nullptr) fits.emplace(store->folder().parent_path() / "fits.units", matrix_key(spec), store->resume());
+  if (store != nullptr)
+    fits.emplace(store->folder().parent_path() / "fits.units", matrix_key(spec), store->resume(), store->front_end());
   dist::UnitsOptions how;
   how.batch = 1;
   how.store = fits ? &*fits : nullptr;
-  how.name = [&](std::size_t u) { return fmt::format("albedo fit of cloth {} ({})", u, spec.cloths[u]); };
+  how.name = [&](std::size_t u) { return fmt::format("albedo fit of cloth {} ({})", u, patterns[u]); };
   const auto bytes = dist::run_units(
       spec.cloths.size(),
       [&](std::size_t u) {
         const dist::RankLocal local;
         StudySpec s = spec.study;
-        s.work_dir = spec.study.work_dir / "fits" / spec.cloths[u];
+        s.work_dir = spec.study.work_dir / "fits" / patterns[u];
         s.log = nullptr;
         json j = json::array();
         for (const auto& [f, a] : fit_albedo_factors(case_scene(spec, *fitted[u]), s, progress)) j.push_back({f, a});
@@ -254,34 +259,67 @@ MatrixSpec default_matrix_spec(bool quick) {
   return spec;
 }
 
-void check_matrix_spec(const MatrixSpec& spec) {
+void check_matrix_spec(const MatrixSpec& spec, FrontEnd front) {
   if (spec.cloths.empty()) fail("render matrix: no cloths");
-  const std::set<std::string> patterns(spec.cloths.begin(), spec.cloths.end());
-  if (patterns.size() != spec.cloths.size()) fail("render matrix: a cloth is given twice");
   for (const auto& p : spec.cloths) cloth::validate(cloth_spec(spec, p));  // an unknown pattern is refused here
+  // A repeated cloth, light set-up or view would render the same case twice under one folder
+  // (docs/robustness.md "Options that would do nothing"). A cloth is its pattern: an alias and
+  // its pattern (twill, twill22) are one cloth.
+  const std::vector<std::string> patterns = matrix_patterns(spec);
+  require_distinct(
+      "render matrix", patterns,
+      [&](std::size_t i) {
+        std::set<std::string> spelt;  // how the user wrote this pattern
+        for (std::size_t k = 0; k < patterns.size(); ++k)
+          if (patterns[k] == patterns[i]) spelt.insert(spec.cloths[k]);
+        if (spelt == std::set<std::string>{patterns[i]}) return fmt::format("cloth '{}'", patterns[i]);
+        return fmt::format("cloth '{}' (as '{}')", patterns[i], fmt::join(spelt, "', '"));
+      },
+      [](const std::string& p) { return p; });
   if (spec.lightings.empty()) fail("render matrix: no light set-ups");
+  require_distinct(
+      "render matrix", spec.lightings,
+      [&](std::size_t i) { return fmt::format("light set-up '{}'", render::cloth_lighting_name(spec.lightings[i])); },
+      [](render::ClothLighting l) { return l; });
   if (spec.tilts.empty()) fail("render matrix: no views");
   for (const double t : spec.tilts) render::check_cloth_tilt("render matrix: view", t);
+  require_distinct(
+      "render matrix", spec.tilts,
+      [&](std::size_t i) { return fmt::format("view at tilt {} degrees", matrix_tilt_name(spec.tilts[i])); },
+      [](double t) { return t; });  // no NaN: check_cloth_tilt refused it
   if (spec.width < 8 || spec.height < 8) fail("render matrix: film {}x{} is under 8 px", spec.width, spec.height);
   if (spec.yarns < 1) fail("render matrix: yarns must be >= 1, got {}", spec.yarns);
   if (!(spec.voxel_size > 0.0) || !std::isfinite(spec.voxel_size))
     fail("render matrix: voxel size must be > 0, got {}", spec.voxel_size);
   if (spec.study.spp <= 0)
     fail("render matrix: the cases render at a fixed spp (so a case's numbers do not depend on where it ran)");
-  check_study_spec(spec.study);
+  check_study_spec(spec.study, front);
+}
+
+std::vector<std::string> matrix_patterns(const MatrixSpec& spec) {
+  std::vector<std::string> out;
+  out.reserve(spec.cloths.size());
+  for (const auto& c : spec.cloths) out.push_back(cloth::canonical_pattern(c));
+  return out;
+}
+
+std::string matrix_tilt_name(double tilt) {
+  // fmt's {} is the shortest round-trip form; + 0.0 turns −0 into 0 (the same view).
+  return fmt::format("{}", tilt + 0.0);
 }
 
 std::vector<MatrixCase> matrix_cases(const MatrixSpec& spec) {
+  const std::vector<std::string> patterns = matrix_patterns(spec);
   std::vector<MatrixCase> out;
   for (std::size_t k = 0; k < spec.cloths.size(); ++k) {
     for (const auto lighting : spec.lightings) {
       for (const double tilt : spec.tilts) {
         MatrixCase c;
         c.cloth = k;
-        c.pattern = spec.cloths[k];
+        c.pattern = patterns[k];
         c.lighting = lighting;
         c.tilt = tilt;
-        c.name = fmt::format("{}-{}-{:g}deg", spec.cloths[k], render::cloth_lighting_name(lighting), tilt);
+        c.name = fmt::format("{}-{}-{}deg", patterns[k], render::cloth_lighting_name(lighting), matrix_tilt_name(tilt));
         c.fitted_on = lighting == spec.lightings.front() && tilt == spec.tilts.front();
         out.push_back(std::move(c));
       }
@@ -298,7 +336,7 @@ std::string matrix_key(const MatrixSpec& spec) {
   json rules = json::array();
   for (const auto r : spec.study.memory_rules) rules.push_back(std::string(transmittance::memory_rule_name(r)));
   const json key = {{"weft", "render --study (matrix)"},
-                    {"cloths", spec.cloths},
+                    {"cloths", matrix_patterns(spec)},
                     {"yarns", spec.yarns},
                     {"voxel_size", spec.voxel_size},
                     {"cloth_seed", spec.cloth_seed},
@@ -330,9 +368,10 @@ std::vector<MatrixCaseResult> run_matrix(const MatrixSpec& spec, ProgressSink& p
   (void)dist::root_decides(true);
 
   // 1. The cloths, one unit each (a grid already there is the same cloth: its name hashes its spec).
+  const std::vector<std::string> patterns = matrix_patterns(spec);
   dist::UnitsOptions gen;
   gen.batch = 1;  // one cloth at a time per rank: a voxelization's memory, not two
-  gen.name = [&](std::size_t u) { return fmt::format("cloth {} ({})", u, spec.cloths[u]); };
+  gen.name = [&](std::size_t u) { return fmt::format("cloth {} ({})", u, patterns[u]); };
   (void)dist::run_units(
       spec.cloths.size(),
       [&](std::size_t u) {

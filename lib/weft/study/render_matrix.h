@@ -19,6 +19,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "weft/core/front_end.h"
 #include "weft/core/progress.h"
 #include "weft/render/cloth_scene.h"
 #include "weft/study/render_study.h"
@@ -54,21 +55,35 @@ struct MatrixSpec {
 /// 128 spp reference.
 [[nodiscard]] MatrixSpec default_matrix_spec(bool quick);
 
-/// Throws weft::Error naming the bad field (no cloths, lightings or views, a tilt outside
-/// [0, 80], a film under 8 px, yarns < 1, voxel size not > 0, study.spp == 0, or what
-/// check_study_spec refuses).
-void check_matrix_spec(const MatrixSpec& spec);
+/// Throws weft::Error naming the bad field (no cloths, lightings or views, a cloth, lighting or
+/// view given twice (require_distinct: a cloth by its pattern, so "twill" and "twill22" are one),
+/// a tilt outside [0, 80], a film under 8 px, yarns < 1, voxel size not > 0, study.spp == 0, or
+/// what check_study_spec refuses, its options spelled for `front`).
+void check_matrix_spec(const MatrixSpec& spec, FrontEnd front = FrontEnd::cli);
+
+/// The cloths' patterns as every output names them: each of MatrixSpec::cloths with its alias
+/// resolved (cloth::canonical_pattern: "twill" is "twill22", "knit" "stockinette"), as `weft gen
+/// --pattern` resolves it.
+[[nodiscard]] std::vector<std::string> matrix_patterns(const MatrixSpec& spec);
 
 struct MatrixCase {
   std::size_t cloth = 0;  ///< index into MatrixSpec::cloths
-  std::string pattern;    ///< that cloth's pattern
+  std::string pattern;    ///< that cloth's pattern (matrix_patterns: aliases resolved)
   render::ClothLighting lighting = render::ClothLighting::back;
   double tilt = 45.0;
-  std::string name;  ///< "plain-back-45deg"
+  /// "plain-back-45deg": the tilt in the fewest digits that read back as the same number
+  /// (matrix_tilt_name), so distinct views never share a case's folder.
+  std::string name;
   /// The set-up the albedo factors were fitted on (its cloth's first lighting × first view):
   /// the albedo-corrected candidates are not judged on it in the headline (the others are).
   bool fitted_on = false;
 };
+
+/// A view's tilt as case names write it: the shortest decimal that reads back as the same double
+/// (45 → "45", 30.00000001 → "30.00000001"), −0 as "0". Distinct tilts give distinct names; a
+/// rounded form (6 significant digits) gave 30 and 30.00000001 one folder, the second case's files
+/// over the first's.
+[[nodiscard]] std::string matrix_tilt_name(double tilt);
 
 /// Every cloth × lighting × view, in that nesting order.
 [[nodiscard]] std::vector<MatrixCase> matrix_cases(const MatrixSpec& spec);

@@ -160,9 +160,10 @@ double equal_error_speedup(const StudyCandidate& c, const StudyCandidate& fine, 
 
 std::vector<MatrixHeadline> matrix_headlines(const MatrixSpec& spec, const std::vector<MatrixCaseResult>& results) {
   std::vector<MatrixHeadline> out;
-  for (std::size_t k = 0; k < spec.cloths.size(); ++k) {
+  const std::vector<std::string> patterns = matrix_patterns(spec);
+  for (std::size_t k = 0; k < patterns.size(); ++k) {
     MatrixHeadline h;
-    h.cloth = spec.cloths[k];
+    h.cloth = patterns[k];
     std::map<std::string, std::size_t> index;  // candidate name → verdict
     std::map<std::string, int> counted;
     for (const auto& r : results) {
@@ -240,14 +241,14 @@ std::string matrix_csv(const std::vector<MatrixCaseResult>& results) {
       const double ratio =
           fine != nullptr && mc.memory.values > 0 ? static_cast<double>(fine->memory.values) / mc.memory.values : 0.0;
       csv += fmt::format(
-          "{},{},{},{:g},{},{},{},{},{},{},{:.8g},{:.8g},{:.8g},{:.8g},{:.4g},{:.6g},{:.8g},{:.6g},{:.8g},{:.6g},{:.8g}"
+          "{},{},{},{},{},{},{},{},{},{},{:.8g},{:.8g},{:.8g},{:.8g},{:.4g},{:.6g},{:.8g},{:.6g},{:.8g},{:.6g},{:.8g}"
           ","
           "{:.4g},{},{},{:.6g},{},{},{}\n",
-          r.c.name, r.c.pattern, render::cloth_lighting_name(r.c.lighting), r.c.tilt, r.c.fitted_on ? 1 : 0, c.name,
-          c.model, c.factor, c.spp, r.cloth_pixels, r.cloth_mean, c.cloth_bias, c.cloth_bias_sq, c.cloth_bias_sq_stderr,
-          bias_z(c), relative(c.cloth_bias, r.cloth_mean), c.cloth_rmse, relative(c.cloth_rmse, r.cloth_mean),
-          c.cloth_noise, c.cloth_difference, c.bias, c.bias_z(), mc.memory.values, mc.memory.channels, ratio,
-          mc.memory.tree, scale_bias_csv(c.cloth_scales), component_csv(c.components));
+          r.c.name, r.c.pattern, render::cloth_lighting_name(r.c.lighting), matrix_tilt_name(r.c.tilt),
+          r.c.fitted_on ? 1 : 0, c.name, c.model, c.factor, c.spp, r.cloth_pixels, r.cloth_mean, c.cloth_bias,
+          c.cloth_bias_sq, c.cloth_bias_sq_stderr, bias_z(c), relative(c.cloth_bias, r.cloth_mean), c.cloth_rmse,
+          relative(c.cloth_rmse, r.cloth_mean), c.cloth_noise, c.cloth_difference, c.bias, c.bias_z(), mc.memory.values,
+          mc.memory.channels, ratio, mc.memory.tree, scale_bias_csv(c.cloth_scales), component_csv(c.components));
     }
   }
   return csv;

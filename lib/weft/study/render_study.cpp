@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "weft/core/atomic_file.h"
+#include "weft/core/distinct.h"
 #include "weft/core/error.h"
 #include "weft/dist/distributed.h"
 #include "weft/fit/gamma_moments.h"
@@ -103,7 +104,18 @@ StudySpec default_study_spec(bool quick) {
   return spec;
 }
 
-void check_study_spec(const StudySpec& spec) {
+std::vector<std::string> candidate_families(const StudySpec& spec) {
+  std::vector<std::string> out{"fine", "exponential"};
+  for (const auto rule : spec.memory_rules)  // the default rule's candidates are local-gamma-Nx
+    out.push_back(rule == transmittance::kDefaultMemoryRule
+                      ? "local-gamma"
+                      : "local-gamma-" + std::string(transmittance::memory_rule_name(rule)));
+  for (const char* f : {"shadow-corrected", "shadow-directional", "albedo-corrected", "slab-gamma"})
+    out.emplace_back(f);
+  return out;
+}
+
+void check_study_spec(const StudySpec& spec, FrontEnd front) {
   if (spec.factors.empty()) fail("study: no coarsening factors");
   std::set<int> seen;
   for (const int f : spec.factors) {
@@ -116,18 +128,35 @@ void check_study_spec(const StudySpec& spec) {
   if (spec.max_spp < 1) fail("study: max spp must be >= 1, got {}", spec.max_spp);
   if (spec.reference_spp < 1) fail("study: reference spp must be >= 1, got {}", spec.reference_spp);
   if (spec.work_dir.empty()) fail("study: no folder for the candidates' files");
+  // A rule given twice would render its candidates twice under one name.
+  require_distinct(
+      "study", spec.memory_rules,
+      [&](std::size_t i) {
+        return fmt::format("memory rule '{}'", transmittance::memory_rule_name(spec.memory_rules[i]));
+      },
+      [](transmittance::MemoryRule r) { return r; });
   // A family that names no candidate would split nothing silently (render_components.h).
-  std::set<std::string> families{
-      "all", "fine", "exponential", "local-gamma", "shadow-corrected", "albedo-corrected", "slab-gamma"};
-  for (const auto rule : spec.memory_rules)
-    if (rule != transmittance::kDefaultMemoryRule)  // its candidates are local-gamma-Nx
-      families.insert("local-gamma-" + std::string(transmittance::memory_rule_name(rule)));
-  for (const auto& f : spec.components)
-    if (!families.contains(f))
-      fail(
-          "study: components of '{}': no such candidate family (fine, exponential, local-gamma[-RULE], "
-          "shadow-corrected, albedo-corrected, slab-gamma, all)",
-          f);
+  const std::vector<std::string> families = candidate_families(spec);
+  std::vector<std::string> rules;
+  for (const auto r : spec.memory_rules) rules.emplace_back(transmittance::memory_rule_name(r));
+  for (const auto& f : spec.components) {
+    if (f == "all" || std::find(families.begin(), families.end(), f) != families.end()) continue;
+    // local-gamma-RULE of a rule the study does not render: say which rules it renders, and how
+    // to add one, rather than the list of families.
+    const std::string prefix = "local-gamma-";
+    const std::optional<transmittance::MemoryRule> rule =
+        f == "local-gamma"      ? std::optional(transmittance::kDefaultMemoryRule)
+        : f.starts_with(prefix) ? transmittance::parse_memory_rule(f.substr(prefix.size()))
+                                : std::nullopt;
+    if (rule && std::find(spec.memory_rules.begin(), spec.memory_rules.end(), *rule) == spec.memory_rules.end())
+      fail("study: components of '{}': {} is not one of the study's memory rules ({}); add it to {}", f,
+           transmittance::memory_rule_name(*rule), fmt::join(rules, ", "),
+           Spelling{"--study-memory", "memory="}.in(front));
+    if (rule)  // local-gamma-optical-depth: the default rule's candidates are local-gamma-Nx
+      fail("study: components of '{}': the {} rule's candidates are local-gamma-Nx: give 'local-gamma'", f,
+           transmittance::memory_rule_name(*rule));
+    fail("study: components of '{}': no such candidate family ({}, all)", f, fmt::join(families, ", "));
+  }
   std::set<int> fitted;
   for (const auto& [f, k] : spec.albedo_factors) {
     if (!seen.contains(f)) fail("study: albedo factor for {}x, which is not a coarsening factor of the study", f);
@@ -230,7 +259,8 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, Progre
 
   result.scale = (scale.length[0] + scale.length[1] + scale.length[2]) / 3.0;
 
-  // (c) The best predictive model of `weft validate` on the fine grid.
+  // (c) The best model of `weft validate` on the fine grid, chosen against the ground truth
+  // (fit::best_by_ground_truth: labelled so in the report, docs/architecture.md).
   fit::ValidationSpec vspec;
   vspec.sigma = target.sigma_stats;
   vspec.scale = scale.length;
@@ -238,30 +268,31 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, Progre
   const fit::Validation validation = fit::validate(fine, vspec, progress);
   std::map<std::string, std::pair<int, double>> votes;  // name → (axes, sum of ratios)
   for (const auto& axis : validation.axes) {
-    const fit::ModelRatio best = fit::best_predictive(axis);
-    result.best_predictive_per_axis.emplace_back(axis.label, best.name);
+    const fit::ModelRatio best = fit::best_by_ground_truth(axis);
+    result.best_by_ground_truth_per_axis.emplace_back(axis.label, best.name);
     votes[best.name].first += 1;
     votes[best.name].second += best.ratio;
   }
   std::pair<int, double> chosen{0, 0.0};
   for (const auto& [name, v] : votes) {
     if (v.first > chosen.first || (v.first == chosen.first && v.second / v.first < chosen.second / chosen.first)) {
-      result.best_predictive = name;
+      result.best_by_ground_truth = name;
       chosen = v;
     }
   }
-  if (result.best_predictive == "local-gamma") {
-    result.best_predictive_note = "(c) is local-gamma, the same fields as (b) local-gamma-Nx: not rendered twice";
-  } else if (result.best_predictive == "local-exponential") {
-    result.best_predictive_note = "(c) is local-exponential, the same grids as (a) exponential-Nx: not rendered twice";
+  if (result.best_by_ground_truth == "local-gamma") {
+    result.best_by_ground_truth_note = "(c) is local-gamma, the same fields as (b) local-gamma-Nx: not rendered twice";
+  } else if (result.best_by_ground_truth == "local-exponential") {
+    result.best_by_ground_truth_note =
+        "(c) is local-exponential, the same grids as (a) exponential-Nx: not rendered twice";
   } else {
-    result.best_predictive_note = fmt::format(
+    result.best_by_ground_truth_note = fmt::format(
         "(c) is {}, which has no local-field medium in the renderer: not rendered (only local-gamma and "
         "local-exponential do)",
-        result.best_predictive);
+        result.best_by_ground_truth);
   }
-  say(spec,
-      fmt::format("best predictive model of validate: {}; {}", result.best_predictive, result.best_predictive_note));
+  say(spec, fmt::format("best model of validate by the ground truth: {}; {}", result.best_by_ground_truth,
+                        result.best_by_ground_truth_note));
 
   // (d) The slab's law: pooled window statistics of the three axes at scale L (the isotropic
   // gamma law of `weft validate`), over the grid's active box.

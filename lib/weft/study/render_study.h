@@ -55,6 +55,7 @@
 #include <utility>
 #include <vector>
 
+#include "weft/core/front_end.h"
 #include "weft/core/progress.h"
 #include "weft/render/image.h"
 #include "weft/render/scene.h"
@@ -93,8 +94,8 @@ struct StudySpec {
   /// `weft validate --window`): "yarn" needs a grid whose provenance records the yarn diameter
   /// (otherwise weft::Error before anything is written: no voxel-dependent fallback).
   std::string scale = "yarn";
-  /// The local-gamma candidates' memory rules (docs/render.md §5e), one candidate per rule and
-  /// factor: `local-gamma-Nx` for the medium's default rule (transmittance::kDefaultMemoryRule,
+  /// The local-gamma candidates' memory rules (docs/render.md §5e; each once), one candidate per
+  /// rule and factor: `local-gamma-Nx` for the medium's default rule (transmittance::kDefaultMemoryRule,
   /// optical-depth), `local-gamma-<rule>-Nx` for the others (e.g. local-gamma-segment-4x).
   std::vector<transmittance::MemoryRule> memory_rules{transmittance::kDefaultMemoryRule};
   /// (factor N, k_N): one `albedo-corrected-Nx` candidate per pair, exponential-N× with the
@@ -118,9 +119,17 @@ struct StudySpec {
 /// budget per candidate image and a 256 spp reference.
 [[nodiscard]] StudySpec default_study_spec(bool quick);
 
-/// Throws weft::Error naming the bad field (factors out of range or repeated, seconds not
-/// finite and > 0, spp < 0, max_spp or reference_spp < 1, an empty work_dir).
-void check_study_spec(const StudySpec& spec);
+/// The candidates' families, a candidate's name without its "-Nx" (docs/render.md §6c): fine,
+/// exponential, local-gamma, local-gamma-<rule> for each of StudySpec::memory_rules but the
+/// default (whose candidates are local-gamma-Nx), shadow-corrected, shadow-directional,
+/// albedo-corrected, slab-gamma. What StudySpec::components takes (and "all").
+[[nodiscard]] std::vector<std::string> candidate_families(const StudySpec& spec);
+
+/// Throws weft::Error naming the bad field (factors out of range or repeated, a memory rule
+/// repeated, seconds not finite and > 0, spp < 0, max_spp or reference_spp < 1, an empty work_dir,
+/// a component family that names no candidate: a local-gamma rule not among memory_rules is
+/// named with the option that adds it, spelt for `front`).
+void check_study_spec(const StudySpec& spec, FrontEnd front = FrontEnd::cli);
 
 /// Throws weft::Error for a coarsening factor N of `factors` whose one coarse voxel (N voxels per
 /// axis, anchored at the active box's lower corner: volume/block_lattice.h) holds the fine grid's
@@ -213,11 +222,13 @@ struct StudyResult {
   /// Per coarsening factor, the fine grid's images smoothed over one block's footprint, judged as
   /// a candidate (resolution_floor.h): what the block size alone costs, whatever the law.
   std::vector<ResolutionFloor> resolution_floors;
-  /// Best predictive model of the validation per axis ("+x": "local-gamma", …), the model the
-  /// study takes (most axes; ties by the smaller mean ratio) and what became of it.
-  std::vector<std::pair<std::string, std::string>> best_predictive_per_axis;
-  std::string best_predictive;
-  std::string best_predictive_note;
+  /// (c): the validation's best model per axis ("+x": "local-gamma", …), chosen by comparing
+  /// with the ground truth (fit::best_by_ground_truth, so reported with "uses_ground_truth":
+  /// true), the model the study takes (most axes; ties by the smaller mean ratio) and what became
+  /// of it.
+  std::vector<std::pair<std::string, std::string>> best_by_ground_truth_per_axis;
+  std::string best_by_ground_truth;
+  std::string best_by_ground_truth_note;
   double scale = 0.0;  ///< statistics scale L used (world units, the pooled axes' mean)
   double slab_mean_concentration = 0.0;
   double slab_var_concentration = 0.0;

@@ -1,12 +1,16 @@
 // The study matrix (render_matrix.h, render_matrix_report.h): the equal-error speed-up against its
 // formula, and every representation's memory against the grids' own counts on a tiny run.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <limits>
+#include <set>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -17,6 +21,7 @@
 #include "weft/study/render_matrix.h"
 #include "weft/study/render_matrix_report.h"
 #include "weft/study/render_study_report.h"
+#include "weft/transmittance/gamma_hazard.h"
 #include "weft/volume/grid.h"
 #include "weft/volume/grid_io.h"
 
@@ -68,6 +73,107 @@ TEST(MatrixSpec, RefusesWhatCannotRun) {
   tilt.tilts = {95.0};
   EXPECT_THROW(check_matrix_spec(tilt), Error);
   EXPECT_EQ(matrix_cases(s).size(), 3U * 3U * 2U);
+}
+
+// A cloth, light set-up, view or memory rule given twice would render the same case or candidate
+// twice under one name (docs/robustness.md "Options that would do nothing"); a cloth is its
+// pattern, so an alias and its pattern are one cloth (docs/render.md §6e).
+TEST(MatrixSpec, ARepeatedCaseIsRefusedAnAliasBeingItsPattern) {
+  using testing::HasSubstr;
+  using testing::ThrowsMessage;
+  MatrixSpec s;
+  s.study.work_dir = "unused";
+  s.study.spp = 2;
+  const auto refused = [](const MatrixSpec& bad, const std::string& what) {
+    EXPECT_THAT([&] { check_matrix_spec(bad); }, ThrowsMessage<Error>(HasSubstr(what)));
+  };
+  MatrixSpec lights = s;
+  lights.lightings = {render::ClothLighting::back, render::ClothLighting::front, render::ClothLighting::back};
+  refused(lights, "render matrix: light set-up 'back' is given twice");
+  MatrixSpec views = s;
+  views.tilts = {45.0, 8.0, 45.0};
+  refused(views, "render matrix: view at tilt 45 degrees is given twice");
+  MatrixSpec twill = s;
+  twill.cloths = {"twill", "plain", "twill22"};
+  refused(twill, "render matrix: cloth 'twill22' (as 'twill', 'twill22') is given twice");
+  MatrixSpec satin = s;
+  satin.cloths = {"satin5", "satin"};
+  refused(satin, "cloth 'satin5' (as 'satin', 'satin5') is given twice");
+  MatrixSpec knit = s;
+  knit.cloths = {"knit", "knit"};
+  refused(knit, "cloth 'stockinette' (as 'knit') is given twice");
+  MatrixSpec rules = s;
+  rules.study.memory_rules = {transmittance::MemoryRule::segment, transmittance::MemoryRule::segment};
+  refused(rules, "memory rule 'segment' is given twice");
+  MatrixSpec distinct = s;
+  distinct.cloths = {"knit", "twill", "satin", "plain"};
+  EXPECT_NO_THROW(check_matrix_spec(distinct));
+}
+
+// A case's folder is named by its tilt in the fewest digits that read back as the same number:
+// distinct views, distinct folders and CSV rows (30 and 30.00000001 shared one folder when the
+// tilt was rounded to 6 digits, the second case's files over the first's).
+TEST(MatrixCases, DistinctTiltsNameDistinctFolders) {
+  MatrixSpec s;
+  s.study.work_dir = "unused";
+  s.study.spp = 2;
+  s.cloths = {"plain"};
+  s.lightings = {render::ClothLighting::back};
+  s.tilts = {30.0, 30.00000001, 45.0, 8.0, 0.1, 30.000001, 30.0000011};
+  ASSERT_NO_THROW(check_matrix_spec(s));
+  const std::vector<MatrixCase> cases = matrix_cases(s);
+  ASSERT_EQ(cases.size(), s.tilts.size());
+  std::set<fs::path> folders;
+  std::set<std::string> rows;
+  for (const MatrixCase& c : cases) {
+    EXPECT_EQ(std::stod(matrix_tilt_name(c.tilt)), c.tilt);  // the name reads back as the tilt
+    EXPECT_EQ(c.name, "plain-back-" + matrix_tilt_name(c.tilt) + "deg");
+    folders.insert(matrix_case_dir(s, c));
+    MatrixCaseResult r;
+    r.c = c;
+    r.candidates.push_back({candidate(1, 0.0, 0.5, 16, 6.0), {}});
+    const std::string csv = matrix_csv({r});
+    rows.insert(csv.substr(csv.find('\n') + 1));
+  }
+  EXPECT_EQ(folders.size(), cases.size());
+  EXPECT_EQ(rows.size(), cases.size());
+  EXPECT_EQ(cases[2].name, "plain-back-45deg");  // the defaults' names as before
+  EXPECT_EQ(cases[3].name, "plain-back-8deg");
+  EXPECT_EQ(matrix_tilt_name(-0.0), matrix_tilt_name(0.0));
+}
+
+// An alias is its pattern in every output (as `weft gen --pattern` resolves it): the cases'
+// patterns and names, matrix.csv's cloth_pattern, the headline and the --resume key.
+TEST(MatrixCases, AnAliasIsItsPatternInEveryOutput) {
+  MatrixSpec s;
+  s.study.work_dir = "unused";
+  s.study.spp = 2;
+  s.cloths = {"knit", "twill"};
+  s.lightings = {render::ClothLighting::back};
+  s.tilts = {45.0};
+  MatrixSpec canonical = s;
+  canonical.cloths = {"stockinette", "twill22"};
+  EXPECT_EQ(matrix_patterns(s), canonical.cloths);
+  const std::vector<MatrixCase> cases = matrix_cases(s);
+  ASSERT_EQ(cases.size(), 2U);
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    EXPECT_EQ(cases[k].pattern, canonical.cloths[k]);
+    EXPECT_EQ(cases[k].name, matrix_cases(canonical)[k].name);
+  }
+  EXPECT_EQ(matrix_key(s), matrix_key(canonical));
+  MatrixCaseResult r;
+  r.c = cases[0];
+  r.candidates.push_back({candidate(1, 0.0, 0.5, 16, 6.0), {}});
+  r.resolution_floors.push_back({});
+  r.resolution_floors.back().factor = s.study.factors.front();
+  r.resolution_floors.back().scales.blocks.push_back({});
+  const std::string csv = matrix_csv({r});
+  EXPECT_EQ(csv.substr(csv.find('\n') + 1).rfind(cases[0].name + ",stockinette,back,", 0), 0U) << csv;
+  const std::vector<MatrixHeadline> h = matrix_headlines(s, {r});
+  ASSERT_EQ(h.size(), 2U);
+  EXPECT_EQ(h[0].cloth, "stockinette");
+  EXPECT_EQ(h[1].cloth, "twill22");
+  EXPECT_EQ(h[0].floors.size(), 1U);  // the case's floor found under its cloth's pattern
 }
 
 // A candidate's JSON is written once (study_candidate_json): the single study's report and a
@@ -177,6 +283,26 @@ TEST(MatrixRun, MemoryIsTheGridsOwnCount) {
   }
   EXPECT_EQ(seen, 5);
   EXPECT_GT(r[0].cloth_pixels, 0);
+  // Every candidate's family (its name without "-Nx") is one candidate_families lists, and every
+  // family listed has a candidate (the albedo-corrected ones are fitted per cloth here): the
+  // families --study-components takes are the study's own.
+  std::set<std::string> families;
+  for (const auto& c : r[0].candidates) {
+    const std::string& n = c.study.name;
+    families.insert(c.study.factor > 1 ? n.substr(0, n.rfind('-')) : n);
+  }
+  const std::vector<std::string> listed = candidate_families(s.study);
+  EXPECT_EQ(families, std::set<std::string>(listed.begin(), listed.end()));
+  // (c), the validation's best model, is chosen against the ground truth: labelled so in the
+  // case's study report, under its name and under the former key (docs/render.md §6c).
+  std::ifstream report_file(matrix_case_dir(s, r[0].c) / "reference.study.json");
+  const nlohmann::json study_report = nlohmann::json::parse(report_file);
+  EXPECT_EQ(study_report.at("best_by_ground_truth").at("uses_ground_truth"), true);
+  EXPECT_FALSE(study_report.at("best_by_ground_truth").at("model").get<std::string>().empty());
+  EXPECT_EQ(study_report.at("best_predictive"), study_report.at("best_by_ground_truth"));
+  // A candidate is labelled only when it was itself fitted with the ground truth (§6d (b)).
+  for (const auto& c : study_report.at("candidates"))
+    EXPECT_EQ(c.at("uses_ground_truth"), c.at("name").get<std::string>().starts_with("albedo-corrected")) << c;
   fs::remove_all(s.study.work_dir);
 }
 

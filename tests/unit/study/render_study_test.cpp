@@ -1,13 +1,19 @@
 // The study's bias estimator (bias_estimate.h: estimate_bias) on synthetic images whose truth is known:
-// a, b = truth + shift + noise (σ_c), reference = truth + noise (σ_r) carrying its variance.
+// a, b = truth + shift + noise (σ_c), reference = truth + noise (σ_r) carrying its variance; and
+// what check_study_spec refuses.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "weft/core/error.h"
 #include "weft/study/bias_estimate.h"
 #include "weft/study/render_study.h"
+#include "weft/transmittance/gamma_hazard.h"
 
 namespace weft::study {
 using namespace weft::render;  // NOLINT(google-build-using-namespace)
@@ -93,6 +99,60 @@ TEST(StudySpec, BadFieldsAreNamed) {
   EXPECT_NO_THROW(check_study_spec(s));
   s.reference_spp = 0;
   EXPECT_THROW(check_study_spec(s), Error);
+}
+
+// A memory rule given twice would render its candidates twice under one name (docs/robustness.md
+// "Options that would do nothing").
+TEST(StudySpec, AMemoryRuleGivenTwiceIsRefused) {
+  using transmittance::MemoryRule;
+  StudySpec s;
+  s.work_dir = "x";
+  s.memory_rules = {MemoryRule::segment, transmittance::kDefaultMemoryRule};
+  EXPECT_NO_THROW(check_study_spec(s));
+  s.memory_rules.push_back(MemoryRule::segment);
+  EXPECT_THAT([&] { check_study_spec(s); },
+              testing::ThrowsMessage<Error>(testing::HasSubstr("memory rule 'segment' is given twice")));
+}
+
+// Every family of candidates can be split into its components (docs/render.md §6e): a family is
+// a candidate's name without "-Nx", shadow-directional included.
+TEST(StudySpec, EveryCandidateFamilyCanBeSplit) {
+  StudySpec s;
+  s.work_dir = "x";
+  s.memory_rules = {transmittance::kDefaultMemoryRule, transmittance::MemoryRule::segment};
+  const std::vector<std::string> families = candidate_families(s);
+  EXPECT_NE(std::find(families.begin(), families.end(), "shadow-directional"), families.end());
+  for (const std::string& f : families) {
+    s.components = {f};
+    EXPECT_NO_THROW(check_study_spec(s)) << f;
+  }
+  s.components = {"expo"};
+  EXPECT_THAT([&] { check_study_spec(s); },
+              testing::ThrowsMessage<Error>(testing::HasSubstr("'expo': no such candidate family")));
+}
+
+// local-gamma-RULE of a rule the study does not render is named as such, with the option that
+// adds the rule spelt for the caller (docs/python.md "One set of checks").
+TEST(StudySpec, ALocalGammaRuleNotRenderedNamesTheOptionThatAddsIt) {
+  using testing::HasSubstr;
+  using testing::Not;
+  using testing::ThrowsMessage;
+  StudySpec s;
+  s.work_dir = "x";
+  s.memory_rules = {transmittance::kDefaultMemoryRule, transmittance::MemoryRule::segment};
+  s.components = {"exponential", "local-gamma-renewal"};
+  EXPECT_THAT([&] { check_study_spec(s, FrontEnd::cli); },
+              ThrowsMessage<Error>(HasSubstr("'local-gamma-renewal': renewal is not one of the study's memory rules "
+                                             "(optical-depth, segment); add it to --study-memory")));
+  EXPECT_THAT([&] { check_study_spec(s, FrontEnd::python); },
+              ThrowsMessage<Error>(testing::AllOf(HasSubstr("add it to memory="), Not(HasSubstr("--")))));
+  s.memory_rules = {transmittance::MemoryRule::segment};  // no local-gamma-Nx candidates then
+  s.components = {"local-gamma"};
+  EXPECT_THAT([&] { check_study_spec(s); },
+              ThrowsMessage<Error>(HasSubstr("optical-depth is not one of the study's memory rules (segment)")));
+  s.memory_rules = {transmittance::kDefaultMemoryRule};
+  s.components = {"local-gamma-optical-depth"};
+  EXPECT_THAT([&] { check_study_spec(s); }, ThrowsMessage<Error>(HasSubstr("give 'local-gamma'")));
 }
 
 }  // namespace
