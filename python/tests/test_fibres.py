@@ -54,3 +54,19 @@ def test_a_grid_moved_after_gen_is_refused_not_measured_against_missing_fibres(s
     assert len(weft.Fibres.of_grid(g)) > 0
     with pytest.raises(weft.Error, match="moved or edited after weft gen"):
         weft.Fibres.of_grid(moved)
+
+
+@pytest.mark.parametrize("box, words", [
+    (((1, 1, 1), (0, 0, 0)), "box min must be <= max per axis"),
+    (((0, 0, 1), (1, 1, 0)), "box min must be <= max per axis"),
+    (((0, float("nan"), 0), (1, 1, 1)), "box corners must be finite"),
+    (((0, 0, 0), (1, 1, float("inf"))), "box corners must be finite"),
+])
+def test_a_bad_box_is_refused(box, words):
+    # Once an inverted box returned "2 depths to -1" with T = 1, as if measured.
+    f = weft.Fibres([[(0, 0, 0), (1, 0, 0)]], 0.1)
+    with pytest.raises(weft.Error, match="fibre beam: " + words):
+        weft.measure_fibre_beam(f, box=box, cell=0.1)
+    for cell in (0.0, -1.0, float("nan"), float("inf")):
+        with pytest.raises(weft.Error, match="cell"):
+            weft.measure_fibre_beam(f, box=((0, 0, 0), (1, 1, 1)), cell=cell)
