@@ -69,7 +69,9 @@ viz::RenderOutcome save_transmittance_figure(const fit::Validation& v, const std
   std::vector<viz::Chart> panels;
   for (const auto& a : v.axes) {
     viz::Chart c;
-    if (v.models.wants(fit::kPredictedModel)) {
+    if (!fit::ratios_undefined(a).empty()) {
+      c.title = fmt::format("beam {}: the exponential is exact at this sigma (error 0)", a.label);
+    } else if (v.models.wants(fit::kPredictedModel)) {
       const auto p = fit::predicted(a);
       c.title = fmt::format("beam {}: predicted ({}) {:.2f} of the exponential's error", a.label, p.name, p.ratio);
     } else {
@@ -137,6 +139,13 @@ viz::RenderOutcome save_transmittance_figure(const fit::Validation& v, const std
                                   fmt::format("{}: transmittance, sigma = {:.4g}/{}", title, v.sigma, units));
 }
 
+namespace {
+
+/// A ratio to the exponential, or "n/a" where it is undefined (fit::ratios_undefined).
+std::string ratio_text(double ratio) { return std::isfinite(ratio) ? fmt::format("{:.3f}", ratio) : "n/a"; }
+
+}  // namespace
+
 std::vector<std::string> summary_table(const fit::Validation& v) {
   std::vector<std::string> lines;
   if (v.axes.empty()) return lines;
@@ -150,7 +159,7 @@ std::vector<std::string> summary_table(const fit::Validation& v) {
     for (const auto& a : v.axes) {
       const auto ratios = fit::model_ratios(a);
       const auto& r = ratios[i];
-      row += fmt::format(" {:>10.3e} {:>6.3f}", r.rms_abs_t, r.ratio);
+      row += fmt::format(" {:>10.3e} {:>6}", r.rms_abs_t, ratio_text(r.ratio));
     }
     row += v.axes.front().models[i].uses_ground_truth ? "  yes (reference)" : "  no";
     lines.push_back(row);
@@ -158,16 +167,26 @@ std::vector<std::string> summary_table(const fit::Validation& v) {
   const bool has_prediction = v.models.wants(fit::kPredictedModel);
   std::string predicted = fmt::format("predicted ({}, fixed before measuring):", fit::kPredictedModel);
   std::string best = "best model chosen with the ground truth (diagnostic):";
+  std::string exact;  // the axes whose ratios are undefined, and why (fit::ratios_undefined)
+  std::string why;
   for (const auto& a : v.axes) {
+    const std::string reason = fit::ratios_undefined(a);
+    const bool undefined = !reason.empty();
+    if (undefined) {
+      exact += " " + a.label;
+      why = reason;
+    }
     if (has_prediction) {
       const auto p = fit::predicted(a);
-      predicted += fmt::format(" {} {:.3f}{}", a.label, p.ratio, p.ratio <= 1.0 / 3.0 ? "" : " (misses 1/3)");
+      predicted += fmt::format(" {} {}{}", a.label, ratio_text(p.ratio),
+                               undefined || p.ratio <= 1.0 / 3.0 ? "" : " (misses 1/3)");
     }
     const auto b = fit::best_by_ground_truth(a);
-    best += fmt::format(" {} {} {:.3f}", a.label, b.name, b.ratio);
+    best += fmt::format(" {} {} {}", a.label, b.name, ratio_text(b.ratio));
   }
   if (has_prediction) lines.push_back(predicted);
   lines.push_back(best);
+  if (!exact.empty()) lines.push_back(fmt::format("ratios /exp undefined on{}: {}", exact, why));
   return lines;
 }
 

@@ -11,6 +11,7 @@
 
 #include "command.h"
 #include "data_gen/cloth/cloth.h"
+#include "data_gen/cloth/grid_fibres.h"
 #include "grid_input.h"
 #include "validate_common.h"
 #include "validate_corpus.h"
@@ -187,6 +188,7 @@ const Registrar kValidate{Command{
               fmt::format("{} cloth, {}x{} yarns", build.spec.pattern, build.spec.warp_count, build.spec.weft_count);
         }
         spec.sigma = sigma.sigma;
+        if (o->fibres) cloth::check_values_for_fibres(grid, o->input.extinction(), o->input.grid);
         if (o->scenes && !provenance.sigma)
           fail(
               "--scenes: the grid has no sigma in its metadata (weft:sigma_per_concentration); cloth scenes are "

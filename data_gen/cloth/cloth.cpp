@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "data_gen/cloth/grid_fibres.h"
 #include "data_gen/cloth/pattern.h"
 #include "data_gen/cloth/voxelize.h"
 #include "data_gen/cloth/yarn.h"
@@ -171,6 +172,7 @@ ClothBuild build_cloth(const ClothSpec& input, ProgressSink& progress, bool spre
   build.grid.set_metadata("volume_relative_error", fmt::format("{}", build.report.relative_error));
   build.grid.set_metadata("overlap_fraction", fmt::format("{}", build.report.overlap_fraction));
   volume::write_provenance(build.grid, cloth_provenance(build));
+  record_voxelized_lattice(build.grid);  // what fibers_of_grid checks a grid against
   return build;
 }
 

@@ -3,11 +3,16 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "data_gen/cloth/cloth.h"
 #include "data_gen/cloth/pattern.h"
 #include "weft/core/error.h"
 #include "weft/core/parse_number.h"
+#include "weft/volume/provenance.h"
 
 namespace weft::cloth {
 
@@ -21,11 +26,94 @@ fibres::FibreSet fibre_geometry(const FiberSet& fibers) {
 
 bool grid_names_its_fibres(const volume::Grid& grid) { return grid.metadata().count("generator") != 0; }
 
+namespace {
+
+using json = nlohmann::json;
+
+std::string corners(const std::array<double, 3>& lo, const std::array<double, 3>& hi) {
+  return fmt::format("({:.6g}, {:.6g}, {:.6g})..({:.6g}, {:.6g}, {:.6g})", lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+}
+
+}  // namespace
+
+void record_voxelized_lattice(volume::Grid& grid) {
+  const volume::IndexBox box = grid.active_bbox();
+  if (box.empty()) return;
+  const json lattice = {{"voxel_size", grid.voxel_size()},
+                        {"origin", grid.origin()},
+                        {"active_index_min", box.min},
+                        {"active_index_max", box.max}};
+  grid.set_metadata(kVoxelizedLatticeKey, lattice.dump());
+}
+
+void check_voxelized_lattice(const volume::Grid& grid, const std::string& what) {
+  const auto meta = grid.metadata();
+  const auto it = meta.find(kVoxelizedLatticeKey);
+  if (it == meta.end())
+    fail(
+        "{}: the grid does not record the lattice its fibres were voxelized on (metadata '{}'; an earlier weft gen "
+        "did not write it), so its placement cannot be checked against them: generate it again with weft gen "
+        "--config (its 'generator' metadata is that cloth.json)",
+        what, kVoxelizedLatticeKey);
+  double h0 = 0.0;
+  std::array<double, 3> origin0{};
+  volume::IndexBox box0;
+  try {
+    const json j = json::parse(it->second);
+    h0 = j.at("voxel_size").get<double>();
+    origin0 = j.at("origin").get<std::array<double, 3>>();
+    box0.min = j.at("active_index_min").get<std::array<int, 3>>();
+    box0.max = j.at("active_index_max").get<std::array<int, 3>>();
+  } catch (const json::exception& e) {
+    fail("{}: metadata '{}' is not a lattice: {}", what, kVoxelizedLatticeKey, e.what());
+  }
+  if (!(h0 > 0.0) || !std::isfinite(h0) || box0.empty())
+    fail("{}: metadata '{}' is not a lattice: {}", what, kVoxelizedLatticeKey, it->second);
+  const double h = grid.voxel_size();
+  const volume::IndexBox box = grid.active_bbox();
+  if (box.empty()) fail("{}: the grid has no active voxels to compare with its fibres", what);
+  const auto origin = grid.origin();
+  std::array<double, 3> lo{}, hi{}, lo0{}, hi0{}, moved_lo{}, moved_hi{};
+  bool moved = false;
+  for (std::size_t a = 0; a < 3; ++a) {
+    lo[a] = origin[a] + h * box.min[a];
+    hi[a] = origin[a] + h * (box.max[a] + 1.0);
+    lo0[a] = origin0[a] + h0 * box0.min[a];
+    hi0[a] = origin0[a] + h0 * (box0.max[a] + 1.0);
+    // Rounding only: of h·index and of the origin OpenVDB keeps as the centre of voxel 0.
+    const double big = std::max({std::abs(lo[a]), std::abs(hi[a]), std::abs(lo0[a]), std::abs(hi0[a])});
+    const double tol = 1e-6 * h0 + 8.0 * std::numeric_limits<double>::epsilon() * big;
+    moved_lo[a] = (lo[a] - lo0[a]) / h0;
+    moved_hi[a] = (hi[a] - hi0[a]) / h0;
+    moved = moved || std::abs(lo[a] - lo0[a]) > tol || std::abs(hi[a] - hi0[a]) > tol;
+  }
+  const std::string placement = fmt::format(
+      "its active voxels span {} (origin ({:.6g}, {:.6g}, {:.6g}), index box ({}, {}, {})..({}, {}, {})) where "
+      "weft gen voxelized its fibres on {} (origin ({:.6g}, {:.6g}, {:.6g}), index box ({}, {}, {})..({}, {}, {}))",
+      corners(lo, hi), origin[0], origin[1], origin[2], box.min[0], box.min[1], box.min[2], box.max[0], box.max[1],
+      box.max[2], corners(lo0, hi0), origin0[0], origin0[1], origin0[2], box0.min[0], box0.min[1], box0.min[2],
+      box0.max[0], box0.max[1], box0.max[2]);
+  if (std::abs(h - h0) > 1e-9 * h0)
+    fail(
+        "{}: the grid was resampled relative to its fibres: voxels of {:.9g} against the {:.9g} they were voxelized "
+        "on; {}; the fibres are compared only with the grid on their lattice",
+        what, h, h0, placement);
+  if (moved)
+    fail(
+        "{}: the grid was moved relative to its fibres: its active box's low corner by ({:+.6g}, {:+.6g}, {:+.6g}) "
+        "voxels and its high corner by ({:+.6g}, {:+.6g}, {:+.6g}); {}; the fibres are compared only with the grid on "
+        "their lattice",
+        what, moved_lo[0], moved_lo[1], moved_lo[2], moved_hi[0], moved_hi[1], moved_hi[2], placement);
+}
+
 FiberSet fibers_of_grid(const volume::Grid& grid, const std::string& what, ProgressSink& progress) {
   const auto meta = grid.metadata();
   const auto it = meta.find("generator");
   if (it == meta.end())
     fail("{}: the grid does not name its fibres (no cloth spec in its metadata: not written by weft gen)", what);
+  // The lattice first (cheap): a grid moved after weft gen keeps its provenance, and its fibres
+  // would then be compared with voxels that are not theirs (T_fibre of other rays, silently).
+  check_voxelized_lattice(grid, what);
   const ClothSpec spec = resolve(cloth_spec_from_json(it->second, what + " (metadata 'generator')"));
   FiberSet fibers = generate_fibers(spec, cloth_centerlines(spec), progress);
   // The regenerated fibres must be the voxelized ones: same volume as recorded at generation.
@@ -37,35 +125,16 @@ FiberSet fibers_of_grid(const volume::Grid& grid, const std::string& what, Progr
       fail("{}: the fibres regenerated from its cloth spec ({} mm^3) are not the ones voxelized ({} mm^3)", what, now,
            v->second);
   }
-  // And they must lie where the grid's voxels are: a grid moved or re-indexed after weft gen keeps
-  // its provenance, and its fibres would then miss it (T_fibre = 1, silently). The voxelizer marks
-  // every voxel a fibre's cross-section touches, so each face of the fibres' box (points ± radius)
-  // is within a voxel of the active box's; two voxels are allowed.
-  const volume::IndexBox box = grid.active_bbox();
-  if (!box.empty() && fibers.size() > 0) {
-    const double h = grid.voxel_size();
-    const auto origin = grid.origin();
-    std::array<double, 3> lo{HUGE_VAL, HUGE_VAL, HUGE_VAL};
-    std::array<double, 3> hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-    for (std::size_t f = 0; f < fibers.size(); ++f) {
-      for (std::size_t i = fibers.offsets[f]; i < fibers.offsets[f + 1]; ++i) {
-        for (std::size_t a = 0; a < 3; ++a) {
-          lo[a] = std::min(lo[a], fibers.points[i][a] - fibers.radius[f]);
-          hi[a] = std::max(hi[a], fibers.points[i][a] + fibers.radius[f]);
-        }
-      }
-    }
-    for (std::size_t a = 0; a < 3; ++a) {
-      const double glo = origin[a] + h * box.min[a];
-      const double ghi = origin[a] + h * (box.max[a] + 1.0);
-      if (std::abs(lo[a] - glo) > 2.0 * h || std::abs(hi[a] - ghi) > 2.0 * h)
-        fail(
-            "{}: the fibres regenerated from its cloth spec span [{:.6g}, {:.6g}] along {} but the grid's active "
-            "voxels [{:.6g}, {:.6g}]: the grid was moved or edited after weft gen, so its fibres are not its voxels",
-            what, lo[a], hi[a], "xyz"[a], glo, ghi);
-    }
-  }
   return fibers;
+}
+
+void check_values_for_fibres(const volume::Grid& grid, bool values_are_extinction, const std::string& what) {
+  if (values_are_extinction && volume::read_provenance(grid).value_kind == "concentration")
+    fail(
+        "{}: its provenance says its values are concentrations (weft gen's voxelization of its fibres, extinction "
+        "sigma*C): read as extinction (--values extinction) they are another medium, not comparable with its fibres; "
+        "drop --values extinction",
+        what);
 }
 
 }  // namespace weft::cloth

@@ -19,11 +19,36 @@ namespace weft::cloth {
 /// Whether the grid records the cloth it was generated from (metadata "generator").
 [[nodiscard]] bool grid_names_its_fibres(const volume::Grid& grid);
 
+/// The metadata key of the lattice a cloth's fibres were voxelized on (record_voxelized_lattice).
+inline constexpr const char* kVoxelizedLatticeKey = "voxelized_lattice";
+
+/// Records the grid's own lattice as the generator wrote it: voxel size, origin and the index
+/// box of its active voxels (metadata kVoxelizedLatticeKey, JSON). Called once, on the grid the
+/// voxelizer made; nothing is recorded for an empty grid (a rank that holds no leaves).
+void record_voxelized_lattice(volume::Grid& grid);
+
+/// Throws weft::Error naming `what` unless the grid is on the lattice its fibres were voxelized
+/// on (docs/validate.md §Fibre ground truth): the recorded voxel size (to 1e−9 relative) and the
+/// recorded world box of the active voxels, origin + h·index, to 1e−6 voxel plus the rounding of
+/// the coordinates. A grid moved (origin or index origin), resampled or cut after `weft gen`
+/// keeps its provenance; it is refused with how far it moved, not compared with fibres that are
+/// no longer where its voxels are. A grid that records no lattice (an earlier weft gen) is
+/// refused too: its placement cannot be checked.
+void check_voxelized_lattice(const volume::Grid& grid, const std::string& what);
+
 /// The fibres the grid was voxelized from: the recorded cloth spec (seed included) run through
 /// the fibre generator again. Throws weft::Error naming `what` when the grid records no cloth
-/// spec (not written by `weft gen`), the spec cannot be rebuilt (e.g. its imported yarn file is
-/// gone), or the regenerated fibres' volume differs from the one recorded at generation.
+/// spec (not written by `weft gen`), is not on the lattice they were voxelized on
+/// (check_voxelized_lattice, checked first), the spec cannot be rebuilt (e.g. its imported yarn
+/// file is gone), or the regenerated fibres' volume differs from the one recorded at generation.
 [[nodiscard]] FiberSet fibers_of_grid(const volume::Grid& grid, const std::string& what,
                                       ProgressSink& progress = null_progress());
+
+/// Throws weft::Error naming `what` when a grid is to be compared with its fibres with its values
+/// read as extinction (`values_are_extinction`) while its provenance says they are concentrations:
+/// the fibres' voxelization is C, whose extinction is σ·C with the σ of its provenance (or μ(C)
+/// of a voxel rule), and reading C as μ (σ = 1) measures another medium, so its "voxelization
+/// error" would be meaningless (docs/validate.md §Voxelization error).
+void check_values_for_fibres(const volume::Grid& grid, bool values_are_extinction, const std::string& what);
 
 }  // namespace weft::cloth

@@ -65,7 +65,8 @@ void init_fibres(py::module_& m) {
           },
           py::arg("grid"), py::kw_only(), py::arg("progress") = py::none(),
           "The fibres a grid written by weft gen was voxelized from, regenerated from its provenance;\n"
-          "weft.Error when the grid does not name its fibres.")
+          "weft.Error when the grid does not name its fibres, or is not on the lattice weft gen voxelized them\n"
+          "on (moved, resampled or cut since; docs/validate.md, Fibre ground truth).")
       .def("__len__", [](const PyFibres& f) { return f.set.size(); })
       .def_property_readonly("segments", [](const PyFibres& f) { return f.index->capsule_count(); })
       .def_property_readonly(

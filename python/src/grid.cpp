@@ -86,7 +86,8 @@ void init_grid(py::module_& m) {
                         "A sparse scalar voxel grid (an OpenVDB FloatGrid): fibre volume fraction C or extinction mu.\n"
                         "Index (i, j, k) covers [origin + voxel_size*i, origin + voxel_size*(i+1)) per axis.")
       .def(py::init<double, const std::string&>(), py::arg("voxel_size") = 1.0, py::arg("name") = "density",
-           "An empty grid with cubic voxels of voxel_size (length units).")
+           "An empty grid with cubic voxels of voxel_size (length units), origin -voxel_size/2 per axis\n"
+           "(OpenVDB's voxel centres at voxel_size*(i, j, k)); weft gen's grids have origin 0.")
       .def_static(
           "load",
           [](const py::object& path, const std::string& name) {
@@ -161,7 +162,9 @@ void init_grid(py::module_& m) {
                   py::arg("index_origin") = std::array<int, 3>{0, 0, 0}, py::arg("name") = "density",
                   py::arg("origin") = py::none(),
                   "A grid from a dense array [i, j, k]: element (0, 0, 0) goes to voxel index_origin; zeros stay\n"
-                  "inactive. weft.Error for NaN, infinite or negative values.")
+                  "inactive. weft.Error for NaN, infinite or negative values. origin=None is -voxel_size/2 per axis\n"
+                  "(as weft.Grid(voxel_size)), not weft gen's 0: to keep a grid g's world placement exactly, pass\n"
+                  "voxel_size=g.voxel_size, index_origin=g.bbox[0], origin=g.origin.")
       .def("__repr__", [](const vol::Grid& g) {
         const vol::Provenance p = vol::read_provenance(g);
         std::string more;

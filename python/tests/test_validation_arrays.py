@@ -72,3 +72,19 @@ def test_the_prediction_alone_is_the_full_runs_prediction(report, small_cloth):
 def test_bad_model_lists_are_refused(small_cloth, models, error):
     with pytest.raises(error, match="models"):
         weft.validate(small_cloth.grid, models=models)
+
+
+def test_ratios_to_an_exact_exponential_are_undefined_not_failed(report, small_cloth):
+    """At sigma = 1e-300, T = 1 everywhere: every model and the exponential baseline are exact,
+    and a ratio to an error of 0 is undefined. It is null with the reason, and the acceptance is
+    null (neither passed nor failed), as in report.json of weft validate (docs/validate.md)."""
+    assert all(axis["ratios_undefined"] is None for axis in report["axes"])
+    exact = weft.validate(small_cloth.grid, sigma=1e-300, axes="x,z")
+    assert exact["acceptance_all_axes"] is None
+    for axis in exact["axes"]:
+        assert "exponential baseline is exact at this sigma" in axis["ratios_undefined"]
+        assert axis["errors"]["exponential"]["rms_abs_T"] == 0.0
+        assert set(axis["ratio_to_exponential_rms_T"].values()) == {None}
+        assert axis["predicted"]["ratio_to_exponential_rms_T"] is None
+        assert axis["acceptance_predicted_at_most_third_of_exponential"] is None
+        assert axis["acceptance_gamma_at_most_third_of_exponential"] is None

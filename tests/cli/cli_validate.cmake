@@ -31,6 +31,15 @@ add_test(NAME cli.validate.models_predicted
                  -DOUT=${CMAKE_CURRENT_BINARY_DIR}/validate_models -P ${CMAKE_CURRENT_SOURCE_DIR}/check_validate_models.cmake)
 set_tests_properties(cli.validate.models_predicted PROPERTIES LABELS cli FIXTURES_REQUIRED weft_grids)
 
+# A sigma so small that T = 1 everywhere: every model and the exponential are exact, and a ratio
+# to the exponential's error 0 is undefined. Said so ("n/a" and why), never "nan" or "misses 1/3".
+add_test(NAME cli.validate.exact_exponential
+         COMMAND weft validate --grid ${WEFT_CLI_GRIDS}/good.vdb --axes x,-z --sigma 1e-300 --window extent --no-plot
+                 --no-vti --out ${CMAKE_CURRENT_BINARY_DIR}/validate_exact)
+set_tests_properties(cli.validate.exact_exponential PROPERTIES LABELS cli FIXTURES_REQUIRED weft_grids
+  PASS_REGULAR_EXPRESSION "fixed before measuring[)]: [+]x n/a -z n/a.*ratios /exp undefined on [+]x -z: the exponential baseline is exact at this sigma"
+  FAIL_REGULAR_EXPRESSION "nan|misses")
+
 # Bad input: one line, non-zero exit, no output folder.
 function(weft_bad_input name expect)
   add_test(NAME cli.validate.bad.${name}

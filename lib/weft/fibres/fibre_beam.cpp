@@ -47,6 +47,19 @@ volume::WorldBox fibre_box(const CapsuleIndex& fibres) {
 }
 
 void check_fibre_beam(const volume::WorldBox& box, double cell, const volume::BeamSpec& spec) {
+  // The box as given (not a grid's): an inverted or non-finite one would give a lattice of one
+  // cell and negative depths (T = 1 at "depth −1"), so it is refused as Grid.to_numpy refuses
+  // an inverted index box.
+  for (int a = 0; a < 3; ++a) {
+    const auto i = static_cast<std::size_t>(a);
+    if (!std::isfinite(box.lo[i]) || !std::isfinite(box.hi[i]))
+      fail("fibre beam: box corners must be finite, got ({}, {}, {})..({}, {}, {})", box.lo[0], box.lo[1], box.lo[2],
+           box.hi[0], box.hi[1], box.hi[2]);
+    if (box.lo[i] > box.hi[i])
+      fail("fibre beam: box min must be <= max per axis, got ({}, {}, {})..({}, {}, {})", box.lo[0], box.lo[1],
+           box.lo[2], box.hi[0], box.hi[1], box.hi[2]);
+  }
+  require_positive("fibre beam: cell width", cell);
   // The budget of every pass (volume/pass_budget.h), before the depths are allocated: a ray
   // costs its BVH walk, bounded like a voxel ray's cell crossings, and its profile's depths.
   const volume::BeamLattice plan = volume::make_beam_lattice(box, cell, spec, false);

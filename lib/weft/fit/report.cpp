@@ -53,6 +53,12 @@ std::vector<ModelRatio> model_ratios(const AxisValidation& axis) {
   return out;
 }
 
+std::string ratios_undefined(const AxisValidation& axis) {
+  if (axis.model("exponential").error.rms_abs_t > 0.0) return "";
+  return "the exponential baseline is exact at this sigma (its RMS error on T is 0): no error to improve on, so a "
+         "ratio to it is undefined";
+}
+
 ModelRatio predicted(const AxisValidation& axis) {
   for (const auto& r : model_ratios(axis)) {
     if (r.name == kPredictedModel) return r;
@@ -84,7 +90,8 @@ std::string validation_json(const Validation& v) {
   j["models_computed"] = v.models.text();
   json axes = json::array();
   bool all_pass = true;
-  bool any_prediction = false;
+  int judged_axes = 0;    // axes whose prediction passes or fails
+  int unjudged_axes = 0;  // axes with a prediction whose ratio is undefined
   for (const auto& a : v.axes) {
     json ax;
     ax["axis"] = a.label;
@@ -115,6 +122,8 @@ std::string validation_json(const Validation& v) {
     json ratios = json::object();
     for (const auto& r : model_ratios(a)) ratios[r.name] = number_or_null(r.ratio);
     ax["ratio_to_exponential_rms_T"] = ratios;
+    const std::string undefined = ratios_undefined(a);
+    ax["ratios_undefined"] = undefined.empty() ? json(nullptr) : json(undefined);
     const double paper = ratios["gamma"].is_number() ? ratios["gamma"].get<double>() : NAN;
     ax["gamma_over_exponential_rms_T"] = number_or_null(paper);
     const bool has_prediction = ratios.contains(kPredictedModel);
@@ -135,21 +144,28 @@ std::string validation_json(const Validation& v) {
     ax["best_predictive"] = best_json;  // the former key, same content
     const bool overestimates = a.model("exponential").error.mean_log_bias < 0.0;
     ax["exponential_overestimates_extinction"] = overestimates;
-    // An acceptance is reported for a model computed (null otherwise: a run without the
-    // prediction neither passes nor fails it).
-    const bool pass = has_prediction && predicted(a).ratio <= 1.0 / 3.0;
-    ax["acceptance_predicted_at_most_third_of_exponential"] = has_prediction ? json(pass) : json(nullptr);
+    // An acceptance is reported for a model computed whose ratio is defined (null otherwise: a
+    // run without the prediction, or whose baseline is exact, neither passes nor fails it).
+    const bool judged = has_prediction && undefined.empty();
+    const bool pass = judged && predicted(a).ratio <= 1.0 / 3.0;
+    ax["acceptance_predicted_at_most_third_of_exponential"] = judged ? json(pass) : json(nullptr);
     ax["acceptance_gamma_at_most_third_of_exponential"] =
-        ratios.contains("gamma") ? json(paper <= 1.0 / 3.0) : json(nullptr);
-    all_pass = all_pass && pass;
-    any_prediction = any_prediction || has_prediction;
+        ratios.contains("gamma") && undefined.empty() ? json(paper <= 1.0 / 3.0) : json(nullptr);
+    if (judged) {
+      all_pass = all_pass && pass;
+      ++judged_axes;
+    } else if (has_prediction) {
+      ++unjudged_axes;
+    }
     ax["timings"] = {{"beam", a.beam_seconds},           {"stats", a.stats_seconds},
                      {"models", a.fit_seconds},          {"beam_cpu", a.beam_cpu_seconds},
                      {"stats_cpu", a.stats_cpu_seconds}, {"models_cpu", a.fit_cpu_seconds}};
     axes.push_back(ax);
   }
   j["axes"] = axes;
-  j["acceptance_all_axes"] = any_prediction ? json(all_pass) : json(nullptr);
+  // False once an axis fails; true only when every axis with the prediction was judged and passed.
+  j["acceptance_all_axes"] =
+      judged_axes > 0 && !all_pass ? json(false) : (judged_axes > 0 && unjudged_axes == 0 ? json(true) : json(nullptr));
   // The prediction's cost against the truth's, over every axis (docs/benchmarks.md "Validate:
   // predictions against the truth"): process CPU of every thread, and wall.
   double beams = 0.0, statistics = 0.0, models = 0.0, beams_wall = 0.0, statistics_wall = 0.0, models_wall = 0.0;

@@ -15,10 +15,18 @@ namespace weft::fit {
 struct ModelRatio {
   std::string name;
   double rms_abs_t = 0.0;
-  double ratio = 0.0;  ///< rms_abs_t / exponential's (NaN when the exponential is exact)
+  double ratio = 0.0;  ///< rms_abs_t / exponential's (NaN when undefined: ratios_undefined)
   bool uses_ground_truth = false;
 };
 [[nodiscard]] std::vector<ModelRatio> model_ratios(const AxisValidation& axis);
+
+/// Why the axis's ratios to the exponential are undefined, "" when they are defined: the
+/// exponential baseline's RMS error on T is 0, i.e. it is exact at this σ (at σ = 1e−300 every
+/// optical depth rounds to 0 and T = 1 everywhere), so there is no error to improve on and a
+/// ratio to it is 0/0 or x/0. Reported as such (ratios and acceptance null with this reason,
+/// docs/validate.md "An exact exponential"), never as a NaN that misses ⅓.
+[[nodiscard]] std::string ratios_undefined(const AxisValidation& axis);
+
 /// The prediction of the axis: the one model fixed before measuring (fit::kPredictedModel,
 /// docs/validate.md "The prediction"); uses_ground_truth false.
 [[nodiscard]] ModelRatio predicted(const AxisValidation& axis);

@@ -5,6 +5,7 @@
 
 #include "weft/core/error.h"
 #include "weft/volume/grid_openvdb.h"
+#include "weft/volume/provenance.h"
 
 namespace weft::volume {
 
@@ -31,7 +32,12 @@ Grid extinction_grid(const Grid& concentration, double sigma, VoxelRule rule) {
     it.setValue(static_cast<float>(mu));
   }
   Grid g = wrap_openvdb(out);
+  // Both keys: the copy keeps the source's "weft:value_kind" = concentration, which
+  // read_provenance prefers; left so, the grid of μ would be multiplied by σ again.
   g.set_metadata("value_kind", "extinction");
+  Provenance kind;
+  kind.value_kind = "extinction";
+  write_provenance(g, kind);
   g.set_metadata("weft:voxel_rule", to_string(rule));
   return g;
 }

@@ -1,16 +1,20 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "data_gen/cloth/cloth.h"
+#include "data_gen/cloth/grid_fibres.h"
 #include "data_gen/cloth/pattern.h"
 #include "error_matchers.h"
 #include "weft/core/error.h"
+#include "weft/volume/dense.h"
 
 namespace weft::cloth {
 namespace {
@@ -96,6 +100,71 @@ TEST(Cloth, GridCarriesProvenanceAndConservesVolume) {
   EXPECT_NEAR(b.report.grid_volume + b.report.overlap_fraction * b.report.fiber_volume, b.report.fiber_volume,
               1e-5 * b.report.fiber_volume);
   EXPECT_NEAR(b.grid.sum() * std::pow(0.02, 3), b.report.grid_volume, 1e-5 * b.report.grid_volume);
+}
+
+/// The voxels of `g` at index `min`, origin `origin` and voxel size `h`, with its metadata.
+volume::Grid placed(const volume::Grid& g, const std::array<int, 3>& min, const std::array<double, 3>& origin,
+                    double h) {
+  const volume::IndexBox box = g.active_bbox();
+  const std::vector<float> values = volume::to_dense(g, box, volume::dense_bytes(box));
+  volume::Grid out(h, g.name());
+  out.set_origin(origin);
+  volume::from_dense(out, min, box.extent(), values.data());
+  for (const auto& [k, v] : g.metadata()) out.set_metadata(k, v);
+  return out;
+}
+
+// docs/validate.md §Fibre ground truth: a grid is compared with its fibres only on the lattice
+// weft gen voxelized them on (recorded voxel size, origin and active box), within rounding; a
+// tolerance of two voxels once let a grid moved by half a voxel, one or two voxels through.
+TEST(Cloth, FibresAreComparedOnlyWithTheGridOnTheirLattice) {
+  const ClothBuild b = build_cloth(small_spec(), null_progress());
+  const volume::Grid& g = b.grid;
+  const double h = g.voxel_size();
+  const volume::IndexBox box = g.active_bbox();
+  ASSERT_EQ(g.origin(), (std::array<double, 3>{0.0, 0.0, 0.0}));  // the voxelizer's lattice
+  EXPECT_NO_THROW(check_voxelized_lattice(g, "cloth"));
+  EXPECT_EQ(fibers_of_grid(g, "cloth").points, b.fibers.points);
+  // The same world at other indices, near 0 and 10⁶ voxels out (the origin moved back), and
+  // through a file: the same lattice up to rounding.
+  for (int shift : {-3, 1000000}) {
+    const std::array<int, 3> min{box.min[0] + shift, box.min[1], box.min[2] - shift};
+    const volume::Grid same = placed(g, min, {-shift * h, 0.0, shift * h}, h);
+    EXPECT_NO_THROW(check_voxelized_lattice(same, "same")) << shift;
+  }
+  const fs::path file = fs::temp_directory_path() / "weft_lattice_check.vdb";
+  g.save(file);
+  EXPECT_NO_THROW(check_voxelized_lattice(volume::Grid::load(file), "loaded"));
+  fs::remove(file);
+  // Moved by a thousandth of a voxel, half a voxel, one voxel: refused, saying by how much.
+  const auto moved = [&](const volume::Grid& m, const std::string& by) {
+    EXPECT_THAT([&] { check_voxelized_lattice(m, "moved.vdb"); },
+                weft::test::throws_one_line_error_with(
+                    {"moved.vdb: the grid was moved relative to its fibres: its active box's low corner by (" + by,
+                     "where weft gen voxelized its fibres on"}));
+    EXPECT_THAT([&] { (void)fibers_of_grid(m, "moved.vdb"); },
+                weft::test::throws_one_line_error_with({"moved relative to its fibres"}));
+  };
+  moved(placed(g, box.min, {1e-3 * h, 0.0, 0.0}, h), "+0.001, +0, +0) voxels");
+  moved(placed(g, box.min, {-0.5 * h, -0.5 * h, -0.5 * h}, h), "-0.5, -0.5, -0.5) voxels");
+  moved(placed(g, {box.min[0], box.min[1] + 1, box.min[2]}, {0.0, 0.0, 0.0}, h), "+0, +1, +0) voxels");
+  EXPECT_THAT(
+      [&] {
+        check_voxelized_lattice(placed(g, box.min, {0.0, 0.0, 0.0}, 2.0 * h), "coarse.vdb");
+      },
+      weft::test::throws_one_line_error_with(
+          {"coarse.vdb: the grid was resampled relative to its fibres: voxels of 0.04 against the 0.02"}));
+  // No record (an earlier weft gen) or a broken one: refused, never trusted.
+  volume::Grid legacy(h, "density");
+  legacy.set_origin({0.0, 0.0, 0.0});
+  legacy.set_value(0, 0, 0, 0.5f);
+  legacy.set_metadata("generator", g.metadata().at("generator"));
+  EXPECT_THAT([&] { check_voxelized_lattice(legacy, "old.vdb"); },
+              weft::test::throws_one_line_error_with(
+                  {"old.vdb: the grid does not record the lattice its fibres were voxelized on", "weft gen --config"}));
+  legacy.set_metadata(kVoxelizedLatticeKey, "{\"voxel_size\": 0.02}");
+  EXPECT_THAT([&] { check_voxelized_lattice(legacy, "old.vdb"); },
+              weft::test::throws_one_line_error_with({"old.vdb: metadata 'voxelized_lattice' is not a lattice"}));
 }
 
 TEST(Cloth, SpecJsonRejectsBadFields) {

@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <string>
 
 #include "error_matchers.h"
 #include "weft/core/error.h"
@@ -207,6 +209,35 @@ TEST(FibreBeam, BadInput) {
   EXPECT_THROW((void)measure_fibre_beam(index, kUnitBox, 0.01, beam({0, 0, 1}, 1), -1.0), Error);
   EXPECT_THROW((void)measure_fibre_beam(index, kUnitBox, 0.01, beam({0, 0, 0}, 1)), Error);
   EXPECT_THROW((void)measure_fibre_beam(index, kUnitBox, 0.01, beam({0, 0, 1}, 0)), Error);
+}
+
+// A box given by the caller (not a grid's) is checked as Grid.to_numpy checks an index box: an
+// inverted one once gave a lattice of one cell and the depths [−1, −1] with T = 1.
+TEST(FibreBeam, AnInvertedOrNonFiniteBoxOrABadCellIsRefused) {
+  const CapsuleIndex index(straight_fibre(0.5, 0.5, 0.05));
+  const auto refused = [&](const volume::WorldBox& box, double cell, std::initializer_list<std::string> words) {
+    for (const auto& d : {std::array<double, 3>{0, 0, 1}, std::array<double, 3>{1, 1, 2}}) {
+      EXPECT_THAT([&] { (void)measure_fibre_beam(index, box, cell, beam(d, 1)); },
+                  weft::test::throws_one_line_error_with(words));
+      EXPECT_THAT([&] { check_fibre_beam(box, cell, beam(d, 1)); }, weft::test::throws_one_line_error_with(words));
+    }
+  };
+  const std::initializer_list<std::string> inverted{"fibre beam: box min must be <= max per axis"};
+  refused({{1, 1, 1}, {0, 0, 0}}, 0.1, inverted);
+  refused({{0, 0, 1}, {1, 1, 0}}, 0.1, inverted);  // one axis is enough
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  refused({{0, nan, 0}, {1, 1, 1}}, 0.1, {"fibre beam: box corners must be finite"});
+  refused({{0, 0, 0}, {1, 1, inf}}, 0.1, {"fibre beam: box corners must be finite"});
+  refused({{-inf, 0, 0}, {1, 1, 1}}, 0.1, {"fibre beam: box corners must be finite"});
+  for (double cell : {0.0, -0.1, nan, inf}) refused(kUnitBox, cell, {"fibre beam: cell width"});
+  // A flat box is a box: at its depth 0 nothing is crossed.
+  const auto flat = measure_fibre_beam(index, {{0, 0, 0.2}, {1, 1, 0.2}}, 0.1, beam({0, 0, 1}, 1));
+  ASSERT_GT(flat.size(), 0U);
+  for (std::size_t k = 0; k < flat.size(); ++k) {
+    EXPECT_EQ(flat.depth[k], 0.0);
+    EXPECT_EQ(flat.transmittance(k), 1.0);
+  }
 }
 
 // The budget of every pass (volume/pass_budget.h) before any ray: 10⁴ cells × 10⁹ rays each

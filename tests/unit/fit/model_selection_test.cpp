@@ -2,7 +2,10 @@
 // needs, and that a model's curve does not depend on which others are computed.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "error_matchers.h"
 #include "test_grids.h"
@@ -128,6 +131,48 @@ TEST(ModelSelection, ValidateWithThePredictionAloneReportsItAndNoWindowStatistic
     EXPECT_EQ(a.model("isotropic").log_t, all.axes[i].model("isotropic").log_t);
   }
   EXPECT_NE(validation_json(paper).find("\"acceptance_all_axes\": null"), std::string::npos);
+}
+
+// At a σ so small that every optical depth rounds to 0, T = 1 everywhere and every model,
+// the exponential baseline included, is exact: a ratio to the baseline's error 0 is undefined.
+// It once came out as NaN, printed "nan", missed ⅓ and failed the acceptance; it is null with
+// the reason, and the acceptance is neither passed nor failed.
+TEST(ModelSelection, RatiosToAnExactExponentialAreUndefinedNotFailed) {
+  const volume::Grid g = test::patterned_grid();
+  ValidationSpec vs;
+  vs.sigma = 1e-300;
+  vs.scale.fill(0.2);
+  const Validation exact = validate(g, vs);
+  for (const AxisValidation& a : exact.axes) {
+    EXPECT_EQ(a.model("exponential").error.rms_abs_t, 0.0);
+    EXPECT_NE(ratios_undefined(a).find("exponential baseline is exact at this sigma"), std::string::npos);
+    EXPECT_TRUE(std::isnan(predicted(a).ratio));
+  }
+  const auto report = nlohmann::json::parse(validation_json(exact));
+  EXPECT_TRUE(report.at("acceptance_all_axes").is_null());
+  for (const auto& ax : report.at("axes")) {
+    EXPECT_TRUE(ax.at("ratios_undefined").is_string());
+    EXPECT_TRUE(ax.at("acceptance_predicted_at_most_third_of_exponential").is_null());
+    EXPECT_TRUE(ax.at("acceptance_gamma_at_most_third_of_exponential").is_null());
+    EXPECT_TRUE(ax.at("predicted").at("ratio_to_exponential_rms_T").is_null());
+    for (const auto& [name, ratio] : ax.at("ratio_to_exponential_rms_T").items()) EXPECT_TRUE(ratio.is_null()) << name;
+  }
+  // Defined ratios say so (null reason); beside an undefined axis, a failed axis still fails
+  // the whole and a passed one leaves it undecided.
+  const Validation normal = test::validate_patterned(g);
+  const auto normal_report = nlohmann::json::parse(validation_json(normal));
+  const auto& first = normal_report.at("axes").at(0);
+  EXPECT_TRUE(first.at("ratios_undefined").is_null());
+  ASSERT_TRUE(first.at("acceptance_predicted_at_most_third_of_exponential").is_boolean());
+  const bool first_passes = first.at("acceptance_predicted_at_most_third_of_exponential").get<bool>();
+  Validation mixed = normal;
+  mixed.axes = {normal.axes.front(), exact.axes.back()};
+  const auto all = nlohmann::json::parse(validation_json(mixed)).at("acceptance_all_axes");
+  if (first_passes) {
+    EXPECT_TRUE(all.is_null());
+  } else {
+    EXPECT_EQ(all, false);
+  }
 }
 
 }  // namespace

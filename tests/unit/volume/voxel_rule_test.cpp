@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "weft/core/error.h"
+#include "weft/volume/provenance.h"
 #include "weft/volume/voxel_rule.h"
 
 namespace weft::volume {
@@ -29,6 +31,25 @@ TEST(VoxelRule, LinearAndOpaqueValues) {
   EXPECT_THROW((void)parse_voxel_rule("cubic"), Error);
   g.set_value(3, 0, 0, 1.5f);
   EXPECT_THROW((void)extinction_grid(g, sigma, VoxelRule::opaque), Error);
+}
+
+// A grid of μ says so in the key read_provenance reads first: copied from a weft gen grid
+// ("weft:value_kind" = concentration) it was read as C again, and every beam on it multiplied μ
+// by the source's σ (σ² C).
+TEST(VoxelRule, TheExtinctionGridsProvenanceSaysExtinction) {
+  Grid g(0.01);
+  g.set_value(0, 0, 0, 0.5f);
+  Provenance p;
+  p.value_kind = "concentration";
+  p.sigma = 40.0;
+  write_provenance(g, p);
+  ASSERT_EQ(read_provenance(g).value_kind, "concentration");
+  for (VoxelRule rule : {VoxelRule::linear, VoxelRule::opaque}) {
+    const Grid mu = extinction_grid(g, 40.0, rule);
+    const Provenance q = read_provenance(mu);
+    EXPECT_EQ(q.value_kind, "extinction") << to_string(rule);
+    EXPECT_EQ(resolve_sigma(q, std::nullopt, q.value_kind == "extinction", "mu").sigma, 1.0);
+  }
 }
 
 }  // namespace
