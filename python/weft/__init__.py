@@ -237,19 +237,27 @@ def _window_text(window):
     return repr(_number("validate: window", window))
 
 
+def _items(value, message):
+    """A str as itself, any other iterable as the list of its items (its parts, comma-joined by
+    the callers, go to the library's parser); ArgumentTypeError ``message % type`` otherwise."""
+    if isinstance(value, str):
+        return value
+    try:
+        return list(value)
+    except TypeError:
+        raise ArgumentTypeError(message % type(value).__name__) from None
+
+
 def _axes_text(axes):
     """("x", "z"), "x,z", (0, 2) or "x" -> "x,z" (fit::parse_axes checks the names)."""
-    if isinstance(axes, str):
-        return axes
-    try:
-        parts = list(axes)
-    except TypeError:
-        raise ArgumentTypeError("validate: axes must be names like ('x', 'z') or indices (0, 2), got %s"
-                        % type(axes).__name__) from None
+    kinds = "validate: axes must be names like ('x', 'z') or indices (0, 2), got %s"
+    parts = _items(axes, kinds)
+    if isinstance(parts, str):
+        return parts
     out = []
     for a in parts:
         if type(a).__name__ in ("bool", "bool_") or not isinstance(a, (str, _numbers.Integral)):
-            raise ArgumentTypeError("validate: axes must be names like ('x', 'z') or indices (0, 2), got %r" % (a,))
+            raise ArgumentTypeError(kinds % repr(a))
         if not isinstance(a, str):
             a = int(a)  # np.int64 too
         out.append(a if isinstance(a, str) else ("x", "y", "z")[a] if 0 <= a <= 2 else str(a))
@@ -258,13 +266,9 @@ def _axes_text(axes):
 
 def _names_text(what, names):
     """"a,b", ("a", "b") or "a" -> "a,b" (the library checks the names)."""
-    if isinstance(names, str):
-        return names
-    try:
-        parts = list(names)
-    except TypeError:
-        raise ArgumentTypeError("%s must be a name or a sequence of names, got %s"
-                                % (what, type(names).__name__)) from None
+    parts = _items(names, what + " must be a name or a sequence of names, got %s")
+    if isinstance(parts, str):
+        return parts
     for n in parts:
         if not isinstance(n, str):
             raise ArgumentTypeError("%s must be names (str), got %r" % (what, n))
