@@ -259,7 +259,12 @@ TEST(Sim2d, RefusesACaseGivenTwiceAndStructureBeyondTheRealizations) {
   EXPECT_EQ(message(small_spec({0.0, 0.5, 0.0})), "sim2d: eta: 0 is given twice");
   SimulationSpec s = small_spec({0.0});
   s.thetas_deg = {30.0, 0.0, 30.0};
-  EXPECT_EQ(message(s), "sim2d: source angle theta: 30 is given twice");
+  EXPECT_EQ(message(s), "sim2d: source angle theta: 30 (direction (0.866025, 0.5), modulo 360 degrees) is given twice");
+  // The same direction modulo 360 degrees is the same case.
+  s.thetas_deg = {0.0, 360.0};
+  EXPECT_EQ(message(s), "sim2d: source angle theta: 360 (direction (1, 0), modulo 360 degrees) is given twice");
+  s.thetas_deg = {10.0, -350.0};
+  EXPECT_NE(message(s).find("-350 (direction"), std::string::npos) << message(s);
   s = small_spec({0.0});
   s.boundary = true;
   s.boundary_t = 2.0;
