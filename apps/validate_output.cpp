@@ -70,7 +70,7 @@ viz::RenderOutcome save_transmittance_figure(const fit::Validation& v, const std
   for (const auto& a : v.axes) {
     viz::Chart c;
     if (!fit::ratios_undefined(a).empty()) {
-      c.title = fmt::format("beam {}: the exponential is exact at this sigma (error 0)", a.label);
+      c.title = fmt::format("beam {}: the exponential is exact (its error is rounding)", a.label);
     } else if (v.models.wants(fit::kPredictedModel)) {
       const auto p = fit::predicted(a);
       c.title = fmt::format("beam {}: predicted ({}) {:.2f} of the exponential's error", a.label, p.name, p.ratio);

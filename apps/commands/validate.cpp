@@ -204,6 +204,9 @@ const Registrar kValidate{Command{
         const fit::ScaleUse scale_used = fit::scale_use(scale, grid, spec.models.needs_blocks());
         for (const auto& note : scale_used.notes) ctx.warn(note);
         const fit::Validation v = fit::validate(grid, spec, ctx.progress);
+        for (const auto& a : v.axes) {
+          if (!a.least_squares_note.empty()) ctx.warn(fmt::format("beam {}: {}", a.label, a.least_squares_note));
+        }
         std::optional<FibreCheck> fibre_check;  // before any output: a grid without its fibres writes nothing
         if (o->fibres)
           fibre_check =

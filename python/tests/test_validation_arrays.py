@@ -68,7 +68,8 @@ def test_the_prediction_alone_is_the_full_runs_prediction(report, small_cloth):
 
 @pytest.mark.parametrize("models, error", [("gamma,bogus", weft.Error), (("gamma", 3), weft.ArgumentTypeError),
                                            (5, weft.ArgumentTypeError), ((), weft.Error),
-                                           ("least-squares", weft.Error)])
+                                           ("least-squares", weft.Error), ("gamma,", weft.Error),
+                                           (b"gamma", weft.ArgumentTypeError)])
 def test_bad_model_lists_are_refused(small_cloth, models, error):
     with pytest.raises(error, match="models"):
         weft.validate(small_cloth.grid, models=models)

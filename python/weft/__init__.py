@@ -266,7 +266,10 @@ def _axes_text(axes):
 
 def _names_text(what, names):
     """"a,b", ("a", "b") or "a" -> "a,b" (the library checks the names)."""
-    parts = _items(names, what + " must be a name or a sequence of names, got %s")
+    kinds = what + " must be a name or a sequence of names (str), got %s"
+    if isinstance(names, (bytes, bytearray)):
+        raise ArgumentTypeError(kinds % type(names).__name__)  # its items would be ints
+    parts = _items(names, kinds)
     if isinstance(parts, str):
         return parts
     for n in parts:

@@ -353,9 +353,19 @@ ColumnPass column_pass(const volume::ColumnReader& reader, bool reverse, int w, 
   st.depth = profile ? n : 0;
   // The profile holds w values per block: a window of a few voxels on a large box would take
   // gigabytes, refused before the pass like the blocks themselves.
+  // Both limits bound the pass's memory before it starts (each cell a few doubles per shard
+  // that touches it); a larger scale L means fewer blocks and coarse columns.
+  const char* axis_name = axis == 0 ? "x" : (axis == 1 ? "y" : "z");
+  if (cells > 50'000'000)
+    fail(
+        "local fields along {}: {} blocks of side {} voxel{} is too many (at most 5e7): the scale L (window) is too "
+        "small for this grid's box",
+        axis_name, cells, w, w == 1 ? "" : "s");
   if (profile && coarse * static_cast<std::size_t>(n) > 100'000'000)
-    fail("local fields: a depth profile of {} slices in {} coarse columns of {} voxels is too many", n, coarse, w);
-  if (cells > 50'000'000) fail("local fields: {} blocks of {} voxels is too many", cells, w);
+    fail(
+        "local fields along {}: the prediction's depth profile, {} slices in each of {} coarse columns of side {} "
+        "voxel{}, is too many (at most 1e8): the scale L (window) is too small for this grid's box",
+        axis_name, n, coarse, w, w == 1 ? "" : "s");
   const std::size_t units = reader.tile_count();
   const std::size_t shards = std::min(kShards, units);
   std::vector<WindowSummary> parts(shards);

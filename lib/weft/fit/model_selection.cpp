@@ -53,6 +53,8 @@ ModelSelection ModelSelection::all() {
 
 ModelSelection ModelSelection::parse(const std::string& text) {
   if (text == "all") return all();
+  // std::getline drops a trailing empty entry ("gamma,"): refused here like any other.
+  if (!text.empty() && text.back() == ',') fail("models '{}': empty entry (names: {})", text, known_names());
   ModelSelection s;
   std::istringstream in(text);
   std::string part;

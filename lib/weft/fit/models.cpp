@@ -43,6 +43,31 @@ transmittance::LawPtr gamma_or_exponential(double sigma, double mean, double var
 }
 }  // namespace
 
+namespace {
+
+/// The window moments a pass gathered, as validate reports them (Eq. 19–20's C̄ and Var C).
+ConcentrationStats window_moments_of(const detail::WindowSummary& ws, int w, double h) {
+  ConcentrationStats s;
+  s.mean = ws.moments.mean;
+  s.variance = ws.moments.variance();
+  s.samples = ws.moments.n;
+  s.window_voxels = w;
+  s.window = w * h;
+  return s;
+}
+
+}  // namespace
+
+ConcentrationStats window_moments(const volume::Grid& grid, int axis, double scale, ProgressSink& progress) {
+  if (axis < 0 || axis > 2) fail("window moments: axis must be 0, 1 or 2, got {}", axis);
+  if (grid.active_voxel_count() == 0) fail("window moments: grid '{}' has no active voxels", grid.name());
+  const volume::ColumnReader reader(grid, axis);
+  const int n = static_cast<int>(reader.box().extent()[static_cast<std::size_t>(axis)]);
+  const int w = window_voxels(scale, grid.voxel_size(), n);
+  const detail::ColumnPass pass = detail::column_pass(reader, false, w, {true, false, false}, progress);
+  return window_moments_of(pass.windows, w, grid.voxel_size());
+}
+
 double gamma_log_t(double sigma, double mean, double var, double t) {
   if (!(mean > 0.0) || t == 0.0) return 0.0;
   if (!(var > 0.0)) return -sigma * mean * t;
@@ -68,17 +93,14 @@ std::vector<PredictedModel> predict_axis(const volume::Grid& grid, const Predict
   // One pass over the columns gives the windows of every model and the blocks of the local ones.
   StageClock clock;
   const ModelSelection& models = spec.models;
-  const detail::ColumnPass pass =
-      detail::column_pass(reader, reverse, w, {models.needs_windows(), models.needs_blocks()}, progress);
+  // Only the prediction reads the depth profile inside the blocks (fit/local_models.h).
+  const detail::ColumnPass pass = detail::column_pass(
+      reader, reverse, w, {models.needs_windows(), models.needs_blocks(), models.wants(kPredictedModel)}, progress);
   if (cost != nullptr) clock.lap(cost->statistics_seconds, cost->statistics_cpu_seconds);
   const detail::WindowSummary& ws = pass.windows;
   if (moments_out != nullptr) {
     *moments_out = ConcentrationStats{};
-    if (models.needs_windows()) {
-      moments_out->mean = ws.moments.mean;
-      moments_out->variance = ws.moments.variance();
-      moments_out->samples = ws.moments.n;
-    }
+    if (models.needs_windows()) *moments_out = window_moments_of(ws, w, h);
     moments_out->window_voxels = w;
     moments_out->window = w * h;
   }

@@ -102,6 +102,14 @@ struct PredictionCost {
                                                        ConcentrationStats* moments_out = nullptr,
                                                        PredictionCost* cost = nullptr);
 
+/// The moments of the windows of length `scale` along `axis` (0, 1, 2) from predict_axis's own
+/// sparse pass, the windows alone: the same bits as predict_axis's `moments_out` for a beam
+/// along that axis, whatever else a run computes (what validate reports for an axis without a
+/// beam and pools for the isotropic model). window_stats computes the same moments densely, equal
+/// up to rounding.
+[[nodiscard]] ConcentrationStats window_moments(const volume::Grid& grid, int axis, double scale,
+                                                ProgressSink& progress = null_progress());
+
 /// log T of the gamma law with window moments (mean, var) at σ: −α log1p(σ t/β), exactly the
 /// exponential when var = 0 and 0 when mean = 0.
 [[nodiscard]] double gamma_log_t(double sigma, double mean, double var, double t);

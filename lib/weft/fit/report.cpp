@@ -39,14 +39,26 @@ json stats_json(const ConcentrationStats& s) {
 
 }  // namespace
 
+namespace {
+
+/// An RMS error on T at or below this is the baseline being exact up to rounding (a uniform
+/// grid: 3·10⁻¹⁶), far below any ground truth's own noise: a ratio to it would be rounding noise
+/// over rounding noise.
+constexpr double kExactRmsT = 1e-12;
+
+bool baseline_exact(const AxisValidation& axis) { return !(axis.model("exponential").error.rms_abs_t > kExactRmsT); }
+
+}  // namespace
+
 std::vector<ModelRatio> model_ratios(const AxisValidation& axis) {
   const double e = axis.model("exponential").error.rms_abs_t;
+  const bool exact = baseline_exact(axis);
   std::vector<ModelRatio> out;
   for (const auto& m : axis.models) {
     ModelRatio r;
     r.name = m.name;
     r.rms_abs_t = m.error.rms_abs_t;
-    r.ratio = e > 0.0 ? m.error.rms_abs_t / e : std::numeric_limits<double>::quiet_NaN();
+    r.ratio = exact ? std::numeric_limits<double>::quiet_NaN() : m.error.rms_abs_t / e;
     r.uses_ground_truth = m.uses_ground_truth;
     out.push_back(r);
   }
@@ -54,9 +66,12 @@ std::vector<ModelRatio> model_ratios(const AxisValidation& axis) {
 }
 
 std::string ratios_undefined(const AxisValidation& axis) {
-  if (axis.model("exponential").error.rms_abs_t > 0.0) return "";
-  return "the exponential baseline is exact at this sigma (its RMS error on T is 0): no error to improve on, so a "
-         "ratio to it is undefined";
+  if (!baseline_exact(axis)) return "";
+  return fmt::format(
+      "the exponential baseline is exact at this sigma or grid (its RMS error on T is {:.3g}, at most {:g}: rounding): "
+      "no "
+      "error to improve on, so a ratio to it is undefined",
+      axis.model("exponential").error.rms_abs_t, kExactRmsT);
 }
 
 ModelRatio predicted(const AxisValidation& axis) {
@@ -103,6 +118,7 @@ std::string validation_json(const Validation& v) {
     ax["stats"] = a.has_stats ? stats_json(a.stats) : json(nullptr);
     ax["fits"] = json::object();
     if (a.has_stats) ax["fits"]["moment"] = fit_json(a.moment_fit);
+    if (!a.least_squares_note.empty()) ax["least_squares_skipped"] = a.least_squares_note;
     if (a.lsq_fit.converged || a.lsq_fit.iterations > 0) {
       ax["fits"]["least_squares"] = fit_json(a.lsq_fit.fit);
       ax["fits"]["least_squares"]["rms_residual_T"] = a.lsq_fit.rms;
@@ -124,7 +140,8 @@ std::string validation_json(const Validation& v) {
     ax["ratio_to_exponential_rms_T"] = ratios;
     const std::string undefined = ratios_undefined(a);
     ax["ratios_undefined"] = undefined.empty() ? json(nullptr) : json(undefined);
-    const double paper = ratios["gamma"].is_number() ? ratios["gamma"].get<double>() : NAN;
+    const bool has_gamma = ratios.contains("gamma");  // before operator[] below, which would add the key
+    const double paper = has_gamma && ratios["gamma"].is_number() ? ratios["gamma"].get<double>() : NAN;
     ax["gamma_over_exponential_rms_T"] = number_or_null(paper);
     const bool has_prediction = ratios.contains(kPredictedModel);
     if (has_prediction) {
@@ -150,7 +167,7 @@ std::string validation_json(const Validation& v) {
     const bool pass = judged && predicted(a).ratio <= 1.0 / 3.0;
     ax["acceptance_predicted_at_most_third_of_exponential"] = judged ? json(pass) : json(nullptr);
     ax["acceptance_gamma_at_most_third_of_exponential"] =
-        ratios.contains("gamma") && undefined.empty() ? json(paper <= 1.0 / 3.0) : json(nullptr);
+        has_gamma && undefined.empty() ? json(paper <= 1.0 / 3.0) : json(nullptr);
     if (judged) {
       all_pass = all_pass && pass;
       ++judged_axes;

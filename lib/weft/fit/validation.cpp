@@ -5,6 +5,8 @@
 #include <set>
 #include <sstream>
 
+#include <fmt/format.h>
+
 #include "weft/core/error.h"
 #include "weft/core/stage_clock.h"
 
@@ -70,7 +72,7 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
   // Window statistics per axis at its scale (sense does not matter), when a model computed needs
   // them; all three for isotropic. The predictive models of a beam are computed first, from the
   // voxels alone, and their pass over the columns gives the axis's window statistics too (one
-  // read of the voxels per beam); window_stats reads an axis only when no beam's models did.
+  // read of the voxels per beam); window_moments reads an axis only when no beam's models did.
   const ModelSelection& chosen = spec.models;
   const bool axis_models = chosen.any_axis_model();
   const bool windows = chosen.needs_windows();
@@ -115,7 +117,9 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
     const auto a = static_cast<std::size_t>(axis);
     if (have[a]) return;
     StageClock clock;
-    stats[a] = window_stats(grid, axis, spec.scale[a], progress);
+    // The column pass's windows, as a beam's models compute them: the same bits in any
+    // selection of models (window_stats, a dense pass, differs in the last digits).
+    stats[a] = window_moments(grid, axis, spec.scale[a], progress);
     clock.lap(stats_seconds[a], stats_cpu_seconds[a]);
     have[a] = true;
   };
@@ -210,8 +214,20 @@ Validation validate(const volume::Grid& grid, const ValidationSpec& spec, Progre
     // The least-squares reference needs three depths for its two parameters and a residual; a
     // grid one voxel thick along this beam has two (t = 0 and its one voxel), so the reference
     // row is left out there and nothing else changes (it is never a prediction).
+    // A fit that leaves the gamma family's range (α → 0 on a grid of a few voxels in a huge box:
+    // Var C beyond a double) has no law to report; the reference row is left out with the reason,
+    // and the predictions, which never depend on it, are reported as usual.
+    bool fitted = false;
     if (chosen.wants("least-squares") && av.ground_truth.size() >= 3) {
-      av.lsq_fit = fit_gamma_to_curve(av.ground_truth, spec.sigma, av.moment_fit);
+      try {
+        av.lsq_fit = fit_gamma_to_curve(av.ground_truth, spec.sigma, av.moment_fit);
+        fitted = true;
+      } catch (const Error& e) {
+        av.lsq_fit = LeastSquaresFit{};
+        av.least_squares_note = fmt::format("least-squares reference left out: {}", e.what());
+      }
+    }
+    if (fitted) {
       ModelCurve m;
       m.name = "least-squares";
       m.description = "reference: the gamma law fitted to the ground truth (Levenberg-Marquardt); not a prediction";

@@ -58,6 +58,7 @@ struct AxisValidation {
   ConcentrationStats stats;
   GammaFit moment_fit;
   LeastSquaresFit lsq_fit;
+  std::string least_squares_note;  ///< why the least-squares reference is missing, when it was asked for
   std::vector<ModelCurve> models;
   double scale = 0.0;  ///< L used along this axis (world units)
   /// Wall and process-CPU seconds (every thread) of the ground-truth beam, of the statistics

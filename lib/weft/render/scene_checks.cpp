@@ -37,8 +37,8 @@ std::vector<std::string> world_warnings(const World& world) {
         "the scene has no light (nothing in \"lights\" and no shape with \"emission\"), so the image is black");
   } else if (!world.lights.emits()) {
     out.emplace_back(
-        "every light of the scene emits nothing (intensity, radiance or emission 0, or an environment image that "
-        "is black or scaled by 0), so the image is black");
+        "every light of the scene emits nothing (intensity, irradiance, radiance or emission 0, or an environment "
+        "image that is black or scaled by 0), so the image is black");
   }
   return out;
 }

@@ -135,6 +135,11 @@ void check_study_spec(const StudySpec& spec, FrontEnd front) {
         return fmt::format("memory rule '{}'", transmittance::memory_rule_name(spec.memory_rules[i]));
       },
       [](transmittance::MemoryRule r) { return r; });
+  // A family given twice is the list's mistake, as a repeated rule is (every other study list
+  // refuses its repeats).
+  require_distinct(
+      "study", spec.components, [&](std::size_t i) { return fmt::format("component family '{}'", spec.components[i]); },
+      [](const std::string& f) { return f; });
   // A family that names no candidate would split nothing silently (render_components.h).
   const std::vector<std::string> families = candidate_families(spec);
   std::vector<std::string> rules;

@@ -28,6 +28,13 @@ void validate(const ExportMedium& medium, const ExportView& view) {
   if (medium.sigma > static_cast<double>(std::numeric_limits<float>::max()))
     fail("export: sigma {} is beyond a float ({:g}), which Mitsuba 3 and pbrt-v4 read the medium's scale as",
          medium.sigma, static_cast<double>(std::numeric_limits<float>::max()));
+  // Below the smallest normal float the scale loses its digits, and below 1.4e-45 it reads as 0: a
+  // vacuum written as a medium.
+  if (medium.sigma < static_cast<double>(std::numeric_limits<float>::min()))
+    fail(
+        "export: sigma {} is below the smallest normal float ({:g}), which Mitsuba 3 and pbrt-v4 read the medium's "
+        "scale as (it would lose its digits or read as 0)",
+        medium.sigma, static_cast<double>(std::numeric_limits<float>::min()));
   for (const double a : medium.albedo) {
     if (!(a >= 0.0 && a <= 1.0)) fail("export: albedo must be in [0, 1], got {}", a);
   }

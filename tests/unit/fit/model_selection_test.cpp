@@ -48,6 +48,8 @@ TEST(ModelSelection, AllPredictedAndNamesParse) {
 TEST(ModelSelection, BadListsAreRefusedNamingTheEntry) {
   EXPECT_THAT([] { (void)ModelSelection::parse("gamma,bogus"); }, throws_one_line_error_with({"'bogus'", "names:"}));
   EXPECT_THAT([] { (void)ModelSelection::parse("gamma,,local-gamma"); }, throws_one_line_error_with({"empty entry"}));
+  EXPECT_THAT([] { (void)ModelSelection::parse("gamma,"); }, throws_one_line_error_with({"empty entry"}));
+  EXPECT_THAT([] { (void)ModelSelection::parse(","); }, throws_one_line_error_with({"empty entry"}));
   EXPECT_THAT([] { (void)ModelSelection::parse("gamma,gamma"); }, throws_one_line_error_with({"'gamma' given twice"}));
   EXPECT_THAT([] { (void)ModelSelection::parse("predicted,local-gamma-two-scale"); },
               throws_one_line_error_with({"given twice"}));
@@ -173,6 +175,45 @@ TEST(ModelSelection, RatiosToAnExactExponentialAreUndefinedNotFailed) {
   } else {
     EXPECT_EQ(all, false);
   }
+}
+
+}  // namespace
+}  // namespace weft::fit
+
+namespace weft::fit {
+namespace {
+
+// A uniform grid: the exponential is the ground truth up to rounding (an RMS error on T of a few
+// 1e-16), so a ratio to it would be rounding over rounding; it is undefined there as at error 0.
+TEST(ModelSelection, AnExponentialExactUpToRoundingLeavesTheRatiosUndefined) {
+  const volume::Grid g = test::box_grid(12, 10, 8, 0.4f, 0.05);
+  ValidationSpec vs;
+  vs.sigma = 20.0;
+  vs.scale.fill(0.2);
+  vs.models = ModelSelection::parse("predicted");
+  const Validation v = validate(g, vs);
+  for (const AxisValidation& a : v.axes) {
+    EXPECT_LT(a.model("exponential").error.rms_abs_t, 1e-12) << a.label;
+    EXPECT_FALSE(ratios_undefined(a).empty()) << a.label;
+  }
+  EXPECT_TRUE(nlohmann::json::parse(validation_json(v)).at("acceptance_all_axes").is_null());
+}
+
+// The isotropic model alone pools the windows of the same pass as a full run (window_moments):
+// the same bits, and the paper's acceptance is null when the paper's law was not computed.
+TEST(ModelSelection, TheIsotropicModelAloneIsTheFullRunsAndLeavesThePapersAcceptanceNull) {
+  const volume::Grid g = test::patterned_grid();
+  const Validation all = test::validate_patterned(g);
+  ValidationSpec vs;
+  vs.sigma = 4.0;
+  vs.scale.fill(0.2);
+  vs.directions = {{0, 0, -1}};
+  vs.models = ModelSelection::parse("isotropic");
+  const Validation iso = validate(g, vs);
+  EXPECT_EQ(iso.isotropic_fit.alpha, all.isotropic_fit.alpha);
+  EXPECT_EQ(iso.isotropic_stats.variance, all.isotropic_stats.variance);
+  const auto report = nlohmann::json::parse(validation_json(iso));
+  EXPECT_TRUE(report.at("axes").at(0).at("acceptance_gamma_at_most_third_of_exponential").is_null());
 }
 
 }  // namespace
