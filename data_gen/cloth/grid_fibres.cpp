@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include <fmt/format.h>
@@ -46,7 +47,29 @@ void record_voxelized_lattice(volume::Grid& grid) {
   grid.set_metadata(kVoxelizedLatticeKey, lattice.dump());
 }
 
-void check_voxelized_lattice(const volume::Grid& grid, const std::string& what) {
+namespace {
+
+// One index of the record: nlohmann's get<int> would truncate 2^40 to its low bits and -6.5 to
+// -6, and a lattice read so is compared as if weft gen had written it.
+int lattice_index(const json& v, const std::string& what, const std::string& text) {
+  const bool in_range = v.is_number_unsigned() ? v.get<std::uint64_t>() <= static_cast<std::uint64_t>(volume::kMaxIndex)
+                        : v.is_number_integer() ? std::abs(v.get<std::int64_t>()) <= volume::kMaxIndex
+                                                : false;
+  if (!in_range)
+    fail("{}: metadata '{}' is not a lattice: index {} is not an integer with |index| <= {}: {}", what,
+         kVoxelizedLatticeKey, v.dump(), volume::kMaxIndex, text);
+  return static_cast<int>(v.get<std::int64_t>());
+}
+
+std::array<int, 3> lattice_indices(const json& v, const std::string& what, const std::string& text) {
+  if (!v.is_array() || v.size() != 3)
+    fail("{}: metadata '{}' is not a lattice: {} is not 3 indices: {}", what, kVoxelizedLatticeKey, v.dump(), text);
+  return {lattice_index(v[0], what, text), lattice_index(v[1], what, text), lattice_index(v[2], what, text)};
+}
+
+}  // namespace
+
+VoxelizedLattice read_voxelized_lattice(const volume::Grid& grid, const std::string& what) {
   const auto meta = grid.metadata();
   const auto it = meta.find(kVoxelizedLatticeKey);
   if (it == meta.end())
@@ -55,20 +78,31 @@ void check_voxelized_lattice(const volume::Grid& grid, const std::string& what) 
         "did not write it), so its placement cannot be checked against them: generate it again with weft gen "
         "--config (its 'generator' metadata is that cloth.json)",
         what, kVoxelizedLatticeKey);
-  double h0 = 0.0;
-  std::array<double, 3> origin0{};
-  volume::IndexBox box0;
+  VoxelizedLattice lattice;
   try {
     const json j = json::parse(it->second);
-    h0 = j.at("voxel_size").get<double>();
-    origin0 = j.at("origin").get<std::array<double, 3>>();
-    box0.min = j.at("active_index_min").get<std::array<int, 3>>();
-    box0.max = j.at("active_index_max").get<std::array<int, 3>>();
+    lattice.voxel_size = j.at("voxel_size").get<double>();
+    lattice.origin = j.at("origin").get<std::array<double, 3>>();
+    lattice.active.min = lattice_indices(j.at("active_index_min"), what, it->second);
+    lattice.active.max = lattice_indices(j.at("active_index_max"), what, it->second);
   } catch (const json::exception& e) {
     fail("{}: metadata '{}' is not a lattice: {}", what, kVoxelizedLatticeKey, e.what());
   }
-  if (!(h0 > 0.0) || !std::isfinite(h0) || box0.empty())
+  const auto& o = lattice.origin;
+  if (!(lattice.voxel_size > 0.0) || !std::isfinite(lattice.voxel_size) || lattice.active.empty() ||
+      !std::isfinite(o[0]) || !std::isfinite(o[1]) || !std::isfinite(o[2]))
     fail("{}: metadata '{}' is not a lattice: {}", what, kVoxelizedLatticeKey, it->second);
+  return lattice;
+}
+
+void check_voxelized_lattice(const volume::Grid& grid, const std::string& what) {
+  check_on_lattice(grid, read_voxelized_lattice(grid, what), what);
+}
+
+void check_on_lattice(const volume::Grid& grid, const VoxelizedLattice& lattice, const std::string& what) {
+  const double h0 = lattice.voxel_size;
+  const std::array<double, 3>& origin0 = lattice.origin;
+  const volume::IndexBox& box0 = lattice.active;
   const double h = grid.voxel_size();
   const volume::IndexBox box = grid.active_bbox();
   if (box.empty()) fail("{}: the grid has no active voxels to compare with its fibres", what);

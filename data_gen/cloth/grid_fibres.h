@@ -4,6 +4,7 @@
 /// intersection (weft/fibres), and the fibres of a grid written by `weft gen`, regenerated from
 /// the cloth spec its provenance records (docs/validate.md §Fibre ground truth).
 
+#include <array>
 #include <string>
 
 #include "data_gen/cloth/fibers.h"
@@ -27,13 +28,27 @@ inline constexpr const char* kVoxelizedLatticeKey = "voxelized_lattice";
 /// voxelizer made; nothing is recorded for an empty grid (a rank that holds no leaves).
 void record_voxelized_lattice(volume::Grid& grid);
 
-/// Throws weft::Error naming `what` unless the grid is on the lattice its fibres were voxelized
-/// on (docs/validate.md §Fibre ground truth): the recorded voxel size (to 1e−9 relative) and the
-/// recorded world box of the active voxels, origin + h·index, to 1e−6 voxel plus the rounding of
-/// the coordinates. A grid moved (origin or index origin), resampled or cut after `weft gen`
-/// keeps its provenance; it is refused with how far it moved, not compared with fibres that are
-/// no longer where its voxels are. A grid that records no lattice (an earlier weft gen) is
-/// refused too: its placement cannot be checked.
+/// The lattice a cloth's fibres were voxelized on, as record_voxelized_lattice writes it.
+struct VoxelizedLattice {
+  double voxel_size = 0.0;
+  std::array<double, 3> origin{};
+  volume::IndexBox active;  ///< index box of the active voxels
+};
+
+/// The lattice the grid records (metadata kVoxelizedLatticeKey). Throws weft::Error naming `what`
+/// when it records none (an earlier weft gen: its placement cannot be checked) or the record is
+/// invalid: not JSON, a voxel size not finite and > 0, an origin not finite, an index that is
+/// not an integer or is beyond the index range (|index| <= volume::kMaxIndex), an empty box.
+[[nodiscard]] VoxelizedLattice read_voxelized_lattice(const volume::Grid& grid, const std::string& what);
+
+/// Throws weft::Error naming `what` unless the grid is on `lattice` (docs/validate.md §Fibre
+/// ground truth): its voxel size (to 1e−9 relative) and the world box of its active voxels,
+/// origin + h·index, to 1e−6 voxel plus the rounding of the coordinates. A grid moved (origin or
+/// index origin), resampled or cut after `weft gen` keeps its provenance; it is refused with how
+/// far it moved, not compared with fibres that are no longer where its voxels are.
+void check_on_lattice(const volume::Grid& grid, const VoxelizedLattice& lattice, const std::string& what);
+
+/// check_on_lattice against the lattice the grid itself records (read_voxelized_lattice).
 void check_voxelized_lattice(const volume::Grid& grid, const std::string& what);
 
 /// The fibres the grid was voxelized from: the recorded cloth spec (seed included) run through

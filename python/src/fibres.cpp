@@ -1,6 +1,7 @@
 // The fibre ground truth (weft/fibres/fibre_beam.h): fibres as capsules, T_fibre(t) of a beam on
 // the voxel beam's ray lattice, and the fibres a weft gen grid was made from.
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "common.h"
@@ -14,11 +15,16 @@ namespace {
 namespace vol = weft::volume;
 namespace fib = weft::fibres;
 
-/// Fibres held by Python: the polylines and their index (built once).
+/// Fibres held by Python: the polylines, their index (built once) and, for the fibres of a weft
+/// gen grid (Fibres.of_grid), the lattice they were voxelized on: a grid given to
+/// measure_fibre_beam with them must be on it, as `weft measure --fibres` checks its own grid
+/// (docs/validate.md §Fibre ground truth).
 struct PyFibres {
   fib::FibreSet set;
   std::shared_ptr<const fib::CapsuleIndex> index;
-  explicit PyFibres(fib::FibreSet s) : set(std::move(s)), index(std::make_shared<fib::CapsuleIndex>(set)) {}
+  std::optional<cloth::VoxelizedLattice> lattice;
+  explicit PyFibres(fib::FibreSet s, std::optional<cloth::VoxelizedLattice> l = std::nullopt)
+      : set(std::move(s)), index(std::make_shared<fib::CapsuleIndex>(set)), lattice(l) {}
 };
 
 std::array<double, 3> direction_arg(const py::object& direction) {
@@ -58,15 +64,16 @@ void init_fibres(py::module_& m) {
       .def_static(
           "of_grid",
           [](const vol::Grid& grid, const py::object& progress) {
-            auto set = run_released(progress, [&](ProgressSink& p) {
-              return cloth::fibre_geometry(cloth::fibers_of_grid(grid, "grid '" + grid.name() + "'", p));
-            });
-            return std::make_shared<PyFibres>(std::move(set));
+            const std::string what = "grid '" + grid.name() + "'";
+            auto set = run_released(
+                progress, [&](ProgressSink& p) { return cloth::fibre_geometry(cloth::fibers_of_grid(grid, what, p)); });
+            return std::make_shared<PyFibres>(std::move(set), cloth::read_voxelized_lattice(grid, what));
           },
           py::arg("grid"), py::kw_only(), py::arg("progress") = py::none(),
           "The fibres a grid written by weft gen was voxelized from, regenerated from its provenance;\n"
           "weft.Error when the grid does not name its fibres, or is not on the lattice weft gen voxelized them\n"
-          "on (moved, resampled or cut since; docs/validate.md, Fibre ground truth).")
+          "on (moved, resampled or cut since; docs/validate.md, Fibre ground truth). The fibres keep that\n"
+          "lattice: measure_fibre_beam refuses a grid not on it.")
       .def("__len__", [](const PyFibres& f) { return f.set.size(); })
       .def_property_readonly("segments", [](const PyFibres& f) { return f.index->capsule_count(); })
       .def_property_readonly(
@@ -94,6 +101,8 @@ void init_fibres(py::module_& m) {
         if (!grid.is_none()) {
           if (!box.is_none()) fail("measure_fibre_beam: give grid or box, not both");
           const auto& g = arg_cast<const vol::Grid&>(grid, "measure_fibre_beam: grid", "a weft.Grid or None");
+          if (fibres.lattice)
+            cloth::check_on_lattice(g, *fibres.lattice, fmt::format("measure_fibre_beam: grid '{}'", g.name()));
           return run_released(
               progress, [&](ProgressSink& p) { return fib::measure_fibre_beam(*fibres.index, g, spec, kappa, p); });
         }
@@ -114,7 +123,8 @@ void init_fibres(py::module_& m) {
       "                   depth_step=0, extinction=None) -> TransmittanceCurve\n\n"
       "T_fibre(t): the beam's rays intersected exactly with the fibres (docs/validate.md). With a grid:\n"
       "the rays of measure_beam on that grid (its active box, one cell per voxel). Without: box\n"
-      "((lo), (hi)) or the fibres' bounds, cells of width `cell`. extinction: inside the fibres\n"
+      "((lo), (hi)) or the fibres' bounds, cells of width `cell`. Fibres of a grid (Fibres.of_grid) take\n"
+      "only a grid on the lattice they were voxelized on (weft.Error otherwise). extinction: inside the fibres\n"
       "[1/length]; None = opaque fibres. Same numbers as `weft measure --fibres`.");
 
   m.def(

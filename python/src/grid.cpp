@@ -25,6 +25,7 @@ vol::IndexBox to_box(const std::optional<Box>& box, const vol::Grid& grid) {
   if (b.empty())
     fail("to_numpy: box min must be <= max per axis, got ({}, {}, {})..({}, {}, {})", b.min[0], b.min[1], b.min[2],
          b.max[0], b.max[1], b.max[2]);
+  vol::require_index_range(b, "to_numpy: box");
   return b;
 }
 
@@ -165,6 +166,14 @@ void init_grid(py::module_& m) {
                   "inactive. weft.Error for NaN, infinite or negative values. origin=None is -voxel_size/2 per axis\n"
                   "(as weft.Grid(voxel_size)), not weft gen's 0: to keep a grid g's world placement exactly, pass\n"
                   "voxel_size=g.voxel_size, index_origin=g.bbox[0], origin=g.origin.")
+      // A Grid is a handle on its tree: copy.copy and copy.deepcopy both give an independent grid,
+      // so that set_value on the copy never changes the original.
+      .def(
+          "__copy__", [](const vol::Grid& g) { return g.deep_copy(); },
+          "An independent copy (as copy.deepcopy): values, metadata, voxel size and origin.")
+      .def(
+          "__deepcopy__", [](const vol::Grid& g, const py::dict& /*memo*/) { return g.deep_copy(); }, py::arg("memo"),
+          "An independent copy of the grid: values, metadata, voxel size and origin.")
       .def("__repr__", [](const vol::Grid& g) {
         const vol::Provenance p = vol::read_provenance(g);
         std::string more;

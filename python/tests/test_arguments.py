@@ -232,7 +232,14 @@ def test_a_negative_seed_is_named(call):
      r"^Grid.to_numpy: box\[1\]\[0\] is out of the range of its C\+\+ integer type, got 1099511627776$"),
     (lambda: weft.Grid.from_numpy(np.ones((2, 2, 2), np.float32), index_origin=(2**31, 0, 0)),
      r"^Grid.from_numpy: index_origin\[0\] is out of the range of its C\+\+ integer type, got 2147483648$"),
-], ids=["to_numpy_box", "from_numpy_index_origin"])
+    # Below -2^31 an int refuses the value for its range: negative indices are legal, so not ">= 0".
+    (lambda: GRID.to_numpy(box=((0, 0, -2**31 - 1), (0, 0, 0))),
+     r"^Grid.to_numpy: box\[0\]\[2\] is out of the range of its C\+\+ integer type, got -2147483649$"),
+    (lambda: weft.Grid.from_numpy(np.ones((2, 2, 2), np.float32), index_origin=(0, 0, -2**31 - 1)),
+     r"^Grid.from_numpy: index_origin\[2\] is out of the range of its C\+\+ integer type, got -2147483649$"),
+    (lambda: weft.Grid(1.0).set_value(0, 0, -2**31 - 1, 1.0),
+     r"^Grid.set_value: k is out of the range of its C\+\+ integer type, got -2147483649$"),
+], ids=["to_numpy_box", "from_numpy_index_origin", "to_numpy_box_below", "from_numpy_below", "set_value_below"])
 def test_an_integer_out_of_range_inside_a_sequence_is_named_with_its_place(call, message):
     with pytest.raises(weft.Error, match=message):
         call()

@@ -63,6 +63,31 @@ def test_a_grid_moved_after_gen_is_refused_not_measured_against_missing_fibres(s
         weft.Fibres.of_grid(moved)
 
 
+def test_the_fibres_of_a_grid_are_measured_only_on_a_grid_on_their_lattice(small_cloth):
+    """docs/validate.md §Fibre ground truth: Fibres.of_grid keeps the lattice weft gen voxelized
+    the fibres on, and measure_fibre_beam refuses a grid not on it (moved half a voxel with its
+    provenance copied, or another grid), as Fibres.of_grid and weft measure --fibres refuse it;
+    fibres built from arrays have no lattice and take any grid."""
+    g = small_cloth.grid
+    lo, _ = g.bbox
+    f = weft.Fibres.of_grid(g)
+    moved = copy_of(g, index_origin=lo)  # from_numpy's default origin: half a voxel off
+    with pytest.raises(weft.Error, match=r"^measure_fibre_beam: grid '.*': the grid was moved relative to its "
+                                         r"fibres: its active box's low corner by \(-0\.5, -0\.5, -0\.5\) voxels") as e:
+        weft.measure_fibre_beam(f, moved, direction="x")
+    assert "\n" not in str(e.value)
+    other = weft.Grid.from_numpy(np.ones((3, 3, 3), np.float32), voxel_size=g.voxel_size, origin=g.origin)
+    with pytest.raises(weft.Error, match=r"^measure_fibre_beam: grid .* moved relative to its fibres"):
+        weft.measure_fibre_beam(f, other, direction="x")
+    # On the lattice (the same world at other indices): the same curve.
+    h = g.voxel_size
+    reindexed = copy_of(g, origin=tuple(o + i * h for o, i in zip(g.origin, lo)))
+    np.testing.assert_array_equal(weft.measure_fibre_beam(f, reindexed, direction="x").T,
+                                  weft.measure_fibre_beam(f, g, direction="x").T)
+    plain = weft.Fibres([[(-1.0, 0.1, 0.0), (2.0, 0.1, 0.0)]], 0.05)
+    assert len(weft.measure_fibre_beam(plain, moved, direction="x")) > 0
+
+
 def test_fibres_are_compared_only_with_the_grid_on_their_lattice(small_cloth):
     """docs/validate.md §Fibre ground truth: the grid must sit where weft gen voxelized the fibres
     (its voxel size, origin and active box as recorded), within rounding. A shift of a fraction

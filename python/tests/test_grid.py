@@ -1,5 +1,6 @@
 """Grids through Python: dense round trips, .vdb files, metadata, memory checks, bad input."""
 
+import copy
 import math
 import os
 
@@ -114,6 +115,59 @@ def test_provenance_of_generated_cloth(small_cloth, small_cloth_spec):
 def test_bad_input_raises(tmp_path, call, exc):
     with pytest.raises(exc):
         call(str(tmp_path))
+
+
+KMAX = 2**31 - 4097  # volume::kMaxIndex (docs/robustness.md "Index range")
+BEYOND = r"the index range of a grid, \|index\| <= 2147479551 \(OpenVDB's 32-bit node origins overflow past it\)$"
+
+
+@pytest.mark.parametrize("call, message", [
+    # OpenVDB's dense copies stepped past 2^31 - 1 here: a crash (to_numpy) or a hang (from_numpy).
+    (lambda: random_grid()[0].to_numpy(box=((2**31 - 1, 0, 0), (2**31 - 1, 0, 0))),
+     r"^to_numpy: box \(2147483647, 0, 0\)\.\.\(2147483647, 0, 0\) reaches beyond "),
+    (lambda: random_grid()[0].to_numpy(box=((0, 0, KMAX + 1), (0, 0, KMAX + 1))), r"^to_numpy: box .* reaches beyond "),
+    (lambda: random_grid()[0].to_numpy(box=((-KMAX - 1, 0, 0), (0, 0, 0))), r"^to_numpy: box .* reaches beyond "),
+    (lambda: weft.Grid.from_numpy(np.ones((1, 1, 1), np.float32), index_origin=(2**31 - 1, 0, 0)),
+     r"index_origin \(2147483647, 0, 0\) with shape \(1, 1, 1\) leaves"),
+    (lambda: weft.Grid.from_numpy(np.ones((2, 1, 1), np.float32), index_origin=(KMAX, 0, 0)),
+     r"index_origin \(2147479551, 0, 0\) with shape \(2, 1, 1\) leaves"),
+    (lambda: weft.Grid.from_numpy(np.ones((1, 1, 1), np.float32), index_origin=(0, -KMAX - 1, 0)),
+     r"index_origin \(0, -2147479552, 0\) with shape \(1, 1, 1\) leaves"),
+    (lambda: weft.Grid(0.1).set_value(0, 0, 2**31 - 1, 1.0), r"^set_value: voxel .* is beyond "),
+    (lambda: weft.Grid(0.1).set_value(-2**31, 0, 0, 1.0), r"^set_value: voxel .* is beyond "),
+], ids=["to_numpy_int_max", "to_numpy_outer_child", "to_numpy_below", "from_numpy_int_max", "from_numpy_outer_child",
+        "from_numpy_below", "set_value_int_max", "set_value_int_min"])
+def test_an_index_beyond_the_index_range_is_refused_in_one_line(call, message):
+    with pytest.raises(weft.Error, match=message + ".*" + BEYOND) as e:
+        call()
+    assert "\n" not in str(e.value)
+
+
+def test_the_last_index_of_the_range_round_trips():
+    for corner in ((KMAX, -KMAX, 0), (-KMAX, 0, KMAX)):
+        g = weft.Grid.from_numpy(np.full((1, 1, 1), 0.5, np.float32), index_origin=corner)
+        assert g.bbox == (corner, corner)
+        np.testing.assert_array_equal(g.to_numpy(), [[[0.5]]])
+        g.set_value(*corner, 0.25)
+        assert g.value(*corner) == 0.25
+
+
+def test_copies_are_independent_grids():
+    """docs/python.md (Grid): copy.copy and copy.deepcopy give a new grid with the same values,
+    metadata, voxel size and origin; changing the copy leaves the original as it was."""
+    g, a = random_grid()
+    g.set_metadata("weft:units", "mm")
+    g.origin = (0.25, -1.5, 3.0)
+    for c in (copy.copy(g), copy.deepcopy(g), copy.deepcopy({"g": g})["g"]):
+        assert c is not g
+        assert (c.voxel_size, c.origin, c.bbox, c.metadata, c.name) == (g.voxel_size, g.origin, g.bbox, g.metadata,
+                                                                        g.name)
+        np.testing.assert_array_equal(c.to_numpy(), g.to_numpy())
+        i, j, k = g.bbox[0]
+        c.set_value(i, j, k, 7.0)
+        c.set_metadata("weft:units", "m")
+        assert g.value(i, j, k) != 7.0 and g.metadata["weft:units"] == "mm"
+    np.testing.assert_array_equal(g.to_numpy(((0, 0, 0), tuple(s - 1 for s in a.shape))), a)
 
 
 def test_the_smallest_voxel_openvdb_represents_is_accepted_and_named():

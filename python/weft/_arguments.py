@@ -40,7 +40,7 @@ ArgumentTypeError.__module__ = "weft"
 
 _INCOMPATIBLE = ("incompatible function arguments", "incompatible constructor arguments")
 _INT_MAX = 2**31 - 1  # the narrowest C++ integer a binding takes (int); anything above may be refused
-_INT64_MIN = -(2**63)
+_INT_MIN = -(2**31)  # below it, int refuses a value (as does any unsigned type): "out of range", not ">= 0"
 _REAL_KINDS = "fiu"  # NumPy dtype kinds that are real numbers: float, signed and unsigned integer
 # Parameter types whose values are checked before the call (the values pybind11 would misread).
 _PRECHECKED = _re.compile(r"\b(bool|int|float|numpy\.ndarray)\b")
@@ -269,9 +269,10 @@ def _int_out_of_range(annotation, value, where=""):
     if annotation != "int" or value is None or not _fits("int", value):
         return None
     value = value.__index__()
-    if _INT64_MIN <= value < 0:
-        return "%s must be >= 0, got %d" % (where, value)  # only an unsigned type refuses these
-    if value < _INT64_MIN or value > _INT_MAX:
+    if _INT_MIN <= value < 0:
+        # Every C++ integer type a binding takes holds these but an unsigned one.
+        return "%s must be >= 0, got %d" % (where, value)
+    if value < _INT_MIN or value > _INT_MAX:
         return "%s is out of the range of its C++ integer type, got %d" % (where, value)
     return None
 

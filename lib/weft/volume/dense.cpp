@@ -31,6 +31,7 @@ openvdb::CoordBBox to_bbox(const IndexBox& box) {
 
 void copy_to_dense(const Grid& grid, const IndexBox& box, float* out, DenseLayout layout) {
   if (box.empty()) return;
+  require_index_range(box, "dense copy: index box");  // copyToDense's node steps overflow past it
   if (layout == DenseLayout::x_major) {
     // OpenVDB's LayoutZYX: z varies fastest, i.e. C order of an (nx, ny, nz) array [i][j][k].
     openvdb::tools::Dense<float, openvdb::tools::LayoutZYX> dense(to_bbox(box), out);
@@ -43,6 +44,7 @@ void copy_to_dense(const Grid& grid, const IndexBox& box, float* out, DenseLayou
 
 std::vector<float> to_dense(const Grid& grid, const IndexBox& box, std::uint64_t max_bytes) {
   if (box.empty()) fail("dense copy: the box is empty");
+  require_index_range(box, "dense copy: index box");
   const std::uint64_t bytes = dense_bytes(box);
   if (bytes > max_bytes) {
     const auto e = box.extent();
@@ -57,9 +59,12 @@ std::vector<float> to_dense(const Grid& grid, const IndexBox& box, std::uint64_t
 
 void from_dense(Grid& grid, const std::array<int, 3>& min, const std::array<std::int64_t, 3>& extent,
                 const float* values) {
+  // copyFromDense's node steps overflow past kMaxIndex (grid.h): refused before any voxel is written.
   for (int a = 0; a < 3; ++a) {
-    if (extent[a] < 0 || std::int64_t{min[a]} + extent[a] - 1 > std::numeric_limits<int>::max())
-      fail("dense copy: extent {} along axis {} from index {} leaves the index range", extent[a], a, min[a]);
+    if (extent[a] < 0) fail("dense copy: extent {} along axis {} is negative", extent[a], a);
+    if (min[a] < -kMaxIndex || std::int64_t{min[a]} + extent[a] - 1 > kMaxIndex)
+      fail("dense copy: index_origin ({}, {}, {}) with shape ({}, {}, {}) leaves, along axis {}, {}", min[0], min[1],
+           min[2], extent[0], extent[1], extent[2], a, index_range_text());
   }
   const std::int64_t n = extent[0] * extent[1] * extent[2];
   for (std::int64_t q = 0; q < n; ++q) {

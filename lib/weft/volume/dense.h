@@ -16,7 +16,8 @@ namespace weft::volume {
 /// @brief The values of `box` as a dense array, x-major: element (i, j, k) of the box (relative
 /// to box.min) is at ((i·ny) + j)·nz + k; inactive voxels read as 0.
 ///
-/// Refuses (weft::Error naming the box and the size) when the array would exceed `max_bytes`:
+/// Refuses (weft::Error naming the box) a box beyond the index range (|index| <= kMaxIndex,
+/// grid.h), and (naming the box and the size) when the array would exceed `max_bytes`:
 /// a dense copy of a large sparse grid is mostly zeros and can be far larger than the grid.
 [[nodiscard]] std::vector<float> to_dense(const Grid& grid, const IndexBox& box, std::uint64_t max_bytes);
 
@@ -26,12 +27,14 @@ enum class DenseLayout {
   z_major,  ///< i fastest: ((k·ny) + j)·nx + i (Mitsuba's .vol, Fortran order of [i][j][k])
 };
 
-/// The values of `box` into a caller-owned buffer of dense_bytes(box) bytes (no size check).
+/// The values of `box` into a caller-owned buffer of dense_bytes(box) bytes (no size check; the
+/// index range is checked as by to_dense).
 void copy_to_dense(const Grid& grid, const IndexBox& box, float* out, DenseLayout layout = DenseLayout::x_major);
 
 /// @brief Writes a dense x-major array of extent `extent` into `grid` starting at index `min`:
 /// non-zero values become active voxels, zeros inactive background. Throws weft::Error for a
-/// NaN, infinite or negative value (naming its index), which no weft grid may hold.
+/// NaN, infinite or negative value (naming its index), which no weft grid may hold, and before
+/// writing anything when the box leaves the index range (|index| <= kMaxIndex, grid.h).
 void from_dense(Grid& grid, const std::array<int, 3>& min, const std::array<std::int64_t, 3>& extent,
                 const float* values);
 

@@ -121,6 +121,27 @@ openvdb::math::Transform::Ptr voxel_transform(double h) {
 
 }  // namespace
 
+static_assert(openvdb::FloatTree::RootNodeType::ChildNodeType::DIM == 4096,
+              "kMaxIndex keeps voxels out of the outermost root children, 4096 voxels a side");
+
+namespace {
+bool in_index_range(int i) { return i >= -kMaxIndex && i <= kMaxIndex; }
+}  // namespace
+
+std::string index_range_text() {
+  return fmt::format("the index range of a grid, |index| <= {} (OpenVDB's 32-bit node origins overflow past it)",
+                     kMaxIndex);
+}
+
+void require_index_range(const IndexBox& box, const std::string& what) {
+  if (box.empty()) return;
+  for (int a = 0; a < 3; ++a) {
+    if (!in_index_range(box.min[a]) || !in_index_range(box.max[a]))
+      fail("{} ({}, {}, {})..({}, {}, {}) reaches beyond {}", what, box.min[0], box.min[1], box.min[2], box.max[0],
+           box.max[1], box.max[2], index_range_text());
+  }
+}
+
 Grid make_grid(std::shared_ptr<Grid::Impl> impl) { return Grid(std::move(impl)); }
 
 openvdb::FloatGrid::Ptr deep_copy(const Grid& grid) {
@@ -196,6 +217,12 @@ Grid Grid::load(const fs::path& path, const std::string& grid_name) {
   if (!grid) fail("{}: grid '{}' is of type {}, weft needs a float grid", where, base->getName(), base->valueType());
   require_uniform_scale(*grid, where);
   require_valid_values(*grid, where);
+  if (!grid->tree().empty()) {
+    const openvdb::CoordBBox b = active_voxel_bbox(*grid);
+    if (!b.empty())
+      require_index_range({{b.min().x(), b.min().y(), b.min().z()}, {b.max().x(), b.max().y(), b.max().z()}},
+                          fmt::format("{}: grid '{}': its active voxels span index box", where, grid->getName()));
+  }
   auto impl = std::make_shared<Impl>();
   impl->grid = grid;
   return Grid(std::move(impl));
@@ -212,6 +239,12 @@ void Grid::save(const fs::path& path) const {
       fail("{}: cannot write OpenVDB file: {}", path.string(), e.what());
     }
   });
+}
+
+Grid Grid::deep_copy() const {
+  auto impl = std::make_shared<Impl>();
+  impl->grid = volume::deep_copy(*this);
+  return Grid(std::move(impl));
 }
 
 std::string Grid::name() const { return impl_->grid->getName(); }
@@ -286,7 +319,11 @@ float Grid::value(int i, int j, int k) const {
   return impl_->grid->getConstAccessor().getValue(openvdb::Coord(i, j, k));
 }
 
-void Grid::set_value(int i, int j, int k, float v) { impl_->grid->getAccessor().setValue(openvdb::Coord(i, j, k), v); }
+void Grid::set_value(int i, int j, int k, float v) {
+  if (!in_index_range(i) || !in_index_range(j) || !in_index_range(k))
+    fail("set_value: voxel ({}, {}, {}) is beyond {}", i, j, k, index_range_text());
+  impl_->grid->getAccessor().setValue(openvdb::Coord(i, j, k), v);
+}
 
 struct VoxelReader::Impl {
   openvdb::FloatGrid::ConstPtr grid;  // keeps the tree alive for the reader

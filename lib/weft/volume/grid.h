@@ -24,6 +24,22 @@ struct IndexBox {
   }
 };
 
+/// @brief The largest |index| a grid's voxel or a dense copy's box may have: 2³¹ − 4097.
+///
+/// OpenVDB's coordinates are 32-bit and its tree walks step from one node to the next by
+/// origin + node size (tools::copyToDense, copyFromDense): past the origin of the outermost
+/// root child, 2³¹ − 4096 (a child of the 5-4-3 tree is 4096 voxels a side), that step
+/// overflows and a walk loops forever or writes out of its buffer. weft keeps every voxel out
+/// of the outermost children on both sides (docs/robustness.md "Index range").
+inline constexpr int kMaxIndex = 2147483647 - 4096;
+
+/// "the index range of a grid, |index| <= 2147479551 (…why…)": what every refusal says.
+[[nodiscard]] std::string index_range_text();
+
+/// Throws weft::Error ("{what} (…)..(…) reaches beyond the index range …") when a corner of a
+/// non-empty `box` has a coordinate with |index| > kMaxIndex.
+void require_index_range(const IndexBox& box, const std::string& what);
+
 /// What a grid's values mean.
 enum class ValueKind {
   concentration,  ///< fibre volume fraction C ∈ [0, 1]; extinction is σ·C
@@ -40,11 +56,16 @@ class Grid {
   /// Reads a float grid from a .vdb file: the grid named `grid_name`, or the first float grid
   /// when empty. Throws weft::Error (naming the file) when the file is missing or corrupt, the
   /// name does not exist, the grid is not a float grid, the transform is not a uniform scale
-  /// (plus translation), or an active value is NaN, infinite or negative.
+  /// (plus translation), an active value is NaN, infinite or negative, or an active voxel is
+  /// beyond kMaxIndex.
   static Grid load(const std::filesystem::path& path, const std::string& grid_name = "");
 
   /// Writes the grid (with its metadata) to a .vdb file atomically.
   void save(const std::filesystem::path& path) const;
+
+  /// An independent copy: the tree, the metadata (half storage included) and the transform.
+  /// Copying a Grid object shares its tree (a handle); this one does not.
+  [[nodiscard]] Grid deep_copy() const;
 
   [[nodiscard]] std::string name() const;
   [[nodiscard]] double voxel_size() const;
@@ -65,6 +86,7 @@ class Grid {
   /// Value at a voxel (background 0 where inactive). For tests and small tools; hot loops use
   /// OpenVDB accessors through grid_openvdb.h.
   [[nodiscard]] float value(int i, int j, int k) const;
+  /// Throws weft::Error for an index beyond kMaxIndex (require_index_range).
   void set_value(int i, int j, int k, float v);
   /// Sum of all active values (voxels and tiles, tiles weighted by their voxel count), in double:
   /// each leaf summed on any thread, then the leaves in tree order, so the same for any thread count.

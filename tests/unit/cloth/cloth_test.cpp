@@ -2,9 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -165,6 +167,41 @@ TEST(Cloth, FibresAreComparedOnlyWithTheGridOnTheirLattice) {
   legacy.set_metadata(kVoxelizedLatticeKey, "{\"voxel_size\": 0.02}");
   EXPECT_THAT([&] { check_voxelized_lattice(legacy, "old.vdb"); },
               weft::test::throws_one_line_error_with({"old.vdb: metadata 'voxelized_lattice' is not a lattice"}));
+  // Indices are read strictly: one beyond the index range (2^40 was once cut to its low 32 bits,
+  // +0 here) or not an integer (-6.5 was once read as -6) makes the record invalid, not another box.
+  auto record = nlohmann::json::parse(g.metadata().at(kVoxelizedLatticeKey));
+  const auto with_index = [&](const std::string& key, const nlohmann::json& v) {
+    auto r = record;
+    r[key][0] = v;
+    volume::Grid copy = g.deep_copy();
+    copy.set_metadata(kVoxelizedLatticeKey, r.dump());
+    return copy;
+  };
+  EXPECT_NO_THROW(check_voxelized_lattice(with_index("active_index_max", record["active_index_max"][0]), "same"));
+  for (const auto& bad : std::vector<std::pair<std::string, nlohmann::json>>{
+           {"active_index_max", std::int64_t{1} << 40},
+           {"active_index_max", std::uint64_t{1} << 63},
+           {"active_index_min", record["active_index_min"][0].get<double>() - 0.5},
+           {"active_index_min", -2147479552},
+           {"active_index_min", "-6"}}) {
+    const std::string& key = bad.first;
+    const nlohmann::json& v = bad.second;
+    EXPECT_THAT([&] { check_voxelized_lattice(with_index(key, v), "bad.vdb"); },
+                weft::test::throws_one_line_error_with(
+                    {"bad.vdb: metadata 'voxelized_lattice' is not a lattice: index " + v.dump(), "2147479551"}))
+        << v.dump();
+    EXPECT_THAT([&] { (void)read_voxelized_lattice(with_index(key, v), "bad.vdb"); },
+                weft::test::throws_one_line_error_with({"is not a lattice"}));
+  }
+  // The lattice read is the one recorded, and a grid is checked against another grid's lattice.
+  const VoxelizedLattice lattice = read_voxelized_lattice(g, "cloth");
+  EXPECT_EQ(lattice.voxel_size, h);
+  EXPECT_EQ(lattice.active.min, box.min);
+  EXPECT_EQ(lattice.active.max, box.max);
+  EXPECT_NO_THROW(
+      check_on_lattice(legacy.deep_copy(), VoxelizedLattice{h, {0.0, 0.0, 0.0}, {{0, 0, 0}, {0, 0, 0}}}, "one"));
+  EXPECT_THAT([&] { check_on_lattice(legacy, lattice, "other.vdb"); },
+              weft::test::throws_one_line_error_with({"other.vdb: the grid was moved relative to its fibres"}));
 }
 
 TEST(Cloth, SpecJsonRejectsBadFields) {

@@ -67,6 +67,15 @@ int main(int argc, char** argv) {
   far->getAccessor().setValue(openvdb::Coord(0, 0, 0), 0.5f);
   far->getAccessor().setValue(openvdb::Coord(1000000, 1000000, 1000000), 0.5f);
   write(dir + "/far.vdb", far);
+  // far_index.vdb: 10×8×6 voxels from i = 2147483000, in the outermost root child, where
+  // OpenVDB's node walks overflow int32: refused on reading (docs/robustness.md "Index range").
+  auto far_index = float_grid("density");
+  for (int i = 0; i < 10; ++i) {
+    for (int j = 0; j < 8; ++j) {
+      for (int k = 0; k < 6; ++k) far_index->getAccessor().setValue(openvdb::Coord(2147483000 + i, j, k), 0.4f);
+    }
+  }
+  write(dir + "/far_index.vdb", far_index);
   // uniform.vdb: 4×4×4 voxels of C = 0.3: no structure, so no yarn scale can be measured.
   auto uniform = float_grid("density");
   for (int i = 0; i < 4; ++i) {
