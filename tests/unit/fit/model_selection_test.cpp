@@ -102,10 +102,7 @@ TEST(ModelSelection, EachModelHasTheSameCurveInAnySelection) {
 TEST(ModelSelection, ValidateWithThePredictionAloneReportsItAndNoWindowStatistics) {
   const volume::Grid g = test::patterned_grid();
   const Validation all = test::validate_patterned(g);
-  ValidationSpec vs;
-  vs.sigma = 4.0;
-  vs.scale.fill(0.2);
-  vs.models = ModelSelection::parse("predicted");
+  ValidationSpec vs = test::patterned_spec("predicted");
   const Validation one = validate(g, vs);
   ASSERT_EQ(one.axes.size(), all.axes.size());
   for (std::size_t i = 0; i < one.axes.size(); ++i) {
@@ -204,11 +201,8 @@ TEST(ModelSelection, AnExponentialExactUpToRoundingLeavesTheRatiosUndefined) {
 TEST(ModelSelection, TheIsotropicModelAloneIsTheFullRunsAndLeavesThePapersAcceptanceNull) {
   const volume::Grid g = test::patterned_grid();
   const Validation all = test::validate_patterned(g);
-  ValidationSpec vs;
-  vs.sigma = 4.0;
-  vs.scale.fill(0.2);
+  ValidationSpec vs = test::patterned_spec("isotropic");
   vs.directions = {{0, 0, -1}};
-  vs.models = ModelSelection::parse("isotropic");
   const Validation iso = validate(g, vs);
   EXPECT_EQ(iso.isotropic_fit.alpha, all.isotropic_fit.alpha);
   EXPECT_EQ(iso.isotropic_stats.variance, all.isotropic_stats.variance);

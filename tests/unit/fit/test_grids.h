@@ -1,5 +1,7 @@
 #pragma once
 // Hand-built grids shared by the fit tests.
+#include <string>
+
 #include "weft/fit/validation.h"
 #include "weft/volume/grid.h"
 
@@ -27,12 +29,17 @@ inline volume::Grid patterned_grid() {
   return g;
 }
 
-/// validate() of a patterned grid at sigma 4 and scale 0.2 on every axis.
-inline Validation validate_patterned(const volume::Grid& g) {
+/// The spec of validate_patterned: sigma 4, scale 0.2 on every axis, the models of `models`
+/// (ModelSelection::parse).
+inline ValidationSpec patterned_spec(const std::string& models = "all") {
   ValidationSpec vs;
   vs.sigma = 4.0;
   vs.scale.fill(0.2);
-  return validate(g, vs);
+  vs.models = ModelSelection::parse(models);
+  return vs;
 }
+
+/// validate() of a patterned grid at sigma 4 and scale 0.2 on every axis.
+inline Validation validate_patterned(const volume::Grid& g) { return validate(g, patterned_spec()); }
 
 }  // namespace weft::fit::test
