@@ -15,6 +15,9 @@
 #   scattering (--study-components): check_matrix_split.py asserts the fine grid's bias at every
 #   image scale and in every component is 0 within 5 standard errors, only the asked candidates are
 #   split, and the components' levels add up to the full one.
+# distance: scripts/study_distance runs the quick matrix at 1 and 2 yarns and tabulates it;
+#   check_study_distance.py asserts its rows are the runs' own figures and that a block's
+#   footprint halves when the same film frames twice the yarns.
 # same_bytes: the same small matrix without mpirun and under mpirun -n 2 (one thread each) gives
 #   the same matrix.csv, the same images of every case and the same matrix.json without timings.
 
@@ -188,6 +191,22 @@ if(CMAKE_SCRIPT_MODE_FILE)
     message(STATUS "matrix identical for: ${runs}")
     return()
   endif()
+  if(CASE STREQUAL "distance")
+    # scripts/study_distance: the matrix at 1 and 2 yarns on the same --quick film, tabulated.
+    execute_process(COMMAND ${PYTHON} ${SCRIPT} --weft ${WEFT} --out ${WORK}/dist --yarns 1,2 --
+                            --quick --study-cloths plain --study-lightings back --study-tilts 45 --study-factors 2 --seed 3
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0)
+      message(FATAL_ERROR "study_distance failed (${rc}): ${err}")
+    endif()
+    execute_process(COMMAND ${PYTHON} ${CMAKE_CURRENT_LIST_DIR}/check_study_distance.py ${WORK}/dist 1 2
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0)
+      message(FATAL_ERROR "study_distance's table: ${out}${err}")
+    endif()
+    message(STATUS "${out}")
+    return()
+  endif()
   message(FATAL_ERROR "unknown CASE '${CASE}'")
 endif()
 
@@ -197,6 +216,11 @@ add_test(NAME cli.render_study.matrix_quick
                  -DPYTHON=${Python3_EXECUTABLE}
                  -P ${CMAKE_CURRENT_LIST_FILE})
 set_tests_properties(cli.render_study.matrix_quick PROPERTIES LABELS "cli;render" TIMEOUT 300)
+add_test(NAME cli.render_study.distance_quick
+         COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DCASE=distance -DWORK=${_matrix_work}/distance
+                 -DPYTHON=${Python3_EXECUTABLE} -DSCRIPT=${PROJECT_SOURCE_DIR}/scripts/study_distance
+                 -P ${CMAKE_CURRENT_LIST_FILE})
+set_tests_properties(cli.render_study.distance_quick PROPERTIES LABELS "cli;render" TIMEOUT 300)
 set(_matrix_mpi "")
 if(WEFT_MPI AND MPIEXEC_EXECUTABLE)
   execute_process(COMMAND ${MPIEXEC_EXECUTABLE} --version OUTPUT_VARIABLE _matrix_mpi_version ERROR_QUIET)
