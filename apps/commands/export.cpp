@@ -80,6 +80,8 @@ int run(const ExportOptions& o, const Context& ctx) {
   const volume::Grid& grid = loaded.grid;
   const volume::IndexBox box = grid.active_bbox();
   medium.sigma = loaded.sigma.sigma;
+  medium.extinction = o.input.extinction();
+  medium.units = loaded.provenance.units;
   volume::validate(medium, view);  // σ from the grid's provenance
   const volume::WorldBox world = volume::world_box(grid, box);
   const std::uint64_t budget = memory_budget_bytes("--max-memory-mb", o.max_memory_mb);
@@ -103,7 +105,8 @@ int run(const ExportOptions& o, const Context& ctx) {
     volume::write_nanovdb(grid, dir / "cloth.nvdb");
     files.add(dir / "cloth.nvdb", "pbrt-v4 NanoVDB grid");
     write_text_atomically(dir / "cloth.pbrt", pbrt_text);
-    files.add(dir / "cloth.pbrt", "pbrt-v4 scene");
+    // pbrt-v4's medium is not weft's (docs/export.md): said where the file is listed.
+    files.add(dir / "cloth.pbrt", "pbrt-v4 scene; " + volume::pbrt_interpolation_note());
   }
   files.say(ctx);
   ctx.say(fmt::format("sigma = {:.6g} per unit {} ({}), albedo {}, g {}", medium.sigma,
@@ -129,7 +132,8 @@ const Registrar kExport{Command{
           ->check(positive);
       sub.footer(
           "Writes OUT/mitsuba/cloth.xml + cloth.vol (Mitsuba 3 heterogeneous medium, gridvolume with nearest\n"
-          "filtering, scale = sigma) and OUT/pbrt/cloth.pbrt + cloth.nvdb (pbrt-v4 nanovdb medium, grid 'density').\n"
+          "filtering, scale = sigma) and OUT/pbrt/cloth.pbrt + cloth.nvdb (pbrt-v4 nanovdb medium, grid 'density',\n"
+          "which pbrt-v4 interpolates trilinearly: a smoother medium than weft's piecewise-constant voxels).\n"
           "Lengths stay in the grid's units (mm for weft gen). See docs/export.md.");
       return [o](const Context& ctx) { return run(*o, ctx); };
     }}};

@@ -49,22 +49,43 @@ void require_copyable_transform(const openvdb::math::Transform& transform, const
   }
 }
 
-// Uniform scale (plus translation) is what the DDA and the voxel-size-based physics assume.
+// Relative tolerance of a grid's transform against cubic, axis-aligned voxels: floating-point
+// noise in a file's matrix (a rotation by 1e-12 rad) still loads.
+constexpr double kTransformTolerance = 1e-9;
+
+// What a transform does to the voxels beyond a positive uniform scale, given its 3×3 matrix
+// divided by the voxel size: "" when it is the identity within kTransformTolerance.
+std::string misalignment(const openvdb::math::Mat3d& unit, double determinant) {
+  if (unit.eq(openvdb::math::Mat3d::identity(), kTransformTolerance)) return "";
+  if (determinant < 0.0) return "mirrors the voxels (a negative scale)";
+  const openvdb::math::Mat3d gram = unit * unit.transpose();
+  if (gram.eq(openvdb::math::Mat3d::identity(), kTransformTolerance)) return "rotates the voxels";
+  return "shears the voxels";
+}
+
+// Cubic voxels at origin + h·(i, j, k) (a positive uniform scale plus a translation) are what the
+// DDA, the voxel-size-based physics and every export assume (docs/scene-format.md "Grid
+// media"): any other transform is refused, not read as if axis-aligned.
 void require_uniform_scale(const openvdb::FloatGrid& grid, const std::string& where) {
   const auto& map = *grid.transform().baseMap();
   if (!map.isLinear())
     fail("{}: grid '{}' has a non-linear transform; weft needs a uniform voxel scale", where, grid.getName());
   const openvdb::Vec3d size = grid.voxelSize();
-  const double tol = 1e-9 * size.length();
+  const double tol = kTransformTolerance * size.length();
   if (std::abs(size[0] - size[1]) > tol || std::abs(size[0] - size[2]) > tol) {
     fail("{}: grid '{}' has non-uniform voxel size ({}, {}, {}); weft needs cubic voxels", where, grid.getName(),
          size[0], size[1], size[2]);
   }
-  if (!grid.transform().hasUniformScale()) {
-    fail("{}: grid '{}' has a non-uniform (sheared or rotated) transform", where, grid.getName());
-  }
   if (!(size[0] > 0.0) || !std::isfinite(size[0]))
     fail("{}: grid '{}' has voxel size {}", where, grid.getName(), size[0]);
+  const std::string problem =
+      misalignment(map.getAffineMap()->getConstMat4().getMat3() * (1.0 / size[0]), map.determinant());
+  if (!problem.empty()) {
+    fail(
+        "{}: grid '{}': its transform {}; weft needs axis-aligned voxels, a positive uniform scale plus a "
+        "translation (docs/scene-format.md, \"Grid media\")",
+        where, grid.getName(), problem);
+  }
   require_copyable_transform(grid.transform(), fmt::format("{}: grid '{}'", where, grid.getName()));
 }
 

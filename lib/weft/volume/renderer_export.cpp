@@ -6,6 +6,7 @@
 #include <fstream>
 #include <limits>
 #include <numbers>
+#include <string_view>
 #include <vector>
 
 #include <fmt/format.h>
@@ -88,6 +89,20 @@ std::string triple(const std::array<double, 3>& v, const char* sep) {
   return num(v[0]) + sep + num(v[1]) + sep + num(v[2]);
 }
 
+// A unit from the grid's metadata inside a comment of either scene: printable ASCII letters,
+// digits and a few signs kept, anything else (a newline ends a pbrt comment, "--" is not allowed
+// in an XML comment, bytes that need not be UTF-8) written as '?'.
+std::string comment_text(const std::string& s) {
+  std::string out;
+  for (const char ch : s) {
+    const bool plain = (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') ||
+                       std::string_view(" /._^()*+").find(ch) != std::string_view::npos ||
+                       (ch == '-' && (out.empty() || out.back() != '-'));
+    out += plain ? ch : '?';
+  }
+  return out;
+}
+
 // XML attribute text: the file names are the only free text in the scenes.
 std::string xml_escape(const std::string& s) {
   std::string out;
@@ -160,6 +175,24 @@ void write_mitsuba_vol(const Grid& grid, const IndexBox& box, const fs::path& pa
   });
 }
 
+std::string medium_description(const ExportMedium& medium) {
+  const std::string unit = medium.units.empty() ? "length" : comment_text(medium.units);
+  const std::string lengths = medium.units.empty() ? "lengths in the grid's own units (no units recorded)"
+                                                   : fmt::format("lengths in {} (the grid's units)", unit);
+  if (medium.extinction)
+    return fmt::format("sigma_t = scale x grid value, the values are extinction in 1/{}, scale = {}; {}", unit,
+                       num(medium.sigma), lengths);
+  return fmt::format(
+      "sigma_t = scale x grid value, the values are concentration (fibre volume fraction), scale = sigma = {} "
+      "per unit concentration in 1/{}; {}",
+      num(medium.sigma), unit, lengths);
+}
+
+std::string pbrt_interpolation_note() {
+  return "pbrt-v4 interpolates the density trilinearly, where weft and the Mitsuba export hold each voxel "
+         "constant: fibres under 2 voxels wide are smeared (docs/export.md)";
+}
+
 std::string mitsuba_scene_xml(const WorldBox& box, const std::string& vol_file, const ExportMedium& medium,
                               const ExportView& view) {
   validate(medium, view);
@@ -175,8 +208,10 @@ std::string mitsuba_scene_xml(const WorldBox& box, const std::string& vol_file, 
   // gridvolume maps its unit cube [0,1]^3 onto the box, the cube shape [-1,1]^3 likewise.
   std::string x;
   x += "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n";
-  x += "<!-- weft export: cloth grid as a heterogeneous medium, sigma_t = scale x grid value "
-       "(concentration); lengths in the grid's units (mm) -->\n";
+  x += fmt::format(
+      "<!-- weft export: cloth grid as a heterogeneous medium, gridvolume with nearest filtering (piecewise "
+      "constant voxels, as weft renders them); {} -->\n",
+      medium_description(medium));
   x += "<scene version=\"3.0.0\">\n";
   x += fmt::format(
       "    <integrator type=\"volpath\">\n        <integer name=\"max_depth\" value=\"{}\"/>\n"
@@ -256,8 +291,8 @@ std::string pbrt_scene(const WorldBox& box, const std::string& nvdb_file, const 
   const auto& lo = box.min;
   const auto& hi = box.max;
   std::string s;
-  s += "# weft export: cloth grid as a pbrt-v4 nanovdb medium; sigma_t = scale x density (concentration),\n";
-  s += "# lengths in the grid's units (mm).\n";
+  s += fmt::format("# weft export: cloth grid as a pbrt-v4 nanovdb medium; {}.\n", medium_description(medium));
+  s += fmt::format("# Not weft's medium: {}.\n", pbrt_interpolation_note());
   s += fmt::format("LookAt {}  {}  0 0 1\n", triple(cam.eye, " "), triple(cam.target, " "));
   s += fmt::format("Camera \"perspective\" \"float fov\" [ {} ]\n", num(view.fov_deg));
   s += fmt::format(

@@ -13,12 +13,23 @@
 
 namespace weft::volume {
 
-/// The medium the grid describes: μ = sigma × value, single-scattering albedo, HG asymmetry.
+/// The medium the grid describes: μ = sigma × value, single-scattering albedo, HG asymmetry;
+/// what the values are and the length unit, for the scenes' comment headers.
 struct ExportMedium {
   double sigma = 1.0;                           ///< extinction per unit grid value [1/length]
   std::array<double, 3> albedo{0.8, 0.8, 0.8};  ///< per RGB channel, in [0, 1]
   double g = 0.0;                               ///< Henyey–Greenstein asymmetry in (−1, 1)
+  bool extinction = false;                      ///< values are extinction μ (else concentration C)
+  std::string units;                            ///< length unit the grid's metadata records, "" if none
 };
+
+/// @brief One sentence of what the exported grid holds: its values (concentration or extinction),
+/// σ and the length unit as the grid's metadata records it ("no units recorded" otherwise).
+[[nodiscard]] std::string medium_description(const ExportMedium& medium);
+
+/// @brief Where pbrt-v4's medium differs from weft's and from the Mitsuba export: it interpolates
+/// the density trilinearly (docs/export.md, "pbrt-v4 interpolates the density"). One line.
+[[nodiscard]] std::string pbrt_interpolation_note();
 
 /// Camera and film of the exported scenes; the camera looks at the grid's centre from above
 /// and the front, far enough that the whole box is in view, lit by a white environment.
@@ -60,7 +71,8 @@ void write_nanovdb(const Grid& grid, const std::filesystem::path& path);
 
 /// @brief The pbrt-v4 scene: volpath integrator, perspective camera, uniform infinite light, a
 /// triangle-mesh box with an "interface" material bounding the "nanovdb" medium `nvdb_file`
-/// (sigma_a = (1 − albedo)·sigma, sigma_s = albedo·sigma per unit density).
+/// (sigma_a = (1 − albedo)·sigma, sigma_s = albedo·sigma per unit density). Its header says
+/// that pbrt-v4 interpolates the density (pbrt_interpolation_note).
 [[nodiscard]] std::string pbrt_scene(const WorldBox& box, const std::string& nvdb_file, const ExportMedium& medium,
                                      const ExportView& view);
 

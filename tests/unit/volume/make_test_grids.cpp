@@ -1,9 +1,11 @@
 // Writes the .vdb fixtures of the CLI tests into the folder given as argv[1]: a good grid and
 // the bad inputs every command must refuse with a one-line error (empty, negative, NaN,
-// non-float, non-uniform voxel scale, corrupt).
+// non-float, non-uniform voxel scale, rotated, mirrored or sheared voxels, corrupt), and a scene
+// around the rotated grid for `weft render`.
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <numbers>
 #include <string>
 
 #include <openvdb/io/File.h>
@@ -61,6 +63,28 @@ int main(int argc, char** argv) {
   stretched->transform().preScale(openvdb::Vec3d(1.0, 2.0, 1.0));
   stretched->getAccessor().setValue(openvdb::Coord(0, 0, 0), 0.5f);
   write(dir + "/stretched.vdb", stretched);
+  // Voxels that are cubic but not axis-aligned: weft would lay them out as origin + h·(i, j, k)
+  // (docs/scene-format.md, "Grid media"), so they are refused.
+  auto rotated = float_grid("density");
+  rotated->transform().postRotate(std::numbers::pi / 4.0, openvdb::math::Z_AXIS);
+  rotated->getAccessor().setValue(openvdb::Coord(0, 0, 0), 0.5f);
+  write(dir + "/rotated.vdb", rotated);
+  auto mirrored = float_grid("density");
+  mirrored->transform().preScale(openvdb::Vec3d(-1.0, 1.0, 1.0));
+  mirrored->getAccessor().setValue(openvdb::Coord(0, 0, 0), 0.5f);
+  write(dir + "/mirrored.vdb", mirrored);
+  auto sheared = float_grid("density");
+  openvdb::math::Mat4d shear = openvdb::math::Mat4d::identity();
+  shear.setMat3(openvdb::math::Mat3d(0.05, 0.0, 0.0, 0.025, 0.05 * std::sqrt(0.75), 0.0, 0.0, 0.0, 0.05));
+  sheared->setTransform(openvdb::math::Transform::createLinearTransform(shear));
+  sheared->getAccessor().setValue(openvdb::Coord(0, 0, 0), 0.5f);
+  write(dir + "/sheared.vdb", sheared);
+  std::ofstream(dir + "/rotated_scene.json")
+      << R"({"camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "fov": 1, "width": 8, "height": 8},)"
+      << R"( "materials": {"b": {"type": "null"}},)"
+      << R"( "media": {"m": {"type": "grid", "file": "rotated.vdb", "sigma": 1, "albedo": 0}},)"
+      << R"( "shapes": [{"type": "box", "min": [-3, -3, -3], "max": [3, 3, 3], "material": "b", "interior": "m"}],)"
+      << R"( "lights": [{"type": "environment", "radiance": 1}]})" << '\n';
   // far.vdb: two voxels 10⁶ voxels apart on every axis: a sparse grid of a dense box of 10¹⁸
   // voxels, which passes over its box must refuse before allocating (docs/robustness.md).
   auto far = float_grid("density");

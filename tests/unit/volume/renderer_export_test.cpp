@@ -1,11 +1,15 @@
 // weft export's NanoVDB grid read back with NanoVDB's own reader and compared with the source
-// grid (values at every active voxel and around it, transform), and the .vol header layout.
+// grid (values at every active voxel and around it, transform), the .vol header layout, and the
+// scenes' comment headers (what the values are, their units, pbrt-v4's interpolation).
 #include <gtest/gtest.h>
 
 #include <unistd.h>
 #include <filesystem>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <nanovdb/util/IO.h>
@@ -99,6 +103,52 @@ TEST(RendererExport, BadMediumIsRefused) {
   EXPECT_THROW(validate(m, v), Error);
   v.spp = 1;
   EXPECT_NO_THROW(validate(m, v));
+}
+
+/// The comment lines before the first statement of a scene: up to "<scene" or "LookAt".
+std::string header_of(const std::string& scene) {
+  const auto end = std::min(scene.find("\n<scene"), scene.find("\nLookAt")) + 1;
+  return scene.substr(0, end);
+}
+
+TEST(RendererExport, HeadersSayWhatTheValuesAreAndTheirUnits) {
+  const WorldBox box{{0.0, 0.0, 0.0}, {1.0, 2.0, 0.5}};
+  const ExportView view;
+  ExportMedium extinction;
+  extinction.extinction = true;
+  extinction.units = "mm";
+  ExportMedium concentration;  // a grid without metadata: no units recorded
+  concentration.sigma = 106.0;
+  for (const auto& [medium, holds, units] :
+       {std::tuple{extinction, "the values are extinction in 1/mm", "lengths in mm"},
+        std::tuple{concentration, "the values are concentration", "no units recorded"}}) {
+    for (const std::string& header : {header_of(mitsuba_scene_xml(box, "cloth.vol", medium, view)),
+                                      header_of(pbrt_scene(box, "cloth.nvdb", medium, view))}) {
+      EXPECT_NE(header.find(holds), std::string::npos) << header;
+      EXPECT_NE(header.find(units), std::string::npos) << header;
+      EXPECT_EQ(header.find(medium.extinction ? "concentration" : "extinction"), std::string::npos) << header;
+      EXPECT_EQ(header.find("(mm)"), std::string::npos) << header;
+    }
+  }
+  // A unit that would end a pbrt comment (a newline) or an XML comment ("--", "-->") stays inside it.
+  ExportMedium odd;
+  odd.units = "m\nCamera -->";
+  const std::string pbrt = header_of(pbrt_scene(box, "cloth.nvdb", odd, view));
+  EXPECT_NE(pbrt.find("lengths in m?Camera -"), std::string::npos) << pbrt;
+  for (std::size_t at = 0; at < pbrt.size(); at = pbrt.find('\n', at) + 1) EXPECT_EQ(pbrt[at], '#') << pbrt;
+  const std::string xml = header_of(mitsuba_scene_xml(box, "cloth.vol", odd, view));
+  EXPECT_NE(xml.find("lengths in m?Camera -"), std::string::npos) << xml;
+  EXPECT_EQ(xml.find("--", xml.find("<!--") + 4), xml.rfind("-->")) << xml;  // the comment's own end only
+}
+
+TEST(RendererExport, ThePbrtSceneSaysItInterpolatesTheDensity) {
+  // pbrt-v4's nanovdb medium samples the density trilinearly (docs/export.md): only its scene says so.
+  const WorldBox box{{0.0, 0.0, 0.0}, {1.0, 1.0, 1.0}};
+  const std::string pbrt = header_of(pbrt_scene(box, "cloth.nvdb", ExportMedium{}, ExportView{}));
+  EXPECT_NE(pbrt.find("# Not weft's medium: " + pbrt_interpolation_note()), std::string::npos) << pbrt;
+  EXPECT_NE(pbrt_interpolation_note().find("trilinearly"), std::string::npos);
+  EXPECT_EQ(header_of(mitsuba_scene_xml(box, "cloth.vol", ExportMedium{}, ExportView{})).find("trilinear"),
+            std::string::npos);
 }
 
 }  // namespace
