@@ -1,5 +1,6 @@
 #include "usage.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdint>
 #include <cstdlib>
@@ -126,6 +127,13 @@ void check_output_options(const CLI::App& sub) {
     const bool folder = option->check_lname("out");
     if (!folder && !option->check_lname("output")) continue;
     std::string value = option->count() > 0 ? option->as<std::string>() : option->get_default_str();
+    // Given empty, it would read as the option left out and the command would write to its
+    // default path (docs/robustness.md, the empty-argument cases): refused, like file_name.
+    if (option->count() > 0 && value.empty()) {
+      std::string name = option->get_name(false, true);  // "-o,--output": as the help lists it
+      std::replace(name.begin(), name.end(), ',', '/');
+      usage_fail("{}: must name a {}, got an empty value", name, folder ? "folder" : "file");
+    }
     if (value.empty()) continue;  // an output the command does not write unless asked for
     const std::filesystem::path path(value);
     check_writable_folder(folder ? path : (path.has_parent_path() ? path.parent_path() : std::filesystem::path(".")));

@@ -88,8 +88,10 @@ void check_integer_options(CLI::App& app);
 
 /// @brief Refuses, before the command runs, outputs it could not write (docs/robustness.md):
 /// the folder of every given or defaulted `--out` option of the parsed subcommand `sub`, and the
-/// folder of its `--output` file (weft::check_writable_folder). main() calls it once for the
-/// command that will run, so no command finds an unwritable folder only after its work.
+/// folder of its `--output` file (weft::check_writable_folder). A given empty value is refused
+/// (UsageError "--out: must name a folder, got an empty value"), not read as the option left out.
+/// main() calls it once for the command that will run, so no command finds an unwritable folder
+/// only after its work.
 void check_output_options(const CLI::App& sub);
 
 }  // namespace weft::app

@@ -115,9 +115,9 @@ const Registrar kFit{Command{
           ->capture_default_str();
       sub.add_option("--beams", o->beams, "beams.csv from `weft measure`: adds least-squares fits and model errors")
           ->check(file_name);
-      sub.add_option(
-             "--out", o->out,
-             "Output folder (created if missing): fit.json; with --block local_fields.vdb and local_fields_scene.json")
+      sub.add_option("--out", o->out,
+                     "Output folder (created if missing): fit.json; with --block local_fields.vdb and, for a grid of "
+                     "weft gen (the scene takes sigma from its provenance), local_fields_scene.json")
           ->capture_default_str();
       return [o, &sub](const Context& ctx) -> int {
         check_grid_input(o->input);

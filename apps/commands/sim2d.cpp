@@ -22,6 +22,7 @@
 #include "data_gen/media2d/simulation.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
+#include "weft/core/number_name.h"
 #include "weft/dist/distributed.h"
 #include "weft/viz/chart.h"
 #include "weft/viz/vtk_files.h"
@@ -77,7 +78,10 @@ struct Sim2dOptions {
   std::size_t structure_max_points = 30000;
 };
 
-std::string eta_tag(double eta) { return fmt::format("eta{:+.2f}", eta); }
+/// The η part of a file name, "eta+0.5", "eta-0.5", "eta+0.996": the sign always written, the
+/// number in the fewest digits that read back as η (weft::signed_number_name), so distinct η
+/// never share a file (two digits gave 0.996 and 0.999 one chart, the second over the first).
+std::string eta_tag(double eta) { return "eta" + signed_number_name(eta); }
 
 nlohmann::json curve_json(const Curve& c) { return {{"value", c.value}, {"stderr", c.stderr_}}; }
 
@@ -88,8 +92,11 @@ std::string curves_csv(const SimulationResult& r) {
   out.precision(10);
   auto rows = [&](double eta, const char* quantity, const std::string& param, const std::vector<double>& t,
                   const Curve& c) {
+    // η is the rows' key: written exactly (number_name), not to the 10 digits of the values.
+    const std::string eta_key = number_name(eta);
     for (std::size_t k = 0; k < t.size(); ++k) {
-      out << eta << ',' << quantity << ',' << param << ',' << t[k] << ',' << c.value[k] << ',' << c.stderr_[k] << '\n';
+      out << eta_key << ',' << quantity << ',' << param << ',' << t[k] << ',' << c.value[k] << ',' << c.stderr_[k]
+          << '\n';
     }
   };
   for (const EtaResult& e : r.etas) {
@@ -478,10 +485,10 @@ const Registrar kSim2d{Command{
           if (sel.lowest_chi2 != sel.selected)
             best += fmt::format(", {} has chi2 lower by {:.2f} with more parameters", sel.lowest_chi2, sel.delta_chi2);
           ctx.say(
-              fmt::format("eta {:+.2f} {:<11} n = {:>8}  ell_Q = {:.3f} +- {:.3f}  ell_S = {:.3f} +- {:.3f}  "
+              fmt::format("eta {:<6} {:<11} n = {:>8}  ell_Q = {:.3f} +- {:.3f}  ell_S = {:.3f} +- {:.3f}  "
                           "reciprocity chi2/dof = {:.1f}/{}  best law for T_Q: {}",
-                          e.eta, e.generator, e.particles, e.ell_q_iso, e.ell_q_iso_stderr, rec.ell_s_fit,
-                          rec.ell_s_fit_stderr, rec.chi2, rec.dof, best));
+                          signed_number_name(e.eta), e.generator, e.particles, e.ell_q_iso, e.ell_q_iso_stderr,
+                          rec.ell_s_fit, rec.ell_s_fit_stderr, rec.chi2, rec.dof, best));
         }
         ctx.say(fmt::format("{} realization(s) per eta on {} rank(s) x {} thread(s)", spec.realizations, ctx.ranks(),
                             ctx.threads()));

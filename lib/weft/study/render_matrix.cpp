@@ -14,6 +14,7 @@
 #include "weft/core/atomic_file.h"
 #include "weft/core/distinct.h"
 #include "weft/core/error.h"
+#include "weft/core/number_name.h"
 #include "weft/dist/distributed.h"
 #include "weft/dist/unit_store.h"
 #include "weft/render/cloth_scene.h"
@@ -303,10 +304,7 @@ std::vector<std::string> matrix_patterns(const MatrixSpec& spec) {
   return out;
 }
 
-std::string matrix_tilt_name(double tilt) {
-  // fmt's {} is the shortest round-trip form; + 0.0 turns −0 into 0 (the same view).
-  return fmt::format("{}", tilt + 0.0);
-}
+std::string matrix_tilt_name(double tilt) { return number_name(tilt); }
 
 std::vector<MatrixCase> matrix_cases(const MatrixSpec& spec) {
   const std::vector<std::string> patterns = matrix_patterns(spec);

@@ -79,10 +79,10 @@ struct MatrixCase {
   bool fitted_on = false;
 };
 
-/// A view's tilt as case names write it: the shortest decimal that reads back as the same double
-/// (45 → "45", 30.00000001 → "30.00000001"), −0 as "0". Distinct tilts give distinct names; a
-/// rounded form (6 significant digits) gave 30 and 30.00000001 one folder, the second case's files
-/// over the first's.
+/// A view's tilt as case names write it: weft::number_name, the shortest decimal that reads back as
+/// the same double (45 → "45", 30.00000001 → "30.00000001"), −0 as "0". Distinct tilts give
+/// distinct names; a rounded form (6 significant digits) gave 30 and 30.00000001 one folder, the
+/// second case's files over the first's.
 [[nodiscard]] std::string matrix_tilt_name(double tilt);
 
 /// Every cloth × lighting × view, in that nesting order.
