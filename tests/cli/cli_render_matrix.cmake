@@ -17,7 +17,8 @@
 #   split, and the components' levels add up to the full one.
 # distance: scripts/study_distance runs the quick matrix at 1 and 2 yarns and tabulates it;
 #   check_study_distance.py asserts its rows are the runs' own figures and that a block's
-#   footprint halves when the same film frames twice the yarns.
+#   footprint falls when the same film frames twice the yarns; bad options of the script end in one
+#   line and exit 2 before any run, a missing run in exit 1 and no table.
 # same_bytes: the same small matrix without mpirun and under mpirun -n 2 (one thread each) gives
 #   the same matrix.csv, the same images of every case and the same matrix.json without timings.
 
@@ -205,6 +206,21 @@ if(CMAKE_SCRIPT_MODE_FILE)
       message(FATAL_ERROR "study_distance's table: ${out}${err}")
     endif()
     message(STATUS "${out}")
+    # Bad options: one line and exit 2 before any run; a missing run: exit 1 and no table.
+    foreach(bad "--yarns;0" "--yarns;1,1" "--out;" "--families;bogus;--tabulate-only")
+      execute_process(COMMAND ${PYTHON} ${SCRIPT} --weft ${WEFT} --out ${WORK}/dist --yarns 1,2 ${bad}
+                      RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+      string(REGEX MATCHALL "\n" lines "${err}")
+      list(LENGTH lines nlines)
+      if(NOT rc EQUAL 2 OR NOT nlines EQUAL 1 OR NOT err MATCHES "^study_distance: ")
+        message(FATAL_ERROR "study_distance ${bad}: exit ${rc}, wanted 2 and one line: ${err}")
+      endif()
+    endforeach()
+    execute_process(COMMAND ${PYTHON} ${SCRIPT} --weft ${WEFT} --out ${WORK}/none --yarns 1 --tabulate-only
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc EQUAL 1 OR EXISTS ${WORK}/none/distance.md)
+      message(FATAL_ERROR "study_distance --tabulate-only on a missing run: exit ${rc}, wanted 1 and no table")
+    endif()
     return()
   endif()
   message(FATAL_ERROR "unknown CASE '${CASE}'")
