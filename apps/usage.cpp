@@ -75,15 +75,16 @@ CLI::Validator at_least(long long min) {
       fmt::format(">= {}", min), "at_least");
 }
 
-CLI::Validator in_range(double lo, double hi) {
+CLI::Validator in_range(double lo, double hi, bool hi_included) {
+  const std::string range = fmt::format("[{}, {}{}", lo, hi, hi_included ? ']' : ')');
   return CLI::Validator(
-      [lo, hi](std::string& text) -> std::string {
+      [lo, hi, hi_included, range](std::string& text) -> std::string {
         const double v = number_of(text);
-        return std::isfinite(v) && v >= lo && v <= hi
+        return std::isfinite(v) && v >= lo && (hi_included ? v <= hi : v < hi)
                    ? std::string()
-                   : fmt::format("must be a number in [{}, {}], got {}", lo, hi, text);
+                   : fmt::format("must be a number in {}, got {}", range, text);
       },
-      fmt::format("[{}, {}]", lo, hi), "in_range");
+      range, "in_range");
 }
 
 namespace {
@@ -128,11 +129,13 @@ void check_output_options(const CLI::App& sub) {
     if (!folder && !option->check_lname("output")) continue;
     std::string value = option->count() > 0 ? option->as<std::string>() : option->get_default_str();
     // Given empty, it would read as the option left out and the command would write to its
-    // default path (docs/robustness.md, the empty-argument cases): refused, like file_name.
-    if (option->count() > 0 && value.empty()) {
+    // default path; given blank, it would make a folder named " " (docs/robustness.md, the
+    // empty-argument cases): refused, like file_name, by the rule the Python calls use too.
+    if (const std::string problem = option->count() > 0 ? output_name_problem(value, folder) : std::string();
+        !problem.empty()) {
       std::string name = option->get_name(false, true);  // "-o,--output": as the help lists it
       std::replace(name.begin(), name.end(), ',', '/');
-      usage_fail("{}: must name a {}, got an empty value", name, folder ? "folder" : "file");
+      usage_fail("{}: {}", name, problem);
     }
     if (value.empty()) continue;  // an output the command does not write unless asked for
     const std::filesystem::path path(value);

@@ -69,8 +69,9 @@ extern const CLI::Validator non_negative;
 extern const CLI::Validator file_name;
 /// An integer count >= `min` (the message says "must be >= min").
 CLI::Validator at_least(long long min);
-/// A finite number in [lo, hi] (CLI::Range lets NaN through: every comparison with it is false).
-CLI::Validator in_range(double lo, double hi);
+/// A finite number in [lo, hi], or in [lo, hi) when `hi_included` is false (CLI::Range lets NaN
+/// through: every comparison with it is false).
+CLI::Validator in_range(double lo, double hi, bool hi_included = true);
 
 /// @brief Refuses an option value that is empty after CLI11 splits it: `--input=` or a list of
 /// delimiters only (`--cases ,`). CLI11 2.1 counts no value for it and takes the next argument as
@@ -88,8 +89,9 @@ void check_integer_options(CLI::App& app);
 
 /// @brief Refuses, before the command runs, outputs it could not write (docs/robustness.md):
 /// the folder of every given or defaulted `--out` option of the parsed subcommand `sub`, and the
-/// folder of its `--output` file (weft::check_writable_folder). A given empty value is refused
-/// (UsageError "--out: must name a folder, got an empty value"), not read as the option left out.
+/// folder of its `--output` file (weft::check_writable_folder). A given empty or blank value is
+/// refused (weft::output_name_problem: UsageError "--out: must name a folder, got an empty value"),
+/// not read as the option left out nor made into a folder named " ".
 /// main() calls it once for the command that will run, so no command finds an unwritable folder
 /// only after its work.
 void check_output_options(const CLI::App& sub);

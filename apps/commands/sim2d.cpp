@@ -337,8 +337,11 @@ const Registrar kSim2d{Command{
     "sim2d", "Simulate explicit 2D correlated media: T_Q, p_S/T_S, boundaries, reciprocity (S.11)", 60,
     [](CLI::App& sub) -> Action {
       auto o = std::make_shared<Sim2dOptions>();
+      // Each value checked here, so the error names --eta (media2d::validate's own check of the
+      // spec, "medium: eta must be in [-1, 1)", names no option).
       sub.add_option("--eta", o->etas, "Degrees of correlation, comma-separated, each in [-1, 1)")
           ->delimiter(',')
+          ->check(in_range(-1.0, 1.0, false))
           ->capture_default_str();
       sub.add_option("--out", o->out,
                      "Output folder (created if missing): curves.csv, report.json, particles_eta*.vtp, charts *.png")

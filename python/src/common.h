@@ -203,6 +203,11 @@ int axis_index(const py::object& axis, const char* what);
 /// (e.g. "Grid.save: path"), which weft/_arguments.py raises as weft.ArgumentTypeError.
 std::string path_arg(const py::object& path, const char* what);
 
+/// The same for the path of an output (`folder`: a folder, else a file): an empty or blank one is a
+/// weft.Error "<what>: must name a file, got an empty value" (weft::output_name_problem, the CLI's
+/// rule), not a write to the working folder or a failed rename of a temporary file.
+std::string output_path_arg(const py::object& path, const char* what, bool folder);
+
 /// An argument a binding takes as a Python object, converted to T; a value pybind11 cannot convert
 /// is a TypeError "<what> must be <expected>, got <type>" (weft.ArgumentTypeError in Python), not
 /// pybind11's cast error, which names neither.

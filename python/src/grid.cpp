@@ -102,7 +102,7 @@ void init_grid(py::module_& m) {
       .def(
           "save",
           [](const vol::Grid& g, const py::object& path) {
-            const std::filesystem::path p = path_arg(path, "Grid.save: path");
+            const std::filesystem::path p = output_path_arg(path, "Grid.save: path", false);
             py::gil_scoped_release release;
             g.save(p);
           },

@@ -186,7 +186,7 @@ void init_measure(py::module_& m) {
       .def(
           "save",
           [](const fit::LocalFields& f, const py::object& path) {
-            const std::string p = path_arg(path, "LocalFields.save: path");
+            const std::string p = output_path_arg(path, "LocalFields.save: path", false);
             py::gil_scoped_release release;
             fit::save_local_fields(f, p, fit::FieldChannels::all);
           },

@@ -6,6 +6,7 @@
 #include <tbb/global_control.h>
 
 #include "common.h"
+#include "weft/core/atomic_file.h"
 #include "weft/core/parallel.h"
 #include "weft/render/render.h"
 #include "weft/volume/beam.h"
@@ -53,6 +54,12 @@ std::string path_arg(const py::object& path, const char* what) {
                          py::str(py::type::of(path).attr("__name__")).cast<std::string>());
   // os.fsdecode: a bytes path (or a PathLike giving bytes) in the filesystem's encoding, as open() takes it.
   return py::module_::import("os").attr("fsdecode")(path).cast<std::string>();
+}
+
+std::string output_path_arg(const py::object& path, const char* what, bool folder) {
+  std::string text = path_arg(path, what);
+  if (const std::string problem = output_name_problem(text, folder); !problem.empty()) fail("{}: {}", what, problem);
+  return text;
 }
 
 PyObject* warning_category() {
@@ -108,6 +115,14 @@ PYBIND11_MODULE(_weft, m) {
   // an out-of-range int into a TypeError naming the private binding.
   m.attr("_max_threads") = weft::kMaxThreads;
   m.attr("_max_spp") = weft::render::kMaxSpp;
+  // out= and path= of the calls written in Python (weft/_study.py, plot_validation): the CLI's rule
+  // for an output name (weft::output_name_problem), one weft.Error "<what>: must name a folder, ...".
+  m.def(
+      "_check_output_name",
+      [](const py::object& path, const char* what, bool folder) {
+        (void)weft::python::output_path_arg(path, what, folder);
+      },
+      py::arg("path"), py::arg("what"), py::arg("folder"));
   m.def("_thread_limit",
         [] { return tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism); });
   weft::python::init_laws(m);

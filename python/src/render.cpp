@@ -107,7 +107,7 @@ void init_render(py::module_& m) {
       "write_exr",
       [](const py::object& path, const ImageArray& image) {
         const rd::Image im = image_of_array(image, "write_exr");
-        const std::string p = path_arg(path, "write_exr: path");
+        const std::string p = output_path_arg(path, "write_exr: path", false);
         py::gil_scoped_release release;
         rd::write_exr(p, im);
       },
@@ -119,7 +119,7 @@ void init_render(py::module_& m) {
       [](const py::object& path, const ImageArray& image, double exposure) {
         const rd::Image im = image_of_array(image, "write_png");
         require_positive("write_png: exposure", exposure);
-        const std::string p = path_arg(path, "write_png: path");
+        const std::string p = output_path_arg(path, "write_png: path", false);
         py::gil_scoped_release release;
         rd::write_png(p, im, exposure);
       },

@@ -349,3 +349,49 @@ def test_a_failed_constructor_leaves_no_half_built_object_in_the_traceback(name)
     with pytest.raises(weft.Error) as caught:
         getattr(weft, name)(__not_an_argument__=1)
     assert _half_built_in(caught.value) == []
+
+
+# Every public call that writes where an argument says, with that argument empty or blank. They
+# get the CLI's rule for --out / --output (weft::output_name_problem): an empty out= would put
+# the files in the working folder, a blank one in a folder named " ", and an empty path= failed
+# on renaming an internal temporary file. The refusal comes first: nothing runs, nothing is written.
+def _writers(name):
+    image = np.ones((2, 2, 3), dtype=np.float32)
+    fields = weft.local_fields(GRID, 2)
+    return {
+        "render_matrix": ("out", True, lambda v: weft.render_matrix(
+            quick=True, cloths="plain", lightings="back", tilts=45, factors=2, spp=2, reference_spp=4, out=v,
+            threads=2)),
+        "render_study": ("out", True, lambda v: weft.render_study(
+            "furnace", quick=True, spp=1, reference_spp=2, factors=2, window=0.5, out=v, threads=2)),
+        "fit_albedo": ("out", True, lambda v: weft.fit_albedo("furnace", quick=True, spp=1, reference_spp=2,
+                                                              factors=2, out=v, threads=2)),
+        "Grid.save": ("path", False, lambda v: GRID.save(v)),
+        "LocalFields.save": ("path", False, lambda v: fields.save(v)),
+        "write_exr": ("path", False, lambda v: weft.write_exr(v, image)),
+        "write_png": ("path", False, lambda v: weft.write_png(v, image)),
+        "plot_validation": ("path", False, lambda v: weft.plot_validation({"axes": []}, path=v)),
+    }[name]
+
+
+WRITERS = ["render_matrix", "render_study", "fit_albedo", "Grid.save", "LocalFields.save", "write_exr", "write_png",
+           "plot_validation"]
+
+
+def test_every_call_with_an_out_argument_is_among_the_writers():
+    # (StudyResult and MatrixResult take the binding's result as `out`: no path.)
+    with_out = {name for name, fn, _ in CALLABLES if not inspect.isclass(fn)
+                and (sig := weft._arguments._signature(fn)) is not None and "out" in sig.parameters}
+    assert with_out <= set(WRITERS)
+
+
+@pytest.mark.parametrize("name", WRITERS)
+@pytest.mark.parametrize("value, word", [("", "an empty"), ("  ", "a blank"), ("\t", "a blank")])
+def test_an_empty_or_blank_output_is_refused_naming_the_argument(name, value, word, tmp_path, monkeypatch):
+    argument, folder, call = _writers(name)
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(weft.Error) as caught:
+        call(value)
+    assert str(caught.value) == "%s: %s: must name a %s, got %s value" % (
+        name, argument, "folder" if folder else "file", word)
+    assert sorted(p.name for p in tmp_path.iterdir()) == []

@@ -199,6 +199,8 @@ def plot_validation(result, path=None, log=False):
         raise ArgumentTypeError("plot_validation: result must be what weft.validate returned, got %s"
                                 % type(result).__name__)
     path = _path_or_none("plot_validation: path", path)
+    if path is not None:
+        _weft._check_output_name(path, "plot_validation: path", False)
     log = _flag("plot_validation: log", log)
     try:
         import matplotlib

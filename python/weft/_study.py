@@ -363,6 +363,9 @@ def _work_dir(call, out):
         return
     if not isinstance(out, (str, _os.PathLike)):
         raise ArgumentTypeError("%s: out must be a folder path or None, got %s" % (call, type(out).__name__))
+    # An empty or blank out= would put the files in the working folder or in one named " ": the
+    # CLI's --out rule (weft::output_name_problem).
+    _weft._check_output_name(out, call + ": out", True)
     folder = _os.path.abspath(_os.fspath(out))
     if _os.path.exists(folder) and not _os.path.isdir(folder):
         raise Error("%s: out=%r is a file, not a folder" % (call, _os.fspath(out)))

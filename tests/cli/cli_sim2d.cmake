@@ -218,8 +218,8 @@ add_test(NAME cli.sim2d.distinct_eta_names
 set_tests_properties(cli.sim2d.distinct_eta_names PROPERTIES LABELS cli TIMEOUT 300)
 
 foreach(bad
-    "eta_one|--eta 1|eta must be in"
-    "eta_below|--eta -1.5|eta must be in"
+    "eta_one|--eta 1|--eta: must be a number in"
+    "eta_below|--eta -1.5|--eta: must be a number in"
     "radius_zero|--radius 0|radius must be > 0"
     "dense|--radius 1e-3 --mfp 0.01|packing fraction"
     "no_realizations|--realizations 0|realizations must be >= 1"

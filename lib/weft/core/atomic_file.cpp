@@ -24,7 +24,17 @@ fs::path temporary_beside(const fs::path& target) {
 }
 }  // namespace
 
+std::string output_name_problem(std::string_view value, bool folder) {
+  const char* what = folder ? "folder" : "file";
+  if (value.empty()) return fmt::format("must name a {}, got an empty value", what);
+  if (value.find_first_not_of(" \t\n\v\f\r") == std::string_view::npos)
+    return fmt::format("must name a {}, got a blank value", what);
+  return {};
+}
+
 void write_atomically(const fs::path& target, const std::function<void(const fs::path&)>& write) {
+  if (const std::string problem = output_name_problem(target.native(), false); !problem.empty())
+    fail("output file '{}': {}", target.string(), problem);
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) fail("output folder '{}' does not exist", dir.string());

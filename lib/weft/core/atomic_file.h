@@ -5,16 +5,27 @@
 #include <filesystem>
 #include <functional>
 #include <set>
+#include <string>
 #include <string_view>
 #include <vector>
 
 namespace weft {
 
+/// @brief What is wrong with `value` given as the name of an output, a folder when `folder` else a
+/// file: "must name a folder, got an empty value", "... got a blank value" (only white space), or
+/// "" when nothing is. The one rule for every output name a user gives (docs/robustness.md, the
+/// empty-argument cases): an empty name would read as the option left out and a command would
+/// write to its default path or the working folder; a blank one makes a file or folder named
+/// " " there. The CLI's check_output_options, the Python calls' `out=` / `path=` and
+/// write_atomically use it; the caller prefixes the option or argument it names.
+[[nodiscard]] std::string output_name_problem(std::string_view value, bool folder);
+
 /// @brief Calls `write(tmp)` with a temporary path beside `target`, then renames it to `target`.
 ///
 /// If `write` throws, the temporary file is removed and the exception propagates, so a failed
 /// run never leaves a half-written output. The target's folder must exist; an unwritable folder
-/// gives a weft::Error naming it.
+/// gives a weft::Error naming it, and an empty or blank `target` one saying so
+/// (output_name_problem), not a failed rename of the temporary file.
 void write_atomically(const std::filesystem::path& target,
                       const std::function<void(const std::filesystem::path& tmp)>& write);
 

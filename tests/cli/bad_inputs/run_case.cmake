@@ -98,6 +98,8 @@ string(REPLACE "@IN@" "${IN}" args_text "${args_text}")
 string(REPLACE "@OUT@" "${WORK}/out" args_text "${args_text}")
 string(REPLACE "@GRIDS@" "${GRIDS}" args_text "${args_text}")
 string(REPLACE "@DATA@" "${DATA}" args_text "${args_text}")
+# @TAB@ is a tab character, inside quotes an argument of white space only (`--out "@TAB@"`).
+string(REPLACE "@TAB@" "\t" args_text "${args_text}")
 file(GLOB_RECURSE before LIST_DIRECTORIES false ${WORK}/out/*)
 set(stdout_to OUTPUT_VARIABLE out)
 if(args_text MATCHES "^>(/dev/full) (.*)$")

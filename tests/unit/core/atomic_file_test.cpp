@@ -53,6 +53,33 @@ TEST(AtomicFile, MissingFolderIsAClearError) {
               ::testing::ThrowsMessage<weft::Error>(::testing::HasSubstr("/nonexistent-weft-folder")));
 }
 
+// An empty or blank name is refused before anything is written, not as a failed rename of the
+// temporary file (which named '.<stem>.tmp<pid>-<n>' and, for " ", would have made a file " ").
+TEST(AtomicFile, EmptyOrBlankTargetIsRefusedFirst) {
+  const auto dir = fresh_dir("atomic-blank");
+  const fs::path here = fs::current_path();
+  fs::current_path(dir);
+  for (const char* name : {"", " ", "\t", " \n "}) {
+    bool called = false;
+    EXPECT_THAT([&] { weft::write_atomically(name, [&](const fs::path&) { called = true; }); },
+                ::testing::ThrowsMessage<weft::Error>(::testing::HasSubstr("must name a file, got a")))
+        << "'" << name << "'";
+    EXPECT_FALSE(called);
+  }
+  fs::current_path(here);
+  EXPECT_EQ(count_files(dir), 0U);
+  fs::remove_all(dir);
+}
+
+TEST(AtomicFile, OutputNameProblem) {
+  EXPECT_EQ(weft::output_name_problem("", true), "must name a folder, got an empty value");
+  EXPECT_EQ(weft::output_name_problem(" \t", true), "must name a folder, got a blank value");
+  EXPECT_EQ(weft::output_name_problem("\t", false), "must name a file, got a blank value");
+  // A name with white space around it is a name: the shell kept it on purpose.
+  EXPECT_EQ(weft::output_name_problem(" run ", true), "");
+  EXPECT_EQ(weft::output_name_problem("run", false), "");
+}
+
 TEST(AtomicFile, TemporaryKeepsExtension) {
   const auto dir = fresh_dir("atomic-ext");
   weft::write_atomically(dir / "c.vtp", [](const fs::path& tmp) {
