@@ -49,9 +49,7 @@ LoadedGrid load_grid_input(const GridInputOptions& o) {
   } catch (const Error& e) {
     fail("{}: {}", o.grid, e.what());
   }
-  if (!o.extinction() && out.provenance.value_kind == "extinction") {
-    fail("{}: the grid's metadata says its values are extinction; pass --values extinction", o.grid);
-  }
+  volume::require_value_kind(out.provenance, o.extinction(), o.grid);
   out.sigma = resolve_sigma(o, out.provenance, o.grid);
   return out;
 }

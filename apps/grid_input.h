@@ -30,7 +30,8 @@ void add_grid_input(CLI::App& sub, GridInputOptions& o, bool required);
 
 /// Checks the options themselves (σ > 0 when given; no --sigma with --values extinction).
 void check_grid_input(const GridInputOptions& o);
-/// Loads the grid (refusing an empty one) and resolves σ: --values extinction → 1; --sigma;
+/// Loads the grid (refusing an empty one, and --values against the kind its metadata records:
+/// volume::require_value_kind) and resolves σ: --values extinction → 1; --sigma;
 /// the provenance's σ; otherwise an error that says what to pass.
 struct LoadedGrid {
   volume::Grid grid;

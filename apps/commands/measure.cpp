@@ -133,7 +133,6 @@ const Registrar kMeasure{Command{
           return fs;
         };
         if (o->fibres) {
-          cloth::check_values_for_fibres(loaded.grid, o->input.extinction(), o->input.grid);
           // Every fibre beam's budget before any beam runs (the voxel beams check their own).
           for (const auto& d : dirs) fibres::check_fibre_beam(loaded.grid, fibre_spec(d));
           fibre_index.emplace(cloth::fibre_geometry(cloth::fibers_of_grid(loaded.grid, o->input.grid, ctx.progress)));

@@ -188,7 +188,6 @@ const Registrar kValidate{Command{
               fmt::format("{} cloth, {}x{} yarns", build.spec.pattern, build.spec.warp_count, build.spec.weft_count);
         }
         spec.sigma = sigma.sigma;
-        if (o->fibres) cloth::check_values_for_fibres(grid, o->input.extinction(), o->input.grid);
         if (o->scenes && !provenance.sigma)
           fail(
               "--scenes: the grid has no sigma in its metadata (weft:sigma_per_concentration); cloth scenes are "

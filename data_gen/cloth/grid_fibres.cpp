@@ -13,7 +13,6 @@
 #include "data_gen/cloth/pattern.h"
 #include "weft/core/error.h"
 #include "weft/core/parse_number.h"
-#include "weft/volume/provenance.h"
 
 namespace weft::cloth {
 
@@ -160,15 +159,6 @@ FiberSet fibers_of_grid(const volume::Grid& grid, const std::string& what, Progr
            v->second);
   }
   return fibers;
-}
-
-void check_values_for_fibres(const volume::Grid& grid, bool values_are_extinction, const std::string& what) {
-  if (values_are_extinction && volume::read_provenance(grid).value_kind == "concentration")
-    fail(
-        "{}: its provenance says its values are concentrations (weft gen's voxelization of its fibres, extinction "
-        "sigma*C): read as extinction (--values extinction) they are another medium, not comparable with its fibres; "
-        "drop --values extinction",
-        what);
 }
 
 }  // namespace weft::cloth

@@ -59,11 +59,4 @@ void check_voxelized_lattice(const volume::Grid& grid, const std::string& what);
 [[nodiscard]] FiberSet fibers_of_grid(const volume::Grid& grid, const std::string& what,
                                       ProgressSink& progress = null_progress());
 
-/// Throws weft::Error naming `what` when a grid is to be compared with its fibres with its values
-/// read as extinction (`values_are_extinction`) while its provenance says they are concentrations:
-/// the fibres' voxelization is C, whose extinction is σ·C with the σ of its provenance (or μ(C)
-/// of a voxel rule), and reading C as μ (σ = 1) measures another medium, so its "voxelization
-/// error" would be meaningless (docs/validate.md §Voxelization error).
-void check_values_for_fibres(const volume::Grid& grid, bool values_are_extinction, const std::string& what);
-
 }  // namespace weft::cloth

@@ -199,8 +199,9 @@ if(CMAKE_SCRIPT_MODE_FILE)
     if(NOT pbrt MATCHES "\n# Not weft's medium: pbrt-v4 interpolates the density trilinearly")
       check_fail("cloth.pbrt has no interpolation note: ${pbrt}")
     endif()
-    # The headers name what the values are and the grid's units; --quiet prints nothing.
-    run_weft(-q export --grid ${WORK}/g/cloth.vdb --values extinction --out ${WORK}/x)
+    # The headers name what the values are and the grid's units; --quiet prints nothing. A grid of
+    # extinction (its metadata says so: a cloth.vdb of concentrations is refused --values extinction).
+    run_weft(-q export --grid ${GRIDS}/extinction.vdb --values extinction --out ${WORK}/x)
     if(NOT out STREQUAL "")
       check_fail("export -q printed: ${out}")
     endif()
@@ -239,4 +240,4 @@ foreach(case gen fit_block measure measure_fibres validate_fibres corpus_fibres 
                    -DGRIDS=${CMAKE_CURRENT_BINARY_DIR}/grids -P ${CMAKE_CURRENT_LIST_FILE})
   set_tests_properties(cli.outputs.${case} PROPERTIES LABELS cli TIMEOUT 120)
 endforeach()
-set_tests_properties(cli.outputs.fit_block cli.outputs.measure PROPERTIES FIXTURES_REQUIRED weft_grids)
+set_tests_properties(cli.outputs.fit_block cli.outputs.measure cli.outputs.export PROPERTIES FIXTURES_REQUIRED weft_grids)

@@ -11,6 +11,7 @@
 #include "weft/transmittance/exponential.h"
 #include "weft/volume/grid.h"
 #include "weft/volume/majorants.h"
+#include "weft/volume/provenance.h"
 
 namespace weft::render {
 
@@ -389,6 +390,13 @@ std::shared_ptr<const Medium> make_medium(const MediumDesc& desc, const std::str
       fail("{}: {}", where, e.what());
     }
     if (g->active_voxel_count() == 0) fail("{}: grid '{}' in '{}' is empty", where, g->name(), desc.file);
+    // "values" against the kind the grid records: the same rule as --values (docs/robustness.md, "Value kind").
+    try {
+      volume::require_value_kind(volume::read_provenance(*g), !desc.concentration, desc.file,
+                                 volume::ValuesAsker::scene);
+    } catch (const Error& e) {
+      fail("{}: {}", where, e.what());
+    }
     return g;
   };
   // μ = 0 is a vacuum for any tracking: the zero scale says so to the medium (MediumTraits::empty).

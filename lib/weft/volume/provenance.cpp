@@ -41,6 +41,14 @@ SigmaChoice resolve_sigma(const Provenance& p, std::optional<double> given, bool
        cli ? "--sigma S (extinction per unit concentration, 1/length) or --values extinction" : "sigma=S");
 }
 
+void require_value_kind(const Provenance& p, bool read_as_extinction, const std::string& what, ValuesAsker asker) {
+  if (p.value_kind != "concentration" && p.value_kind != "extinction") return;
+  if ((p.value_kind == "extinction") == read_as_extinction) return;
+  fail("{}: the grid's metadata says its values are {}; {}", what, p.value_kind,
+       asker == ValuesAsker::cli ? fmt::format("pass --values {}", p.value_kind)
+                                 : fmt::format("set \"values\": \"{}\"", p.value_kind));
+}
+
 double fibre_sigma(double fiber_radius) {
   require_positive("fibre radius", fiber_radius);
   return 2.0 / (std::numbers::pi * fiber_radius);

@@ -39,6 +39,18 @@ struct Provenance {
 /// Writes the keys of `p` that are set (used by the cloth generator).
 void write_provenance(Grid& grid, const Provenance& p);
 
+/// Who reads a grid's values as a kind: `weft <command> --values` or a scene's grid medium ("values").
+enum class ValuesAsker { cli, scene };
+
+/// The one rule for a value kind given against the grid's metadata (docs/robustness.md, "Value
+/// kind"): when the grid records its kind (weft:value_kind, "concentration" or "extinction"), reading
+/// it as the other kind is refused: C read as μ is a medium σ times too thin, μ read as C σ times too
+/// thick, and no output would show it. Throws weft::Error "<what>: the grid's metadata says its values
+/// are <kind>; pass --values <kind>" (a scene: set "values": "<kind>"). A grid with no recorded kind
+/// (or another word) is read as the caller says.
+void require_value_kind(const Provenance& p, bool read_as_extinction, const std::string& what,
+                        ValuesAsker asker = ValuesAsker::cli);
+
 /// σ used for μ = σ·value, and why (`sigma_source` in every report).
 struct SigmaChoice {
   double sigma = 1.0;

@@ -1,5 +1,6 @@
 #include "weft/volume/renderer_export.h"
 
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -7,6 +8,7 @@
 #include <limits>
 #include <numbers>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -89,18 +91,51 @@ std::string triple(const std::array<double, 3>& v, const char* sep) {
   return num(v[0]) + sep + num(v[1]) + sep + num(v[2]);
 }
 
-// A unit from the grid's metadata inside a comment of either scene: printable ASCII letters,
-// digits and a few signs kept, anything else (a newline ends a pbrt comment, "--" is not allowed
-// in an XML comment, bytes that need not be UTF-8) written as '?'.
-std::string comment_text(const std::string& s) {
+// Length of the valid UTF-8 sequence at the start of `s` (RFC 3629: no overlong forms, no
+// surrogates, nothing above U+10FFFF) and its code point; 0 when the first byte starts none.
+std::pair<std::size_t, char32_t> utf8_sequence(std::string_view s) {
+  const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(s[i]); };
+  const unsigned char b0 = byte(0);
+  const std::size_t n = b0 < 0x80 ? 1 : (b0 >> 5) == 0x6 ? 2 : (b0 >> 4) == 0xE ? 3 : (b0 >> 3) == 0x1E ? 4 : 0;
+  if (n == 0 || n > s.size()) return {0, 0};
+  char32_t c = n == 1 ? b0 : b0 & (0x7Fu >> n);
+  for (std::size_t i = 1; i < n; ++i) {
+    if ((byte(i) & 0xC0) != 0x80) return {0, 0};
+    c = (c << 6) | (byte(i) & 0x3Fu);
+  }
+  constexpr std::array<char32_t, 5> kLeast{0, 0, 0x80, 0x800, 0x10000};  // shortest form of each length
+  if (c < kLeast.at(n) || (c >= 0xD800 && c <= 0xDFFF) || c > 0x10FFFF) return {0, 0};
+  return {n, c};
+}
+
+// A unit from the grid's metadata inside a comment of either scene (both are UTF-8 text): valid
+// UTF-8 is kept as it is ("µm"); written as '?' is what could end or break a comment: control
+// characters (a newline ends a pbrt comment; NUL, C0, DEL, C1), a second '-' in a row ("--" is
+// not allowed in an XML comment, so neither is "-->"), '&', '<', '>', the non-characters
+// U+FFFE/U+FFFF that XML refuses, and each byte that starts no valid UTF-8 sequence.
+std::string comment_text(std::string_view s) {
   std::string out;
-  for (const char ch : s) {
-    const bool plain = (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') ||
-                       std::string_view(" /._^()*+").find(ch) != std::string_view::npos ||
-                       (ch == '-' && (out.empty() || out.back() != '-'));
-    out += plain ? ch : '?';
+  while (!s.empty()) {
+    const auto [n, c] = utf8_sequence(s);
+    const bool control = c < 0x20 || (c >= 0x7F && c <= 0x9F);
+    const bool breaks = control || c == 0xFFFE || c == 0xFFFF ||
+                        std::u32string_view(U"&<>").find(c) != std::u32string_view::npos ||
+                        (c == '-' && !out.empty() && out.back() == '-');
+    if (n == 0 || breaks)
+      out += '?';
+    else
+      out.append(s.substr(0, n));
+    s.remove_prefix(std::max<std::size_t>(n, 1));
   }
   return out;
+}
+
+// The recorded unit without surrounding blanks: a blank one is no unit ("" → "no units recorded").
+std::string_view trimmed_unit(std::string_view u) {
+  const auto blank = [](char ch) { return std::string_view(" \t\n\r\v\f").find(ch) != std::string_view::npos; };
+  while (!u.empty() && blank(u.front())) u.remove_prefix(1);
+  while (!u.empty() && blank(u.back())) u.remove_suffix(1);
+  return u;
 }
 
 // XML attribute text: the file names are the only free text in the scenes.
@@ -176,9 +211,10 @@ void write_mitsuba_vol(const Grid& grid, const IndexBox& box, const fs::path& pa
 }
 
 std::string medium_description(const ExportMedium& medium) {
-  const std::string unit = medium.units.empty() ? "length" : comment_text(medium.units);
-  const std::string lengths = medium.units.empty() ? "lengths in the grid's own units (no units recorded)"
-                                                   : fmt::format("lengths in {} (the grid's units)", unit);
+  const std::string_view recorded = trimmed_unit(medium.units);
+  const std::string unit = recorded.empty() ? "length" : comment_text(recorded);
+  const std::string lengths = recorded.empty() ? "lengths in the grid's own units (no units recorded)"
+                                               : fmt::format("lengths in {} (the grid's units)", unit);
   if (medium.extinction)
     return fmt::format("sigma_t = scale x grid value, the values are extinction in 1/{}, scale = {}; {}", unit,
                        num(medium.sigma), lengths);

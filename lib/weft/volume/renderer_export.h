@@ -20,7 +20,7 @@ struct ExportMedium {
   std::array<double, 3> albedo{0.8, 0.8, 0.8};  ///< per RGB channel, in [0, 1]
   double g = 0.0;                               ///< Henyey–Greenstein asymmetry in (−1, 1)
   bool extinction = false;                      ///< values are extinction μ (else concentration C)
-  std::string units;                            ///< length unit the grid's metadata records, "" if none
+  std::string units;  ///< length unit the grid's metadata records (UTF-8), "" or blank if none
 };
 
 /// @brief One sentence of what the exported grid holds: its values (concentration or extinction),

@@ -1,7 +1,8 @@
 // Writes the .vdb fixtures of the CLI tests into the folder given as argv[1]: a good grid and
 // the bad inputs every command must refuse with a one-line error (empty, negative, NaN,
-// non-float, non-uniform voxel scale, rotated, mirrored or sheared voxels, corrupt), and a scene
-// around the rotated grid for `weft render`.
+// non-float, non-uniform voxel scale, rotated, mirrored or sheared voxels, corrupt), a grid whose
+// metadata says its values are extinction, and scenes around the rotated and the extinction grids
+// for `weft render`.
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -26,6 +27,17 @@ openvdb::FloatGrid::Ptr float_grid(const std::string& name) {
   return g;
 }
 
+// DIR/NAME_scene.json: a grid medium of DIR/NAME.vdb (read as concentration, σ = 1) in a box, for
+// `weft render`.
+void write_scene(const std::string& dir, const std::string& name) {
+  std::ofstream(dir + "/" + name + "_scene.json")
+      << R"({"camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "fov": 1, "width": 8, "height": 8},)"
+      << R"( "materials": {"b": {"type": "null"}},)"
+      << R"( "media": {"m": {"type": "grid", "file": ")" << name << R"(.vdb", "sigma": 1, "albedo": 0}},)"
+      << R"( "shapes": [{"type": "box", "min": [-3, -3, -3], "max": [3, 3, 3], "material": "b", "interior": "m"}],)"
+      << R"( "lights": [{"type": "environment", "radiance": 1}]})" << '\n';
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -47,6 +59,13 @@ int main(int argc, char** argv) {
     }
   }
   write(dir + "/good.vdb", good);
+  // extinction.vdb: good.vdb's values recorded as extinction μ in 1/mm (weft:value_kind, weft:units), as
+  // extinction_grid writes them, and a scene that reads it as concentration (the default).
+  auto extinction = good->deepCopy();
+  extinction->insertMeta("weft:value_kind", openvdb::StringMetadata("extinction"));
+  extinction->insertMeta("weft:units", openvdb::StringMetadata("mm"));
+  write(dir + "/extinction.vdb", extinction);
+  write_scene(dir, "extinction");
   auto empty = float_grid("density");
   write(dir + "/empty.vdb", empty);
   auto negative = float_grid("density");
@@ -79,12 +98,7 @@ int main(int argc, char** argv) {
   sheared->setTransform(openvdb::math::Transform::createLinearTransform(shear));
   sheared->getAccessor().setValue(openvdb::Coord(0, 0, 0), 0.5f);
   write(dir + "/sheared.vdb", sheared);
-  std::ofstream(dir + "/rotated_scene.json")
-      << R"({"camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "fov": 1, "width": 8, "height": 8},)"
-      << R"( "materials": {"b": {"type": "null"}},)"
-      << R"( "media": {"m": {"type": "grid", "file": "rotated.vdb", "sigma": 1, "albedo": 0}},)"
-      << R"( "shapes": [{"type": "box", "min": [-3, -3, -3], "max": [3, 3, 3], "material": "b", "interior": "m"}],)"
-      << R"( "lights": [{"type": "environment", "radiance": 1}]})" << '\n';
+  write_scene(dir, "rotated");
   // far.vdb: two voxels 10⁶ voxels apart on every axis: a sparse grid of a dense box of 10¹⁸
   // voxels, which passes over its box must refuse before allocating (docs/robustness.md).
   auto far = float_grid("density");

@@ -141,6 +141,39 @@ TEST(RendererExport, HeadersSayWhatTheValuesAreAndTheirUnits) {
   EXPECT_EQ(xml.find("--", xml.find("<!--") + 4), xml.rfind("-->")) << xml;  // the comment's own end only
 }
 
+TEST(RendererExport, HeadersKeepAUtf8UnitAsItIs) {
+  // Both scenes are UTF-8 text: "µm" is written as it is; a byte that starts no valid UTF-8
+  // sequence (0xFF, the overlong 0xC0 0xAF for '/') and a C1 control (U+0085, a line end to some
+  // readers) are '?'.
+  const WorldBox box{{0.0, 0.0, 0.0}, {1.0, 2.0, 0.5}};
+  const ExportView view;
+  ExportMedium medium;
+  medium.extinction = true;
+  for (const auto& [units, written] : {std::tuple{std::string("\xC2\xB5m"), std::string("\xC2\xB5m")},
+                                       std::tuple{std::string("\xFFm\xC0\xAF\xC2\x85"), std::string("?m???")}}) {
+    medium.units = units;
+    for (const std::string& header : {header_of(mitsuba_scene_xml(box, "cloth.vol", medium, view)),
+                                      header_of(pbrt_scene(box, "cloth.nvdb", medium, view))}) {
+      EXPECT_NE(header.find("extinction in 1/" + written + ","), std::string::npos) << header;
+      EXPECT_NE(header.find("lengths in " + written + " (the grid's units)"), std::string::npos) << header;
+    }
+  }
+}
+
+TEST(RendererExport, ABlankUnitIsNoUnit) {
+  const WorldBox box{{0.0, 0.0, 0.0}, {1.0, 2.0, 0.5}};
+  const ExportView view;
+  ExportMedium medium;
+  for (const std::string units : {"   ", " \t"}) {
+    medium.units = units;
+    for (const std::string& header : {header_of(mitsuba_scene_xml(box, "cloth.vol", medium, view)),
+                                      header_of(pbrt_scene(box, "cloth.nvdb", medium, view))}) {
+      EXPECT_NE(header.find("lengths in the grid's own units (no units recorded)"), std::string::npos) << header;
+      EXPECT_NE(header.find("in 1/length;"), std::string::npos) << header;
+    }
+  }
+}
+
 TEST(RendererExport, ThePbrtSceneSaysItInterpolatesTheDensity) {
   // pbrt-v4's nanovdb medium samples the density trilinearly (docs/export.md): only its scene says so.
   const WorldBox box{{0.0, 0.0, 0.0}, {1.0, 1.0, 1.0}};
