@@ -16,6 +16,8 @@
 #include "weft/core/distinct.h"
 #include "weft/core/error.h"
 #include "weft/fibres/fibre_beam.h"
+#include "weft/render/local_gamma_beam.h"
+#include "weft/transmittance/gamma_hazard.h"
 #include "weft/volume/beam.h"
 #include "weft/volume/beam_checks.h"
 #include "weft/volume/grid.h"
@@ -46,9 +48,22 @@ struct MeasureOptions {
   int fibre_rays = 1;
   double fibre_extinction = 0.0;  // 0: opaque
   std::string voxel_rule = "linear";
+  std::string fields;
+  std::string memory = "optical-depth";
 };
 
 std::string num(double x) { return std::isfinite(x) ? fmt::format("{:.10g}", x) : (x < 0 ? "-inf" : "inf"); }
+
+/// The rows of beam b's curve `other` (the fibres' or the fields') beside the voxel beam's on the
+/// same depths: beam,dx,dy,dz,t,T_other,stderr_other,T_voxel,stderr_voxel.
+void append_beside(std::string& csv, std::size_t b, const volume::TransmittanceCurve& other,
+                   const volume::TransmittanceCurve& voxel) {
+  for (std::size_t k = 0; k < other.size(); ++k) {
+    csv += fmt::format("{},{},{},{},{},{},{},{},{}\n", b, num(other.direction[0]), num(other.direction[1]),
+                       num(other.direction[2]), num(other.depth[k]), num(other.transmittance(k)),
+                       num(other.stderr_abs(k)), num(voxel.transmittance(k)), num(voxel.stderr_abs(k)));
+  }
+}
 
 const Registrar kMeasure{Command{
     "measure", "Ground-truth transmittance of beams through a .vdb grid (Amanatides-Woo DDA)", 20,
@@ -89,14 +104,25 @@ const Registrar kMeasure{Command{
                      "How concentration becomes extinction in the voxel beams: linear (sigma C) | opaque "
                      "(-max(sigma, 1/h) ln(1 - C), docs/validate.md)")
           ->capture_default_str();
+      sub.add_option("--fields", o->fields,
+                     "Also predict every beam from local-gamma fields of this grid (weft fit --block B's "
+                     "local_fields.vdb), along the same rays, as the render's local-gamma medium walks them: "
+                     "fields.csv and the fields-voxel difference (docs/validate.md \"Fields along any direction\")")
+          ->check(CLI::ExistingFile);
+      sub.add_option("--memory", o->memory,
+                     "Memory rule across the fields' cells for --fields: optical-depth | segment | renewal | carried "
+                     "(docs/render.md 5e)")
+          ->capture_default_str();
       sub.add_option("--out", o->out,
-                     "Output folder (created if missing): beams.csv, measure.json, scatterer.csv with --scatterer")
+                     "Output folder (created if missing): beams.csv, measure.json, scatterer.csv with --scatterer, "
+                     "fibres.csv with --fibres, fields.csv with --fields")
           ->capture_default_str();
       return [o, &sub](const Context& ctx) -> int {
         const auto t_start = std::chrono::steady_clock::now();
         check_grid_input(o->input);
         usage_needs(sub, {"--scatterer-rays", "--scatterer-direction"}, o->scatterer, "--scatterer");
         usage_needs(sub, {"--fibre-rays", "--fibre-extinction"}, o->fibres, "--fibres");
+        usage_needs(sub, {"--memory"}, !o->fields.empty(), "--fields");
         std::vector<std::array<double, 3>> dirs;
         for (const auto& d : o->directions) dirs.push_back(as_usage([&] { return volume::parse_direction(d); }));
         // A direction given twice would trace the same rays again (same seed, same curve).
@@ -120,6 +146,13 @@ const Registrar kMeasure{Command{
         const bool fibre_extinction_given = sub.count("--fibre-extinction") > 0;
         if (fibre_extinction_given && !(o->fibre_extinction > 0.0))
           usage_fail("--fibre-extinction must be > 0, got {}", o->fibre_extinction);
+        const auto memory = transmittance::parse_memory_rule(o->memory);
+        if (!memory)
+          usage_fail("--memory: unknown memory rule '{}' (optical-depth, segment, renewal, carried)", o->memory);
+        if (!o->fields.empty() && rule != volume::VoxelRule::linear)
+          usage_fail(
+              "--fields predicts the linear rule's extinction (sigma C of the fields' means), not --voxel-rule {}",
+              o->voxel_rule);
         const LoadedGrid loaded = load_grid_input(o->input);
         // The fibres first: a grid that does not name its fibres is refused before any beam.
         std::optional<fibres::CapsuleIndex> fibre_index;
@@ -144,6 +177,19 @@ const Registrar kMeasure{Command{
             ruled ? fmt::format("{} ({} voxel rule)", o->input.values, o->voxel_rule) : o->input.values;
         const double fibre_kappa = fibre_extinction_given ? o->fibre_extinction : fibres::kOpaque;
 
+        const render::FieldsSpec fields{o->fields, sigma, o->input.extinction(), *memory};
+        if (!o->fields.empty()) {
+          // Every fields beam's budget before any beam runs.
+          for (const auto& d : dirs) {
+            volume::BeamSpec fs;
+            fs.direction = d;
+            fs.rays_per_column = o->rays;
+            fs.jitter = o->jitter;
+            fs.depth_step = o->depth_step;
+            render::check_fields_beam(grid, fs);
+          }
+        }
+
         // The scatterer rays' budget before any beam runs (docs/robustness.md "Work and memory budgets").
         volume::ScattererSpec ss;
         ss.scale = sigma;
@@ -159,6 +205,7 @@ const Registrar kMeasure{Command{
                           "beam,dx,dy,dz,t,T,stderr,logT\n";
         json beams = json::array();
         std::string fibre_csv = "beam,dx,dy,dz,t,T_fibre,stderr_fibre,T_voxel,stderr_voxel\n";
+        std::string fields_csv = "beam,dx,dy,dz,t,T_fields,stderr_fields,T_voxel,stderr_voxel\n";
         for (std::size_t b = 0; b < dirs.size(); ++b) {
           volume::BeamSpec spec;
           spec.direction = dirs[b];
@@ -190,11 +237,7 @@ const Registrar kMeasure{Command{
             const auto f0 = std::chrono::steady_clock::now();
             const auto fc = fibres::measure_fibre_beam(*fibre_index, grid, fs, fibre_kappa, ctx.progress);
             const double fsecs = std::chrono::duration<double>(std::chrono::steady_clock::now() - f0).count();
-            for (std::size_t k = 0; k < fc.size(); ++k) {
-              fibre_csv += fmt::format("{},{},{},{},{},{},{},{},{}\n", b, num(fc.direction[0]), num(fc.direction[1]),
-                                       num(fc.direction[2]), num(fc.depth[k]), num(fc.transmittance(k)),
-                                       num(fc.stderr_abs(k)), num(curve.transmittance(k)), num(curve.stderr_abs(k)));
-            }
+            append_beside(fibre_csv, b, fc, curve);
             const auto diff = fibres::curve_difference(curve, fc);
             beams.back()["fibres"] = {{"rays", fc.rays},
                                       {"method", fc.method},
@@ -203,6 +246,24 @@ const Registrar kMeasure{Command{
                                       {"max_abs_T_voxel_minus_T_fibre", diff.max_abs},
                                       {"rms_stderr_fibre", diff.rms_stderr_b},
                                       {"seconds", fsecs}};
+          }
+          if (!o->fields.empty()) {
+            const auto f0 = std::chrono::steady_clock::now();
+            const auto pc = render::predict_fields_beam(fields, grid, spec, ctx.progress);
+            const double fsecs = std::chrono::duration<double>(std::chrono::steady_clock::now() - f0).count();
+            append_beside(fields_csv, b, pc, curve);
+            const auto diff = fibres::curve_difference(curve, pc);
+            const std::size_t last = pc.size() - 1;
+            beams.back()["fields"] = {
+                {"rays", pc.rays},
+                {"method", pc.method},
+                {"T_fields_at_depth_max", diff.end_b},
+                {"relative_difference_at_depth_max", diff.end_b / diff.end_a - 1.0},
+                {"relative_difference_stderr",
+                 std::hypot(pc.rel_stderr[last], curve.rel_stderr[last]) * (diff.end_b / diff.end_a)},
+                {"rms_T_fields_minus_T_voxel", diff.rms},
+                {"max_abs_T_fields_minus_T_voxel", diff.max_abs},
+                {"seconds", fsecs}};
           }
         }
         std::string scatterer_csv;
@@ -224,20 +285,23 @@ const Registrar kMeasure{Command{
                        {"max_abs_pQ_minus_mu_TS_over_mu", worst},
                        {"seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}};
         }
-        json report = {{"weft", "measure"},
-                       {"grid", fs::absolute(o->input.grid).string()},
-                       {"grid_name", grid.name()},
-                       {"values", values},
-                       {"voxel_rule", o->voxel_rule},
-                       {"fibres", o->fibres ? json(fibre_kappa == fibres::kOpaque ? json("opaque") : json(fibre_kappa))
-                                            : json(nullptr)},
-                       {"sigma", sigma},
-                       {"sigma_source", loaded.sigma.source},
-                       {"voxel_size", grid.voxel_size()},
-                       {"active_voxels", grid.active_voxel_count()},
-                       {"seed", o->seed},
-                       {"beams", beams},
-                       {"scatterer", scatterer}};
+        json report = {
+            {"weft", "measure"},
+            {"grid", fs::absolute(o->input.grid).string()},
+            {"grid_name", grid.name()},
+            {"values", values},
+            {"voxel_rule", o->voxel_rule},
+            {"fibres",
+             o->fibres ? json(fibre_kappa == fibres::kOpaque ? json("opaque") : json(fibre_kappa)) : json(nullptr)},
+            {"fields", o->fields.empty() ? json(nullptr)
+                                         : json{{"file", fs::absolute(o->fields).string()}, {"memory", o->memory}}},
+            {"sigma", sigma},
+            {"sigma_source", loaded.sigma.source},
+            {"voxel_size", grid.voxel_size()},
+            {"active_voxels", grid.active_voxel_count()},
+            {"seed", o->seed},
+            {"beams", beams},
+            {"scatterer", scatterer}};
         const fs::path out = o->out;
         ensure_directory(out);
         WrittenFiles files;
@@ -246,6 +310,10 @@ const Registrar kMeasure{Command{
         if (o->fibres) {
           write_text_atomically(out / "fibres.csv", fibre_csv);
           files.add(out / "fibres.csv", "T_fibre(t) and T_voxel(t) per beam");
+        }
+        if (!o->fields.empty()) {
+          write_text_atomically(out / "fields.csv", fields_csv);
+          files.add(out / "fields.csv", "T_fields(t) and T_voxel(t) per beam");
         }
         if (o->scatterer) {
           write_text_atomically(out / "scatterer.csv", scatterer_csv);

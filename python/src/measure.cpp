@@ -13,6 +13,8 @@
 #include "weft/fit/scale.h"
 #include "weft/fit/validation.h"
 #include "weft/fit/window_stats.h"
+#include "weft/render/local_gamma_beam.h"
+#include "weft/transmittance/gamma_hazard.h"
 #include "weft/volume/beam.h"
 #include "weft/volume/beam_checks.h"
 #include "weft/volume/provenance.h"
@@ -123,6 +125,40 @@ void init_measure(py::module_& m) {
       "'x', '-y', ...; direction: any non-zero vector (or 'dx,dy,dz').\n"
       "method: 'auto', 'streaming', 'per-ray', 'openvdb'. progress: callable(label, done, total).\n"
       "Unpacks as depths, T, stderr. Same numbers as `weft measure` for the same options.");
+
+  m.def(
+      "measure_fields_beam",
+      [](const py::object& fields, const vol::Grid& grid, const py::object& axis, const py::object& direction,
+         const std::optional<double>& sigma, const std::string& memory, int rays_per_column, bool jitter,
+         std::uint64_t seed, double depth_step, int column_stride, const py::object& progress) {
+        vol::BeamSpec spec;
+        spec.direction = direction_of(axis, direction);
+        vol::check_rays_per_column({spec.direction}, rays_per_column, jitter, FrontEnd::python);
+        if (column_stride < 1) fail("measure_fields_beam: column_stride must be >= 1, got {}", column_stride);
+        spec.rays_per_column = rays_per_column;
+        spec.jitter = jitter;
+        spec.seed = seed;
+        spec.depth_step = require_non_negative("measure_fields_beam: depth_step", depth_step);
+        spec.column_stride = column_stride;
+        const auto rule = transmittance::parse_memory_rule(memory);
+        if (!rule)
+          fail("measure_fields_beam: unknown memory rule '{}' (optical-depth, segment, renewal, carried)", memory);
+        // σ and the value kind as `weft measure --fields` takes them: the grid's.
+        const render::FieldsSpec f{path_arg(fields, "measure_fields_beam: fields"),
+                                   grid_sigma(grid, sigma, "measure_fields_beam").sigma,
+                                   vol::read_provenance(grid).value_kind == "extinction", *rule};
+        return run_released(progress, [&](ProgressSink& p) { return render::predict_fields_beam(f, grid, spec, p); });
+      },
+      py::arg("fields"), py::arg("grid"), py::arg("axis") = py::none(), py::kw_only(),
+      py::arg("direction") = py::none(), py::arg("sigma") = py::none(), py::arg("memory") = "optical-depth",
+      py::arg("rays_per_column") = 1, py::arg("jitter") = false, py::arg("seed") = 1, py::arg("depth_step") = 0.0,
+      py::arg("column_stride") = 1, py::arg("progress") = py::none(),
+      "measure_fields_beam(fields, grid, axis='z' | direction=(dx, dy, dz), sigma=None, memory='optical-depth', ...)\n"
+      "-> TransmittanceCurve\n\n"
+      "The beam measure_beam(grid, ...) traces, predicted from local-gamma fields of the grid (the path of\n"
+      "weft fit --block's local_fields.vdb, or of local_fields(grid, B).save(path)): every ray walked through\n"
+      "the coarse cells under the memory rule, as the render's local-gamma medium walks it; the same rays, depths\n"
+      "and sigma as measure_beam. Same numbers as `weft measure --fields`.");
 
   py::class_<fit::ConcentrationStats>(m, "ConcentrationStats", "Mean and variance of window-mean concentration.")
       .def(py::init<>())

@@ -280,3 +280,45 @@ def test_validate_does_not_depend_on_where_the_array_starts():
                 if a0["models"][name]["uses_ground_truth"]:
                     continue  # the least-squares reference is an iterative fit, not a prediction
                 assert a1["errors"][name]["rms_abs_T"] == pytest.approx(err["rms_abs_T"], rel=1e-9, abs=1e-12), name
+
+
+def test_fields_beam_identical_to_cli(tmp_path, run_cli, small_cloth):
+    """weft.measure_fields_beam is `weft measure --fields` number for number (same rays, depths,
+    sigma and memory rule), along an axis and an oblique direction."""
+    path = tmp_path / "cloth.vdb"
+    small_cloth.grid.save(path)
+    fields = tmp_path / "fields.vdb"
+    weft.local_fields(small_cloth.grid, 4).save(fields)
+    run_cli("measure", "--grid", path, "--direction", "z", "--direction", "0,0.6,0.8", "--fields", fields,
+            "--memory", "segment", "--out", tmp_path / "m")
+    with open(tmp_path / "m" / "fields.csv") as f:
+        rows = list(csv.DictReader(f))
+    fmt = lambda x: "%.10g" % x
+    grid = weft.load_grid(path)
+    for beam, direction in enumerate([(0, 0, 1), (0, 0.6, 0.8)]):
+        mine = [r for r in rows if r["beam"] == str(beam)]
+        curve = weft.measure_fields_beam(fields, grid, direction=direction, memory="segment")
+        truth = weft.measure_beam(grid, direction=direction)
+        assert [r["t"] for r in mine] == [fmt(x) for x in curve.depth]
+        assert [r["T_fields"] for r in mine] == [fmt(x) for x in curve.T]
+        assert [r["T_voxel"] for r in mine] == [fmt(x) for x in truth.T]
+        # A prediction, not the truth: the coarse law differs from the voxels somewhere.
+        assert np.max(np.abs(curve.T - truth.T)) > 0
+    report = json.loads((tmp_path / "m" / "measure.json").read_text())
+    assert report["fields"]["memory"] == "segment"
+    end = report["beams"][1]["fields"]
+    assert end["relative_difference_at_depth_max"] == pytest.approx(curve.T[-1] / truth.T[-1] - 1, rel=1e-6)
+
+
+@pytest.mark.parametrize("kwargs,words", [
+    ({"memory": "forever"}, "unknown memory rule 'forever'"),
+    ({"direction": (0, 0, 0)}, "direction"),
+    ({"depth_step": -1.0}, "depth_step"),
+])
+def test_fields_beam_bad_input(tmp_path, small_cloth, kwargs, words):
+    fields = tmp_path / "fields.vdb"
+    weft.local_fields(small_cloth.grid, 4).save(fields)
+    with pytest.raises(weft.Error, match=words):
+        weft.measure_fields_beam(fields, small_cloth.grid, **kwargs)
+    with pytest.raises(weft.Error, match="missing.vdb"):
+        weft.measure_fields_beam(tmp_path / "missing.vdb", small_cloth.grid)

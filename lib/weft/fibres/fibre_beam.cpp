@@ -7,6 +7,7 @@
 
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
+#include "weft/volume/curve_sums.h"
 #include "weft/volume/pass_budget.h"
 
 namespace weft::fibres {
@@ -31,13 +32,6 @@ bool clip_to_box(const Point3& o, const Point3& d, const volume::WorldBox& box, 
   }
   return t0 < t1;
 }
-
-/// Σ exp(−τ) and Σ exp(−2τ) per depth over one shard's rays.
-struct Sums {
-  std::vector<double> s1;
-  std::vector<double> s2;
-  std::uint64_t n = 0;
-};
 
 }  // namespace
 
@@ -95,27 +89,20 @@ volume::TransmittanceCurve measure_fibre_beam(const CapsuleIndex& fibres, const 
   const std::size_t K = L.depths.size();
   const auto units = static_cast<std::size_t>(L.na);
   const std::size_t shards = std::min(kShards, units);
-  std::vector<Sums> parts(shards);
+  std::vector<volume::CurveSums> parts(shards, volume::CurveSums(K));
   ProgressTask task(progress, "fibre beam " + volume::direction_label(L.d), units);
   parallel_units(shards, [&](std::size_t shard) {
-    Sums& sum = parts[shard];
-    sum.s1.assign(K, 0.0);
-    sum.s2.assign(K, 0.0);
+    volume::CurveSums& sum = parts[shard];
     std::vector<Interval> hits;
     std::vector<std::uint64_t> blocked(K + 1, 0);  // opaque: rays whose first entry lies before depth k
     const std::size_t begin = shard * units / shards;
     const std::size_t end = (shard + 1) * units / shards;
-    for (std::size_t i = begin; i < end; ++i) {
-      const auto ii = static_cast<std::int64_t>(i);
-      for (std::int64_t j = 0; j < L.nb; ++j) {
-        if (!L.keeps(ii, j)) continue;
-        volume::CellOffsets offsets = L.offsets(ii, j);
-        for (int r = 0; r < L.per_cell; ++r) {
-          const std::array<double, 2> off = offsets.next();
-          const Point3 o = L.ray_origin(ii, j, off[0], off[1]);
+    L.for_each_ray(
+        begin, end,
+        [&](const Point3& o, std::int64_t, std::int64_t, int) {
           double t_in = 0.0;
           double t_out = L.depths.back();
-          if (L.axis < 0 && !clip_to_box(o, L.d, box, t_in, t_out)) continue;
+          if (L.axis < 0 && !clip_to_box(o, L.d, box, t_in, t_out)) return;
           hits.clear();
           fibres.intersect(o, L.d, t_in, t_out, hits);
           ++sum.n;
@@ -126,7 +113,7 @@ volume::TransmittanceCurve measure_fibre_beam(const CapsuleIndex& fibres, const 
             const auto k =
                 static_cast<std::size_t>(std::upper_bound(L.depths.begin(), L.depths.end(), first) - L.depths.begin());
             ++blocked[k];
-            continue;
+            return;
           }
           // The union of the intervals (sorted by entry, overlaps merged), then τ at each depth.
           std::sort(hits.begin(), hits.end());
@@ -159,10 +146,8 @@ volume::TransmittanceCurve measure_fibre_beam(const CapsuleIndex& fibres, const 
             sum.s1[k] += e_prev;
             sum.s2[k] += e_prev * e_prev;
           }
-        }
-      }
-      task.step();
-    }
+        },
+        [&] { task.step(); });
     if (opaque) {
       // Rays whose first entry is at depth ≥ t_k (upper_bound index > k) still see T = 1 there.
       std::uint64_t through = sum.n;
@@ -173,37 +158,9 @@ volume::TransmittanceCurve measure_fibre_beam(const CapsuleIndex& fibres, const 
       }
     }
   });
-  Sums total;
-  total.s1.assign(K, 0.0);
-  total.s2.assign(K, 0.0);
-  for (const Sums& p : parts) {
-    if (p.n == 0) continue;
-    for (std::size_t k = 0; k < K; ++k) {
-      total.s1[k] += p.s1[k];
-      total.s2[k] += p.s2[k];
-    }
-    total.n += p.n;
-  }
-  if (total.n == 0) fail("fibre beam {}: no ray entered the box", volume::direction_label(L.d));
-  volume::TransmittanceCurve c;
-  c.depth = L.depths;
-  c.direction = L.d;
-  c.rays = total.n;
-  c.distinct_rays = total.n;
-  c.method = opaque ? "fibres (opaque)" : fmt::format("fibres (extinction {:.6g})", extinction);
-  c.log_t.assign(K, 0.0);
-  c.rel_stderr.assign(K, 0.0);
-  const auto n = static_cast<double>(total.n);
-  for (std::size_t k = 0; k < K; ++k) {
-    if (!(total.s1[k] > 0.0)) {
-      c.log_t[k] = -std::numeric_limits<double>::infinity();
-      continue;
-    }
-    c.log_t[k] = std::log(total.s1[k] / n);
-    const double rel_var = std::max(0.0, n * total.s2[k] / (total.s1[k] * total.s1[k]) - 1.0);
-    c.rel_stderr[k] = total.n > 1 ? std::sqrt(rel_var / (n - 1.0)) : 0.0;
-  }
-  return c;
+  return volume::curve_of_sums(parts, L.depths, L.d,
+                               opaque ? "fibres (opaque)" : fmt::format("fibres (extinction {:.6g})", extinction),
+                               "fibre beam " + volume::direction_label(L.d));
 }
 
 }  // namespace weft::fibres

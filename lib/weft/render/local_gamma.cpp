@@ -125,6 +125,25 @@ double LocalGammaField::transmittance(const volume::Ray& ray, double t0, double 
   return ended ? 0.0 : roulette.estimate(hazard.hazard());
 }
 
+void LocalGammaField::log_transmittance_profile(const volume::Ray& ray, double t0, std::span<const double> ends,
+                                                std::span<double> out, transmittance::Origin origin) {
+  if (out.size() != ends.size()) fail("local-gamma profile: {} outputs for {} ends", out.size(), ends.size());
+  const std::size_t n = ends.size();
+  std::size_t k = 0;
+  transmittance::GammaHazard hazard(memory_, origin);
+  if (n > 0 && ends[n - 1] > t0) {
+    // Pieces come in order and vacuum is skipped: an end before a piece has the hazard so far,
+    // an end inside it the hazard so far plus the part of the piece up to it.
+    walk(ray, t0, ends[n - 1], hazard, [&](double a, double b) {
+      for (; k < n && ends[k] - t0 <= a; ++k) out[k] = -hazard.hazard();
+      for (; k < n && ends[k] - t0 < b; ++k) out[k] = -(hazard.hazard() + hazard.piece(a, ends[k] - t0));
+      hazard.advance(a, b);
+      return k < n;
+    });
+  }
+  for (; k < n; ++k) out[k] = -hazard.hazard();
+}
+
 double LocalGammaField::sample_distance(const volume::Ray& ray, double t0, double t1, double h,
                                         transmittance::Origin origin) {
   transmittance::GammaHazard hazard(memory_, origin);

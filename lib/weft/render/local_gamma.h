@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "weft/core/rng.h"
@@ -62,6 +63,11 @@ class LocalGammaField {
   /// T_Q for segments from a source or surface, T_S for segments from a scattering event.
   [[nodiscard]] double log_transmittance(const volume::Ray& ray, double t0, double t1,
                                          transmittance::Origin origin = transmittance::Origin::source);
+  /// log T over [t0, ends[k]] for every k, from one walk (a beam's depth profile): `ends` are
+  /// ray parameters in increasing order; an end at or before t0 gives 0. Each is what
+  /// log_transmittance(ray, t0, ends[k], origin) gives, up to the rounding of the sum's order.
+  void log_transmittance_profile(const volume::Ray& ray, double t0, std::span<const double> ends, std::span<double> out,
+                                 transmittance::Origin origin = transmittance::Origin::source);
   /// T = e^{−H} over [t0, t1] for a shadow ray, the walk ended early by volume::ShadowRoulette
   /// once T is small: an unbiased estimate, exact while T stays above ShadowRoulette::kBelow.
   [[nodiscard]] double transmittance(const volume::Ray& ray, double t0, double t1, transmittance::Origin origin,

@@ -96,6 +96,24 @@ struct BeamLattice {
   [[nodiscard]] bool keeps(std::int64_t i, std::int64_t j) const;
   /// The in-cell offsets of the per_cell rays of cell (i, j), one at a time (CellOffsets).
   [[nodiscard]] CellOffsets offsets(std::int64_t i, std::int64_t j) const;
+  /// Calls ray(origin, i, j, r) for every kept ray of the cell rows [row_begin, row_end), in the
+  /// beam's fixed order with each cell's own offsets, and row_done() after each row: the walk a
+  /// shard of a beam makes whatever it traces the rays through.
+  template <typename RayFn, typename RowFn>
+  void for_each_ray(std::size_t row_begin, std::size_t row_end, RayFn&& ray, RowFn&& row_done) const {
+    for (std::size_t row = row_begin; row < row_end; ++row) {
+      const auto i = static_cast<std::int64_t>(row);
+      for (std::int64_t j = 0; j < nb; ++j) {
+        if (!keeps(i, j)) continue;
+        CellOffsets cell = offsets(i, j);
+        for (int r = 0; r < per_cell; ++r) {
+          const std::array<double, 2> off = cell.next();
+          ray(ray_origin(i, j, off[0], off[1]), i, j, r);
+        }
+      }
+      row_done();
+    }
+  }
   /// The index of the cell (i, j)'s ray r in the beam's fixed ray order.
   [[nodiscard]] std::uint64_t ray_index(std::int64_t i, std::int64_t j, int r) const {
     return (static_cast<std::uint64_t>(i) * static_cast<std::uint64_t>(nb) + static_cast<std::uint64_t>(j)) *

@@ -1,0 +1,181 @@
+#include "weft/render/local_gamma_beam.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "error_matchers.h"
+#include "weft/core/parallel.h"
+#include "weft/core/rng.h"
+#include "weft/fit/local_fields.h"
+#include "weft/render/local_gamma.h"
+#include "weft/volume/grid.h"
+
+namespace weft::render {
+namespace {
+
+namespace fs = std::filesystem;
+using transmittance::MemoryRule;
+
+/// A box of nx × ny × nz voxels of width h from index `lo`, each value from `value(i, j, k)`
+/// (local indices).
+template <typename F>
+volume::Grid box_grid(double h, std::array<int, 3> lo, std::array<int, 3> n, F&& value) {
+  volume::Grid g(h, "density");
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i) g.set_value(lo[0] + i, lo[1] + j, lo[2] + k, value(i, j, k));
+  return g;
+}
+
+/// A fibre-like random field: about half the voxels empty, the rest uniform in (0, 1].
+volume::Grid random_grid(std::array<int, 3> lo, std::uint64_t seed) {
+  Pcg32 rng(seed);
+  return box_grid(0.05, lo, {20, 16, 12}, [&](int, int, int) {
+    const double u = rng.uniform();
+    return u < 0.5 ? 0.0f : static_cast<float>(rng.uniform() * 0.999 + 0.001);
+  });
+}
+
+fs::path write_fields_of(const volume::Grid& g, int block, const std::string& name) {
+  fs::path path = fs::temp_directory_path() / ("weft_fields_beam_" + name + ".vdb");
+  fit::save_local_fields(fit::local_fields(g, block), path, fit::FieldChannels::render);
+  return path;
+}
+
+volume::BeamSpec beam(std::array<double, 3> d, int rays = 1) {
+  volume::BeamSpec s;
+  s.direction = d;
+  s.rays_per_column = rays;
+  s.jitter = rays > 1;
+  s.seed = 7;
+  return s;
+}
+
+const std::array<std::array<double, 3>, 4> kDirections{{{0, 0, 1}, {0, 0, -1}, {0.3, -0.5, 0.8}, {0, 1, 1}}};
+
+// A uniform box whose blocks are whole is a field of one mean and zero variance: its law is the
+// exponential of the same extinction, so along every ray of any beam the prediction is the voxel
+// beam's T itself, depth by depth (the same rays, entries and depth grid).
+TEST(FieldsBeam, UniformBoxIsTheVoxelBeamAlongAnyDirection) {
+  const double c = 0.3, sigma = 20.0;
+  const volume::Grid g = box_grid(0.1, {-8, 4, 12}, {16, 12, 8}, [&](int, int, int) { return static_cast<float>(c); });
+  const fs::path f = write_fields_of(g, 4, "uniform");
+  for (const auto& d : kDirections) {
+    volume::BeamSpec spec = beam(d, 3);
+    spec.scale = sigma;
+    const volume::TransmittanceCurve truth = volume::measure_beam(g, spec);
+    for (const MemoryRule rule : transmittance::kMemoryRules) {
+      const volume::TransmittanceCurve p = predict_fields_beam({f, sigma, false, rule}, g, spec);
+      ASSERT_EQ(p.size(), truth.size());
+      for (std::size_t k = 0; k < p.size(); ++k) {
+        EXPECT_NEAR(p.log_t[k], truth.log_t[k], 1e-9 * (1.0 + std::abs(truth.log_t[k])))
+            << volume::direction_label(d) << " depth " << p.depth[k];
+      }
+      EXPECT_LT(p.transmittance(p.size() - 1), 0.9) << "the beam crosses the box";
+    }
+  }
+}
+
+// One walk for every depth gives what one walk per depth gives, under every rule and from both
+// origins, through a field with vacuum, jumps and zero variances.
+TEST(FieldsBeam, ProfileOfOneWalkIsTheWalkToEachEnd) {
+  const fs::path f = write_fields_of(random_grid({0, 0, 0}, 3), 4, "profile");
+  Pcg32 rng(11);
+  for (const MemoryRule rule : transmittance::kMemoryRules) {
+    LocalGammaField field(f, 30.0, rule);
+    for (int n = 0; n < 60; ++n) {
+      const std::array<double, 3> o{rng.uniform() * 1.0, rng.uniform() * 0.8, -0.2};
+      std::array<double, 3> d{rng.uniform() - 0.5, rng.uniform() - 0.5, 0.6 + rng.uniform()};
+      const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      for (double& x : d) x /= len;
+      const volume::Ray ray{o, d};
+      std::vector<double> ends;
+      for (double t = -0.05; t < 1.2; t += 0.037) ends.push_back(t);
+      for (const auto origin : {transmittance::Origin::source, transmittance::Origin::scatterer}) {
+        std::vector<double> out(ends.size());
+        field.log_transmittance_profile(ray, 0.0, ends, out, origin);
+        for (std::size_t k = 0; k < ends.size(); ++k) {
+          const double one = ends[k] > 0.0 ? field.log_transmittance(ray, 0.0, ends[k], origin) : 0.0;
+          EXPECT_NEAR(out[k], one, 1e-12 * (1.0 + std::abs(one))) << "end " << ends[k];
+        }
+      }
+    }
+  }
+}
+
+TEST(FieldsBeam, SameBytesForAnyThreadCount) {
+  const volume::Grid g = random_grid({0, 0, 0}, 5);
+  const fs::path f = write_fields_of(g, 4, "threads");
+  const volume::BeamSpec spec = beam({0.3, -0.5, 0.8}, 2);
+  volume::TransmittanceCurve one;
+  volume::TransmittanceCurve two;
+  {
+    const ThreadLimit limit(1);
+    one = predict_fields_beam({f, 30.0}, g, spec);
+  }
+  {
+    const ThreadLimit limit(2);
+    two = predict_fields_beam({f, 30.0}, g, spec);
+  }
+  EXPECT_EQ(one.log_t, two.log_t);
+  EXPECT_EQ(one.rel_stderr, two.rel_stderr);
+  EXPECT_EQ(one.rays, two.rays);
+}
+
+// The blocks are anchored to the cloth (volume/block_lattice.h), so the same voxels at another
+// index origin give the same fields and the same prediction.
+TEST(FieldsBeam, TranslatedGridGivesTheSamePrediction) {
+  const volume::Grid a = random_grid({0, 0, 0}, 9);
+  const volume::Grid b = random_grid({37, -1029, 5}, 9);
+  const fs::path fa = write_fields_of(a, 4, "at_zero");
+  const fs::path fb = write_fields_of(b, 4, "moved");
+  for (const auto& d : kDirections) {
+    const volume::TransmittanceCurve pa = predict_fields_beam({fa, 30.0}, a, beam(d));
+    const volume::TransmittanceCurve pb = predict_fields_beam({fb, 30.0}, b, beam(d));
+    ASSERT_EQ(pa.size(), pb.size());
+    EXPECT_EQ(pa.rays, pb.rays);
+    for (std::size_t k = 0; k < pa.size(); ++k) EXPECT_NEAR(pa.log_t[k], pb.log_t[k], 1e-9) << k;
+  }
+}
+
+TEST(FieldsBeam, FieldsNotOnTheGridAreRefused) {
+  const volume::Grid g = random_grid({0, 0, 0}, 13);
+  const fs::path f = write_fields_of(g, 4, "own");
+  // Other voxels: cells of 1.5 voxels of a grid of 0.1/3.
+  const volume::Grid fine = box_grid(0.05 * 4 / 1.5, {0, 0, 0}, {4, 4, 4}, [](int, int, int) { return 0.5f; });
+  EXPECT_THAT(
+      [&] {
+        (void)predict_fields_beam({f, 30.0}, fine, beam({0, 0, 1}));
+      },
+      test::throws_one_line_error_with({"not a whole number of grid 'density''s voxels"}));
+  // Half a voxel off.
+  volume::Grid shifted = random_grid({0, 0, 0}, 13);
+  shifted.set_origin({0.025, 0.0, 0.0});
+  EXPECT_THAT(
+      [&] {
+        (void)predict_fields_beam({f, 30.0}, shifted, beam({0, 0, 1}));
+      },
+      test::throws_one_line_error_with({"not on grid 'density''s voxel corners"}));
+  // Elsewhere.
+  const volume::Grid far = random_grid({400, 0, 0}, 13);
+  EXPECT_THAT(
+      [&] {
+        (void)predict_fields_beam({f, 30.0}, far, beam({0, 0, 1}));
+      },
+      test::throws_one_line_error_with({"do not overlap grid 'density'"}));
+  // The medium's own checks, naming the file.
+  EXPECT_THAT(
+      [&] {
+        (void)predict_fields_beam({fs::temp_directory_path() / "no_such_fields.vdb", 30.0}, g, beam({0, 0, 1}));
+      },
+      test::throws_one_line_error_with({"no_such_fields.vdb"}));
+}
+
+}  // namespace
+}  // namespace weft::render
