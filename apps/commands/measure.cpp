@@ -50,6 +50,7 @@ struct MeasureOptions {
   std::string voxel_rule = "linear";
   std::string fields;
   std::string memory = "optical-depth";
+  bool full_chords = false;
 };
 
 std::string num(double x) { return std::isfinite(x) ? fmt::format("{:.10g}", x) : (x < 0 ? "-inf" : "inf"); }
@@ -104,6 +105,11 @@ const Registrar kMeasure{Command{
                      "How concentration becomes extinction in the voxel beams: linear (sigma C) | opaque "
                      "(-max(sigma, 1/h) ln(1 - C), docs/validate.md)")
           ->capture_default_str();
+      sub.add_flag("--full-chords", o->full_chords,
+                   "Oblique beams: trace only the rays that cross the grid's box from face to opposite face "
+                   "(the whole depth), not those entering or leaving through a side, whose short chords dilute "
+                   "a comparison (--fibres, --fields) with T near 1 (docs/validate.md \"Fields along any "
+                   "direction\")");
       sub.add_option("--fields", o->fields,
                      "Also predict every beam from local-gamma fields of this grid (weft fit --block B's "
                      "local_fields.vdb), along the same rays, as the render's local-gamma medium walks them: "
@@ -133,6 +139,10 @@ const Registrar kMeasure{Command{
               [](const std::array<double, 3>& d) { return volume::unit_direction(d, "beam"); });
         });
         const auto method = as_usage([&] { return volume::parse_beam_method(o->method); });
+        // An axis beam's rays all cross the whole box: the flag would change nothing.
+        if (o->full_chords &&
+            std::all_of(dirs.begin(), dirs.end(), [](const auto& d) { return volume::beam_axis(d) >= 0; }))
+          usage_fail("--full-chords changes oblique beams only, and every --direction is an axis");
         const std::array<double, 3> scatterer_direction =
             o->scatterer_direction.empty() ? std::array<double, 3>{0.0, 0.0, 1.0}
                                            : as_usage([&] { return volume::parse_direction(o->scatterer_direction); });
@@ -163,6 +173,7 @@ const Registrar kMeasure{Command{
           fs.depth_step = o->depth_step;
           fs.rays_per_column = o->fibre_rays;
           fs.jitter = o->fibre_rays > 1;
+          fs.full_chords = o->full_chords;
           return fs;
         };
         if (o->fibres) {
@@ -186,6 +197,7 @@ const Registrar kMeasure{Command{
             fs.rays_per_column = o->rays;
             fs.jitter = o->jitter;
             fs.depth_step = o->depth_step;
+            fs.full_chords = o->full_chords;
             render::check_fields_beam(grid, fs);
           }
         }
@@ -215,6 +227,7 @@ const Registrar kMeasure{Command{
           spec.seed = o->seed;
           spec.depth_step = o->depth_step;
           spec.method = method;
+          spec.full_chords = o->full_chords;
           const auto t0 = std::chrono::steady_clock::now();
           const auto curve = volume::measure_beam(grid, spec, ctx.progress);
           const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -300,6 +313,7 @@ const Registrar kMeasure{Command{
             {"voxel_size", grid.voxel_size()},
             {"active_voxels", grid.active_voxel_count()},
             {"seed", o->seed},
+            {"full_chords", o->full_chords},
             {"beams", beams},
             {"scatterer", scatterer}};
         const fs::path out = o->out;

@@ -87,9 +87,10 @@ void init_fibres(py::module_& m) {
       "measure_fibre_beam",
       [](const PyFibres& fibres, const py::object& grid, const py::object& direction, const py::object& box,
          double cell, int rays_per_cell, std::uint64_t seed, double depth_step, const py::object& extinction,
-         const py::object& progress) {
+         bool full_chords, const py::object& progress) {
         vol::BeamSpec spec;
         spec.direction = direction_arg(direction);
+        spec.full_chords = full_chords;
         if (rays_per_cell < 1) fail("measure_fibre_beam: rays_per_cell must be >= 1, got {}", rays_per_cell);
         spec.rays_per_column = rays_per_cell;
         spec.jitter = rays_per_cell > 1;
@@ -118,9 +119,10 @@ void init_fibres(py::module_& m) {
       },
       py::arg("fibres"), py::arg("grid") = py::none(), py::kw_only(), py::arg("direction") = "z",
       py::arg("box") = py::none(), py::arg("cell") = 0.0, py::arg("rays_per_cell") = 1, py::arg("seed") = 1,
-      py::arg("depth_step") = 0.0, py::arg("extinction") = py::none(), py::arg("progress") = py::none(),
+      py::arg("depth_step") = 0.0, py::arg("extinction") = py::none(), py::arg("full_chords") = false,
+      py::arg("progress") = py::none(),
       "measure_fibre_beam(fibres, grid=None, direction='z', box=None, cell=0, rays_per_cell=1, seed=1,\n"
-      "                   depth_step=0, extinction=None) -> TransmittanceCurve\n\n"
+      "                   depth_step=0, extinction=None, full_chords=False) -> TransmittanceCurve\n\n"
       "T_fibre(t): the beam's rays intersected exactly with the fibres (docs/validate.md). With a grid:\n"
       "the rays of measure_beam on that grid (its active box, one cell per voxel). Without: box\n"
       "((lo), (hi)) or the fibres' bounds, cells of width `cell`. Fibres of a grid (Fibres.of_grid) take\n"

@@ -99,9 +99,10 @@ void init_measure(py::module_& m) {
       "measure_beam",
       [](const vol::Grid& grid, const py::object& axis, const py::object& direction, const std::optional<double>& sigma,
          int rays_per_column, bool jitter, std::uint64_t seed, double depth_step, const std::string& method,
-         int column_stride, const py::object& progress) {
+         int column_stride, bool full_chords, const py::object& progress) {
         vol::BeamSpec spec;
         spec.direction = direction_of(axis, direction);
+        spec.full_chords = full_chords;
         // The CLI's rule (weft measure), in Python's words.
         vol::check_rays_per_column({spec.direction}, rays_per_column, jitter, FrontEnd::python);
         // σ as `weft measure` picks it: sigma=, else the grid's provenance, never a silent 1.
@@ -118,21 +119,23 @@ void init_measure(py::module_& m) {
       py::arg("grid"), py::arg("axis") = py::none(), py::kw_only(), py::arg("direction") = py::none(),
       py::arg("sigma") = py::none(), py::arg("rays_per_column") = 1, py::arg("jitter") = false, py::arg("seed") = 1,
       py::arg("depth_step") = 0.0, py::arg("method") = "auto", py::arg("column_stride") = 1,
-      py::arg("progress") = py::none(),
+      py::arg("full_chords") = false, py::arg("progress") = py::none(),
       "measure_beam(grid, axis='z' | direction=(dx, dy, dz), sigma=None, ...) -> TransmittanceCurve\n\n"
       "Ground-truth transmittance of a beam of parallel rays through the grid's active box by DDA\n"
       "(mu = sigma * value; sigma None: the grid's provenance, 1 for extinction values, else an error). axis: 0/1/2 or "
       "'x', '-y', ...; direction: any non-zero vector (or 'dx,dy,dz').\n"
-      "method: 'auto', 'streaming', 'per-ray', 'openvdb'. progress: callable(label, done, total).\n"
+      "method: 'auto', 'streaming', 'per-ray', 'openvdb'. full_chords: oblique beams keep only the rays crossing the\n"
+      "box face to face (--full-chords). progress: callable(label, done, total).\n"
       "Unpacks as depths, T, stderr. Same numbers as `weft measure` for the same options.");
 
   m.def(
       "measure_fields_beam",
       [](const py::object& fields, const vol::Grid& grid, const py::object& axis, const py::object& direction,
          const std::optional<double>& sigma, const std::string& memory, int rays_per_column, bool jitter,
-         std::uint64_t seed, double depth_step, int column_stride, const py::object& progress) {
+         std::uint64_t seed, double depth_step, int column_stride, bool full_chords, const py::object& progress) {
         vol::BeamSpec spec;
         spec.direction = direction_of(axis, direction);
+        spec.full_chords = full_chords;
         vol::check_rays_per_column({spec.direction}, rays_per_column, jitter, FrontEnd::python);
         if (column_stride < 1) fail("measure_fields_beam: column_stride must be >= 1, got {}", column_stride);
         spec.rays_per_column = rays_per_column;
@@ -152,7 +155,7 @@ void init_measure(py::module_& m) {
       py::arg("fields"), py::arg("grid"), py::arg("axis") = py::none(), py::kw_only(),
       py::arg("direction") = py::none(), py::arg("sigma") = py::none(), py::arg("memory") = "optical-depth",
       py::arg("rays_per_column") = 1, py::arg("jitter") = false, py::arg("seed") = 1, py::arg("depth_step") = 0.0,
-      py::arg("column_stride") = 1, py::arg("progress") = py::none(),
+      py::arg("column_stride") = 1, py::arg("full_chords") = false, py::arg("progress") = py::none(),
       "measure_fields_beam(fields, grid, axis='z' | direction=(dx, dy, dz), sigma=None, memory='optical-depth', ...)\n"
       "-> TransmittanceCurve\n\n"
       "The beam measure_beam(grid, ...) traces, predicted from local-gamma fields of the grid (the path of\n"

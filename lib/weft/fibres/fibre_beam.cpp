@@ -102,7 +102,7 @@ volume::TransmittanceCurve measure_fibre_beam(const CapsuleIndex& fibres, const 
         [&](const Point3& o, std::int64_t, std::int64_t, int) {
           double t_in = 0.0;
           double t_out = L.depths.back();
-          if (L.axis < 0 && !clip_to_box(o, L.d, box, t_in, t_out)) return;
+          if (L.axis < 0 && !(clip_to_box(o, L.d, box, t_in, t_out) && L.traces_chord(t_in, t_out))) return;
           hits.clear();
           fibres.intersect(o, L.d, t_in, t_out, hits);
           ++sum.n;

@@ -114,7 +114,7 @@ volume::TransmittanceCurve predict_fields_beam(const FieldsSpec& fields, const v
           // grid's active box, an axis ray on the box's entry face.
           if (L.axis < 0) {
             const volume::BoxHit hit = fine.intersect_active_box(ray, 0.0);
-            if (!hit.hit) return;
+            if (!hit.hit || !L.traces_chord(hit.t_enter, hit.t_exit)) return;
             for (int c = 0; c < 3; ++c) ray.origin[c] += hit.t_enter * ray.direction[c];
           }
           // The memory starts at the medium's boundary, where a flight through it would start.

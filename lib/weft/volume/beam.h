@@ -46,6 +46,12 @@ struct BeamSpec {
   /// Depth spacing (world units); 0 means one voxel.
   double depth_step = 0.0;
   BeamMethod method = BeamMethod::automatic;
+  /// Oblique beams: keep only the rays whose chord through the box is the whole depth grid (a
+  /// slab's rays that enter one face and leave the opposite one), not the rays that enter or leave
+  /// through a side and see a shorter chord. Those mix T ≈ 1 into the mean and dilute every
+  /// comparison of two media along the beam (docs/validate.md "Fields along any direction"). Axis
+  /// beams cross the whole box anyway.
+  bool full_chords = false;
   /// Keeps one lattice cell (column) per stride × stride block of cells, at an offset drawn
   /// per block from `seed`: 1/stride² of the rays, a cheaper and noisier ground truth. 1 = all.
   int column_stride = 1;

@@ -202,7 +202,7 @@ void trace_rays(const Grid& grid, const Lattice& L, double scale, bool use_openv
           Ray ray{L.ray_origin(ii, j, off[0], off[1]), L.d};
           if (L.axis < 0) {
             const BoxHit hit = tracer.intersect_active_box(ray, 0.0);
-            if (!hit.hit) continue;
+            if (!hit.hit || !L.traces_chord(hit.t_enter, hit.t_exit)) continue;
             for (int c = 0; c < 3; ++c) ray.origin[c] += hit.t_enter * ray.direction[c];
           }
           ProfileBuilder pb{L.depths, tau.data()};

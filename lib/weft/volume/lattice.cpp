@@ -139,6 +139,7 @@ BeamLattice make_beam_lattice(const WorldBox& box, double h, const BeamSpec& spe
   L.jitter = spec.jitter || spec.rays_per_column > 1;
   L.seed = spec.seed;
   L.stride = spec.column_stride;
+  L.full_chords = spec.full_chords && L.axis < 0;
   const Vec3& lo = box.lo;
   const Vec3& hi = box.hi;
   const double step = spec.depth_step > 0.0 ? spec.depth_step : L.h;

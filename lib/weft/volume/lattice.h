@@ -79,6 +79,7 @@ struct BeamLattice {
   bool jitter = false;
   std::uint64_t seed = 1;
   std::int64_t stride = 1;      ///< BeamSpec::column_stride
+  bool full_chords = false;     ///< BeamSpec::full_chords
   double h = 1.0;               ///< cell width
   double depth_length = 0.0;    ///< the depth grid's end: the box's depth (axis) or shortest chord (oblique)
   double depth_step = 1.0;      ///< its spacing
@@ -113,6 +114,11 @@ struct BeamLattice {
       }
       row_done();
     }
+  }
+  /// Whether a ray whose chord through the box is [t_enter, t_exit] is traced: always, unless
+  /// full_chords asks for chords as long as the depth grid (to rounding).
+  [[nodiscard]] bool traces_chord(double t_enter, double t_exit) const {
+    return !full_chords || t_exit - t_enter >= depth_length * (1.0 - 1e-9);
   }
   /// The index of the cell (i, j)'s ray r in the beam's fixed ray order.
   [[nodiscard]] std::uint64_t ray_index(std::int64_t i, std::int64_t j, int r) const {

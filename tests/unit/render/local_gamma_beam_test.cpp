@@ -179,3 +179,38 @@ TEST(FieldsBeam, FieldsNotOnTheGridAreRefused) {
 
 }  // namespace
 }  // namespace weft::render
+
+namespace weft::render {
+namespace {
+
+// A uniform slab crossed obliquely: the rays that cross it face to face all have T = e^{−μ·depth}
+// at the last depth, the ones through its sides more. full_chords keeps exactly the former, in the
+// voxel beam and in the fields' prediction alike.
+TEST(FieldsBeam, FullChordsKeepTheRaysThatCrossTheSlabFaceToFace) {
+  const double c = 0.5, sigma = 10.0;
+  const volume::Grid g = box_grid(0.1, {0, 0, 0}, {24, 24, 4}, [&](int, int, int) { return static_cast<float>(c); });
+  const fs::path f = write_fields_of(g, 4, "slab");
+  volume::BeamSpec spec = beam({0.0, 0.6, 0.8}, 2);
+  spec.scale = sigma;
+  const volume::TransmittanceCurve all = volume::measure_beam(g, spec);
+  spec.full_chords = true;
+  const volume::TransmittanceCurve face = volume::measure_beam(g, spec);
+  const volume::TransmittanceCurve pred = predict_fields_beam({f, sigma}, g, spec);
+  const std::size_t last = face.size() - 1;
+  const double depth = face.depth[last];
+  EXPECT_NEAR(depth, 0.4 / 0.8, 1e-12);
+  EXPECT_NEAR(face.log_t[last], -sigma * c * depth, 1e-9);
+  EXPECT_NEAR(pred.log_t[last], -sigma * c * depth, 1e-9);
+  EXPECT_EQ(pred.rays, face.rays);
+  EXPECT_LT(face.rays, all.rays);
+  EXPECT_GT(all.transmittance(last), 1.05 * face.transmittance(last)) << "side rays raise the mean";
+  // An axis beam crosses the whole box anyway: the same curve either way.
+  volume::BeamSpec axis = beam({0.0, 0.0, 1.0});
+  axis.scale = sigma;
+  const volume::TransmittanceCurve a0 = volume::measure_beam(g, axis);
+  axis.full_chords = true;
+  EXPECT_EQ(volume::measure_beam(g, axis).log_t, a0.log_t);
+}
+
+}  // namespace
+}  // namespace weft::render
