@@ -1,12 +1,14 @@
 // `weft export`: a grid plus ready scenes for Mitsuba 3 (.xml + .vol) and pbrt-v4 (.pbrt + .nvdb).
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include <fmt/format.h>
 
 #include "command.h"
 #include "grid_input.h"
+#include "interrupt.h"
 #include "usage.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
@@ -84,30 +86,49 @@ int run(const ExportOptions& o, const Context& ctx) {
   medium.units = loaded.provenance.units;
   volume::validate(medium, view);  // σ from the grid's provenance
   const volume::WorldBox world = volume::world_box(grid, box);
+  const std::string grid_label = fmt::format("{}: grid '{}'", o.input.grid, grid.name());
+  if (mitsuba) volume::check_float_resolution(grid, box, volume::ExportFormat::mitsuba, grid_label);
+  if (pbrt) volume::check_float_resolution(grid, box, volume::ExportFormat::pbrt, grid_label);
   const std::uint64_t budget = memory_budget_bytes("--max-memory-mb", o.max_memory_mb);
-  if (mitsuba) volume::check_mitsuba_vol(box, fs::path(o.out) / "mitsuba" / "cloth.vol", budget);
+  const fs::path out(o.out);
+  const fs::path vol_path = out / "mitsuba" / "cloth.vol";
+  const fs::path nvdb_path = out / "pbrt" / "cloth.nvdb";
+  if (mitsuba) volume::check_mitsuba_vol(box, vol_path, budget);
   const std::string xml = mitsuba ? volume::mitsuba_scene_xml(world, "cloth.vol", medium, view) : std::string();
   const std::string pbrt_text = pbrt ? volume::pbrt_scene(world, "cloth.nvdb", medium, view) : std::string();
-  const fs::path out(o.out);
-  ensure_directory(out);
+
+  // Everything is computed before the first folder is made, reporting progress, so a Ctrl-C
+  // stops it there (docs/architecture.md "Progress and cancellation") and leaves nothing.
+  // NanoVDB first: its conversion's temporary copy of the grid is gone before the dense array is made.
+  std::optional<volume::NanoVdbGrid> nvdb;
+  if (pbrt) nvdb.emplace(grid, nvdb_path, ctx.progress);
+  std::optional<volume::MitsubaVolume> vol;
+  if (mitsuba) vol = volume::mitsuba_volume(grid, box, vol_path, budget, ctx.progress);
+
+  // The files appear together or not at all: a Ctrl-C (or a failed write) between two of them
+  // removes what this run added (docs/robustness.md "Output folders of failed runs").
+  FolderRollback written(out);
   WrittenFiles files;
   if (mitsuba) {
-    const fs::path dir = out / "mitsuba";
-    ensure_directory(dir);
-    volume::write_mitsuba_vol(grid, box, dir / "cloth.vol", budget);
-    files.add(dir / "cloth.vol", "Mitsuba 3 dense grid");
-    write_text_atomically(dir / "cloth.xml", xml);
-    files.add(dir / "cloth.xml", "Mitsuba 3 scene");
+    stop_if_interrupted();  // no progress is reported while files are written
+    ensure_directory(vol_path.parent_path());
+    volume::write_mitsuba_vol(*vol, vol_path);
+    vol.reset();
+    files.add(vol_path, "Mitsuba 3 dense grid");
+    write_text_atomically(out / "mitsuba" / "cloth.xml", xml);
+    files.add(out / "mitsuba" / "cloth.xml", "Mitsuba 3 scene");
   }
   if (pbrt) {
-    const fs::path dir = out / "pbrt";
-    ensure_directory(dir);
-    volume::write_nanovdb(grid, dir / "cloth.nvdb");
-    files.add(dir / "cloth.nvdb", "pbrt-v4 NanoVDB grid");
-    write_text_atomically(dir / "cloth.pbrt", pbrt_text);
+    stop_if_interrupted();
+    ensure_directory(nvdb_path.parent_path());
+    nvdb->write();
+    files.add(nvdb_path, "pbrt-v4 NanoVDB grid");
+    write_text_atomically(out / "pbrt" / "cloth.pbrt", pbrt_text);
     // pbrt-v4's medium is not weft's (docs/export.md): said where the file is listed.
-    files.add(dir / "cloth.pbrt", "pbrt-v4 scene; " + volume::pbrt_interpolation_note());
+    files.add(out / "pbrt" / "cloth.pbrt", "pbrt-v4 scene; " + volume::pbrt_interpolation_note());
   }
+  stop_if_interrupted();
+  written.keep();
   files.say(ctx);
   ctx.say(fmt::format("sigma = {:.6g} per unit {} ({}), albedo {}, g {}", medium.sigma,
                       o.input.extinction() ? "extinction value" : "concentration", loaded.sigma.source, o.albedo, o.g));

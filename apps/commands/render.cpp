@@ -20,6 +20,7 @@
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 #include "weft/core/parse_number.h"
+#include "weft/core/paths.h"
 #include "weft/dist/distributed.h"
 #include "weft/fit/scale.h"
 #include "weft/render/builtin_scenes.h"
@@ -92,22 +93,26 @@ fs::path default_cloth_grid(const Context& ctx) {
   return vdb;
 }
 
-/// `--out DIR` writes <DIR>/<scene>.exr; `-o` names the EXR or the PNG; the other is written beside
-/// it with the other extension. Anything else is refused rather than silently renamed.
+/// `--out DIR` writes <DIR>/<scene>.exr; `-o` names the EXR or the PNG (in any case: X.EXR is an
+/// EXR, written under that name); the other is written beside it with the other extension. Anything
+/// else is refused rather than silently renamed.
 void output_paths(const RenderCliOptions& o, const std::string& label, fs::path& exr, fs::path& png) {
   const std::string& output = o.output;
   const fs::path given = !o.out_dir.empty() ? fs::path(o.out_dir) / (label + ".exr")
                          : output.empty()   ? fs::path(label + ".exr")
                                             : fs::path(output);
-  const std::string ext = given.extension().string();
+  const std::string ext = lower_extension(given);
   if (ext != ".exr" && ext != ".png")
     usage_fail(
-        "-o: '{}' must end in .exr or .png (both are written, the other one beside it; --out DIR names a folder)",
+        "-o: '{}' must end in .exr or .png, in any case (both are written, the other one beside it; --out DIR names "
+        "a folder)",
         output);
   exr = given;
-  exr.replace_extension(".exr");
   png = given;
-  png.replace_extension(".png");
+  if (ext == ".exr")
+    png.replace_extension(".png");
+  else
+    exr.replace_extension(".exr");
 }
 
 fs::path beside(const fs::path& exr, const std::string& suffix) {

@@ -34,11 +34,9 @@ py::array_t<float> to_numpy(const vol::Grid& grid, const std::optional<Box>& box
   // A given limit is finite and > 0, as `weft export --max-memory-mb` and `weft gen --max-memory`.
   const std::uint64_t limit = memory_budget_bytes(
       "to_numpy: max_memory_mb", max_memory_mb ? require_positive("to_numpy: max_memory_mb", *max_memory_mb) : 0.0);
-  std::vector<float> values;
-  {
-    py::gil_scoped_release release;
-    values = vol::to_dense(grid, b, limit);
-  }
+  // Ctrl-C raises KeyboardInterrupt at the copy's next report (docs/python.md "Interrupting a call").
+  std::vector<float> values =
+      run_released(py::none(), [&](ProgressSink& progress) { return vol::to_dense(grid, b, limit, progress); });
   const auto e = b.extent();
   auto* owned = new std::vector<float>(std::move(values));
   py::capsule free_when_done(owned, [](void* p) { delete static_cast<std::vector<float>*>(p); });

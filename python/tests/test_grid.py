@@ -152,6 +152,18 @@ def test_the_last_index_of_the_range_round_trips():
         assert g.value(*corner) == 0.25
 
 
+def test_a_box_far_from_index_zero_round_trips():
+    """A box past index 2^30 (|min + max| > 2^31 - 1) crashed to_numpy (SIGSEGV): OpenVDB's parallel
+    dense copy split it at (min + max) >> 1 in int32 (docs/robustness.md "Index range")."""
+    values = np.random.default_rng(5).random((8, 8, 8)).astype(np.float32) + 0.01
+    for far in (2**30, KMAX - 7, -2**31 + 5000):
+        for axis in range(3):
+            origin = [3, -2, 0]
+            origin[axis] = far
+            g = weft.Grid.from_numpy(values, voxel_size=0.02, index_origin=tuple(origin))
+            np.testing.assert_array_equal(g.to_numpy(), values)
+
+
 def test_copies_are_independent_grids():
     """docs/python.md (Grid): copy.copy and copy.deepcopy give a new grid with the same values,
     metadata, voxel size and origin; changing the copy leaves the original as it was."""

@@ -173,6 +173,26 @@ def test_cli_ctrl_c_stops_without_a_half_written_file(sig, code, word, tmp_path,
     assert not any(name.endswith((".vdb", ".json")) or ".tmp" in name for name in left), left
 
 
+@pytest.mark.parametrize("sig, code, word", [(signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143, "terminated")])
+def test_cli_export_stops_without_a_file(sig, code, word, tmp_path, weft_bin):
+    """`weft export` reports progress from its dense copy and its NanoVDB conversion and stops
+    between its files: a signal leaves no file, whenever it comes (docs/export.md)."""
+    g = weft.Grid(0.01)
+    g.set_value(0, 0, 0, 0.5)
+    g.set_value(511, 511, 255, 0.5)  # a 256 MiB dense .vol: about a second to copy and write
+    g.save(tmp_path / "two.vdb")
+    out = tmp_path / "out"
+    child = subprocess.Popen([weft_bin, "export", "--grid", str(tmp_path / "two.vdb"), "--sigma", "2", "--out",
+                              str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    time.sleep(0.3)
+    assert child.poll() is None, "the export finished in under 0.3 s: make the box bigger"
+    child.send_signal(sig)
+    _, err = child.communicate(timeout=60)
+    assert child.returncode == code, (child.returncode, err)
+    assert err.replace("\r", "\n").rstrip().splitlines()[-1] == "weft: " + word, err
+    assert not out.exists(), sorted(p.name for p in out.rglob("*"))
+
+
 MATRIX_CHILD = textwrap.dedent("""
     import os, sys, time, weft
     def cb(label, done, total):

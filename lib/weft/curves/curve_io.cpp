@@ -16,6 +16,7 @@
 #include "weft/core/error.h"
 #include "weft/core/file_kind.h"
 #include "weft/core/obj_text.h"
+#include "weft/core/paths.h"
 
 namespace weft::curves {
 namespace fs = std::filesystem;
@@ -283,9 +284,7 @@ void write_obj_curves(const fs::path& path, const std::vector<Curve>& curves) {
 }
 
 std::vector<Curve> read_curves(const fs::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  const std::string ext = lower_extension(path);
   if (ext == ".bcc") return read_bcc(path);
   if (ext == ".obj") return read_obj_curves(path);
   fail("{}: unknown curve file type '{}' (expected .bcc or .obj)", path.string(), ext);

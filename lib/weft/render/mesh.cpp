@@ -24,6 +24,7 @@
 
 #include "weft/core/error.h"
 #include "weft/core/obj_text.h"
+#include "weft/core/paths.h"
 
 namespace weft::render {
 
@@ -333,9 +334,7 @@ TriangleMesh load_ply(const std::filesystem::path& path) {
 }
 
 TriangleMesh load_mesh(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string ext = lower_extension(path);
   return ext == ".ply" ? load_ply(path) : load_obj(path);
 }
 

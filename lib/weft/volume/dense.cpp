@@ -1,12 +1,15 @@
 #include "weft/volume/dense.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include <openvdb/tools/Dense.h>
 
 #include "weft/core/error.h"
+#include "weft/core/floor_div.h"
 #include "weft/core/memory.h"
+#include "weft/core/parallel.h"
 #include "weft/volume/grid_openvdb.h"
 
 namespace weft::volume {
@@ -29,20 +32,41 @@ openvdb::CoordBBox to_bbox(const IndexBox& box) {
 }
 }  // namespace
 
-void copy_to_dense(const Grid& grid, const IndexBox& box, float* out, DenseLayout layout) {
+void copy_to_dense(const Grid& grid, const IndexBox& box, float* out, DenseLayout layout, ProgressSink& progress) {
   if (box.empty()) return;
   require_index_range(box, "dense copy: index box");  // copyToDense's node steps overflow past it
+  // Not tools::copyToDense: its parallel form splits the box at (min + max) >> 1 in 32-bit Coord
+  // arithmetic (CoordBBox's TBB splitting constructor), which overflows once |min + max| passes
+  // 2^31 - 1, i.e. for any box beyond index 2^30 (docs/robustness.md "Index range"). The box is cut
+  // here instead, in 64-bit arithmetic, into slabs one leaf (8 voxels) thick along the layout's
+  // slowest axis, each slab a contiguous stretch of `out` and one progress unit.
+  const int axis = layout == DenseLayout::x_major ? 0 : 2;
+  constexpr std::int64_t kLeaf = openvdb::FloatTree::LeafNodeType::DIM;
+  const std::int64_t first = floor_div(box.min[axis], kLeaf);
+  const auto slabs = static_cast<std::uint64_t>(floor_div(box.max[axis], kLeaf) - first + 1);
+  ProgressTask task(progress, "dense copy", slabs);
+  const auto copy = [&](auto& dense) {
+    const auto& root = grid.impl().grid->tree().root();
+    parallel_units(slabs, [&](std::size_t unit) {
+      openvdb::CoordBBox slab = to_bbox(box);
+      const std::int64_t lo = (first + static_cast<std::int64_t>(unit)) * kLeaf;
+      slab.min()[axis] = static_cast<int>(std::max<std::int64_t>(box.min[axis], lo));
+      slab.max()[axis] = static_cast<int>(std::min<std::int64_t>(box.max[axis], lo + kLeaf - 1));
+      root.copyToDense(slab, dense);
+      task.step();
+    });
+  };
   if (layout == DenseLayout::x_major) {
     // OpenVDB's LayoutZYX: z varies fastest, i.e. C order of an (nx, ny, nz) array [i][j][k].
     openvdb::tools::Dense<float, openvdb::tools::LayoutZYX> dense(to_bbox(box), out);
-    openvdb::tools::copyToDense(*grid.impl().grid, dense);
+    copy(dense);
   } else {
     openvdb::tools::Dense<float, openvdb::tools::LayoutXYZ> dense(to_bbox(box), out);
-    openvdb::tools::copyToDense(*grid.impl().grid, dense);
+    copy(dense);
   }
 }
 
-std::vector<float> to_dense(const Grid& grid, const IndexBox& box, std::uint64_t max_bytes) {
+std::vector<float> to_dense(const Grid& grid, const IndexBox& box, std::uint64_t max_bytes, ProgressSink& progress) {
   if (box.empty()) fail("dense copy: the box is empty");
   require_index_range(box, "dense copy: index box");
   const std::uint64_t bytes = dense_bytes(box);
@@ -53,7 +77,7 @@ std::vector<float> to_dense(const Grid& grid, const IndexBox& box, std::uint64_t
          static_cast<double>(bytes) / (1024.0 * 1024.0), format_bytes(max_bytes));
   }
   std::vector<float> values(bytes / sizeof(float));
-  copy_to_dense(grid, box, values.data());
+  copy_to_dense(grid, box, values.data(), DenseLayout::x_major, progress);
   return values;
 }
 

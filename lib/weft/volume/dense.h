@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "weft/core/progress.h"
 #include "weft/volume/grid.h"
 
 namespace weft::volume {
@@ -19,7 +20,9 @@ namespace weft::volume {
 /// Refuses (weft::Error naming the box) a box beyond the index range (|index| <= kMaxIndex,
 /// grid.h), and (naming the box and the size) when the array would exceed `max_bytes`:
 /// a dense copy of a large sparse grid is mostly zeros and can be far larger than the grid.
-[[nodiscard]] std::vector<float> to_dense(const Grid& grid, const IndexBox& box, std::uint64_t max_bytes);
+/// Reports to `progress` as copy_to_dense.
+[[nodiscard]] std::vector<float> to_dense(const Grid& grid, const IndexBox& box, std::uint64_t max_bytes,
+                                          ProgressSink& progress = null_progress());
 
 /// Memory order of a dense copy.
 enum class DenseLayout {
@@ -27,9 +30,11 @@ enum class DenseLayout {
   z_major,  ///< i fastest: ((k·ny) + j)·nx + i (Mitsuba's .vol, Fortran order of [i][j][k])
 };
 
-/// The values of `box` into a caller-owned buffer of dense_bytes(box) bytes (no size check; the
-/// index range is checked as by to_dense).
-void copy_to_dense(const Grid& grid, const IndexBox& box, float* out, DenseLayout layout = DenseLayout::x_major);
+/// @brief The values of `box` into a caller-owned buffer of dense_bytes(box) bytes (no size
+/// check; the index range is checked as by to_dense). Reports one unit per slab of 8 voxels
+/// along the layout's slowest axis to `progress`, whose Cancelled stops the copy.
+void copy_to_dense(const Grid& grid, const IndexBox& box, float* out, DenseLayout layout = DenseLayout::x_major,
+                   ProgressSink& progress = null_progress());
 
 /// @brief Writes a dense x-major array of extent `extent` into `grid` starting at index `min`:
 /// non-zero values become active voxels, zeros inactive background. Throws weft::Error for a

@@ -1,5 +1,6 @@
 #include "weft/volume/renderer_export.h"
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
@@ -169,45 +170,95 @@ void append_bytes(std::vector<char>& out, const void* p, std::size_t n) {
 
 }  // namespace
 
+namespace {
+
+// Distance from |x| to the next float above it: 2^(e − 23) for 2^e <= |x| < 2^(e + 1).
+double float_spacing(double x) {
+  const double a = std::abs(x);
+  if (a < static_cast<double>(std::numeric_limits<float>::min()))
+    return static_cast<double>(std::numeric_limits<float>::denorm_min());
+  return std::ldexp(1.0, std::ilogb(a) - (std::numeric_limits<float>::digits - 1));
+}
+
+}  // namespace
+
+void check_float_resolution(const Grid& grid, const IndexBox& box, ExportFormat format, const std::string& grid_label) {
+  const WorldBox w = world_box(grid, box);
+  const bool pbrt = format == ExportFormat::pbrt;
+  // The largest magnitude of each kind of coordinate decides: the spacing grows with it.
+  double world = 0.0;
+  double index = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    world = std::max({world, std::abs(w.min[a]), std::abs(w.max[a])});
+    // pbrt-v4: the grid's own indices, voxel faces at ±0.5 around its centres (worldToIndexF);
+    // Mitsuba 3: the box-relative index, 0 .. extent (the gridvolume's unit cube × resolution).
+    index = pbrt ? std::max({index, std::abs(box.min[a] - 0.5), std::abs(box.max[a] + 0.5)})
+                 : std::max(index, static_cast<double>(box.extent()[a]));
+  }
+  const auto refuse_beyond = [&](double x, double voxel, const char* what, const char* remedy) {
+    const double spacing = float_spacing(x);
+    if (spacing <= kFloatVoxelShare * voxel) return;
+    fail(
+        "{}: {} holds {} in single precision, whose spacing at {:g} is {:.3g} voxels (at most 1/{:g} keeps each "
+        "voxel's width within {:.1f} %), so its index box ({}, {}, {})..({}, {}, {}) cannot be exported; {}",
+        grid_label, pbrt ? "pbrt-v4" : "Mitsuba 3", what, x, spacing / voxel, 1.0 / kFloatVoxelShare,
+        100.0 * kFloatVoxelShare, box.min[0], box.min[1], box.min[2], box.max[0], box.max[1], box.max[2], remedy);
+  };
+  refuse_beyond(world, grid.voxel_size(), "world coordinates",
+                "place the grid nearer the world origin (its transform's translation)");
+  refuse_beyond(
+      index, 1.0, pbrt ? "the grid's index coordinates" : "voxel coordinates across the box",
+      pbrt ? "shift its indices nearer 0 (and its origin by as much, for the same world)" : "export a smaller box");
+}
+
 void check_mitsuba_vol(const IndexBox& box, const fs::path& path, std::uint64_t max_bytes) {
   const std::uint64_t bytes = dense_bytes(box);
   if (bytes > max_bytes) {
     fail("{}: the dense volume of {} voxels would take {}, over the limit of {}", path.string(), bytes / sizeof(float),
          format_bytes(bytes), format_bytes(max_bytes));
   }
+  for (const auto n : box.extent()) {
+    if (n > std::numeric_limits<std::int32_t>::max())
+      fail("{}: {} voxels along an axis exceed the format's int32 resolution", path.string(), n);
+  }
 }
 
-void write_mitsuba_vol(const Grid& grid, const IndexBox& box, const fs::path& path, std::uint64_t max_bytes) {
+MitsubaVolume mitsuba_volume(const Grid& grid, const IndexBox& box, const fs::path& path, std::uint64_t max_bytes,
+                             ProgressSink& progress) {
   const WorldBox w = world_box(grid, box);
   check_mitsuba_vol(box, path, max_bytes);
-  const std::uint64_t bytes = dense_bytes(box);
   const auto e = box.extent();
-  for (const auto n : e) {
-    if (n > std::numeric_limits<std::int32_t>::max())
-      fail("{}: {} voxels along an axis exceed the format", path.string(), n);
-  }
   static_assert(std::endian::native == std::endian::little, "the .vol format is little endian");
   // Header (Mitsuba 3 gridvolume docs): "VOL", version 3, encoding 1 (float32), resolution
   // x, y, z, channel count, bounding box (float32 xmin, ymin, zmin, xmax, ymax, zmax).
-  std::vector<char> header;
-  append_bytes(header, "VOL", 3);
-  header.push_back(3);
+  MitsubaVolume vol;
+  append_bytes(vol.header, "VOL", 3);
+  vol.header.push_back(3);
   const std::int32_t ints[5] = {1, static_cast<std::int32_t>(e[0]), static_cast<std::int32_t>(e[1]),
                                 static_cast<std::int32_t>(e[2]), 1};
-  append_bytes(header, ints, sizeof ints);
+  append_bytes(vol.header, ints, sizeof ints);
   const float bbox[6] = {static_cast<float>(w.min[0]), static_cast<float>(w.min[1]), static_cast<float>(w.min[2]),
                          static_cast<float>(w.max[0]), static_cast<float>(w.max[1]), static_cast<float>(w.max[2])};
-  append_bytes(header, bbox, sizeof bbox);
-  std::vector<float> values(bytes / sizeof(float));
+  append_bytes(vol.header, bbox, sizeof bbox);
+  vol.values.resize(dense_bytes(box) / sizeof(float));
   // data[((z·yres + y)·xres + x)]: x fastest.
-  copy_to_dense(grid, box, values.data(), DenseLayout::z_major);
+  copy_to_dense(grid, box, vol.values.data(), DenseLayout::z_major, progress);
+  return vol;
+}
+
+void write_mitsuba_vol(const MitsubaVolume& volume, const fs::path& path) {
   write_atomically(path, [&](const fs::path& tmp) {
     std::ofstream f(tmp, std::ios::binary);
-    f.write(header.data(), static_cast<std::streamsize>(header.size()));
-    f.write(reinterpret_cast<const char*>(values.data()), static_cast<std::streamsize>(bytes));
+    f.write(volume.header.data(), static_cast<std::streamsize>(volume.header.size()));
+    f.write(reinterpret_cast<const char*>(volume.values.data()),
+            static_cast<std::streamsize>(volume.values.size() * sizeof(float)));
     f.close();
     if (!f) fail("{}: write failed", path.string());
   });
+}
+
+void write_mitsuba_vol(const Grid& grid, const IndexBox& box, const fs::path& path, std::uint64_t max_bytes) {
+  write_mitsuba_vol(mitsuba_volume(grid, box, path, max_bytes), path);
 }
 
 std::string medium_description(const ExportMedium& medium) {
@@ -295,19 +346,38 @@ std::string mitsuba_scene_xml(const WorldBox& box, const std::string& vol_file, 
   return x;
 }
 
-void write_nanovdb(const Grid& grid, const fs::path& path) {
+struct NanoVdbGrid::Impl {
+  fs::path path;
+  nanovdb::GridHandle<> handle;
+};
+
+NanoVdbGrid::NanoVdbGrid(const Grid& grid, const fs::path& path, ProgressSink& progress)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->path = path;
+  ProgressTask task(progress, "NanoVDB conversion", 2);
   openvdb::FloatGrid::Ptr copy = deep_copy(grid);
   copy->setName("density");  // the grid pbrt-v4's nanovdb medium looks up
-  const auto handle = nanovdb::openToNanoVDB(*copy);
-  if (!handle || handle.grid<float>() == nullptr) fail("{}: NanoVDB conversion failed", path.string());
-  write_atomically(path, [&](const fs::path& tmp) {
+  task.step();
+  impl_->handle = nanovdb::openToNanoVDB(*copy);
+  if (!impl_->handle || impl_->handle.grid<float>() == nullptr) fail("{}: NanoVDB conversion failed", path.string());
+  task.step();
+}
+
+NanoVdbGrid::~NanoVdbGrid() = default;
+NanoVdbGrid::NanoVdbGrid(NanoVdbGrid&&) noexcept = default;
+NanoVdbGrid& NanoVdbGrid::operator=(NanoVdbGrid&&) noexcept = default;
+
+void NanoVdbGrid::write() const {
+  write_atomically(impl_->path, [&](const fs::path& tmp) {
     try {
-      nanovdb::io::writeGrid(tmp.string(), handle, nanovdb::io::Codec::NONE);
+      nanovdb::io::writeGrid(tmp.string(), impl_->handle, nanovdb::io::Codec::NONE);
     } catch (const std::exception& e) {
-      fail("{}: {}", path.string(), e.what());
+      fail("{}: {}", impl_->path.string(), e.what());
     }
   });
 }
+
+void write_nanovdb(const Grid& grid, const fs::path& path) { NanoVdbGrid(grid, path).write(); }
 
 std::string pbrt_scene(const WorldBox& box, const std::string& nvdb_file, const ExportMedium& medium,
                        const ExportView& view) {

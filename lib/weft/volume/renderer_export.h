@@ -7,8 +7,11 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
+#include <vector>
 
+#include "weft/core/progress.h"
 #include "weft/volume/grid.h"
 
 namespace weft::volume {
@@ -48,13 +51,43 @@ struct WorldBox {
 };
 [[nodiscard]] WorldBox world_box(const Grid& grid, const IndexBox& box);
 
-/// @brief Refuses (weft::Error naming `path`) a dense volume of `box` above `max_bytes`: what
-/// write_mitsuba_vol checks, for a front end to call before it writes any file.
+/// The renderer a file is written for.
+enum class ExportFormat { mitsuba, pbrt };
+
+/// @brief Refuses (weft::Error, one line starting with `grid_label`) a box whose voxels the
+/// renderer's single-precision arithmetic cannot resolve (docs/export.md "Where the renderers'
+/// floats are"): every coordinate it computes a voxel from (world coordinates of the box for
+/// both; pbrt-v4 also the grid's index coordinates, Mitsuba 3 the box-relative ones up to its
+/// extent) must have a float spacing of at most kFloatVoxelShare of a voxel there.
+void check_float_resolution(const Grid& grid, const IndexBox& box, ExportFormat format, const std::string& grid_label);
+
+/// Largest float spacing a renderer's coordinate may have, in voxels: rounding then moves a voxel
+/// face by at most half of it, so each voxel's width, and the optical depth across it, by at most
+/// 1/256 ≈ 0.4 %.
+inline constexpr double kFloatVoxelShare = 1.0 / 256.0;
+
+/// @brief Refuses (weft::Error naming `path`) a dense volume of `box` above `max_bytes`, or with
+/// more voxels along an axis than the format's int32 resolution: what mitsuba_volume checks, for
+/// a front end to call before it writes any file.
 void check_mitsuba_vol(const IndexBox& box, const std::filesystem::path& path, std::uint64_t max_bytes);
+
+/// Mitsuba's binary grid volume in memory: the 48-byte header and the values.
+struct MitsubaVolume {
+  std::vector<char> header;
+  std::vector<float> values;
+};
 
 /// @brief Mitsuba's binary grid volume ("VOL", version 3, encoding 1 = float32, one channel;
 /// little endian): resolution, world bounding box, then values with x fastest. Covers `box`;
-/// refuses a dense array above `max_bytes` (check_mitsuba_vol). Written atomically.
+/// refuses a dense array above `max_bytes` (check_mitsuba_vol, naming `path`). The copy reports
+/// to `progress`, whose Cancelled stops it.
+[[nodiscard]] MitsubaVolume mitsuba_volume(const Grid& grid, const IndexBox& box, const std::filesystem::path& path,
+                                           std::uint64_t max_bytes, ProgressSink& progress = null_progress());
+
+/// Writes `volume` to `path` atomically.
+void write_mitsuba_vol(const MitsubaVolume& volume, const std::filesystem::path& path);
+
+/// mitsuba_volume, then write_mitsuba_vol.
 void write_mitsuba_vol(const Grid& grid, const IndexBox& box, const std::filesystem::path& path,
                        std::uint64_t max_bytes);
 
@@ -66,7 +99,26 @@ void write_mitsuba_vol(const Grid& grid, const IndexBox& box, const std::filesys
                                             const ExportMedium& medium, const ExportView& view);
 
 /// @brief The grid as a NanoVDB float grid named "density" (what pbrt-v4's nanovdb medium
-/// reads), same index-to-world transform and values, uncompressed. Written atomically.
+/// reads), same index-to-world transform and values, in memory until written.
+class NanoVdbGrid {
+ public:
+  /// Converts `grid`; reports its two stages (copy, conversion) to `progress`, whose Cancelled
+  /// stops it between them (the conversion itself is one OpenVDB call).
+  explicit NanoVdbGrid(const Grid& grid, const std::filesystem::path& path, ProgressSink& progress = null_progress());
+  ~NanoVdbGrid();
+  NanoVdbGrid(NanoVdbGrid&&) noexcept;
+  NanoVdbGrid& operator=(NanoVdbGrid&&) noexcept;
+  NanoVdbGrid(const NanoVdbGrid&) = delete;
+  NanoVdbGrid& operator=(const NanoVdbGrid&) = delete;
+  /// Writes it uncompressed to the path given at construction, atomically.
+  void write() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// NanoVdbGrid(grid, path).write().
 void write_nanovdb(const Grid& grid, const std::filesystem::path& path);
 
 /// @brief The pbrt-v4 scene: volpath integrator, perspective camera, uniform infinite light, a

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "../error_of.h"
+#include "counting_sink.h"
 #include "weft/core/error.h"
 #include "weft/core/progress.h"
 #include "weft/volume/beam.h"
@@ -76,21 +77,7 @@ TEST(BeamBudget, HugeRayCountsAreRefusedUpFront) {
   EXPECT_LT(estimate_beam(g, spec).steps, kMaxPassSteps);
 }
 
-/// Counts reports; throws Cancelled at report `stop_at` (0: never).
-class CountingSink final : public ProgressSink {
- public:
-  explicit CountingSink(std::uint64_t stop_at = 0) : stop_at_(stop_at) {}
-  void begin(std::string_view, std::uint64_t) override {}
-  void advance(std::uint64_t) override {
-    if (++reports_ == stop_at_) throw Cancelled();
-  }
-  void end() noexcept override {}
-  [[nodiscard]] std::uint64_t reports() const { return reports_.load(); }
-
- private:
-  std::uint64_t stop_at_;
-  std::atomic<std::uint64_t> reports_{0};
-};
+using test::CountingSink;
 
 TEST(BeamBudget, ProgressIsReportedPerBoundedWorkNotPerRowOfCells) {
   const Grid g = small_block();

@@ -11,7 +11,10 @@
 
 #include <openvdb/io/File.h>
 
+#include "counting_sink.h"
 #include "error_matchers.h"
+#include "weft/core/progress.h"
+#include "weft/core/rng.h"
 #include "weft/volume/dense.h"
 #include "weft/volume/grid.h"
 #include "weft/volume/grid_openvdb.h"
@@ -34,6 +37,49 @@ TEST(IndexRange, TheLastIndexIsCopiedBothWays) {
     from_dense(h, {edge, 0, 0}, {1, 1, 1}, &v);
     EXPECT_EQ(h.value(edge, 0, 0), 0.75F);
     EXPECT_EQ(h.active_voxel_count(), 1U);
+  }
+}
+
+// OpenVDB's parallel copyToDense split its box at (min + max) >> 1 in int32 arithmetic, which
+// overflowed (SIGSEGV) for every box with |min + max| > 2^31 - 1: found by a tester from
+// i = 2^30 - 1 up to the range's end and from its start to -2^31 + 10^6. Each such place, on each
+// axis, in both layouts: the dense copy holds exactly the voxels written there.
+TEST(IndexRange, ADenseCopyFarFromZeroHoldsTheVoxels) {
+  constexpr std::int64_t kN = 8;
+  std::vector<float> values(kN * kN * kN);
+  Pcg32 rng = stream_for(11, 0);
+  for (float& v : values) v = 0.01F + static_cast<float>(rng.uniform());  // > 0: every voxel active
+  for (const int far : {(1 << 30) - 1, 1 << 30, 2147483647 - 4200, kMaxIndex - static_cast<int>(kN) + 1,
+                        -2147483647 - 1 + 5000, -2147483647 - 1 + 1000000, -kMaxIndex}) {
+    for (int axis = 0; axis < 3; ++axis) {
+      std::array<int, 3> min{-3, 5, 0};
+      min.at(static_cast<std::size_t>(axis)) = far;
+      Grid g(0.5);
+      from_dense(g, min, {kN, kN, kN}, values.data());
+      const IndexBox box = g.active_bbox();
+      ASSERT_EQ(box.min, min);
+      EXPECT_EQ(to_dense(g, box, dense_bytes(box)), values) << "x-major at " << far << " along axis " << axis;
+      // Fortran order of the same [i][j][k] array.
+      std::vector<float> z_major(values.size());
+      copy_to_dense(g, box, z_major.data(), DenseLayout::z_major);
+      for (std::int64_t i = 0; i < kN; ++i)
+        for (std::int64_t j = 0; j < kN; ++j)
+          for (std::int64_t k = 0; k < kN; ++k)
+            ASSERT_EQ(z_major[static_cast<std::size_t>((k * kN + j) * kN + i)],
+                      values[static_cast<std::size_t>((i * kN + j) * kN + k)])
+                << "z-major at " << far << " along axis " << axis;
+    }
+  }
+}
+
+TEST(IndexRange, ADenseCopyStopsAtItsProgressSinksCancel) {
+  Grid g(0.5);
+  g.set_value(0, 0, 0, 0.5F);
+  const IndexBox box{{0, 0, 0}, {63, 3, 63}};  // 8 slabs of 8 along either layout's slowest axis
+  std::vector<float> out(static_cast<std::size_t>(dense_bytes(box) / sizeof(float)));
+  for (const DenseLayout layout : {DenseLayout::x_major, DenseLayout::z_major}) {
+    test::CountingSink sink(2);
+    EXPECT_THROW(copy_to_dense(g, box, out.data(), layout, sink), Cancelled);
   }
 }
 

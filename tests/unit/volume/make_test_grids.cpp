@@ -114,6 +114,21 @@ int main(int argc, char** argv) {
     }
   }
   write(dir + "/far_index.vdb", far_index);
+  // half_index.vdb: 8×8×8 voxels from i = 2³⁰, inside the index range but where OpenVDB's
+  // parallel dense copy split its box at (min + max) >> 1 and overflowed (docs/robustness.md
+  // "Index range"); half_index_near.vdb: the same voxels with the world origin moved so that they
+  // lie near the world origin. `weft export` refuses what single-precision renderers cannot
+  // resolve there (docs/export.md "Where the renderers' floats are").
+  constexpr int kHalf = 1 << 30;
+  auto half_index = float_grid("density");
+  for (int i = 0; i < 8; ++i) {
+    for (int j = 0; j < 8; ++j) {
+      for (int k = 0; k < 8; ++k) half_index->getAccessor().setValue(openvdb::Coord(kHalf + i, j, k), 0.4f);
+    }
+  }
+  write(dir + "/half_index.vdb", half_index);
+  half_index->transform().postTranslate(openvdb::Vec3d(-0.05 * kHalf, 0.0, 0.0));
+  write(dir + "/half_index_near.vdb", half_index);
   // uniform.vdb: 4×4×4 voxels of C = 0.3: no structure, so no yarn scale can be measured.
   auto uniform = float_grid("density");
   for (int i = 0; i < 4; ++i) {

@@ -8,13 +8,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <tuple>
 
 #include <fmt/format.h>
 #include <nanovdb/util/IO.h>
 
+#include "counting_sink.h"
+#include "error_matchers.h"
 #include "weft/core/error.h"
+#include "weft/core/progress.h"
 #include "weft/core/rng.h"
 #include "weft/volume/grid.h"
 #include "weft/volume/renderer_export.h"
@@ -85,6 +89,56 @@ TEST(RendererExport, VolRefusesAboveTheMemoryLimit) {
   const fs::path path = temp_path("g.vol");
   EXPECT_THROW(write_mitsuba_vol(g, g.active_bbox(), path, 100), Error);
   EXPECT_FALSE(fs::exists(path));  // nothing written
+}
+
+// The first coordinate at which a float's spacing exceeds kFloatVoxelShare of a voxel of size h:
+// spacings are 2^(e - 23) on [2^e, 2^(e + 1)), so it is 2^24 · share · h.
+double float_edge(double h) { return std::ldexp(1.0, std::numeric_limits<float>::digits) * kFloatVoxelShare * h; }
+
+TEST(RendererExport, WorldCoordinatesBeyondFloatResolutionAreRefused) {
+  const double h = 0.25;
+  const int last = static_cast<int>(float_edge(h) / h) - 1;  // its far face at the edge
+  for (const ExportFormat format : {ExportFormat::mitsuba, ExportFormat::pbrt}) {
+    Grid inside(h);
+    inside.set_origin({0.0, 0.0, 0.0});
+    inside.set_value(last - 1, 0, 0, 0.5F);
+    EXPECT_NO_THROW(check_float_resolution(inside, inside.active_bbox(), format, "in.vdb"));
+    Grid beyond(h);
+    beyond.set_origin({0.0, 0.0, 0.0});
+    beyond.set_value(last, 0, 0, 0.5F);
+    EXPECT_THAT([&] { check_float_resolution(beyond, beyond.active_bbox(), format, "far.vdb: grid 'density'"); },
+                test::throws_one_line_error_with(
+                    {"far.vdb: grid 'density'", "world coordinates", "single precision", "nearer the world origin"}));
+  }
+}
+
+// pbrt-v4 looks voxels up at float index coordinates (worldToIndexF): a grid near the world origin
+// but at large indices is refused for pbrt only; Mitsuba's box-relative coordinates are small.
+TEST(RendererExport, IndexCoordinatesBeyondFloatResolutionAreRefusedForPbrt) {
+  const double h = 0.25;
+  const int edge = static_cast<int>(float_edge(1.0));  // index faces at i ± 0.5
+  for (const int i : {edge - 1, edge, 1 << 30, -(1 << 30)}) {
+    Grid g(h);
+    g.set_origin({-h * i, 0.0, 0.0});  // voxel i at the world origin
+    g.set_value(i, 0, 0, 0.5F);
+    EXPECT_NO_THROW(check_float_resolution(g, g.active_bbox(), ExportFormat::mitsuba, "g.vdb"));
+    if (i == edge - 1) {
+      EXPECT_NO_THROW(check_float_resolution(g, g.active_bbox(), ExportFormat::pbrt, "g.vdb"));
+    } else {
+      EXPECT_THAT([&] { check_float_resolution(g, g.active_bbox(), ExportFormat::pbrt, "g.vdb"); },
+                  test::throws_one_line_error_with({"g.vdb", "pbrt-v4", "index coordinates", "indices nearer 0"}));
+    }
+  }
+}
+
+TEST(RendererExport, BothConversionsStopAtTheirProgressSinksCancel) {
+  const Grid g = random_grid(6);
+  const fs::path path = temp_path("stopped.nvdb");
+  test::CountingSink at_nvdb(2);
+  EXPECT_THROW(NanoVdbGrid(g, path, at_nvdb), Cancelled);
+  EXPECT_FALSE(fs::exists(path));
+  test::CountingSink at_vol(2);
+  EXPECT_THROW((void)mitsuba_volume(g, g.active_bbox(), temp_path("stopped.vol"), 1U << 20U, at_vol), Cancelled);
 }
 
 TEST(RendererExport, BadMediumIsRefused) {
