@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
@@ -106,6 +107,20 @@ std::string integer_problem(const std::string& text, bool is_unsigned) {
     return is_unsigned ? fmt::format("must be <= {}, got {}", std::numeric_limits<std::uint64_t>::max(), text)
                        : fmt::format("must be in [{}, {}], got {}", std::numeric_limits<std::int64_t>::min(),
                                      std::numeric_limits<std::int64_t>::max(), text);
+  }
+  // A number the integer parse stops inside (1e13, 2.5): CLI11 would say only "Could not
+  // convert". Said as a whole number, with its digits when it is one.
+  const auto blank_from = [&](const char* at) {
+    return text.find_first_not_of(" \t", static_cast<std::size_t>(at - text.c_str())) == std::string::npos;
+  };
+  if (!blank_from(end)) {
+    char* number_end = nullptr;
+    const double v = std::strtod(text.c_str(), &number_end);
+    if (number_end != text.c_str() && blank_from(number_end) && std::isfinite(v)) {
+      if (v == std::floor(v) && std::abs(v) < 1e18 && (v >= 0.0 || !is_unsigned))
+        return fmt::format("must be a whole number written in digits ({:.0f}), got {}", v, text);
+      return fmt::format("must be a whole number, got {}", text);
+    }
   }
   return {};  // not a number at all: CLI11's own conversion says so
 }

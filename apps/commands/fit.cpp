@@ -121,7 +121,7 @@ const Registrar kFit{Command{
           ->capture_default_str();
       return [o, &sub](const Context& ctx) -> int {
         check_grid_input(o->input);
-        as_usage([&] { fit::check_scale_text(o->window); });
+        as_usage([&] { fit::check_scale_text(o->window, "--window"); });
         if (o->block < 0 || o->block > fit::kMaxLocalBlock)
           usage_fail("--block must be in 0..{} voxels (0 = off), got {}", fit::kMaxLocalBlock, o->block);
         usage_needs(sub, {"--fields"}, o->block > 0, "--block");

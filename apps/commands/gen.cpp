@@ -180,6 +180,7 @@ std::string yarn_parameter_help() {
 ClothSpec make_spec(CLI::App& sub, const GenOptions& o) {
   const auto given = [&](const char* name) { return sub.get_option(name)->count() > 0; };
   ClothSpec spec = o.config.empty() ? cloth::default_cloth_spec() : cloth::load_cloth_spec(o.config);
+  spec.config = o.config;
   if (o.config.empty()) {
     // Automatic spacings follow the yarns chosen on the command line.
     spec.warp_spacing = spec.weft_spacing = spec.crimp = 0.0;
@@ -232,10 +233,17 @@ ClothSpec make_spec(CLI::App& sub, const GenOptions& o) {
     if (given("--input"))
       usage_fail("--input {} and --pattern {} conflict: a woven or knit pattern ignores input curves (give one)",
                  o.input, spec.pattern);
-    usage_fail(
-        "--pattern {} conflicts with the input curves {} of --config {} (a woven or knit pattern ignores "
-        "them; edit the config's \"input\" out to switch)",
-        spec.pattern, spec.input, o.config);
+    if (given("--pattern")) {
+      usage_fail(
+          "--pattern {} conflicts with the input curves {} of --config {} (a woven or knit pattern ignores "
+          "them; edit the config's \"input\" out to switch)",
+          spec.pattern, spec.input, o.config);
+    }
+    // Neither option was given: the config contradicts itself, a problem of the file (exit 1).
+    fail(
+        "{}: \"input\": {} conflicts with \"pattern\": \"{}\" (a woven or knit pattern ignores input curves: "
+        "set \"pattern\": \"import\" or remove \"input\")",
+        o.config, spec.input, spec.pattern);
   }
   if (import) {
     for (const char* name : {"--yarns", "--spacing", "--warp-spacing", "--weft-spacing", "--crimp"}) {

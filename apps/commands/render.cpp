@@ -195,7 +195,7 @@ int run(const RenderCliOptions& o, const CLI::App& sub, const Context& ctx) {
       spec.factors_given = true;
     }
     if (!o.study_window.empty()) {
-      as_usage([&] { fit::check_scale_text(o.study_window); });
+      as_usage([&] { fit::check_scale_text(o.study_window, "--study-window"); });
       spec.scale = o.study_window;
     }
     if (!o.study_memory.empty()) {

@@ -135,7 +135,7 @@ const Registrar kValidate{Command{
         // rule Python shares.
         as_usage([&] { volume::check_rays_per_column({{0.0, 0.0, 1.0}}, o->rays, false, FrontEnd::cli); });
         check_grid_input(o->input);
-        as_usage([&] { fit::check_scale_text(o->window); });
+        as_usage([&] { fit::check_scale_text(o->window, "--window"); });
         if (o->input.extinction() && o->input.grid.empty())
           usage_fail("--values extinction needs --grid (a cloth grid holds concentrations)");
         // --sweep and --corpus are spread over MPI ranks; the validation runs on rank 0.

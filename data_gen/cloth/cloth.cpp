@@ -1,5 +1,6 @@
 #include "data_gen/cloth/cloth.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -17,6 +18,7 @@
 #include "weft/core/memory.h"
 #include "weft/core/parallel.h"
 #include "weft/core/paths.h"
+#include "weft/dist/distributed.h"
 #include "weft/volume/provenance.h"
 
 namespace weft::cloth {
@@ -147,14 +149,16 @@ ClothBuild build_cloth(const ClothSpec& input, ProgressSink& progress, bool spre
   const std::uint64_t budget = memory_budget_bytes("max_memory_mb", build.spec.max_memory_mb);
   // Woven and knit specs are checked before their centrelines are made (a huge --yarns would
   // spend minutes and gigabytes on those alone); imports on the curves they read.
-  if (build.spec.pattern != "import") check_budget(estimate_cloth(build.spec), budget, asker);
+  if (build.spec.pattern != "import")
+    check_budget(estimate_cloth(build.spec), budget, asker, "cloth", build.spec.config);
   build.centerlines = cloth_centerlines(build.spec);
   if (build.centerlines.curves.empty()) fail("cloth: the pattern produced no yarns");
   build.estimate = estimate_cloth(build.spec, build.centerlines);
   check_budget(build.estimate, budget, asker,
                build.spec.pattern == "import"
                    ? fmt::format("cloth of {} at input_scale {}", build.spec.input, build.spec.input_scale)
-                   : "cloth");
+                   : "cloth",
+               build.spec.config);
   build.fibers = generate_fibers(build.spec, build.centerlines, progress);
   const double generate_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   VoxelizeOptions options;
@@ -164,6 +168,18 @@ ClothBuild build_cloth(const ClothSpec& input, ProgressSink& progress, bool spre
   options.spread = spread_over_ranks;
   options.asker = asker;
   build.grid = voxelize(build.fibers, options, build.report, progress);
+  // Fibres whose C per voxel rounds to 0 in float (a fiber_radius of 1e-300 mm) leave no voxel:
+  // said with the radius here, not later as an empty cloth.vdb. Under mpirun only rank 0 holds
+  // the grid (voxelize's `spread`).
+  if (build.grid.active_voxel_count() == 0 && (!spread_over_ranks || dist::is_root())) {
+    const Spelling radius{"--set fiber_radius", "fiber_radius"};
+    const Spelling voxel{"--voxel-size", "voxel_size="};
+    fail(
+        "cloth: the grid is empty: fibres of radius {} mm ({}) hold {:.3g} mm^3 in all, which leaves no voxel of "
+        "{} mm a fibre volume fraction above 0 in float: raise {} or lower {}",
+        std::max(build.spec.warp_yarn.fiber_radius, build.spec.weft_yarn.fiber_radius), radius.in(asker),
+        build.report.fiber_volume, build.spec.voxel_size, radius.in(asker), voxel.in(asker));
+  }
   build.report.generate_seconds = generate_seconds;
   // Provenance (no timings: the same spec must give the same file).
   build.grid.set_metadata("generator", cloth_spec_json(build.spec));

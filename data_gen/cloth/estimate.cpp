@@ -231,7 +231,11 @@ std::string advice(const ClothEstimate& e, double total, double loops, double re
 
 }  // namespace
 
-void check_budget(const ClothEstimate& e, std::uint64_t budget_bytes, FrontEnd asker, const std::string& subject) {
+void check_budget(const ClothEstimate& e, std::uint64_t budget_bytes, FrontEnd asker, const std::string& subject,
+                  const std::string& config) {
+  // A value read from a config is changed there (or overridden by the option): both are named.
+  const std::string in_config =
+      config.empty() ? "" : fmt::format(" or the keys input_scale, warp_count, weft_count, voxel_size of {}", config);
   const std::uint64_t budget = budget_bytes > 0 ? budget_bytes : default_memory_budget();
   const auto peak = static_cast<double>(e.peak_bytes);
   const auto bytes_advice = [&](const Spelling& otherwise) {
@@ -240,18 +244,24 @@ void check_budget(const ClothEstimate& e, std::uint64_t budget_bytes, FrontEnd a
   };
   if (e.overflow) {
     // Saturated counts are not figures: say what overflowed instead of printing 2⁶⁴ − 1.
-    const Spelling options{"check --input-scale, --yarns, --voxel-size", "check input_scale=, yarns=, voxel_size="};
-    fail(
-        "{}: the estimate overflows ({:.3g} mm of fibre, {:.3g} steps; fibres, points or bytes past 2^64): far beyond "
-        "any memory ({})",
-        subject, e.fiber_length, e.steps,
-        // A saturated count has no share: the loops are named when their count or cost overflowed.
-        !std::isfinite(e.loop_steps) || e.loops == ~0ULL ? advice(e, 0.0, 1.0, 0.0, 0.0, asker, options)
-                                                         : bytes_advice(options));
+    const Spelling options{"check --input-scale, --yarns, --voxel-size" + in_config,
+                           "check input_scale=, yarns=, voxel_size=" + in_config};
+    // Loops are drawn per mm of fibre, so a fibre length past the range of numbers saturates
+    // their count too: the loops are named only when the fibres themselves fit (their length
+    // finite, their points counted), i.e. when loop_density is what overflowed.
+    const bool fibres_fit = std::isfinite(e.fiber_length) && e.fiber_points != ~0ULL;
+    const std::string figures = std::isfinite(e.fiber_length)
+                                    ? fmt::format("{:.3g} mm of fibre, {:.3g} steps", e.fiber_length, e.steps)
+                                    : std::string("a fibre length past the range of numbers");
+    fail("{}: the estimate overflows ({}; fibres, points or bytes past 2^64): far beyond any memory ({})", subject,
+         figures,
+         !fibres_fit                                        ? options.in(asker)
+         : !std::isfinite(e.loop_steps) || e.loops == ~0ULL ? advice(e, 0.0, 1.0, 0.0, 0.0, asker, options)
+                                                            : bytes_advice(options));
   }
   if (e.peak_bytes > budget) {
-    const Spelling options{"--max-memory; check --input-scale, --yarns, --voxel-size",
-                           "max_memory_mb=; check input_scale=, yarns=, voxel_size="};
+    const Spelling options{"--max-memory; check --input-scale, --yarns, --voxel-size" + in_config,
+                           "max_memory_mb=; check input_scale=, yarns=, voxel_size=" + in_config};
     fail("{}: estimated {}, over the memory budget of {} ({})", subject, describe(e), format_bytes(budget),
          bytes_advice(options));
   }
@@ -259,8 +269,8 @@ void check_budget(const ClothEstimate& e, std::uint64_t budget_bytes, FrontEnd a
   // a loop blended into it) is about as cheap as a voxel read there (docs/cloth.md "Estimate
   // before spending" gives the measured rate).
   if (!(e.steps <= volume::kMaxPassSteps)) {
-    const Spelling options{"check --input-scale, --yarns and the yarns' sample_step, fiber_count",
-                           "check input_scale=, yarns= and the yarns' sample_step, fiber_count"};
+    const Spelling options{"check --input-scale, --yarns and the yarns' sample_step, fiber_count" + in_config,
+                           "check input_scale=, yarns= and the yarns' sample_step, fiber_count" + in_config};
     fail(
         "{}: making the fibres would take {:.3g} steps (points made, loop flyaways blended into them), over the limit "
         "of {:.3g} ({})",

@@ -71,8 +71,9 @@ std::string describe(const ClothEstimate& e);
 /// (0 = default_memory_budget()), when e.steps exceed volume::kMaxPassSteps (the work bound of
 /// every pass), or when the estimate overflowed. When loops, loop radii or hairs are more than half
 /// of the bytes or steps, the message names those yarn parameters (`--set loop_density=1e+08`).
-/// The message starts with `subject` (an import names its file and scale).
+/// The message starts with `subject` (an import names its file and scale); with a `config` (the
+/// cloth.json the values came from) the scale advice names its keys beside the options.
 void check_budget(const ClothEstimate& e, std::uint64_t budget_bytes, FrontEnd asker = FrontEnd::cli,
-                  const std::string& subject = "cloth");
+                  const std::string& subject = "cloth", const std::string& config = "");
 
 }  // namespace weft::cloth

@@ -129,6 +129,17 @@ CurveSet cloth_centerlines(const ClothSpec& spec) {
                  spec.input_scale, i, v);
         }
       }
+      // Past the voxelizer's index range (spec.h kMaxVoxelIndex) the curve cannot be voxelized:
+      // said with the file and the point, before the estimate turns its length into an overflow.
+      const double reach = static_cast<double>(kMaxVoxelIndex) * spec.voxel_size;
+      for (std::size_t k = 0; k < set.curves[i].points.size(); ++k) {
+        const auto& p = set.curves[i].points[k];
+        if (std::abs(p[0]) < reach && std::abs(p[1]) < reach && std::abs(p[2]) < reach) continue;
+        fail(
+            "{}: curve {} point {} at input_scale {} lies at ({:.3g}, {:.3g}, {:.3g}) mm, past the voxel index range "
+            "+-{} at voxel_size {} mm (+-{:.3g} mm): check the file's coordinates, input_scale or voxel_size",
+            spec.input, i, k, spec.input_scale, p[0], p[1], p[2], kMaxVoxelIndex, spec.voxel_size, reach);
+      }
       // Imported yarns take the warp's parameters (direction 0). Said here, with the file and the
       // scale, not later by a yarn that cannot name either.
       if (const auto why = centerline_problem(set.curves[i], spec.warp_yarn.sample_step); !why.empty())

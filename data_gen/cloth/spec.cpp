@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string_view>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "weft/core/error.h"
@@ -293,6 +294,24 @@ void validate(const ClothSpec& spec) {
     fail("samples_per_voxel must be in [1, 64], got {}", spec.samples_per_voxel);
   }
   require_non_negative("max_memory_mb", spec.max_memory_mb);
+  if (canonical_pattern(spec.pattern) == "import") return;  // the curves are checked as read (pattern.cpp)
+  // A woven or knit cloth spans count x spacing along x and y (a knit course 1.5 spacings more)
+  // and +-crimp along z (pattern.cpp): each must stay inside the voxelizer's index range, said
+  // here with the parameter, before the estimate turns a far cloth into an overflow of counts.
+  const double reach = static_cast<double>(kMaxVoxelIndex) * spec.voxel_size;
+  const auto within = [&](const std::string& what, double mm, const char* them) {
+    if (!(mm < reach)) {
+      fail(
+          "{} puts the yarns {:.3g} mm from the origin, past the voxel index range +-{} at voxel_size {} mm "
+          "(+-{:.3g} mm): lower {} or raise voxel_size",
+          what, mm, kMaxVoxelIndex, spec.voxel_size, reach, them);
+    }
+  };
+  within(fmt::format("crimp {}", spec.crimp), spec.crimp, "it");
+  within(fmt::format("weft_count x weft_spacing ({} x {} mm)", spec.weft_count, spec.weft_spacing),
+         spec.weft_count * spec.weft_spacing, "them");
+  within(fmt::format("warp_count x warp_spacing ({} x {} mm)", spec.warp_count, spec.warp_spacing),
+         (spec.warp_count + 1.5) * spec.warp_spacing, "them");
 }
 
 namespace {

@@ -92,6 +92,9 @@ struct ClothSpec {
   int samples_per_voxel = 4;   ///< voxelizer quadrature points per voxel edge (along and across a fibre)
   double max_memory_mb = 0.0;  ///< refuse voxelizations estimated above this (MiB); 0 = half the RAM
   std::uint64_t seed = 1;      ///< run seed; same seed, same cloth, whatever the thread count
+  /// The cloth.json the values came from (`weft gen --config`), "" if none: named by the
+  /// estimate's refusals beside the options, never written to cloth.json.
+  std::string config;
 };
 
 /// Names accepted by ClothSpec::pattern.
@@ -103,7 +106,11 @@ std::string canonical_pattern(const std::string& name);
 /// Replaces the 0 = automatic spacings and crimp by their derived values and the pattern
 /// aliases twill, satin, knit by twill22, satin5, stockinette (idempotent).
 ClothSpec resolve(ClothSpec spec);
-/// Throws weft::Error naming the parameter when any value is NaN, negative or unknown.
+/// The voxelizer's bound on |voxel index| (its leaf keys hold 21 bits an axis, voxelize.cpp): a
+/// cloth reaching kMaxVoxelIndex · voxel_size mm from the origin cannot be voxelized.
+inline constexpr std::int64_t kMaxVoxelIndex = 1LL << 22;
+/// Throws weft::Error naming the parameter when any value is NaN, negative or unknown, or when a
+/// woven or knit cloth's spacings or crimp put its yarns past kMaxVoxelIndex voxels.
 void validate(const ClothSpec& spec);
 /// Parses cloth.json text; `where` names the source in errors. A yarn object's "preset" fills the
 /// fields it does not give and explicit fields override it (the label is then recomputed,

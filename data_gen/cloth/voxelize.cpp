@@ -23,7 +23,7 @@ namespace {
 constexpr int kLeafLog2 = 3;  // OpenVDB FloatTree leaves are 8³
 constexpr int kLeafDim = 1 << kLeafLog2;
 constexpr double kPieceVoxels = 4.0;                     // pieces are at most this many voxels long
-constexpr std::int64_t kIndexLimit = 1LL << 22;          // |voxel index| bound that keeps leaf keys in 21 bits
+constexpr std::int64_t kIndexLimit = kMaxVoxelIndex;     // |voxel index| bound that keeps leaf keys in 21 bits
 constexpr std::uint64_t kLeafBytes = 512 * 4 + 64 + 96;  // values, mask, node overhead
 // A piece is named by one 64-bit id, (point index of its segment's end) << 24 | (run within the
 // segment), and rebuilt from the fibres when a leaf needs it: no array of pieces is kept (at

@@ -186,7 +186,7 @@ if(CMAKE_SCRIPT_MODE_FILE)
       execute_process(COMMAND sh -c "ulimit -v 3000000 && exec ${WEFT} render g1/big.json ${args}"
                       WORKING_DIRECTORY ${WORK} RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
       string(STRIP "${err}" err)
-      if(NOT rc EQUAL 1 OR NOT err MATCHES "^weft: error: a 16384x16384 film needs about .* over the memory budget"
+      if(NOT rc EQUAL 1 OR NOT err MATCHES "^weft: error: [^\n]*big.json: (study candidate .reference.: )?the camera.s 16384x16384 film needs about .* over the memory budget of .*: lower camera.width and camera.height"
          OR err MATCHES "\n")
         message(FATAL_ERROR "${args}: expected one line and exit 1, got rc=${rc}: ${err}")
       endif()

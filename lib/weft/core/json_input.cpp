@@ -73,6 +73,15 @@ nlohmann::json parse_json_input(std::string_view text, const std::string& source
     std::string what = e.what();
     const auto colon = what.rfind(": ");
     if (colon != std::string::npos) what = what.substr(colon + 2);
+    // Python's json.dump writes NaN and Infinity, which JSON (RFC 8259 §6) has no literal for:
+    // said as such, not as nlohmann's "last read: 'N'".
+    const std::string_view rest = text.substr(std::min(offset, text.size()));
+    for (const std::string_view word : {"NaN", "Infinity", "nan", "inf", "Inf"}) {
+      if (rest.starts_with(word)) {
+        fail("{}:{}:{}: invalid JSON: {}{} is not a JSON number (JSON has no NaN or Infinity): give a finite number",
+             source, pos.line, pos.column, offset > 0 && text[offset - 1] == '-' ? "-" : "", word);
+      }
+    }
     fail("{}:{}:{}: invalid JSON: {}", source, pos.line, pos.column, what);
   } catch (const json::out_of_range& e) {
     // A number beyond double range (1e999): nlohmann throws out_of_range, not parse_error.

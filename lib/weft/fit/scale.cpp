@@ -189,11 +189,11 @@ double measured_yarn_scale(const volume::Grid& grid, ProgressSink& progress, Fro
   return median.scale;
 }
 
-void check_scale_text(const std::string& text) {
+void check_scale_text(const std::string& text, const std::string& option) {
   if (text == "yarn" || text == "yarn-measured" || text == "corr" || text == "extent") return;
   const std::optional<double> v = parse_number(text);
-  if (!v || std::isnan(*v)) fail("window '{}' is not yarn, yarn-measured, corr, extent or a length", text);
-  require_positive("window", *v);
+  if (!v || std::isnan(*v)) fail("{} '{}' is not yarn, yarn-measured, corr, extent or a length", option, text);
+  require_positive(option.c_str(), *v);
 }
 
 StatisticsScale resolve_scale(const std::string& text, const volume::Grid& grid, const volume::Provenance& provenance,

@@ -70,8 +70,9 @@ struct ScaleUse {
                                             ProgressSink& progress = null_progress(), FrontEnd asker = FrontEnd::cli);
 
 /// Checks `text` as resolve_scale would (a known name or a positive length) without a grid, so
-/// a bad --window is refused before anything is loaded.
-void check_scale_text(const std::string& text);
+/// a bad --window is refused before anything is loaded; `option` names it in the errors (the
+/// asker's spelling: "--window", "--study-window", "window").
+void check_scale_text(const std::string& text, const std::string& option = "window");
 
 /// Correlation length of C along `axis`: the lag at which the autocorrelation of C along the
 /// columns of the active box (about the box mean) first falls to 1/e, linearly interpolated, in

@@ -184,8 +184,11 @@ RenderResult render(const World& world, const RenderOptions& options, ProgressSi
   // cannot hold is one line, not std::bad_alloc half-way through.
   const std::uint64_t budget = default_memory_budget();
   if (film_bytes(camera.width, camera.height) > budget)
-    fail("a {}x{} film needs about {} (sample sums and images), over the memory budget of {}: render a smaller film",
-         camera.width, camera.height, format_bytes(film_bytes(camera.width, camera.height)), format_bytes(budget));
+    fail(
+        "{}: the camera's {}x{} film needs about {} (sample sums and images), over the memory budget of {}: lower "
+        "camera.width and camera.height",
+        world.source, camera.width, camera.height, format_bytes(film_bytes(camera.width, camera.height)),
+        format_bytes(budget));
 
   RenderResult result;
   result.stats.features = world.features;

@@ -94,6 +94,13 @@ class Reader {
     if (x < lo || x > hi) fail("{}: '{}' must be in [{}, {}], got {}", where_, key, lo, hi, x);
     return static_cast<int>(x);
   }
+  /// A file name that must be given: missing, null and "" are refused, each said as what it is.
+  std::string required_file(const std::string& key, const char* what) {
+    std::string name = string(key, "");
+    if (!name.empty()) return name;
+    if (!j_.contains(key)) fail("{}: missing required key '{}' ({})", where_, key, what);
+    fail("{}: '{}' is {} (give {})", where_, key, j_.at(key).is_null() ? "null" : "empty", what);
+  }
   std::string string(const std::string& key, const std::string& fallback) {
     if (!has(key)) return fallback;
     const json& v = j_.at(key);
@@ -224,8 +231,7 @@ MediumDesc parse_medium(const json& j, const std::string& where, const std::file
   if (m.kind == MediumKind::local_gamma) {
     // Its laws come from the fields (per-voxel gamma, reciprocal partner per voxel): no law,
     // mode or given keys, so those are unknown keys here.
-    m.file = r.string("fields", "");
-    if (m.file.empty()) fail("{}: missing required key 'fields' (the .vdb written by `weft fit --block`)", where);
+    m.file = r.required_file("fields", "the .vdb written by `weft fit --block`");
     m.file = resolve_file(m.file, base_dir, where, "fields file");
     m.sigma = r.positive("sigma", m.sigma);
     m.memory = parse_choice(
@@ -240,8 +246,7 @@ MediumDesc parse_medium(const json& j, const std::string& where, const std::file
     return m;
   }
   if (m.kind == MediumKind::grid) {
-    m.file = r.string("file", "");
-    if (m.file.empty()) fail("{}: missing required key 'file'", where);
+    m.file = r.required_file("file", "the grid's .vdb");
     m.file = resolve_file(m.file, base_dir, where, "grid file");
     m.grid_name = r.string("grid", "");
     if (r.has("axis_grids")) {
@@ -256,7 +261,15 @@ MediumDesc parse_medium(const json& j, const std::string& where, const std::file
     if (values != "concentration" && values != "extinction")
       fail("{}: 'values' must be 'concentration' or 'extinction', got '{}'", where, values);
     m.concentration = values == "concentration";
-    if (m.concentration) m.sigma = r.non_negative("sigma", m.sigma);
+    if (m.concentration) {
+      m.sigma = r.non_negative("sigma", m.sigma);
+    } else if (j.contains("sigma")) {
+      // Extinction values are μ itself (docs/scene-format.md): a σ would have nothing to scale.
+      fail(
+          "{}: 'sigma' does not apply to \"values\": \"extinction\" (the grid holds the extinction itself, in "
+          "1/length): remove 'sigma', or use \"values\": \"concentration\" for a grid of C scaled by sigma",
+          where);
+    }
     m.tracking = parse_choice(where, "tracking", r.string("tracking", "delta"), kTrackings);
     if (!m.axis_grids.empty() && m.tracking != Tracking::delta)
       fail("{}: 'axis_grids' (a direction-dependent extinction) needs delta tracking", where);
@@ -304,8 +317,8 @@ ShapeDesc parse_shape(const json& j, const std::string& where, const SceneDesc& 
       break;
     case ShapeKind::mesh:
     case ShapeKind::curves: {
-      s.file = r.string("file", "");
-      if (s.file.empty()) fail("{}: missing required key 'file'", where);
+      s.file =
+          r.required_file("file", s.kind == ShapeKind::mesh ? "the mesh's .obj or .ply" : "the curves' .bcc or .obj");
       s.file = resolve_file(s.file, scene.base_dir, where, s.kind == ShapeKind::mesh ? "mesh file" : "curve file");
       if (s.kind == ShapeKind::curves) {
         // Fibre radius in the file's units (scaled with the points); BCC files carry no radii.

@@ -107,6 +107,7 @@ std::shared_ptr<const Medium> build_medium(const SceneDesc& scene, const std::st
 
 World build_world(const SceneDesc& scene) {
   World w;
+  w.source = scene.source;
   w.camera = scene.camera;
   w.settings = scene.integrator;
   std::map<std::string, int> material_index;

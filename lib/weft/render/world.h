@@ -22,6 +22,7 @@ namespace weft::render {
 
 /// Everything the integrator reads; built once per render.
 struct World {
+  std::string source = "scene";  ///< the scene's SceneDesc::source, naming it in render errors
   CameraDesc camera;
   IntegratorDesc settings;
   std::vector<MaterialDesc> materials;

@@ -440,7 +440,8 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, Progre
   (void)dist::root_decides(true);
 
   const auto parse = [&](const json& j, const std::string& name) {
-    return parse_scene(j.dump(), "study candidate '" + name + "'", scene.base_dir);
+    // Named with the study's scene, so its errors point at the file the camera came from.
+    return parse_scene(j.dump(), fmt::format("{}: study candidate '{}'", scene.source, name), scene.base_dir);
   };
   const auto write_scene = [&](const json& j, int spp, std::uint64_t seed, const fs::path& path) {
     if (!root) return;

@@ -124,6 +124,26 @@ TEST(SceneFile, NegativeAndOutOfRangeParametersAreRejected) {
             std::string::npos);
 }
 
+TEST(SceneFile, KeysThatDoNotApplyOrAreEmptyAreSaidAsSuch) {
+  // parse_scene checks that the grid file exists, not what it holds: any file will do.
+  const fs::path grid = fs::temp_directory_path() / fmt::format("weft-scene-keys-{}.vdb", ::getpid());
+  std::ofstream(grid) << "x";
+  const std::string medium = fmt::format(R"("type": "grid", "file": "{}")", grid.filename().string());
+  const auto media = [&](const std::string& keys) { return fmt::format(R"({{"media": {{"m": {{{}}}}}}})", keys); };
+  // σ scales concentration values (μ = σ·C); extinction values are μ: a sigma there is not a typo.
+  EXPECT_THAT(error_of(media(medium + R"(, "values": "extinction", "sigma": 3)")),
+              ::testing::HasSubstr("media.m: 'sigma' does not apply to \"values\": \"extinction\""));
+  EXPECT_EQ(error_of(media(medium + R"(, "values": "concentration", "sigma": 3)")), "");
+  EXPECT_EQ(error_of(media(medium + R"(, "values": "extinction")")), "");
+  // A file key given empty or null is not a missing key.
+  EXPECT_THAT(error_of(media(R"("type": "grid", "file": "")")), ::testing::HasSubstr("media.m: 'file' is empty"));
+  EXPECT_THAT(error_of(media(R"("type": "grid", "file": null)")), ::testing::HasSubstr("media.m: 'file' is null"));
+  EXPECT_THAT(error_of(media(R"("type": "grid")")), ::testing::HasSubstr("media.m: missing required key 'file'"));
+  EXPECT_THAT(error_of(media(R"("type": "local-gamma", "fields": "")")),
+              ::testing::HasSubstr("media.m: 'fields' is empty (give the .vdb written by `weft fit --block`)"));
+  fs::remove(grid);
+}
+
 TEST(SceneFile, AnAlbedoAboveOneIsRefusedForEveryMaterialAndMedium) {
   // Each multiplies the throughput at a bounce: above 1 it creates energy (a dielectric sphere of
   // albedo 3 under an environment of 1 rendered a mean of 6.75).
