@@ -128,7 +128,7 @@ void run_render_matrix_command(const study::StudySpec& study, const MatrixCliOpt
   const fs::path out = given.out_dir.empty() ? fs::path("render_study") : fs::path(given.out_dir);
   m.study.work_dir = out;
   as_usage([&] { study::check_matrix_spec(m); });
-  if (dist::is_root()) ensure_directory(out);
+  // `out` is created by study::run_matrix, which removes it again when the run is refused.
   run_render_matrix(m, out, o.resume, ctx, files);
 }
 

@@ -76,8 +76,8 @@ void init_measure(py::module_& m) {
       .def_property_readonly("stderr", &stderr_abs, "Standard error of T over the rays.")
       .def_property_readonly("rel_stderr", [](const vol::TransmittanceCurve& c) { return to_array(c.rel_stderr); })
       .def_readonly("rays", &vol::TransmittanceCurve::distinct_rays,
-                    "Rays with distinct optical depths that entered the box (the samples behind the standard\n"
-                    "error; measure.json's \"rays\").")
+                    "Rays that entered the box, an axis column's rays counted once (the samples behind the\n"
+                    "standard error, taken as independent; measure.json's \"rays\").")
       .def_readonly("rays_traced", &vol::TransmittanceCurve::rays, "Rays traced that entered the box.")
       .def_readonly("direction", &vol::TransmittanceCurve::direction, "Unit direction of travel.")
       .def_readonly("method", &vol::TransmittanceCurve::method)

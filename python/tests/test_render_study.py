@@ -356,16 +356,19 @@ def test_an_unwritable_out_is_refused_before_any_work(out):
 
 def test_matrix_refuses_a_factor_whose_voxel_holds_the_cloth(weft_bin, tmp_path):
     """The matrix (Python and CLI) checks its factors on each generated cloth before any fit or
-    render; the cloths stay in the folder, its resumable cache (docs/render.md §6c "Factors")."""
+    render, and a refused run leaves nothing: the cloths it made and the folders it created go
+    (docs/render.md §6c "Factors"); a folder that was there keeps what it held."""
     py_out = tmp_path / "py"
     with pytest.raises(weft.Error, match=r"coarsening factor 4096: one coarse voxel .* holds the whole active box"):
         weft.render_matrix(quick=True, cloths="plain", lightings="back", tilts=(45,), factors=(2, 4096), out=py_out)
-    assert sorted(p.name for p in py_out.iterdir()) == ["cloths"]
+    assert not py_out.exists()
     out = tmp_path / "m"
+    out.mkdir()
+    (out / "mine.txt").write_text("kept")
     r = subprocess.run([weft_bin, "--quiet", "render", "--study", "--quick", "--study-cloths", "plain",
                         "--study-lightings", "back", "--study-tilts", "45", "--study-factors", "2,4096",
                         "--out", str(out)], capture_output=True, text=True, timeout=120)
     assert r.returncode == 1, r.stderr
     assert r.stderr.strip().splitlines() == [r.stderr.strip()]
     assert "coarsening factor 4096: one coarse voxel of 4096 voxels" in r.stderr
-    assert sorted(p.name for p in out.iterdir()) == ["cloths"]
+    assert sorted(p.name for p in out.iterdir()) == ["mine.txt"]

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <functional>
 #include <optional>
 #include <set>
@@ -359,10 +360,11 @@ std::string matrix_key(const MatrixSpec& spec) {
 std::vector<MatrixCaseResult> run_matrix(const MatrixSpec& spec, ProgressSink& progress, dist::UnitStore* store) {
   check_matrix_spec(spec);
   const std::vector<MatrixCase> cases = matrix_cases(spec);
-  if (dist::is_root()) {
-    check_writable_folder(spec.study.work_dir);  // before any cloth is made, not at its first file
-    ensure_directory(spec.study.work_dir / "cloths");
-  }
+  // A refused run leaves nothing (docs/render.md §6c "Factors"): the folders and cloths this run
+  // makes are removed if it fails before its cloths pass the factor check; after that they stay
+  // for the next run. An unwritable folder is refused by its name before any cloth is made.
+  if (dist::is_root()) check_writable_folder(spec.study.work_dir);
+  FolderRollback made(spec.study.work_dir / "cloths", dist::is_root());
   (void)dist::root_decides(true);
 
   // 1. The cloths, one unit each (a grid already there is the same cloth: its name hashes its spec).
@@ -380,10 +382,18 @@ std::vector<MatrixCaseResult> run_matrix(const MatrixSpec& spec, ProgressSink& p
       },
       gen);
 
-  // A factor too coarse for a cloth is refused before any fit or render (the cloths stay, as
-  // after any failure of the matrix: docs/render.md §6c "Factors").
-  for (const auto& pattern : spec.cloths)
-    check_factors_for_grid(spec.study.factors, volume::Grid::load(cloth_file(spec, pattern)));
+  // A factor too coarse for a cloth is refused before any fit or render. Every rank loads every
+  // cloth, so the refusal waits for all of them (a collective) before the root removes the cloths.
+  std::exception_ptr refused;
+  try {
+    for (const auto& pattern : spec.cloths)
+      check_factors_for_grid(spec.study.factors, volume::Grid::load(cloth_file(spec, pattern)));
+  } catch (const Error&) {
+    refused = std::current_exception();
+  }
+  (void)dist::root_decides(refused == nullptr);
+  if (refused) std::rethrow_exception(refused);
+  made.keep();
 
   // 2. The albedo factors per cloth, fitted on one set-up.
   const std::vector<Factors> factors = fit_factors(spec, cases, store, progress);

@@ -63,8 +63,10 @@ struct TransmittanceCurve {
   std::vector<double> log_t;       ///< log of the mean over rays of exp(−τ_i(t))
   std::vector<double> rel_stderr;  ///< standard error of that mean divided by the mean
   std::uint64_t rays = 0;          ///< rays traced that entered the box
-  /// Rays with distinct optical depths: an axis beam's rays_per_column rays of one column cross
-  /// the same voxels, so they count once (the samples behind the standard error); = rays otherwise.
+  /// The samples behind the standard error: an axis beam's rays_per_column rays of one column
+  /// cross the same voxels, so they count once; = rays otherwise. Columns count as independent
+  /// samples of the cloth even where a fine lattice repeats an optical depth (docs/validate.md
+  /// "What the standard error is").
   std::uint64_t distinct_rays = 0;
   std::array<double, 3> direction{0.0, 0.0, 1.0};  ///< unit direction
   std::string method;

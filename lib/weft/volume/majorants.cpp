@@ -1,12 +1,14 @@
 #include "weft/volume/majorants.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
 #include <openvdb/openvdb.h>
 
 #include "weft/core/error.h"
+#include "weft/volume/block_lattice.h"
 #include "weft/volume/dda_impl.h"
 #include "weft/volume/grid_openvdb.h"
 
@@ -14,10 +16,8 @@ namespace weft::volume {
 
 namespace {
 
-/// Floor division by the block size (8 = 2³): arithmetic shift, exact for negative indices.
-int cell_of(int voxel) { return voxel >> 3; }
 static_assert(MajorantGrid::kBlock == 8 && openvdb::FloatTree::LeafNodeType::DIM == 8,
-              "majorant cells are the tree's leaves");
+              "majorant cells are the size of the tree's leaves");
 
 /// Raises cell c of the coarse grid to at least v (activating it).
 void raise(openvdb::FloatGrid::Accessor& acc, const openvdb::Coord& c, float v) {
@@ -26,13 +26,34 @@ void raise(openvdb::FloatGrid::Accessor& acc, const openvdb::Coord& c, float v) 
   if (!on || v > current) acc.setValue(c, on ? std::max(current, v) : v);
 }
 
+/// The cell holding fine voxel c.
+openvdb::Coord cell_of(const BlockLattice& cells, const openvdb::Coord& c) {
+  return {static_cast<openvdb::Int32>(cells.block_of(0, c.x())), static_cast<openvdb::Int32>(cells.block_of(1, c.y())),
+          static_cast<openvdb::Int32>(cells.block_of(2, c.z()))};
+}
+
 /// Raises every cell that voxels [lo, hi] (inclusive) dilated by one voxel touch.
-void raise_box(openvdb::FloatGrid::Accessor& acc, const openvdb::Coord& lo, const openvdb::Coord& hi, float v) {
-  const openvdb::Coord a(cell_of(lo.x() - 1), cell_of(lo.y() - 1), cell_of(lo.z() - 1));
-  const openvdb::Coord b(cell_of(hi.x() + 1), cell_of(hi.y() + 1), cell_of(hi.z() + 1));
+void raise_box(openvdb::FloatGrid::Accessor& acc, const BlockLattice& cells, const openvdb::Coord& lo,
+               const openvdb::Coord& hi, float v) {
+  const openvdb::Coord a = cell_of(cells, lo.offsetBy(-1));
+  const openvdb::Coord b = cell_of(cells, hi.offsetBy(1));
   for (int k = a.z(); k <= b.z(); ++k)
     for (int j = a.y(); j <= b.y(); ++j)
       for (int i = a.x(); i <= b.x(); ++i) raise(acc, openvdb::Coord(i, j, k), v);
+}
+
+/// The cells anchored at the lower corner of the channels' active voxels (of their union; index
+/// 0 when nothing is active): docs/render.md §5 "Majorant cells anchored to the cloth".
+BlockLattice anchored_cells(const std::vector<const Grid*>& channels) {
+  IndexBox box;
+  bool any = false;
+  for (const Grid* c : channels) {
+    const IndexBox b = c->active_bbox();
+    if (b.empty()) continue;
+    for (std::size_t a = 0; a < 3; ++a) box.min[a] = any ? std::min(box.min[a], b.min[a]) : b.min[a];
+    any = true;
+  }
+  return block_lattice(box, MajorantGrid::kBlock);
 }
 
 }  // namespace
@@ -48,37 +69,51 @@ MajorantGrid::MajorantGrid(const std::vector<const Grid*>& channels) {
       fail("majorant grid: grids '{}' and '{}' differ in voxel size or origin", grid.name(), c->name());
   }
   auto coarse = openvdb::FloatGrid::create(0.0F);
-  // Coarse cell K covers world origin + 8h·[K, K+1) per axis; OpenVDB places voxel centres,
-  // so the coarse transform is scale 8h with cell K centred at origin + 8h·(K + ½).
+  // Cell K covers fine voxels anchor + 8K … anchor + 8K + 7, i.e. world corner + 8h·[K, K+1)
+  // with corner = origin + h·anchor; OpenVDB places voxel centres, so the coarse transform is
+  // scale 8h with cell K centred at corner + 8h·(K + ½).
   const double h = grid.voxel_size();
-  const auto origin = grid.origin();
+  const BlockLattice cells = anchored_cells(channels);
+  const auto corner = cells.coarse_origin(grid.origin(), h);
   auto xf = openvdb::math::Transform::createLinearTransform(kBlock * h);
   xf->postTranslate(
-      openvdb::Vec3d(origin[0] + 0.5 * kBlock * h, origin[1] + 0.5 * kBlock * h, origin[2] + 0.5 * kBlock * h));
+      openvdb::Vec3d(corner[0] + 0.5 * kBlock * h, corner[1] + 0.5 * kBlock * h, corner[2] + 0.5 * kBlock * h));
   coarse->setTransform(xf);
   coarse->setName(grid.name() + "_majorant");
   auto acc = coarse->getAccessor();
   float global = 0.0F;
+  constexpr float kNone = -std::numeric_limits<float>::infinity();
   // Raising is a maximum, so every channel raising the same cells gives the maximum over the
   // channels of the per-voxel values.
   for (const Grid* channel : channels) {
     const openvdb::FloatGrid& fine = *channel->impl().grid;
-    // Voxels: the leaf's own maximum goes to its cell in one write; voxels on the leaf's faces
-    // also raise the neighbouring cells (the one-voxel dilation).
+    // Voxels: a leaf overlaps at most 2 cells per axis (the cells are leaf-sized but anchored to
+    // the cloth, not to the leaves); each cell's maximum over the leaf goes to it in one write,
+    // and voxels on a cell's faces also raise the neighbouring cells (the one-voxel dilation).
     for (auto leaf = fine.tree().cbeginLeaf(); leaf; ++leaf) {
-      const openvdb::Coord org = leaf->origin();
-      float leaf_max = -std::numeric_limits<float>::infinity();
+      const openvdb::Coord first = cell_of(cells, leaf->origin());
+      std::array<float, 8> cell_max;
+      cell_max.fill(kNone);
       for (auto it = leaf->cbeginValueOn(); it; ++it) {
         const float v = *it;
-        leaf_max = std::max(leaf_max, v);
         const openvdb::Coord c = it.getCoord();
-        const openvdb::Coord rel = c - org;
-        const bool face = rel.x() == 0 || rel.y() == 0 || rel.z() == 0 || rel.x() == 7 || rel.y() == 7 || rel.z() == 7;
-        if (face) raise_box(acc, c, c, v);
+        const openvdb::Coord cell = cell_of(cells, c);
+        const openvdb::Coord rel = c - openvdb::Coord(static_cast<openvdb::Int32>(cells.first_voxel(0, cell.x())),
+                                                      static_cast<openvdb::Int32>(cells.first_voxel(1, cell.y())),
+                                                      static_cast<openvdb::Int32>(cells.first_voxel(2, cell.z())));
+        const openvdb::Coord slot = cell - first;  // 0 or 1 per axis
+        const int index = slot.x() + 2 * slot.y() + 4 * slot.z();
+        float& m = cell_max[static_cast<std::size_t>(index)];
+        m = std::max(m, v);
+        const bool face = rel.x() == 0 || rel.y() == 0 || rel.z() == 0 || rel.x() == kBlock - 1 ||
+                          rel.y() == kBlock - 1 || rel.z() == kBlock - 1;
+        if (face) raise_box(acc, cells, c, c, v);
       }
-      if (leaf_max > -std::numeric_limits<float>::infinity()) {
-        raise(acc, openvdb::Coord(cell_of(org.x()), cell_of(org.y()), cell_of(org.z())), leaf_max);
-        global = std::max(global, leaf_max);
+      for (std::size_t s = 0; s < cell_max.size(); ++s) {
+        if (cell_max[s] == kNone) continue;
+        const auto o = static_cast<int>(s);
+        raise(acc, first.offsetBy(o & 1, (o >> 1) & 1, (o >> 2) & 1), cell_max[s]);
+        global = std::max(global, cell_max[s]);
       }
     }
     // Active tiles (constant over 128³ or 4096³ voxels): every cell they touch, dilated.
@@ -87,7 +122,7 @@ MajorantGrid::MajorantGrid(const std::vector<const Grid*>& channels) {
     for (; tiles; ++tiles) {
       openvdb::CoordBBox bb;
       tiles.getBoundingBox(bb);
-      raise_box(acc, bb.min(), bb.max(), *tiles);
+      raise_box(acc, cells, bb.min(), bb.max(), *tiles);
       global = std::max(global, *tiles);
     }
   }
@@ -102,11 +137,11 @@ MajorantGrid& MajorantGrid::operator=(MajorantGrid&&) noexcept = default;
 std::uint64_t MajorantGrid::active_cells() const { return cells_->active_voxel_count(); }
 
 namespace {
-/// World-space lookups of the voxel containing a point, through a LeafCachedReader: a majorant
-/// cell is one leaf of the density tree, so the tentative collisions inside it read that leaf's
-/// buffer directly, and the accessor (whose own cache check and node probing were ~30 % of a
-/// cloth render's time, perf) is asked only when a point falls in another leaf (a new cell, or
-/// rounding across the cell's face) or in a tile.
+/// World-space lookups of the voxel containing a point, through a LeafCachedReader: a ray's
+/// tentative collisions come in order along it, so most read the leaf buffer of the one before,
+/// and the accessor (whose own cache check and node probing were ~30 % of a cloth render's time,
+/// perf) is asked only when a point falls in another leaf (the ray crossed a leaf face) or in a
+/// tile.
 struct PointLookup {
   LeafCachedReader reader;
   double origin[3];

@@ -4,10 +4,12 @@
 /// and the point lookups the trackers make (the role of pbrt-v4's `MajorantGrid` and
 /// `DDAMajorantIterator`, media.h).
 ///
-/// The majorant grid is a coarse sparse grid with one cell per leaf node of the density tree
-/// (8³ voxels, aligned with the leaves), holding the maximum value over the leaf's voxels and
-/// their neighbours. It is traversed by the same Amanatides–Woo kernel as the density grid
-/// (dda_impl.h), so empty space is skipped a tree node at a time on the coarse tree as well.
+/// The majorant grid is a coarse sparse grid of cells of 8³ voxels (a leaf node's size),
+/// anchored at the lower corner of the active voxels rather than at the index lattice's
+/// multiples of 8 (docs/render.md §5 "Majorant cells anchored to the cloth": the same cloth stored at
+/// another index origin gets the same cells, so the same tracking and the same image), each
+/// holding the maximum value over its voxels and their neighbours. It is traversed by the same Amanatides–Woo kernel as
+/// the density grid (dda_impl.h), so empty space is skipped a tree node at a time on the coarse tree as well.
 
 #include <array>
 #include <cmath>
@@ -44,7 +46,8 @@ class FunctionRef<R(Args...)> {
 
 /// @brief Per-block upper bounds of a grid's values (read-only, shared between threads).
 ///
-/// Cell K covers the voxels 8K … 8K+7 per axis (a leaf of the tree); its value is the maximum
+/// Cell K covers the voxels a + 8K … a + 8K + 7 per axis, a the lower corner of the active
+/// voxels (of every channel's, block_lattice.h); its value is the maximum
 /// over those voxels and every voxel within one voxel of them (dilation), so a point lookup that
 /// rounds across a cell face still finds value ≤ majorant. Active tiles give their value to
 /// every cell they touch. Values are the grid's own (unscaled): for μ = scale·value the
@@ -66,7 +69,8 @@ class MajorantGrid {
   MajorantGrid(MajorantGrid&&) noexcept;
   MajorantGrid& operator=(MajorantGrid&&) noexcept;
 
-  /// The coarse grid (voxel size 8h, cells aligned with the density tree's leaves).
+  /// The coarse grid (voxel size 8h; its index 0 starts at the active voxels' lower corner, so
+  /// its origin is the fine grid's moved there).
   [[nodiscard]] const Grid& cells() const { return *cells_; }
   /// The largest value of the grid (the global majorant over scale).
   [[nodiscard]] double max_value() const { return max_value_; }

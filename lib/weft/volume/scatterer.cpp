@@ -4,7 +4,10 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <tuple>
 #include <vector>
+
+#include <tbb/parallel_sort.h>
 
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
@@ -23,6 +26,12 @@ using detail::kMaxShards;
 using detail::LseAccumulator;
 
 constexpr std::uint64_t kChunk = 1024;  // rays per work unit
+
+/// A voxel or tile of the particle origins' table and its cumulative weight (value × voxels).
+struct ParticleCell {
+  openvdb::CoordBBox box;
+  double cdf = 0.0;
+};
 
 /// What a request resolves to before any work: its direction, the rays' length and depth grid.
 struct ScattererPlan {
@@ -67,8 +76,8 @@ PassCost scatterer_cost(const Grid& grid, const ScattererSpec& spec, const Scatt
   c.steps = 2.0 * rays * (cells + K) + values;
   // Accumulators (shards and totals), the depths, both curves' three arrays, p_Q and μ̄T_S, and
   // one profile per thread; then the origins' table.
-  c.bytes = (2.0 * 3.0 * (shards + 1.0) + 1.0 + 2.0 * 3.0 + 2.0 + workers) * K * kD +
-            2.0 * values * (sizeof(openvdb::CoordBBox) + kD);
+  c.bytes =
+      (2.0 * 3.0 * (shards + 1.0) + 1.0 + 2.0 * 3.0 + 2.0 + workers) * K * kD + 2.0 * values * (sizeof(ParticleCell));
   return c;
 }
 
@@ -86,26 +95,33 @@ void check_scatterer(const Grid& grid, const ScattererSpec& spec) { (void)checke
 
 ScattererCurves measure_scatterer(const Grid& grid, const ScattererSpec& spec, ProgressSink& progress) {
   const ScattererPlan plan = checked_plan(grid, spec);
-  const double total = grid.sum();
-  if (!(total > 0.0)) fail("scatterer rays: grid '{}' holds no particles (all values 0)", grid.name());
   const Vec3 fixed = plan.fixed;
-  const auto& vdb = *grid.impl().grid;
   const double h = grid.voxel_size();
   const IndexBox box = grid.active_bbox();
   const auto ext = box.extent();
   const auto o = grid.origin();
-  // Cumulative weights over active voxels and tiles: origins ∝ C.
-  std::vector<openvdb::CoordBBox> cells;
-  std::vector<double> cdf;
-  double run = 0.0;
-  for (auto it = vdb.cbeginValueOn(); it; ++it) {
-    if (!(*it > 0.0f)) continue;
-    openvdb::CoordBBox b;
-    it.getBoundingBox(b);
-    run += static_cast<double>(*it) * static_cast<double>(it.getVoxelCount());
-    cells.push_back(b);
-    cdf.push_back(run);
+  // Origins ∝ C: the active voxels and tiles of positive value with their cumulative weights,
+  // in order of position (z, then y, then x of the lower corner), not of the tree: the tree's
+  // leaves sit at multiples of 8 in index space, so the same cloth stored at another index
+  // origin would list its voxels in another order and draw other particles for the same seed
+  // (docs/validate.md "Particle origins in order of position"). Boxes do not overlap, so the
+  // order is total and the sort's result does not depend on the threads.
+  std::vector<ParticleCell> cells;
+  for (auto it = grid.impl().grid->cbeginValueOn(); it; ++it) {
+    if (!(*it > 0.0F)) continue;
+    ParticleCell c;
+    it.getBoundingBox(c.box);
+    c.cdf = static_cast<double>(*it) * static_cast<double>(it.getVoxelCount());
+    cells.push_back(c);
   }
+  if (cells.empty()) fail("scatterer rays: grid '{}' holds no particles (no positive values)", grid.name());
+  tbb::parallel_sort(cells.begin(), cells.end(), [](const ParticleCell& a, const ParticleCell& b) {
+    const openvdb::Coord& p = a.box.min();
+    const openvdb::Coord& q = b.box.min();
+    return std::make_tuple(p.z(), p.y(), p.x()) < std::make_tuple(q.z(), q.y(), q.x());
+  });
+  double run = 0.0;
+  for (ParticleCell& c : cells) c.cdf = run += c.cdf;
   const std::vector<double> depths = beam_depth_grid(plan.max_depth, plan.depth_step);
   const std::uint64_t units = (spec.rays + kChunk - 1) / kChunk;
   const std::size_t shards = static_cast<std::size_t>(std::min<std::uint64_t>(kMaxShards, units));
@@ -130,8 +146,11 @@ ScattererCurves measure_scatterer(const Grid& grid, const ScattererSpec& spec, P
         }
         // Particle origin: a cell ∝ its weight, then uniform inside it.
         const double pick = rng.uniform() * run;
-        const auto idx = static_cast<std::size_t>(std::upper_bound(cdf.begin(), cdf.end(), pick) - cdf.begin());
-        const auto& b = cells[std::min(idx, cells.size() - 1)];
+        const auto idx =
+            static_cast<std::size_t>(std::upper_bound(cells.begin(), cells.end(), pick,
+                                                      [](double x, const ParticleCell& c) { return x < c.cdf; }) -
+                                     cells.begin());
+        const auto& b = cells[std::min(idx, cells.size() - 1)].box;
         Ray sray;
         for (int a = 0; a < 3; ++a) {
           const double lo = o[a] + h * b.min()[a];
@@ -167,8 +186,10 @@ ScattererCurves measure_scatterer(const Grid& grid, const ScattererSpec& spec, P
   }
   s_total.finish(out.t_s, s_total.n);
   q_total.finish(out.t_q, q_total.n);
+  // μ̄ from the particles' total in the table's order (Grid::sum adds in tree order, whose
+  // rounding would differ between index origins).
   out.mean_extinction =
-      spec.scale * total / (static_cast<double>(ext[0]) * static_cast<double>(ext[1]) * static_cast<double>(ext[2]));
+      spec.scale * run / (static_cast<double>(ext[0]) * static_cast<double>(ext[1]) * static_cast<double>(ext[2]));
   const std::size_t K = depths.size();
   out.p_q.assign(K, 0.0);
   out.mu_t_s.assign(K, 0.0);

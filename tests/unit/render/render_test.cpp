@@ -2,6 +2,7 @@
 // light over a plane), two estimators of one answer, and reproducibility. Tolerances are 5
 // standard errors of the rendered estimate (per-pixel sample variances), plus float rounding.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -593,17 +594,21 @@ TEST(AreaLight, RadianceUnderRectangleMatchesFormFactor) {
   EXPECT_TRUE(r.stats.features.area_lights);
 }
 
-/// A 24³ grid, voxel 1/24, over [-0.5, 0.5]³: dense in one corner, thin elsewhere, with holes.
-std::string varying_grid_file() {
-  const auto path = std::filesystem::temp_directory_path() / "weft_render_varying_grid.vdb";
-  volume::Grid grid(1.0 / 24.0, "density");
-  for (int i = 0; i < 24; ++i)
-    for (int j = 0; j < 24; ++j)
-      for (int k = 0; k < 24; ++k) {
+/// An n³ grid, voxel 1/n, over [-0.5, 0.5]³: dense in one corner, thin elsewhere, with holes;
+/// stored at index origin `shift` with the world origin moved back (the same cloth in the world).
+std::string varying_grid_file(int n = 24, const std::array<int, 3>& shift = {0, 0, 0}) {
+  const auto path = std::filesystem::temp_directory_path() /
+                    fmt::format("weft_render_varying_grid_{}_{}_{}_{}.vdb", n, shift[0], shift[1], shift[2]);
+  const double h = 1.0 / n;
+  volume::Grid grid(h, "density");
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k) {
         if ((i + 2 * j + 3 * k) % 7 == 0) continue;  // holes
-        grid.set_value(i, j, k, i < 12 && j < 12 ? 0.9f : 0.05f * static_cast<float>(1 + k % 3));
+        grid.set_value(i + shift[0], j + shift[1], k + shift[2],
+                       i < n / 2 && j < n / 2 ? 0.9f : 0.05f * static_cast<float>(1 + k % 3));
       }
-  grid.set_origin({-0.5, -0.5, -0.5});
+  grid.set_origin({-0.5 - h * shift[0], -0.5 - h * shift[1], -0.5 - h * shift[2]});
   grid.save(path);
   return path.string();
 }
@@ -619,6 +624,22 @@ TEST(GridMedium, MajorantGridDeltaTrackingEqualsOpticalDepthOnVaryingGrid) {
   const RenderResult depth =
       render(scene_from(cube_scene(fmt::format(fmt::runtime(medium), file, "optical-depth"), 64)), other_seed);
   expect_same_image(delta.image, depth.image);
+}
+
+// The same cloth stored at another index origin (whole-voxel shifts that are not multiples of
+// the majorant cells' 8 voxels, the world origin moved back) renders the same bytes with delta
+// and ratio tracking: the majorant cells are anchored to the active voxels, not to the index
+// lattice (docs/render.md §5 "Majorant cells anchored to the cloth"). Voxels of 1/32 keep every
+// world position exact, so nothing but the anchoring could tell the two apart.
+TEST(GridMedium, ShiftingTheIndexOriginRendersTheSameBytes) {
+  const std::string medium = R"({{"type": "grid", "file": "{}", "sigma": 8, "albedo": 0.9, "tracking": "delta"}})";
+  const RenderResult base = render(scene_from(cube_scene(fmt::format(fmt::runtime(medium), varying_grid_file(32)), 4)));
+  for (const std::array<int, 3> shift : {std::array<int, 3>{5, -7, 13}, {-3, 1, 2}, {1001, -515, 37}}) {
+    const RenderResult moved =
+        render(scene_from(cube_scene(fmt::format(fmt::runtime(medium), varying_grid_file(32, shift)), 4)));
+    EXPECT_EQ(moved.image.rgb, base.image.rgb) << shift[0] << "," << shift[1] << "," << shift[2];
+    EXPECT_EQ(moved.stats.rays, base.stats.rays);
+  }
 }
 
 // A path whose throughput is zero ends at once: an albedo-0 medium traced with roulette

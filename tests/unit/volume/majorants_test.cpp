@@ -1,7 +1,8 @@
 // Majorant grids, their traversal and the trackers built on them (weft/volume/majorants.h):
-// cells align with the tree's leaves and bound every value a point lookup can return (faces,
-// negative indices, tiles, axis-aligned rays), and delta/ratio tracking and the optical-depth
-// march estimate what the exact DDA computes. Statistical checks use fixed seeds and 5σ.
+// cells of 8³ voxels anchored at the active voxels' lower corner bound every value a point lookup
+// can return (faces, negative indices, tiles, axis-aligned rays, another index origin), and
+// delta/ratio tracking and the optical-depth march estimate what the exact DDA computes.
+// Statistical checks use fixed seeds and 5σ.
 #include <array>
 #include <cmath>
 #include <vector>
@@ -40,22 +41,74 @@ double value_at_point(const Grid& g, double x, double y, double z) {
                  static_cast<int>(std::floor((z - o[2]) / h)));
 }
 
-TEST(MajorantGrid, CellsAreLeavesDilatedByOneVoxel) {
+TEST(MajorantGrid, CellsAreAnchoredAtTheActiveCornerAndDilatedByOneVoxel) {
+  // The active voxels start at (-1, 2, 2): cell K covers voxels (-1, 2, 2) + 8K … + 8K + 7, so
+  // cell 0 spans x = -1 … 6 across two leaves and cell 1 starts at x = 7.
   Grid g(0.5, "density");
-  g.set_value(3, 3, 3, 2.0f);   // interior of leaf (0,0,0)
-  g.set_value(7, 2, 2, 5.0f);   // on the leaf's +x face: raises cell (1,0,0) too
-  g.set_value(-1, 4, 4, 3.0f);  // leaf (-1,0,0): its +x face touches cell (0,0,0)
+  g.set_value(-1, 2, 2, 1.0f);  // the corner, on cell (0,0,0)'s faces: raises cells (-1…0)³ too
+  g.set_value(3, 5, 5, 2.0f);   // interior of cell (0,0,0)
+  g.set_value(6, 5, 5, 5.0f);   // on cell (0,0,0)'s +x face (leaf (0,0,0)): raises cell (1,0,0)
+  g.set_value(9, 5, 5, 6.0f);   // interior of cell (1,0,0) (leaf (8,0,0))
+  g.set_value(7, 6, 6, 0.5f);   // leaf (0,0,0) but cell (1,0,0), on its -x face
   const MajorantGrid m(g);
   const Grid& c = m.cells();
   EXPECT_DOUBLE_EQ(c.voxel_size(), 4.0);
   EXPECT_EQ(c.value(0, 0, 0), 5.0f);
-  EXPECT_EQ(c.value(1, 0, 0), 5.0f);
-  EXPECT_EQ(c.value(-1, 0, 0), 3.0f);
+  EXPECT_EQ(c.value(1, 0, 0), 6.0f);
+  EXPECT_EQ(c.value(-1, 0, 0), 1.0f);
+  EXPECT_EQ(c.value(-1, -1, -1), 1.0f);
   EXPECT_EQ(c.value(0, 1, 0), 0.0f);  // nothing within a voxel of that cell
   EXPECT_EQ(c.value(2, 0, 0), 0.0f);
-  EXPECT_DOUBLE_EQ(m.max_value(), 5.0);
-  // Cell K covers world origin + 8h·[K, K+1): its world origin is the fine grid's.
-  EXPECT_EQ(c.origin(), g.origin());
+  EXPECT_DOUBLE_EQ(m.max_value(), 6.0);
+  // Cell 0 starts at the world corner of voxel (-1, 2, 2).
+  const auto o = g.origin();
+  EXPECT_EQ(c.origin(), (std::array<double, 3>{o[0] - 0.5, o[1] + 1.0, o[2] + 1.0}));
+}
+
+// The same voxels at another index origin (shifts that are not multiples of 8, the world origin
+// moved back; voxels of 1/32 keep every position exact): the same cells in the world, and the
+// same tracking draw for draw (docs/render.md §5 "Majorant cells anchored to the cloth").
+TEST(MajorantGrid, ShiftingTheIndexOriginChangesNothingInTheWorld) {
+  const double h = 1.0 / 32.0;
+  const auto grid_at = [&](const std::array<int, 3>& shift) {
+    Grid g(h, "density");
+    for (int i = 0; i < 24; ++i)
+      for (int j = 0; j < 24; ++j)
+        for (int k = 0; k < 24; ++k) {
+          if ((i + 2 * j + 3 * k) % 7 == 0) continue;  // holes
+          g.set_value(i + shift[0], j + shift[1], k + shift[2],
+                      i < 12 && j < 12 ? 0.9f : 0.05f * static_cast<float>(1 + k % 3));
+        }
+    g.set_origin({-h * shift[0], -h * shift[1], -h * shift[2]});
+    return g;
+  };
+  const Grid base = grid_at({0, 0, 0});
+  const MajorantGrid mb(base);
+  MajorantTracker tb(base, mb);
+  for (const std::array<int, 3> shift : {std::array<int, 3>{5, -7, 13}, {-1, 3, 4}, {1001, -515, 37}}) {
+    SCOPED_TRACE(testing::Message() << "shift " << shift[0] << "," << shift[1] << "," << shift[2]);
+    const Grid moved = grid_at(shift);
+    const MajorantGrid mm(moved);
+    EXPECT_EQ(mm.cells().origin(), mb.cells().origin());
+    EXPECT_EQ(mm.active_cells(), mb.active_cells());
+    EXPECT_EQ(mm.cells().sum(), mb.cells().sum());
+    for (int i = -1; i <= 3; ++i)
+      for (int j = -1; j <= 3; ++j)
+        for (int k = -1; k <= 3; ++k) EXPECT_EQ(mm.cells().value(i, j, k), mb.cells().value(i, j, k));
+    MajorantTracker tm(moved, mm);
+    Pcg32 ray_rng(3);
+    for (int trial = 0; trial < 200; ++trial) {
+      const std::array<double, 3> o{ray_rng.uniform() * 2 - 0.5, ray_rng.uniform() * 2 - 0.5, -0.5};
+      const std::array<double, 3> d{ray_rng.uniform() - 0.5, ray_rng.uniform() - 0.5, 1.0};
+      Pcg32 ra(100 + trial);
+      Pcg32 rb(100 + trial);
+      const TrackedCollision ca = tb.delta_track(Ray{o, d}, 0.0, 3.0, 20.0, ra);
+      const TrackedCollision cb = tm.delta_track(Ray{o, d}, 0.0, 3.0, 20.0, rb);
+      EXPECT_EQ(ca.collided, cb.collided);
+      EXPECT_EQ(ca.t, cb.t);
+      EXPECT_EQ(tb.ratio_track(Ray{o, d}, 0.0, 3.0, 20.0, ra), tm.ratio_track(Ray{o, d}, 0.0, 3.0, 20.0, rb));
+    }
+  }
 }
 
 TEST(MajorantGrid, ActiveTilesRaiseEveryCellTheyTouch) {
