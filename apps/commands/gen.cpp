@@ -27,6 +27,7 @@
 #include "weft/dist/distributed.h"
 #include "weft/render/cloth_scene.h"
 #include "weft/viz/vtk_files.h"
+#include "weft/volume/grid.h"
 #include "written_files.h"
 
 namespace weft::app {
@@ -259,9 +260,10 @@ ClothSpec make_spec(CLI::App& sub, const GenOptions& o) {
   if (given("--max-memory")) spec.max_memory_mb = parse_memory_mb(o.max_memory);
   // Every parameter is checked before anything runs or is written. A --config file was checked
   // when loaded (exit 1), so what fails here comes from the command line: a usage error (exit 2).
-  spec = as_usage([&] { return cloth::resolve(spec); });
+  // Checked before resolving, so that an automatic (0) spacing or crimp is known as such and the
+  // yarn fields behind it are named (cloth::check_cloth_extent).
   as_usage([&] { cloth::validate(spec); });
-  return spec;
+  return cloth::resolve(spec);
 }
 
 // The fibres as VTK polylines, taking their arrays (the caller's last use of them): a copy of
@@ -311,7 +313,11 @@ const Registrar kGen{Command{
       sub.add_option("--input-scale", o->input_scale, "Factor from the input file's units to mm")
           ->check(positive)
           ->capture_default_str();
-      sub.add_option("--voxel-size", o->voxel_size, "Voxel edge in mm")->check(positive)->capture_default_str();
+      sub.add_option("--voxel-size", o->voxel_size,
+                     fmt::format("Voxel edge in mm: >= {:.4g} (OpenVDB's smallest), below the cloth's longest side",
+                                 volume::min_voxel_size()))
+          ->check(positive)
+          ->capture_default_str();
       sub.add_option("--samples-per-voxel", o->samples_per_voxel,
                      "Voxelizer quadrature points per voxel edge (volume is conserved for any value)")
           ->capture_default_str();

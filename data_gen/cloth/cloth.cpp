@@ -143,8 +143,8 @@ std::vector<std::string> cloth_warnings(const ClothBuild& build, FrontEnd asker)
 
 ClothBuild build_cloth(const ClothSpec& input, ProgressSink& progress, bool spread_over_ranks, FrontEnd asker) {
   ClothBuild build;
+  validate(input);  // before resolve: an automatic spacing or crimp is named as such
   build.spec = resolve(input);
-  validate(build.spec);
   const auto t0 = std::chrono::steady_clock::now();
   const std::uint64_t budget = memory_budget_bytes("max_memory_mb", build.spec.max_memory_mb);
   // Woven and knit specs are checked before their centrelines are made (a huge --yarns would

@@ -1,7 +1,12 @@
 #include "data_gen/cloth/pattern.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
+
+#include <fmt/format.h>
 
 #include "data_gen/cloth/yarn.h"
 #include "weft/core/error.h"
@@ -145,6 +150,23 @@ CurveSet cloth_centerlines(const ClothSpec& spec) {
       if (const auto why = centerline_problem(set.curves[i], spec.warp_yarn.sample_step); !why.empty())
         fail("{}: curve {} at input_scale {} {}", spec.input, i, spec.input_scale, why);
     }
+    // The voxel's upper bound, as for a woven cloth (spec.cpp check_cloth_extent): below the
+    // longest side of the curves' box, yarn surfaces included.
+    std::array<double, 3> lo{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+                             std::numeric_limits<double>::max()};
+    std::array<double, 3> hi{-lo[0], -lo[1], -lo[2]};
+    for (const auto& c : set.curves) {
+      for (const auto& p : c.points) {
+        for (int a = 0; a < 3; ++a) {
+          lo[a] = std::min(lo[a], p[a]);
+          hi[a] = std::max(hi[a], p[a]);
+        }
+      }
+    }
+    const double longest =
+        std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]}) + 2.0 * yarn_envelope_radius(spec.warp_yarn);
+    require_voxel_within(fmt::format("the curves of {} at input_scale {}", spec.input, spec.input_scale), longest,
+                         spec.voxel_size);
     set.direction.assign(set.curves.size(), 0);
     return set;
   }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string_view>
 
 #include <fmt/format.h>
@@ -12,6 +13,7 @@
 #include "weft/core/error.h"
 #include "weft/core/file_kind.h"
 #include "weft/core/json_input.h"
+#include "weft/volume/grid.h"
 
 namespace weft::cloth {
 namespace {
@@ -290,28 +292,98 @@ void validate(const ClothSpec& spec) {
   }
   require_positive("input_scale", spec.input_scale);
   require_positive("voxel_size", spec.voxel_size);
+  // The grid's voxel: OpenVDB represents none smaller (volume::min_voxel_size), and a voxel that
+  // holds the whole cloth is no picture of it (the longest side, below and in pattern.cpp).
+  if (spec.voxel_size < volume::min_voxel_size()) {
+    fail("voxel_size {} mm is below the smallest voxel OpenVDB represents: voxel_size must be >= {:.4g} mm",
+         spec.voxel_size, volume::min_voxel_size());
+  }
   if (spec.samples_per_voxel < 1 || spec.samples_per_voxel > 64) {
     fail("samples_per_voxel must be in [1, 64], got {}", spec.samples_per_voxel);
   }
   require_non_negative("max_memory_mb", spec.max_memory_mb);
   if (canonical_pattern(spec.pattern) == "import") return;  // the curves are checked as read (pattern.cpp)
+  check_cloth_extent(spec);
+}
+
+void check_cloth_extent(const ClothSpec& given) {
   // A woven or knit cloth spans count x spacing along x and y (a knit course 1.5 spacings more)
-  // and +-crimp along z (pattern.cpp): each must stay inside the voxelizer's index range, said
-  // here with the parameter, before the estimate turns a far cloth into an overflow of counts.
-  const double reach = static_cast<double>(kMaxVoxelIndex) * spec.voxel_size;
-  const auto within = [&](const std::string& what, double mm, const char* them) {
-    if (!(mm < reach)) {
-      fail(
-          "{} puts the yarns {:.3g} mm from the origin, past the voxel index range +-{} at voxel_size {} mm "
-          "(+-{:.3g} mm): lower {} or raise voxel_size",
-          what, mm, kMaxVoxelIndex, spec.voxel_size, reach, them);
-    }
+  // and +-crimp along z (pattern.cpp), each plus a yarn radius: each must stay inside the
+  // voxelizer's index range, said here with the input that sets it, before the estimate turns a
+  // far cloth into an overflow of counts. A spacing or crimp left at 0 is a multiple of the yarn
+  // radius (resolve), so then the yarn's fields are what to change, not the spacing or crimp.
+  const ClothSpec spec = resolve(given);
+  const bool knit = spec.pattern == "stockinette";
+  const double rw = yarn_envelope_radius(spec.warp_yarn);
+  const double rf = yarn_envelope_radius(spec.weft_yarn);
+  const bool warp_widest = knit || rw >= rf;  // a knit has only the warp's yarn
+  const double radius = warp_widest ? rw : rf;
+  const double h = spec.voxel_size;
+  const double reach = static_cast<double>(kMaxVoxelIndex) * h;
+  struct Axis {
+    std::string what;  // the input that places the yarns along it
+    double placement;  // mm from the origin to the farthest centreline
+    bool automatic;    // a multiple of the yarn radius (resolve)
+    [[nodiscard]] double fixed() const { return automatic ? 0.0 : placement; }  // what no yarn change moves
   };
-  within(fmt::format("crimp {}", spec.crimp), spec.crimp, "it");
-  within(fmt::format("weft_count x weft_spacing ({} x {} mm)", spec.weft_count, spec.weft_spacing),
-         spec.weft_count * spec.weft_spacing, "them");
-  within(fmt::format("warp_count x warp_spacing ({} x {} mm)", spec.warp_count, spec.warp_spacing),
-         (spec.warp_count + 1.5) * spec.warp_spacing, "them");
+  const auto rule = [&](bool automatic, double knit_factor, const char* woven) {
+    if (!automatic) return std::string();
+    return knit ? fmt::format(" ({} x the yarn radius)", knit_factor) : fmt::format(" ({})", woven);
+  };
+  const bool auto_crimp = given.crimp == 0.0;
+  const bool auto_weft = given.weft_spacing == 0.0;
+  const bool auto_warp = given.warp_spacing == 0.0;
+  const std::vector<Axis> axes = {
+      {fmt::format("crimp {:.3g} mm", spec.crimp) + rule(auto_crimp, 1.8, "0.6 x the warp and weft yarn radii"),
+       spec.crimp, auto_crimp},
+      {fmt::format("weft_count x weft_spacing ({} x {:.3g} mm)", spec.weft_count, spec.weft_spacing) +
+           rule(auto_weft, 6.5, "1.8 x the warp and weft yarn radii"),
+       spec.weft_count * spec.weft_spacing, auto_weft},
+      {fmt::format("warp_count x warp_spacing ({} x {:.3g} mm)", spec.warp_count, spec.warp_spacing) +
+           rule(auto_warp, 8.0, "1.8 x the warp and weft yarn radii"),
+       (spec.warp_count + 1.5) * spec.warp_spacing, auto_warp},
+  };
+  // The farthest axis is named; the bounds given hold for every axis.
+  const Axis* worst = &axes[0];
+  double h_needed = 0.0;
+  double radius_fits = std::numeric_limits<double>::infinity();
+  for (const Axis& a : axes) {
+    const double far = a.placement + radius;
+    if (far > worst->placement + radius) worst = &a;
+    h_needed = std::max(h_needed, far / static_cast<double>(kMaxVoxelIndex));
+    if (far >= reach) radius_fits = std::min(radius_fits, radius * (reach - a.fixed()) / (far - a.fixed()));
+  }
+  const double far = worst->placement + radius;
+  if (far >= reach) {
+    const std::string range =
+        fmt::format("past the voxel index range +-{} at voxel_size {} mm (+-{:.3g} mm)", kMaxVoxelIndex, h, reach);
+    for (const Axis& a : axes) {
+      if (!a.automatic && a.placement >= reach) {
+        fail("{} puts the yarns {:.3g} mm from the origin, {}: lower it, or voxel_size must be above {:.3g} mm", a.what,
+             a.placement + radius, range, h_needed);
+      }
+    }
+    const YarnParams& y = warp_widest ? spec.warp_yarn : spec.weft_yarn;
+    fail(
+        "the {} radius {:.3g} mm (ply_offset {:g} + ply_radius {:g} x max(ellipse_n {:g}, ellipse_b {:g}) x rho_max "
+        "{:g}) puts the yarns {:.3g} mm from the origin through {}{}, {}: the yarn radius must be below {:.3g} mm "
+        "here, or voxel_size above {:.3g} mm",
+        warp_widest ? "warp_yarn" : "weft_yarn", radius, y.ply_offset, y.ply_radius, y.ellipse_n, y.ellipse_b,
+        y.rho_max, far, worst->automatic ? "the automatic " : "", worst->what, range, radius_fits, h_needed);
+  }
+  // The longest side of the cloth's box, yarn surfaces included: the largest voxel worth a grid.
+  const double longest =
+      std::max({spec.weft_count * spec.weft_spacing, (spec.warp_count + 1.5) * spec.warp_spacing, 2.0 * spec.crimp}) +
+      2.0 * radius;
+  require_voxel_within("the cloth", longest, h);
+}
+
+void require_voxel_within(const std::string& what, double longest, double voxel_size) {
+  if (voxel_size < longest) return;
+  fail(
+      "voxel_size {} mm holds all of {} ({:.3g} mm along its longest side) in one voxel: voxel_size must be < {:.3g} "
+      "mm",
+      voxel_size, what, longest, longest);
 }
 
 namespace {

@@ -109,9 +109,19 @@ ClothSpec resolve(ClothSpec spec);
 /// The voxelizer's bound on |voxel index| (its leaf keys hold 21 bits an axis, voxelize.cpp): a
 /// cloth reaching kMaxVoxelIndex · voxel_size mm from the origin cannot be voxelized.
 inline constexpr std::int64_t kMaxVoxelIndex = 1LL << 22;
-/// Throws weft::Error naming the parameter when any value is NaN, negative or unknown, or when a
-/// woven or knit cloth's spacings or crimp put its yarns past kMaxVoxelIndex voxels.
+/// Throws weft::Error naming the parameter and its valid range when any value is NaN, negative,
+/// out of range or unknown: voxel_size below volume::min_voxel_size, or a woven or knit cloth
+/// that check_cloth_extent refuses. Best called before resolve: a spacing or crimp still 0 is
+/// known to be automatic, and the yarn fields behind it are named instead.
 void validate(const ClothSpec& spec);
+/// Throws weft::Error when a woven or knit cloth reaches kMaxVoxelIndex voxels from the origin
+/// (naming a given spacing or crimp, or, for an automatic one or a yarn wider than them, the yarn
+/// radius and its fields, with the radius and the voxel_size that would fit), or when voxel_size
+/// is not below the cloth's longest side (require_voxel_within). `spec` resolved or not.
+void check_cloth_extent(const ClothSpec& spec);
+/// Throws weft::Error unless `voxel_size` < `longest`, the longest side (mm) of `what`'s box: a
+/// voxel that holds a whole cloth is no grid of it.
+void require_voxel_within(const std::string& what, double longest, double voxel_size);
 /// Parses cloth.json text; `where` names the source in errors. A yarn object's "preset" fills the
 /// fields it does not give and explicit fields override it (the label is then recomputed,
 /// yarn_label); a yarn that gives every field, all another preset's, under a preset's name is a

@@ -192,3 +192,17 @@ def test_local_fields_render_from_a_scene_dict(small_cloth):
     scene["media"]["cloth"] = {"type": "local-gamma", "fields": fields, "sigma": small_cloth.grid.sigma}
     image = weft.render(scene, spp=2, seed=1)
     assert np.all(np.isfinite(image)) and image.max() > 0
+
+
+def test_a_half_variance_beyond_its_range_is_refused_where_it_enters(tmp_path, small_cloth):
+    # The variances are stored as 16-bit floats (docs/render.md §5b "Storage"): a value past 65504
+    # would be written as inf, which weft.Grid.load refuses; set_value refuses it instead, and
+    # what it keeps is what the file gives back.
+    fields = weft.local_fields(small_cloth.grid, 4)
+    var = fields.variance[0]
+    with pytest.raises(weft.Error, match=r"var_concentration_x.*65504.*70000"):
+        var.set_value(0, 0, 0, 70000.0)
+    var.set_value(0, 0, 0, 0.1)
+    fields.save(tmp_path / "fields.vdb")
+    back = weft.load_grid(tmp_path / "fields.vdb", "var_concentration_x")
+    assert back.value(0, 0, 0) == var.value(0, 0, 0) != np.float32(0.1)

@@ -89,39 +89,48 @@ void require_uniform_scale(const openvdb::FloatGrid& grid, const std::string& wh
   require_copyable_transform(grid.transform(), fmt::format("{}: grid '{}'", where, grid.getName()));
 }
 
+// What weft reads (Grid::load) and so what it may write: finite and >= 0.
 bool valid_value(float v) { return std::isfinite(v) && v >= 0.0f; }
 
-// True when every active value is finite and >= 0: the leaves on all threads, then the tiles.
-bool all_values_valid(const openvdb::FloatGrid& grid) {
+// The value a file of `grid` gives back for `v`: OpenVDB rounds to a 16-bit half on writing a
+// grid flagged saveFloatAsHalf (±∞ beyond 65504), and keeps a float otherwise.
+float stored_value(float v, bool half) { return half ? half_precision(v) : v; }
+
+// True when every active value, as the grid's file stores it, is valid: the leaves on all
+// threads, then the tiles.
+bool all_values_valid(const openvdb::FloatGrid& grid, bool half) {
   const openvdb::tree::LeafManager<const openvdb::FloatTree> leaves(grid.tree());
   std::atomic<bool> valid{true};
   tbb::parallel_for(leaves.leafRange(), [&](const openvdb::tree::LeafManager<const openvdb::FloatTree>::LeafRange& r) {
     for (auto leaf = r.begin(); leaf; ++leaf) {
       for (auto it = leaf->cbeginValueOn(); it; ++it) {
-        if (!valid_value(*it)) valid.store(false, std::memory_order_relaxed);
+        if (!valid_value(stored_value(*it, half))) valid.store(false, std::memory_order_relaxed);
       }
     }
   });
   auto tile = grid.cbeginValueOn();
   tile.setMaxDepth(tile.getLeafDepth() - 1);  // tiles only
   for (; tile; ++tile) {
-    if (!valid_value(*tile)) return false;
+    if (!valid_value(stored_value(*tile, half))) return false;
   }
   return valid.load();
 }
 
-void require_valid_values(const openvdb::FloatGrid& grid, const std::string& where) {
-  // Only a grid that fails the parallel check is walked in tree order, so the voxel named is the
-  // same for any thread count.
-  if (!all_values_valid(grid)) {
-    for (auto it = grid.cbeginValueOn(); it; ++it) {
-      if (!valid_value(*it)) {
-        const auto c = it.getCoord();
-        fail("{}: grid '{}' has invalid value {} at voxel ({}, {}, {}); values must be finite and >= 0", where,
-             grid.getName(), *it, c.x(), c.y(), c.z());
-      }
-    }
+// The first active value, in tree order, whose stored form is invalid (so the voxel named is
+// the same for any thread count); walked only when the parallel check failed.
+template <typename Fail>
+void name_invalid_value(const openvdb::FloatGrid& grid, bool half, Fail&& fail_at) {
+  if (all_values_valid(grid, half)) return;
+  for (auto it = grid.cbeginValueOn(); it; ++it) {
+    if (!valid_value(stored_value(*it, half))) fail_at(*it, it.getCoord());
   }
+}
+
+void require_valid_values(const openvdb::FloatGrid& grid, const std::string& where) {
+  name_invalid_value(grid, false, [&](float v, const openvdb::Coord& c) {
+    fail("{}: grid '{}' has invalid value {} at voxel ({}, {}, {}); values must be finite and >= 0", where,
+         grid.getName(), v, c.x(), c.y(), c.z());
+  });
   const float bg = grid.background();
   if (!std::isfinite(bg) || bg != 0.0f)
     fail("{}: grid '{}' has background {}; weft needs background 0", where, grid.getName(), bg);
@@ -136,11 +145,30 @@ openvdb::math::Transform::Ptr voxel_transform(double h) {
     fail(
         "voxel size {:.6g} is below the smallest OpenVDB represents (h^3 >= 3e-15, h >= {:.4g}): give lengths in a "
         "smaller unit (e.g. millimetres instead of metres)",
-        h, std::cbrt(3.0 * openvdb::math::Tolerance<double>::value()));
+        h, min_voxel_size());
   return openvdb::math::Transform::createLinearTransform(h);
 }
 
+// A value a grid stored as half can hold: store_as_half and set_value refuse any other.
+bool fits_half(float v) { return !(std::abs(v) > kHalfMax); }
+
 }  // namespace
+
+double min_voxel_size() { return std::cbrt(3.0 * openvdb::math::Tolerance<double>::value()); }
+
+void require_writable(const openvdb::FloatGrid& grid, const std::string& path) {
+  const bool half = grid.saveFloatAsHalf();
+  name_invalid_value(grid, half, [&](float v, const openvdb::Coord& c) {
+    if (half && valid_value(v)) {
+      fail(
+          "{}: grid '{}' holds {} at voxel ({}, {}, {}), beyond the range of the 16-bit floats its file stores "
+          "(+-{}): the file would hold {}, which weft refuses to read",
+          path, grid.getName(), v, c.x(), c.y(), c.z(), kHalfMax, half_precision(v));
+    }
+    fail("{}: grid '{}' holds {} at voxel ({}, {}, {}): a file's values must be finite and >= 0", path, grid.getName(),
+         v, c.x(), c.y(), c.z());
+  });
+}
 
 static_assert(openvdb::FloatTree::RootNodeType::ChildNodeType::DIM == 4096,
               "kMaxIndex keeps voxels out of the outermost root children, 4096 voxels a side");
@@ -250,6 +278,7 @@ Grid Grid::load(const fs::path& path, const std::string& grid_name) {
 }
 
 void Grid::save(const fs::path& path) const {
+  require_writable(*impl_->grid, path.string());
   write_atomically(path, [&](const fs::path& tmp) {
     try {
       openvdb::io::File file(tmp.string());
@@ -298,7 +327,7 @@ void Grid::store_as_half() {
   // Checked before anything changes, so a refused grid keeps its values.
   std::atomic<bool> too_large{false};
   openvdb::tools::foreach (tree.cbeginValueOn(), [&](const openvdb::FloatTree::ValueOnCIter& it) {
-    if (std::abs(*it) > kHalfMax && std::isfinite(*it)) too_large = true;
+    if (!fits_half(*it)) too_large = true;
   });
   if (too_large) fail("grid '{}': a value is beyond the range of a 16-bit float (65504)", name());
   openvdb::tools::foreach (tree.beginValueOn(),
@@ -343,6 +372,18 @@ float Grid::value(int i, int j, int k) const {
 void Grid::set_value(int i, int j, int k, float v) {
   if (!in_index_range(i) || !in_index_range(j) || !in_index_range(k))
     fail("set_value: voxel ({}, {}, {}) is beyond {}", i, j, k, index_range_text());
+  // What Grid::load refuses is refused here, where the value enters, not when a file of it is
+  // read back; a grid stored as half holds half values (store_as_half) and no value beyond them.
+  if (!valid_value(v)) fail("set_value: values must be finite and >= 0, got {}", v);
+  if (stored_as_half()) {
+    if (!fits_half(v)) {
+      fail(
+          "set_value: grid '{}' stores its values as 16-bit floats, whose range ends at {}: got {} at voxel ({}, {}, "
+          "{})",
+          name(), kHalfMax, v, i, j, k);
+    }
+    v = half_precision(v);
+  }
   impl_->grid->getAccessor().setValue(openvdb::Coord(i, j, k), v);
 }
 

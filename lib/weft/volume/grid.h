@@ -60,7 +60,8 @@ class Grid {
   /// beyond kMaxIndex.
   static Grid load(const std::filesystem::path& path, const std::string& grid_name = "");
 
-  /// Writes the grid (with its metadata) to a .vdb file atomically.
+  /// Writes the grid (with its metadata) to a .vdb file atomically. Throws weft::Error, writing
+  /// nothing, when the file would hold a value load refuses (require_writable, grid_openvdb.h).
   void save(const std::filesystem::path& path) const;
 
   /// An independent copy: the tree, the metadata (half storage included) and the transform.
@@ -86,7 +87,9 @@ class Grid {
   /// Value at a voxel (background 0 where inactive). For tests and small tools; hot loops use
   /// OpenVDB accessors through grid_openvdb.h.
   [[nodiscard]] float value(int i, int j, int k) const;
-  /// Throws weft::Error for an index beyond kMaxIndex (require_index_range).
+  /// Throws weft::Error for an index beyond kMaxIndex (require_index_range), and for a value
+  /// Grid::load would refuse (NaN, ±∞, < 0) or, in a grid stored as half, beyond kHalfMax; a grid
+  /// stored as half keeps half_precision(v), what its file gives back.
   void set_value(int i, int j, int k, float v);
   /// Sum of all active values (voxels and tiles, tiles weighted by their voxel count), in double:
   /// each leaf summed on any thread, then the leaves in tree order, so the same for any thread count.
@@ -116,6 +119,10 @@ class Grid {
   friend Grid make_grid(std::shared_ptr<Impl> impl);
   std::shared_ptr<Impl> impl_;
 };
+
+/// The smallest voxel edge OpenVDB represents: its scale map refuses h³ below 3·10⁻¹⁵
+/// (math::Tolerance<double>), h ≈ 1.442·10⁻⁵ length units.
+[[nodiscard]] double min_voxel_size();
 
 /// The largest finite 16-bit IEEE half; store_as_half refuses a grid with a value beyond it.
 inline constexpr float kHalfMax = 65504.0F;

@@ -431,6 +431,7 @@ void check_vdb_file(const std::filesystem::path& path) {
 
 void save_grids(const std::vector<Grid>& grids, const std::filesystem::path& path) {
   ensure_openvdb_initialized();
+  for (const auto& g : grids) require_writable(*g.impl().grid, path.string());
   write_atomically(path, [&](const std::filesystem::path& tmp) {
     try {
       openvdb::GridPtrVec out;

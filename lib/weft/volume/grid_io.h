@@ -20,7 +20,9 @@ namespace weft::volume {
 /// (OpenVDB 3.0 and newer) are checked in full, so only they may be read (Grid::load).
 void check_vdb_file(const std::filesystem::path& path);
 
-/// Writes all `grids` (with their names and metadata) to one .vdb file atomically.
+/// Writes all `grids` (with their names and metadata) to one .vdb file atomically. Throws
+/// weft::Error, writing nothing, when a grid would hold a value Grid::load refuses (a value
+/// beyond 65504 in a grid stored as half: require_writable).
 void save_grids(const std::vector<Grid>& grids, const std::filesystem::path& path);
 
 /// What one grid of a file holds in memory.

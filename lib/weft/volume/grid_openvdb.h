@@ -54,6 +54,11 @@ struct LeafCachedReader {
 /// threads (a union of boxes: the same box for any thread count). Empty when nothing is active.
 openvdb::CoordBBox active_voxel_bbox(const openvdb::FloatGrid& grid);
 
+/// Throws weft::Error naming `path`, the grid, the voxel and the value when a file of `grid` would
+/// hold a value Grid::load refuses (not finite or < 0, as stored: a grid flagged saveFloatAsHalf
+/// stores ±∞ for a value beyond 65504). Every writer of grids calls it before writing anything.
+void require_writable(const openvdb::FloatGrid& grid, const std::string& path);
+
 /// Calls openvdb::initialize() once per process.
 void ensure_openvdb_initialized();
 

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +18,7 @@
 #include "error_matchers.h"
 #include "weft/core/error.h"
 #include "weft/volume/dense.h"
+#include "weft/volume/grid.h"
 
 namespace weft::cloth {
 namespace {
@@ -256,6 +258,78 @@ TEST(Cloth, AnInputScaleThatBreaksTheCurvesNamesTheFileAndTheScale) {
   EXPECT_NE(huge.find("input_scale 1e+308 takes curve 0 beyond the range of numbers"), std::string::npos) << huge;
   EXPECT_EQ(message(1.0), "accepted");
   fs::remove(obj);
+}
+
+// The message of a refused spec, or "accepted".
+std::string refusal(const ClothSpec& spec) {
+  try {
+    validate(spec);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+// The number after `before` in `text` (a bound the message gives), NaN when absent.
+double number_after(const std::string& text, const std::string& before) {
+  const auto at = text.find(before);
+  return at == std::string::npos ? std::nan("") : std::stod(text.substr(at + before.size()));
+}
+
+TEST(Cloth, AClothPastTheIndexRangeNamesTheInputThatPutsItThere) {
+  // As `weft gen` builds it: automatic (0) spacings and crimp, from the yarn radius (resolve).
+  ClothSpec spec = default_cloth_spec();
+  spec.warp_count = spec.weft_count = 2;
+  spec.warp_spacing = spec.weft_spacing = spec.crimp = 0.0;
+  const auto with_yarns = [&](double ply_radius, double ply_offset) {
+    ClothSpec s = spec;
+    for (YarnParams* y : {&s.warp_yarn, &s.weft_yarn}) {
+      y->ply_radius = ply_radius;
+      y->ply_offset = ply_offset;
+    }
+    return s;
+  };
+  // A huge ply radius or offset: the yarn's field is named, not the automatic crimp it makes.
+  const std::string radius = refusal(with_yarns(1e6, 0.07));
+  EXPECT_EQ(radius.rfind("the warp_yarn radius 1e+06 mm (ply_offset 0.07 + ply_radius 1e+06 x", 0), 0U) << radius;
+  EXPECT_THAT(radius, ::testing::HasSubstr("through the automatic warp_count x warp_spacing (2 x 3.6e+06 mm)"));
+  const std::string offset = refusal(with_yarns(0.08, 1e7));
+  EXPECT_EQ(offset.rfind("the warp_yarn radius 1e+07 mm (ply_offset 1e+07 + ply_radius 0.08", 0), 0U) << offset;
+  // The bounds given are the real ones: the yarns scaled to just under the radius named fit, just
+  // over it do not, and so for the voxel size.
+  const double r = yarn_envelope_radius(with_yarns(1e6, 0.07).warp_yarn);
+  const double fits = number_after(radius, "the yarn radius must be below ");
+  const double h = number_after(radius, "or voxel_size above ");
+  ASSERT_TRUE(fits > 0.0 && h > 0.0) << radius;
+  EXPECT_EQ(refusal(with_yarns(1e6 * 0.98 * fits / r, 0.07 * 0.98 * fits / r)), "accepted");
+  EXPECT_NE(refusal(with_yarns(1e6 * 1.02 * fits / r, 0.07 * 1.02 * fits / r)), "accepted");
+  ClothSpec coarse = with_yarns(1e6, 0.07);
+  coarse.voxel_size = 1.02 * h;
+  EXPECT_EQ(refusal(coarse), "accepted");
+  coarse.voxel_size = 0.98 * h;
+  EXPECT_NE(refusal(coarse), "accepted");
+  // A crimp given is named as before; given placements under the range with a yarn that is not, the yarn.
+  ClothSpec crimp = spec;
+  crimp.crimp = 1e300;
+  EXPECT_EQ(refusal(crimp).rfind("crimp 1e+300 mm puts the yarns 1e+300 mm from the origin", 0), 0U) << refusal(crimp);
+  ClothSpec given = with_yarns(1e6, 0.07);
+  given.crimp = 0.1;
+  given.warp_spacing = given.weft_spacing = 1.0;
+  EXPECT_THAT(refusal(given), ::testing::HasSubstr("the warp_yarn radius 1e+06 mm"));
+  EXPECT_THAT(refusal(given), ::testing::HasSubstr("through warp_count x warp_spacing (2 x 1 mm),"));
+
+  // The voxel size, with its range: OpenVDB's smallest voxel, and no larger than the cloth.
+  ClothSpec voxel = spec;
+  voxel.voxel_size = 1e-300;
+  EXPECT_EQ(refusal(voxel).rfind("voxel_size 1e-300 mm is below the smallest voxel OpenVDB represents", 0), 0U)
+      << refusal(voxel);
+  voxel.voxel_size = volume::min_voxel_size();
+  EXPECT_EQ(refusal(voxel), "accepted");
+  voxel.voxel_size = 1e300;
+  const std::string huge = refusal(voxel);
+  EXPECT_EQ(huge.rfind("voxel_size 1e+300 mm holds all of the cloth", 0), 0U) << huge;
+  voxel.voxel_size = 0.98 * number_after(huge, "voxel_size must be < ");
+  EXPECT_EQ(refusal(voxel), "accepted");
 }
 
 TEST(Cloth, ALeadingUtf8ByteOrderMarkIsSkipped) {

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <initializer_list>
 #include <limits>
 #include <string>
 
@@ -96,6 +97,57 @@ TEST(HalfStorage, AValueBeyondHalfsRangeIsRefusedAndNothingChanges) {
   EXPECT_FALSE(g.stored_as_half());
   EXPECT_EQ(g.value(0, 0, 0), 0.3F);
   EXPECT_EQ(g.value(5, 0, 0), 1.0e6F);
+}
+
+TEST(HalfStorage, SetValueKeepsAHalfGridHalfAndRefusesValuesBeyondIt) {
+  Grid g(0.1, "var_concentration_x");
+  g.set_value(0, 0, 0, 0.3F);
+  g.store_as_half();
+  g.set_value(1, 0, 0, 0.123456789F);  // kept as its file gives it back
+  EXPECT_EQ(g.value(1, 0, 0), half_precision(0.123456789F));
+  g.set_value(2, 0, 0, kHalfMax);  // the range's end is in it
+  EXPECT_EQ(g.value(2, 0, 0), kHalfMax);
+  EXPECT_THAT([&] { g.set_value(3, 0, 0, 70000.0F); },
+              weft::test::throws_one_line_error_with({"var_concentration_x", "70000", "65504", "(3, 0, 0)"}));
+  EXPECT_EQ(g.active_voxel_count(), 3U) << "a refused value must leave the grid as it was";
+  // A float grid keeps any valid float; what no file may hold is refused in any grid.
+  Grid f(0.1, "full");
+  f.set_value(0, 0, 0, 70000.123F);
+  EXPECT_EQ(f.value(0, 0, 0), 70000.123F);
+  for (const float bad : {-1.0F, std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
+    EXPECT_THAT([&] { f.set_value(1, 0, 0, bad); }, weft::test::throws_one_line_error_with({"set_value", ">= 0"}));
+  }
+}
+
+// A writer never writes what its reader refuses (Grid::load): a value put into the tree by any
+// other way than set_value (an OpenVDB accessor, as the library's own loops use) is caught when
+// the file is written, with the file, the grid, the voxel and the value named and nothing written.
+TEST(HalfStorage, AFileThatItsReaderWouldRefuseIsNotWritten) {
+  ensure_openvdb_initialized();
+  const auto path = std::filesystem::temp_directory_path() / "weft_half_storage_refused.vdb";
+  std::filesystem::remove(path);
+  Grid half(0.1, "var_concentration_y");
+  half.set_value(0, 0, 0, 0.25F);
+  half.store_as_half();
+  half.impl().grid->getAccessor().setValue(openvdb::Coord(4, 5, 6), 70000.0F);  // half: +inf
+  const std::initializer_list<std::string> refused = {"weft_half_storage_refused.vdb", "var_concentration_y", "70000",
+                                                      "(4, 5, 6)", "65504"};
+  EXPECT_THAT([&] { half.save(path); }, weft::test::throws_one_line_error_with(refused));
+  EXPECT_FALSE(std::filesystem::exists(path));
+  Grid mean(0.1, "mean_concentration");
+  mean.set_value(0, 0, 0, 0.5F);
+  EXPECT_THAT([&] { save_grids({mean, half}, path); }, weft::test::throws_one_line_error_with(refused));
+  EXPECT_FALSE(std::filesystem::exists(path));
+  Grid negative(0.1, "density");
+  negative.impl().grid->getAccessor().setValue(openvdb::Coord(1, 2, 3), -0.5F);
+  EXPECT_THAT([&] { negative.save(path); }, weft::test::throws_one_line_error_with({"density", "-0.5", "(1, 2, 3)"}));
+  EXPECT_FALSE(std::filesystem::exists(path));
+
+  // Just inside the range the file is written and read back as it was held.
+  half.impl().grid->getAccessor().setValue(openvdb::Coord(4, 5, 6), kHalfMax);
+  save_grids({mean, half}, path);
+  EXPECT_EQ(Grid::load(path, "var_concentration_y").value(4, 5, 6), kHalfMax);
+  std::filesystem::remove(path);
 }
 
 }  // namespace
