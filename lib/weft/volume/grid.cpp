@@ -126,8 +126,15 @@ void name_invalid_value(const openvdb::FloatGrid& grid, bool half, Fail&& fail_a
   }
 }
 
-void require_valid_values(const openvdb::FloatGrid& grid, const std::string& where) {
-  name_invalid_value(grid, false, [&](float v, const openvdb::Coord& c) {
+// `half`: check the values as a file of the grid stores them (Grid::save, save_grids).
+void require_valid_values(const openvdb::FloatGrid& grid, const std::string& where, bool half) {
+  name_invalid_value(grid, half, [&](float v, const openvdb::Coord& c) {
+    if (half && valid_value(v)) {
+      fail(
+          "{}: grid '{}' holds {} at voxel ({}, {}, {}), beyond the range of the 16-bit floats its file stores "
+          "(+-{}): the file would hold {}, which weft refuses to read",
+          where, grid.getName(), v, c.x(), c.y(), c.z(), kHalfMax, half_precision(v));
+    }
     fail("{}: grid '{}' has invalid value {} at voxel ({}, {}, {}); values must be finite and >= 0", where,
          grid.getName(), v, c.x(), c.y(), c.z());
   });
@@ -156,18 +163,26 @@ bool fits_half(float v) { return !(std::abs(v) > kHalfMax); }
 
 double min_voxel_size() { return std::cbrt(3.0 * openvdb::math::Tolerance<double>::value()); }
 
+namespace {
+
+// What Grid::load accepts: checked by the reader on what it read, and by every writer on what its
+// file will hold (`as_stored`: the values rounded as a half grid's file stores them), so that a
+// writer never writes what its reader refuses.
+void require_loadable(const openvdb::FloatGrid& grid, const std::string& where, bool as_stored) {
+  require_uniform_scale(grid, where);
+  require_valid_values(grid, where, as_stored);
+  if (!grid.tree().empty()) {
+    const openvdb::CoordBBox b = active_voxel_bbox(grid);
+    if (!b.empty())
+      require_index_range({{b.min().x(), b.min().y(), b.min().z()}, {b.max().x(), b.max().y(), b.max().z()}},
+                          fmt::format("{}: grid '{}': its active voxels span index box", where, grid.getName()));
+  }
+}
+
+}  // namespace
+
 void require_writable(const openvdb::FloatGrid& grid, const std::string& path) {
-  const bool half = grid.saveFloatAsHalf();
-  name_invalid_value(grid, half, [&](float v, const openvdb::Coord& c) {
-    if (half && valid_value(v)) {
-      fail(
-          "{}: grid '{}' holds {} at voxel ({}, {}, {}), beyond the range of the 16-bit floats its file stores "
-          "(+-{}): the file would hold {}, which weft refuses to read",
-          path, grid.getName(), v, c.x(), c.y(), c.z(), kHalfMax, half_precision(v));
-    }
-    fail("{}: grid '{}' holds {} at voxel ({}, {}, {}): a file's values must be finite and >= 0", path, grid.getName(),
-         v, c.x(), c.y(), c.z());
-  });
+  require_loadable(grid, path + ": not written", grid.saveFloatAsHalf());
 }
 
 static_assert(openvdb::FloatTree::RootNodeType::ChildNodeType::DIM == 4096,
@@ -264,14 +279,7 @@ Grid Grid::load(const fs::path& path, const std::string& grid_name) {
   }
   auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
   if (!grid) fail("{}: grid '{}' is of type {}, weft needs a float grid", where, base->getName(), base->valueType());
-  require_uniform_scale(*grid, where);
-  require_valid_values(*grid, where);
-  if (!grid->tree().empty()) {
-    const openvdb::CoordBBox b = active_voxel_bbox(*grid);
-    if (!b.empty())
-      require_index_range({{b.min().x(), b.min().y(), b.min().z()}, {b.max().x(), b.max().y(), b.max().z()}},
-                          fmt::format("{}: grid '{}': its active voxels span index box", where, grid->getName()));
-  }
+  require_loadable(*grid, where, false);
   auto impl = std::make_shared<Impl>();
   impl->grid = grid;
   return Grid(std::move(impl));

@@ -54,9 +54,11 @@ struct LeafCachedReader {
 /// threads (a union of boxes: the same box for any thread count). Empty when nothing is active.
 openvdb::CoordBBox active_voxel_bbox(const openvdb::FloatGrid& grid);
 
-/// Throws weft::Error naming `path`, the grid, the voxel and the value when a file of `grid` would
-/// hold a value Grid::load refuses (not finite or < 0, as stored: a grid flagged saveFloatAsHalf
-/// stores ±∞ for a value beyond 65504). Every writer of grids calls it before writing anything.
+/// Throws weft::Error naming `path` and the grid when a file of `grid` would hold what Grid::load
+/// refuses: a value not finite or < 0 as stored (a grid flagged saveFloatAsHalf stores ±∞ for a
+/// value beyond 65504; the voxel and the value are named), a background other than 0, a transform
+/// other than cubic voxels, an active voxel beyond kMaxIndex. Every writer of grids calls it
+/// before writing anything.
 void require_writable(const openvdb::FloatGrid& grid, const std::string& path);
 
 /// Calls openvdb::initialize() once per process.

@@ -142,6 +142,10 @@ TEST(HalfStorage, AFileThatItsReaderWouldRefuseIsNotWritten) {
   negative.impl().grid->getAccessor().setValue(openvdb::Coord(1, 2, 3), -0.5F);
   EXPECT_THAT([&] { negative.save(path); }, weft::test::throws_one_line_error_with({"density", "-0.5", "(1, 2, 3)"}));
   EXPECT_FALSE(std::filesystem::exists(path));
+  Grid far(0.1, "density");
+  far.impl().grid->getAccessor().setValue(openvdb::Coord(kMaxIndex + 1, 0, 0), 0.5F);  // set_value refuses it
+  EXPECT_THAT([&] { far.save(path); }, weft::test::throws_one_line_error_with({"not written", "index range"}));
+  EXPECT_FALSE(std::filesystem::exists(path));
 
   // Just inside the range the file is written and read back as it was held.
   half.impl().grid->getAccessor().setValue(openvdb::Coord(4, 5, 6), kHalfMax);
