@@ -145,10 +145,13 @@ void init_grid(py::module_& m) {
           "value_kind", [](const vol::Grid& g) { return optional_text(vol::read_provenance(g).value_kind); },
           "\"concentration\" or \"extinction\" (weft:value_kind), or None.")
       .def("value", &vol::Grid::value, py::arg("i"), py::arg("j"), py::arg("k"), "Value at a voxel (0 where inactive).")
-      .def("set_value", &vol::Grid::set_value, py::arg("i"), py::arg("j"), py::arg("k"), py::arg("value"),
-           "Sets (and activates) a voxel. weft.Error for a value weft would refuse to read back (NaN, infinite,\n"
-           "negative) and, in a grid stored as 16-bit floats (LocalFields.variance), for one beyond 65504; such a\n"
-           "grid keeps the value rounded to a 16-bit float, as its file gives it back.")
+      .def(
+          "set_value",
+          [](vol::Grid& g, int i, int j, int k, float v) {
+            if (!std::isfinite(v) || v < 0.0f) fail("set_value: values must be finite and >= 0, got {}", v);
+            g.set_value(i, j, k, v);
+          },
+          py::arg("i"), py::arg("j"), py::arg("k"), py::arg("value"))
       .def("sum", &vol::Grid::sum, "Sum of the active values.")
       .def("to_numpy", &to_numpy, py::arg("box") = py::none(), py::arg("max_memory_mb") = py::none(),
            "Dense float32 copy of an index box (default: the active bbox) as an array [i, j, k] of shape\n"

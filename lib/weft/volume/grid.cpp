@@ -89,47 +89,45 @@ void require_uniform_scale(const openvdb::FloatGrid& grid, const std::string& wh
   require_copyable_transform(grid.transform(), fmt::format("{}: grid '{}'", where, grid.getName()));
 }
 
-// What weft reads (Grid::load) and so what it may write: finite and >= 0.
+// What weft reads (Grid::load): finite and >= 0.
 bool valid_value(float v) { return std::isfinite(v) && v >= 0.0f; }
 
-// The value a file of `grid` gives back for `v`: OpenVDB rounds to a 16-bit half on writing a
-// grid flagged saveFloatAsHalf (±∞ beyond 65504), and keeps a float otherwise.
-float stored_value(float v, bool half) { return half ? half_precision(v) : v; }
+// Which values a check refuses: on reading, any but valid_value; on writing a grid flagged
+// saveFloatAsHalf, a finite value its file would turn into ±∞ (OpenVDB rounds to a 16-bit half
+// on writing, ±∞ beyond 65504), a value the reader refuses though the writer held a finite one.
+enum class Check { read, write_half };
+bool passes(float v, Check check) {
+  return check == Check::read ? valid_value(v) : !(std::isfinite(v) && !std::isfinite(half_precision(v)));
+}
 
-// True when every active value, as the grid's file stores it, is valid: the leaves on all
-// threads, then the tiles.
-bool all_values_valid(const openvdb::FloatGrid& grid, bool half) {
+// True when every active value passes `check`: the leaves on all threads, then the tiles.
+bool all_values_valid(const openvdb::FloatGrid& grid, Check check) {
   const openvdb::tree::LeafManager<const openvdb::FloatTree> leaves(grid.tree());
   std::atomic<bool> valid{true};
   tbb::parallel_for(leaves.leafRange(), [&](const openvdb::tree::LeafManager<const openvdb::FloatTree>::LeafRange& r) {
     for (auto leaf = r.begin(); leaf; ++leaf) {
       for (auto it = leaf->cbeginValueOn(); it; ++it) {
-        if (!valid_value(stored_value(*it, half))) valid.store(false, std::memory_order_relaxed);
+        if (!passes(*it, check)) valid.store(false, std::memory_order_relaxed);
       }
     }
   });
   auto tile = grid.cbeginValueOn();
   tile.setMaxDepth(tile.getLeafDepth() - 1);  // tiles only
   for (; tile; ++tile) {
-    if (!valid_value(stored_value(*tile, half))) return false;
+    if (!passes(*tile, check)) return false;
   }
   return valid.load();
 }
 
-// The first active value, in tree order, whose stored form is invalid (so the voxel named is
-// the same for any thread count); walked only when the parallel check failed.
-template <typename Fail>
-void name_invalid_value(const openvdb::FloatGrid& grid, bool half, Fail&& fail_at) {
-  if (all_values_valid(grid, half)) return;
+// Only a grid that fails the parallel check is walked in tree order, so the voxel named is the
+// same for any thread count.
+void require_valid_values(const openvdb::FloatGrid& grid, const std::string& where, Check check) {
+  if (all_values_valid(grid, check)) return;
   for (auto it = grid.cbeginValueOn(); it; ++it) {
-    if (!valid_value(stored_value(*it, half))) fail_at(*it, it.getCoord());
-  }
-}
-
-// `half`: check the values as a file of the grid stores them (Grid::save, save_grids).
-void require_valid_values(const openvdb::FloatGrid& grid, const std::string& where, bool half) {
-  name_invalid_value(grid, half, [&](float v, const openvdb::Coord& c) {
-    if (half && valid_value(v)) {
+    if (passes(*it, check)) continue;
+    const float v = *it;
+    const openvdb::Coord c = it.getCoord();
+    if (check == Check::write_half) {
       fail(
           "{}: grid '{}' holds {} at voxel ({}, {}, {}), beyond the range of the 16-bit floats its file stores "
           "(+-{}): the file would hold {}, which weft refuses to read",
@@ -137,7 +135,10 @@ void require_valid_values(const openvdb::FloatGrid& grid, const std::string& whe
     }
     fail("{}: grid '{}' has invalid value {} at voxel ({}, {}, {}); values must be finite and >= 0", where,
          grid.getName(), v, c.x(), c.y(), c.z());
-  });
+  }
+}
+
+void require_zero_background(const openvdb::FloatGrid& grid, const std::string& where) {
   const float bg = grid.background();
   if (!std::isfinite(bg) || bg != 0.0f)
     fail("{}: grid '{}' has background {}; weft needs background 0", where, grid.getName(), bg);
@@ -166,11 +167,14 @@ double min_voxel_size() { return std::cbrt(3.0 * openvdb::math::Tolerance<double
 namespace {
 
 // What Grid::load accepts: checked by the reader on what it read, and by every writer on what its
-// file will hold (`as_stored`: the values rounded as a half grid's file stores them), so that a
-// writer never writes what its reader refuses.
-void require_loadable(const openvdb::FloatGrid& grid, const std::string& where, bool as_stored) {
+// file will hold, so that a writer never writes what its reader refuses of what it held: the
+// transform, the background, the index range, and values a half file would turn into ±∞. (The
+// values themselves are the writer's: local fields' α is +∞ where a block's variance is 0.)
+void require_loadable(const openvdb::FloatGrid& grid, const std::string& where, bool writing) {
   require_uniform_scale(grid, where);
-  require_valid_values(grid, where, as_stored);
+  if (!writing) require_valid_values(grid, where, Check::read);
+  if (writing && grid.saveFloatAsHalf()) require_valid_values(grid, where, Check::write_half);
+  require_zero_background(grid, where);
   if (!grid.tree().empty()) {
     const openvdb::CoordBBox b = active_voxel_bbox(grid);
     if (!b.empty())
@@ -182,7 +186,7 @@ void require_loadable(const openvdb::FloatGrid& grid, const std::string& where, 
 }  // namespace
 
 void require_writable(const openvdb::FloatGrid& grid, const std::string& path) {
-  require_loadable(grid, path + ": not written", grid.saveFloatAsHalf());
+  require_loadable(grid, path + ": not written", true);
 }
 
 static_assert(openvdb::FloatTree::RootNodeType::ChildNodeType::DIM == 4096,
@@ -380,9 +384,8 @@ float Grid::value(int i, int j, int k) const {
 void Grid::set_value(int i, int j, int k, float v) {
   if (!in_index_range(i) || !in_index_range(j) || !in_index_range(k))
     fail("set_value: voxel ({}, {}, {}) is beyond {}", i, j, k, index_range_text());
-  // What Grid::load refuses is refused here, where the value enters, not when a file of it is
-  // read back; a grid stored as half holds half values (store_as_half) and no value beyond them.
-  if (!valid_value(v)) fail("set_value: values must be finite and >= 0, got {}", v);
+  // A grid stored as half holds half values (store_as_half) and no value beyond them: refused
+  // here, where the value enters, not when its file (±∞) is read back.
   if (stored_as_half()) {
     if (!fits_half(v)) {
       fail(

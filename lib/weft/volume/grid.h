@@ -61,7 +61,8 @@ class Grid {
   static Grid load(const std::filesystem::path& path, const std::string& grid_name = "");
 
   /// Writes the grid (with its metadata) to a .vdb file atomically. Throws weft::Error, writing
-  /// nothing, when the file would hold a value load refuses (require_writable, grid_openvdb.h).
+  /// nothing, when load would refuse the file for what the writing did (require_writable,
+  /// grid_openvdb.h: a value a half file turns into ±∞) or the grid's transform or index range.
   void save(const std::filesystem::path& path) const;
 
   /// An independent copy: the tree, the metadata (half storage included) and the transform.
@@ -87,9 +88,9 @@ class Grid {
   /// Value at a voxel (background 0 where inactive). For tests and small tools; hot loops use
   /// OpenVDB accessors through grid_openvdb.h.
   [[nodiscard]] float value(int i, int j, int k) const;
-  /// Throws weft::Error for an index beyond kMaxIndex (require_index_range), and for a value
-  /// Grid::load would refuse (NaN, ±∞, < 0) or, in a grid stored as half, beyond kHalfMax; a grid
-  /// stored as half keeps half_precision(v), what its file gives back.
+  /// Throws weft::Error for an index beyond kMaxIndex (require_index_range) and, in a grid stored
+  /// as half, for a value beyond kHalfMax; a grid stored as half keeps half_precision(v), what its
+  /// file gives back.
   void set_value(int i, int j, int k, float v);
   /// Sum of all active values (voxels and tiles, tiles weighted by their voxel count), in double:
   /// each leaf summed on any thread, then the leaves in tree order, so the same for any thread count.

@@ -21,8 +21,8 @@ namespace weft::volume {
 void check_vdb_file(const std::filesystem::path& path);
 
 /// Writes all `grids` (with their names and metadata) to one .vdb file atomically. Throws
-/// weft::Error, writing nothing, when a grid would hold a value Grid::load refuses (a value
-/// beyond 65504 in a grid stored as half: require_writable).
+/// weft::Error, writing nothing, when Grid::load would refuse a grid for what the writing did
+/// (a value beyond 65504 in a grid stored as half: require_writable).
 void save_grids(const std::vector<Grid>& grids, const std::filesystem::path& path);
 
 /// What one grid of a file holds in memory.

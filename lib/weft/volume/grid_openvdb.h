@@ -54,11 +54,12 @@ struct LeafCachedReader {
 /// threads (a union of boxes: the same box for any thread count). Empty when nothing is active.
 openvdb::CoordBBox active_voxel_bbox(const openvdb::FloatGrid& grid);
 
-/// Throws weft::Error naming `path` and the grid when a file of `grid` would hold what Grid::load
-/// refuses: a value not finite or < 0 as stored (a grid flagged saveFloatAsHalf stores ±∞ for a
-/// value beyond 65504; the voxel and the value are named), a background other than 0, a transform
-/// other than cubic voxels, an active voxel beyond kMaxIndex. Every writer of grids calls it
-/// before writing anything.
+/// Throws weft::Error naming `path` and the grid when Grid::load would refuse a file of `grid`
+/// for what the writing does or for the grid's frame: a finite value that a grid flagged
+/// saveFloatAsHalf stores as ±∞ (beyond 65504; the voxel and the value are named), a background
+/// other than 0, a transform other than cubic voxels, an active voxel beyond kMaxIndex. The values
+/// held are the writer's (local fields' α is +∞ where a variance is 0). Every writer of grids
+/// calls it before writing anything.
 void require_writable(const openvdb::FloatGrid& grid, const std::string& path);
 
 /// Calls openvdb::initialize() once per process.

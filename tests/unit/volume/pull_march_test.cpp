@@ -167,16 +167,10 @@ TEST(GridLoad, RefusesNegativeNanAndInfiniteValuesAndTilesNamingTheVoxel) {
     if (c.tile) {
       g.impl().grid->tree().addTile(1, openvdb::Coord(64, 0, 0), c.value, true);
     } else {
-      g.impl().grid->getAccessor().setValue(openvdb::Coord(3, 4, 5), c.value);  // set_value refuses it
+      g.set_value(3, 4, 5, c.value);
     }
     const auto path = dir / ("weft_grid_load_" + c.label + ".vdb");
-    // weft's writers refuse what its reader refuses, so the file is written by OpenVDB itself.
-    EXPECT_THAT([&] { save_grids({g}, path); }, weft::test::throws_one_line_error_with({"mean_concentration", ">= 0"}))
-        << c.label;
-    EXPECT_FALSE(std::filesystem::exists(path)) << c.label;
-    openvdb::io::File file(path.string());
-    file.write(openvdb::GridPtrVec{g.impl().grid});
-    file.close();
+    save_grids({g}, path);
     EXPECT_THAT([&] { (void)Grid::load(path, "mean_concentration"); },
                 weft::test::throws_one_line_error_with({path.string(), "mean_concentration", c.expect}))
         << c.label;
