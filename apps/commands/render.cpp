@@ -241,11 +241,11 @@ int run(const RenderCliOptions& o, const CLI::App& sub, const Context& ctx) {
     spec.work_dir = "(beside the output)";  // the app sets it; checked here for the other fields
     as_usage([&] { study::check_study_spec(spec); });
     study::check_study_scene(scene, spec);  // refuse a scene without a grid before creating anything
-    // --out DIR is created here; a study that fails removes it again (or what it added to it).
-    std::optional<FolderRollback> out_folder;
-    if (!o.out_dir.empty()) out_folder.emplace(o.out_dir, dist::is_root());
+    // The study's folder (--out DIR, created here, or -o FILE's) either gets every file of a
+    // finished study or is left as it was (docs/robustness.md "Output folders of failed runs").
+    FolderRollback out_folder(folder, dist::is_root());
     run_render_study(scene, spec, label, exr, o.exposure, ctx, files, fit_albedo);
-    if (out_folder) out_folder->keep();
+    out_folder.keep();
     files.say(ctx);
     return 0;
   }
