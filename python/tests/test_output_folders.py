@@ -100,3 +100,11 @@ def test_render_study_into_an_earlier_study(tmp_path, weft_bin, small_cloth):
     out = tmp_path / "out"
     check_all_or_nothing([weft_bin, "render", str(small_cloth / "scene.json"), "--study", "--quick", "--study-spp", "1",
                           "--study-factors", "2", "--reference-spp", "64", "--out", str(out)], out)
+
+
+def test_render_convergence_into_an_earlier_one(tmp_path, weft_bin, small_cloth):
+    """The reference is written before the series is rendered: a stop in the series puts the
+    earlier reference back."""
+    out = tmp_path / "out"
+    check_all_or_nothing([weft_bin, "render", str(small_cloth / "scene.json"), "--convergence", "auto", "--quick",
+                          "--spp", "128", "--reference-spp", "16", "--out", str(out)], out)
