@@ -146,6 +146,9 @@ void run_render_matrix(study::MatrixSpec spec, const fs::path& out, bool resume,
   dist::UnitStore store(out / "matrix.units", study::matrix_key(spec), resume);
   const std::vector<study::MatrixCaseResult> results = study::run_matrix(spec, ctx.progress, &store);
   if (!dist::is_root()) return;
+  // The aggregate files appear together or the earlier run's stay (docs/robustness.md "Output
+  // folders of failed runs"); the stored cases and cloths above stay either way, for --resume.
+  FolderRollback written(out);
 
   const std::vector<study::MatrixHeadline> headlines = study::matrix_headlines(spec, results);
   const auto text = [&](const std::string& name, const std::string& content, const std::string& what) {
@@ -168,6 +171,7 @@ void run_render_matrix(study::MatrixSpec spec, const fs::path& out, bool resume,
   if (store.found() > 0)
     ctx.say(fmt::format("{} of {} cases resumed from {}", store.found(), cases.size(), store.folder().string()));
   for (const auto& h : headlines) ctx.say("headline: " + h.text);
+  written.keep();
 }
 
 }  // namespace weft::app

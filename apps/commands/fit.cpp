@@ -214,7 +214,9 @@ const Registrar kFit{Command{
           report["local_fields"] = {
               {"file", "local_fields.vdb"}, {"block", o->block}, {"blocks", fields->blocks}, {"fields", o->fields}};
         const fs::path out = o->out;
-        ensure_directory(out);
+        // Its files appear together, or the folder stays as it was (docs/robustness.md "Output
+        // folders of failed runs").
+        FolderRollback written(out);
         WrittenFiles files;
         if (fields) {
           const fit::FieldChannels channels = *fit::parse_field_channels(o->fields);  // checked by CLI::IsMember
@@ -237,6 +239,7 @@ const Registrar kFit{Command{
         report["outputs"] = files.to_json(out);
         write_text_atomically(out / "fit.json", report.dump(2) + "\n");
         files.add(out / "fit.json", "report");
+        written.keep();
         files.say(ctx);
         return 0;
       };

@@ -317,7 +317,9 @@ const Registrar kMeasure{Command{
             {"beams", beams},
             {"scatterer", scatterer}};
         const fs::path out = o->out;
-        ensure_directory(out);
+        // Its files appear together, or the folder stays as it was (docs/robustness.md "Output
+        // folders of failed runs").
+        FolderRollback written(out);
         WrittenFiles files;
         write_text_atomically(out / "beams.csv", csv);
         files.add(out / "beams.csv", "T(t) per beam");
@@ -337,6 +339,7 @@ const Registrar kMeasure{Command{
         report["outputs"] = files.to_json(out);
         write_text_atomically(out / "measure.json", report.dump(2) + "\n");
         files.add(out / "measure.json", "report");
+        written.keep();
         for (const auto& b : beams) {
           const auto traced = b["rays_traced"].get<std::uint64_t>();
           const auto distinct = b["rays"].get<std::uint64_t>();

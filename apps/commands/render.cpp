@@ -241,11 +241,11 @@ int run(const RenderCliOptions& o, const CLI::App& sub, const Context& ctx) {
     spec.work_dir = "(beside the output)";  // the app sets it; checked here for the other fields
     as_usage([&] { study::check_study_spec(spec); });
     study::check_study_scene(scene, spec);  // refuse a scene without a grid before creating anything
-    // --out DIR is created here; a study that fails removes it again (or what it added to it).
-    std::optional<FolderRollback> out_folder;
-    if (!o.out_dir.empty()) out_folder.emplace(o.out_dir, dist::is_root());
+    // The study's folder (--out DIR, created here, or -o FILE's) either gets every file of a
+    // finished study or is left as it was (docs/robustness.md "Output folders of failed runs").
+    FolderRollback out_folder(folder, dist::is_root());
     run_render_study(scene, spec, label, exr, o.exposure, ctx, files, fit_albedo);
-    if (out_folder) out_folder->keep();
+    out_folder.keep();
     files.say(ctx);
     return 0;
   }
@@ -255,6 +255,9 @@ int run(const RenderCliOptions& o, const CLI::App& sub, const Context& ctx) {
   const render::World world = render::build_world(scene);
   for (const std::string& w : render::world_warnings(world)) ctx.warn(w);
   Convergence conv;
+  // Made before the first file (rank 0 writes): the run's files appear together, or the folder
+  // stays as it was (docs/robustness.md "Output folders of failed runs").
+  std::optional<FolderRollback> written;
   if (!o.convergence.empty()) {
     // The series runs to 512 spp (128 with --quick) unless --spp says otherwise.
     if (o.spp == 0) options.spp = o.quick ? kQuickSpp : 512;
@@ -272,7 +275,7 @@ int run(const RenderCliOptions& o, const CLI::App& sub, const Context& ctx) {
       ctx.say(fmt::format("rendering the reference at {} spp", *ref.spp));
       conv.reference = render::render(world, ref, ctx.progress).image;
       if (dist::is_root()) {
-        if (!o.out_dir.empty()) ensure_directory(o.out_dir);
+        written.emplace(folder);
         render::write_exr(beside(exr, ".reference.exr"), *conv.reference);
         files.add(beside(exr, ".reference.exr"), "reference, linear");
       }
@@ -302,7 +305,7 @@ int run(const RenderCliOptions& o, const CLI::App& sub, const Context& ctx) {
 
   const render::RenderResult result = render::render(world, options, ctx.progress);
   if (!dist::is_root()) return 0;  // the tiles were gathered on rank 0, which writes
-  if (!o.out_dir.empty()) ensure_directory(o.out_dir);
+  if (!written) written.emplace(folder);
   render::write_exr_and_png(exr, png, result.image, o.exposure);
   files.add(exr, "linear");
   files.add(png, "sRGB");
@@ -401,6 +404,7 @@ int run(const RenderCliOptions& o, const CLI::App& sub, const Context& ctx) {
       ctx.say(fmt::format("no chart {}: {}", chart_path.string(), outcome.reason));
     }
   }
+  written->keep();
   files.say(ctx);
   return 0;
 }

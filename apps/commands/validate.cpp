@@ -241,7 +241,9 @@ const Registrar kValidate{Command{
         const std::string csv = curves_csv(v, fibre_check ? &fibre_check->curves : nullptr);
 
         const fs::path out = o->out;
-        ensure_directory(out);
+        // Its files appear together, or the folder stays as it was (docs/robustness.md "Output
+        // folders of failed runs").
+        FolderRollback written(out);
         t0 = std::chrono::steady_clock::now();
         WrittenFiles outputs;
         json skipped = json::object();
@@ -313,6 +315,7 @@ const Registrar kValidate{Command{
         report["timings_seconds"] = timings;
         write_text_atomically(out / "report.json", report.dump(2) + "\n");
         outputs.add(out / "report.json", "report");
+        written.keep();
 
         ctx.say(fmt::format("weft validate: {}; {} active voxels of {:.4g} {}", title, grid.active_voxel_count(),
                             grid.voxel_size(), units));

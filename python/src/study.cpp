@@ -68,6 +68,7 @@ st::StudySpec study_spec(const py::dict& o, const char* call, bool matrix) {
   const bool quick = get<bool>(o, "quick").value_or(false);
   st::StudySpec spec = matrix ? st::default_matrix_spec(quick).study : st::default_study_spec(quick);
   spec.work_dir = "(the out folder)";  // set by the caller; checked here for the other fields
+  spec.front = FrontEnd::python;
   const auto check = [&] { st::check_study_spec(spec, FrontEnd::python); };
   if (auto f = get<std::vector<int>>(o, "factors")) {
     argument(call, "factors=" + shown(*f), [&] {

@@ -69,6 +69,30 @@ def test_study_equals_the_cli_report(study, scene_file, weft_bin, tmp_path):
         assert np.array_equal(c.image, weft.read_exr(str(tmp_path / "scene.study" / (c.name + ".exr")))), c.name
 
 
+@pytest.mark.parametrize("window, said", [("1e300", "longer than the active box along x, y, z: the box's extent is used"),
+                                           ("1e-300", "shorter than half a voxel")])
+def test_a_window_the_grid_clamps_is_said_and_recorded(scene_file, weft_bin, tmp_path, window, said):
+    """A window the cloth cannot hold is clamped per axis as validate clamps it (fit::scale_use)
+    and said, before the renders and in the report's notes, in each front end's spelling: never
+    changed in silence (docs/render.md §6c)."""
+    run = subprocess.run([weft_bin, "render", str(scene_file), "--study", "--quick", "--study-spp", "1",
+                          "--reference-spp", "16", "--study-factors", "2", "--study-window", window, "--out",
+                          str(tmp_path / "cli")], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    given = f"{float(window):g}"
+    assert f"warning: --study-window {given} is {said}" in run.stdout, run.stdout
+    notes = json.loads((tmp_path / "cli" / "scene.study.json").read_text())["notes"]
+    assert any(n.startswith(f"--study-window {given} is {said}") for n in notes), notes
+    result = weft.render_study(str(scene_file), out=tmp_path / "py", quick=True, spp=1, reference_spp=16, factors=(2,),
+                               window=window)
+    assert any(n.startswith(f"window={given} is {said}") for n in result.notes), result.notes
+
+
+def test_study_without_a_clamped_window_has_no_such_note(study):
+    result, _ = study
+    assert not any("window" in n for n in result.notes), result.notes
+
+
 def test_study_shapes_and_rows(study):
     result, _ = study
     names = [c.name for c in result.candidates]

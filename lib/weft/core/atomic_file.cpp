@@ -1,8 +1,10 @@
 #include "weft/core/atomic_file.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <fstream>
+#include <mutex>
 #include <system_error>
 #include <utility>
 
@@ -14,14 +16,41 @@ namespace weft {
 namespace fs = std::filesystem;
 
 namespace {
-fs::path temporary_beside(const fs::path& target) {
+// `tag` tells a run's temporaries ("tmp") from the earlier versions a FolderRollback keeps ("weft-old").
+fs::path temporary_beside(const fs::path& target, const char* tag = "tmp") {
   static std::atomic<unsigned> counter{0};
   fs::path tmp = target;
   // Keep the extension last: some writers (VTK, OpenEXR) choose a format from it.
   tmp.replace_filename(
-      fmt::format(".{}.tmp{}-{}{}", target.stem().string(), ::getpid(), counter++, target.extension().string()));
+      fmt::format(".{}.{}{}-{}{}", target.stem().string(), tag, ::getpid(), counter++, target.extension().string()));
   return tmp;
 }
+
+constexpr const char* kKeptTag = "weft-old";
+
+bool is_kept_version(const fs::path& p) {
+  const std::string name = p.filename().string();
+  return name.starts_with('.') && name.find(std::string(".") + kKeptTag) != std::string::npos;
+}
+
+// `p` absolute, without symbolic links where it exists: the one spelling both sides of under() use.
+fs::path resolved(const fs::path& p) {
+  std::error_code ec;
+  fs::path a = fs::absolute(p, ec);
+  if (ec) return p;
+  fs::path r = fs::weakly_canonical(a, ec);
+  return ec ? a.lexically_normal() : r;
+}
+
+bool under(const fs::path& folder, const fs::path& p) {
+  const auto f = std::mismatch(folder.begin(), folder.end(), p.begin(), p.end()).first;
+  // A trailing separator of `folder` is an empty last element.
+  return f == folder.end() || (std::next(f) == folder.end() && f->empty());
+}
+
+// The live guards: write_atomically and ensure_directory may run on several threads at once.
+std::mutex g_guards_mutex;
+std::vector<FolderRollback*> g_guards;
 }  // namespace
 
 std::string output_name_problem(std::string_view value, bool folder) {
@@ -43,6 +72,7 @@ void write_atomically(const fs::path& target, const std::function<void(const fs:
   try {
     write(tmp);
     if (!fs::exists(tmp, ec)) fail("writing '{}' produced no file", target.string());
+    FolderRollback::before_replacing(target);
     fs::rename(tmp, target, ec);
     if (ec) fail("cannot rename '{}' to '{}': {}", tmp.string(), target.string(), ec.message());
   } catch (...) {
@@ -64,7 +94,14 @@ void write_text_atomically(const fs::path& target, std::string_view text) {
 void ensure_directory(const fs::path& dir) {
   std::error_code ec;
   if (fs::is_directory(dir, ec)) return;
+  fs::path outermost;  // the first folder of `dir` that is not there yet
+  for (fs::path p = fs::absolute(dir, ec); !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
+    outermost = p;
+    if (p == p.parent_path()) break;
+  }
   fs::create_directories(dir, ec);
+  std::error_code made;
+  if (!outermost.empty() && fs::exists(outermost, made)) FolderRollback::after_creating(outermost);
   if (ec) fail("cannot create output folder '{}': {}", dir.string(), ec.message());
 }
 
@@ -108,21 +145,88 @@ FolderRollback::FolderRollback(fs::path folder, bool active) : folder_(std::move
     if (!created_.empty()) fs::remove_all(created_, ec);
     throw;
   }
-  if (!created_.empty()) return;
-  for (const auto& entry : fs::directory_iterator(folder_, ec)) before_.insert(entry.path());
+  root_ = resolved(folder_);
+  if (created_.empty())
+    for (const auto& entry : fs::directory_iterator(folder_, ec)) before_.insert(entry.path());
+  const std::lock_guard lock(g_guards_mutex);
+  g_guards.push_back(this);
+}
+
+void FolderRollback::stop_watching() {
+  const std::lock_guard lock(g_guards_mutex);
+  g_guards.erase(std::remove(g_guards.begin(), g_guards.end(), this), g_guards.end());
+}
+
+void FolderRollback::before_replacing(const fs::path& target) {
+  const std::lock_guard lock(g_guards_mutex);
+  if (g_guards.empty()) return;
+  const fs::path file = resolved(target);
+  std::error_code ec;
+  for (FolderRollback* guard : g_guards) {
+    // In a folder the guard created everything is new; a file the run wrote before has no
+    // earlier version to keep (a report rewritten after its plots).
+    if (!guard->created_.empty() || !under(guard->root_, file) || guard->written_.contains(file)) continue;
+    if (fs::is_regular_file(file, ec)) {
+      // A second name for the earlier file: the rename that follows replaces the name, not the
+      // bytes. Where the file system has no hard links, a copy.
+      const fs::path old = temporary_beside(file, kKeptTag);
+      fs::create_hard_link(file, old, ec);
+      if (ec) {
+        ec.clear();
+        fs::copy_file(file, old, ec);
+      }
+      if (ec) {
+        fs::remove(old, ec);
+        fail("cannot keep the earlier '{}' to put it back if the run fails: {}", target.string(), ec.message());
+      }
+      guard->kept_.emplace_back(file, old);
+    }
+    guard->written_.insert(file);
+  }
+}
+
+void FolderRollback::after_creating(const fs::path& made) {
+  const std::lock_guard lock(g_guards_mutex);
+  const fs::path folder = resolved(made);
+  for (FolderRollback* guard : g_guards)
+    if (guard->created_.empty() && folder != guard->root_ && under(guard->root_, folder))
+      guard->made_.push_back(folder);
+}
+
+void FolderRollback::keep() {
+  if (!active_) return;
+  stop_watching();
+  active_ = false;
+  std::error_code ec;
+  for (const auto& kept : kept_) fs::remove(kept.second, ec);
 }
 
 FolderRollback::~FolderRollback() {
   if (!active_) return;
+  stop_watching();
   std::error_code ec;
   if (!created_.empty()) {
     fs::remove_all(created_, ec);
     return;
   }
+  // The earlier versions back, the last kept first; then what the run added goes.
+  std::set<fs::path> restored;
+  for (auto it = kept_.rbegin(); it != kept_.rend(); ++it) {
+    fs::create_directories(it->first.parent_path(), ec);
+    fs::rename(it->second, it->first, ec);
+    // Two names of one file (an inner guard put the same earlier version back first): rename
+    // does nothing then, and the second name must still go.
+    fs::remove(it->second, ec);
+    restored.insert(it->first);
+  }
+  for (const fs::path& file : written_)
+    if (!restored.contains(file)) fs::remove(file, ec);
+  for (auto it = made_.rbegin(); it != made_.rend(); ++it) fs::remove_all(*it, ec);
   std::set<fs::path> now;
   for (const auto& entry : fs::directory_iterator(folder_, ec)) now.insert(entry.path());
+  // An enclosing guard's earlier versions stay for it to put back.
   for (const fs::path& p : now)
-    if (!before_.contains(p)) fs::remove_all(p, ec);
+    if (!before_.contains(p) && !is_kept_version(p)) fs::remove_all(p, ec);
 }
 
 }  // namespace weft

@@ -7,6 +7,7 @@
 #include <set>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace weft {
@@ -43,13 +44,19 @@ void ensure_directory(const std::filesystem::path& dir);
 void check_writable_folder(const std::filesystem::path& dir);
 
 /// @brief The files a run writes into one folder appear whole or not at all, for a run of many
-/// files (each written atomically) that can fail between them.
+/// files (each written atomically) that can fail between them: a run either completes (every file
+/// it wrote is new) or leaves the folder as it was (docs/robustness.md "Output folders of failed
+/// runs").
 ///
 /// Made before the run's first file: refuses a folder that cannot be written
-/// (check_writable_folder), creates `folder` (and missing parents) and remembers what was there. Unless keep() is
-/// called, the destructor (a failed run unwinding) removes the folders it created with everything in them, or, in a
-/// folder that existed, the entries that were not there before. An inactive guard (an MPI rank that writes nothing)
-/// does nothing.
+/// (check_writable_folder), creates `folder` (and missing parents) and remembers what was there.
+/// While it lives, write_atomically keeps the earlier version of every file it replaces inside
+/// `folder` (a hard link beside it, a copy where the file system has none), and ensure_directory
+/// the folders it creates there. Unless keep() is called, the destructor (a failed run unwinding)
+/// puts the earlier versions back, removes the files and folders the run added (a folder it created
+/// with everything in it, at any depth) and, in `folder`, the entries that were not there before.
+/// keep() drops the earlier versions. Guards nest (a study's work folder inside its --out): each
+/// keeps its own earlier versions. An inactive guard (an MPI rank that writes nothing) does nothing.
 class FolderRollback {
  public:
   explicit FolderRollback(std::filesystem::path folder, bool active = true);
@@ -57,12 +64,23 @@ class FolderRollback {
   FolderRollback(const FolderRollback&) = delete;
   FolderRollback& operator=(const FolderRollback&) = delete;
   /// The run succeeded: its files stay.
-  void keep() { active_ = false; }
+  void keep();
+
+  /// Called by write_atomically before it renames a finished file onto `target`, and by
+  /// ensure_directory after it created `made`: every live guard whose folder holds the path
+  /// records it. Throws a weft::Error (before anything is replaced) if an earlier version cannot be kept.
+  static void before_replacing(const std::filesystem::path& target);
+  static void after_creating(const std::filesystem::path& made);
 
  private:
+  void stop_watching();
   std::filesystem::path folder_;
+  std::filesystem::path root_;     ///< folder_, absolute and without symbolic links: what it holds is under it
   std::filesystem::path created_;  ///< the outermost folder this guard created (empty: none)
   std::set<std::filesystem::path> before_;
+  std::set<std::filesystem::path> written_;                                    ///< files the run wrote
+  std::vector<std::pair<std::filesystem::path, std::filesystem::path>> kept_;  ///< (file, its earlier version)
+  std::vector<std::filesystem::path> made_;                                    ///< folders the run created
   bool active_;
 };
 

@@ -242,11 +242,11 @@ StatisticsScale resolve_scale(const std::string& text, const volume::Grid& grid,
   return s;
 }
 
-ScaleUse scale_use(const StatisticsScale& scale, const volume::Grid& grid, bool local_models, FrontEnd asker) {
+ScaleUse scale_use(const StatisticsScale& scale, const volume::Grid& grid, bool local_models, FrontEnd asker,
+                   const Spelling& option) {
   if (grid.active_voxel_count() == 0) fail("window: grid '{}' has no active voxels", grid.name());
   const double h = grid.voxel_size();
   const auto extent = grid.active_bbox().extent();
-  const Spelling option{"--window ", "window="};
   // Clamped axes grouped by (what happened, length given): one line for the usual equal lengths.
   struct Clamp {
     bool shorter = false;

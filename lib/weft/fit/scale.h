@@ -59,8 +59,11 @@ struct ScaleUse {
 /// one voxel along an axis also gets a note: the local models' blocks then hold each voxel's own
 /// value, so along that axis they reproduce the ground truth instead of predicting it (measured:
 /// RMS error 2e-16 on T).
+/// `option` is the window's option with its separator as each front end writes it (the study's
+/// is `--study-window `).
 [[nodiscard]] ScaleUse scale_use(const StatisticsScale& scale, const volume::Grid& grid, bool local_models,
-                                 FrontEnd asker = FrontEnd::cli);
+                                 FrontEnd asker = FrontEnd::cli,
+                                 const Spelling& option = Spelling{"--window ", "window="});
 
 /// Parses `text` (one of the names above or a positive length) and resolves it for `grid`.
 /// Throws weft::Error for an unknown name or a non-positive length (naming the option as `asker`

@@ -251,12 +251,19 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, Progre
     if (spec.scale != "yarn") throw;
     fail("--study: {} (weft render: --study-window)", e.what());
   }
+  // The window is used as validate uses it (fit::scale_use: clamped to one voxel .. the active
+  // box per axis), and a clamp is said before the renders and kept in the report's notes, as
+  // validate and fit warn and record it: a window is never changed in silence.
+  const fit::ScaleUse scale_used =
+      fit::scale_use(scale, fine, /*local_models=*/true, spec.front, Spelling{"--study-window ", "window="});
+  for (const std::string& note : scale_used.notes) say(spec, "warning: " + note);
   const bool root = dist::is_root();
   // A study that fails leaves no half of its grids, fields and scenes behind (they are not
   // resumable: each run writes them afresh).
   FolderRollback outputs(spec.work_dir, root);
 
   StudyResult result;
+  result.notes = scale_used.notes;
   result.sigma = target.sigma_stats;
   result.mode = spec.spp > 0
                     ? fmt::format("fixed {} spp per candidate (equal samples, not equal time)", spec.spp)

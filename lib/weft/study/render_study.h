@@ -112,6 +112,8 @@ struct StudySpec {
   std::filesystem::path work_dir;
   /// Receives one line per stage ("rendering local-gamma-4x ..."); may be null.
   std::function<void(const std::string&)> log;
+  /// Who asks: options in the lines said are spelled its way (`--study-window` or `window=`).
+  FrontEnd front = FrontEnd::cli;
 };
 
 /// The defaults of a single study (docs/render.md §6c), where every front end (the CLI's

@@ -3,7 +3,10 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <map>
 #include <stdexcept>
+#include <string>
 
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
@@ -111,6 +114,84 @@ TEST(FolderRollback, FailedRunLeavesNoHalfOutput) {
   EXPECT_FALSE(fs::exists(dir / "grid.txt"));
   run(dir / "new" / "study", true);
   EXPECT_TRUE(fs::exists(dir / "new" / "study" / "grid.txt"));
+  fs::remove_all(dir);
+}
+
+}  // namespace
+
+namespace {
+
+std::string read_all(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Every file and folder under `dir` with the bytes of each file: a folder "as it was" has the same.
+std::map<std::string, std::string> snapshot(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    files[fs::relative(e.path(), dir).string()] = e.is_regular_file() ? read_all(e.path()) : std::string("<dir>");
+  return files;
+}
+
+// A folder that holds an earlier run's files: a failed run rewrites some of them, adds others
+// (beside them, in their subfolder, in a new subfolder) and fails. The folder is then as it was,
+// byte for byte; a run that succeeds leaves every file it wrote new and nothing else added.
+TEST(FolderRollback, FailedRunPutsBackTheFilesItReplaced) {
+  const auto dir = fresh_dir("rollback-replace");
+  const auto prefill = [&] {
+    fs::remove_all(dir);
+    fs::create_directories(dir / "mitsuba");
+    std::ofstream(dir / "report.json") << "earlier report";
+    std::ofstream(dir / "mitsuba" / "cloth.xml") << "earlier scene";
+    std::ofstream(dir / "notes.txt") << "the user's";
+  };
+  const auto run = [&](bool succeed) {
+    weft::FolderRollback outputs(dir);
+    weft::write_text_atomically(dir / "report.json", "new report, first pass");
+    weft::write_text_atomically(dir / "mitsuba" / "cloth.xml", "new scene");
+    weft::write_text_atomically(dir / "mitsuba" / "cloth.vol", "new grid");
+    weft::ensure_directory(dir / "pbrt" / "deep");
+    weft::write_text_atomically(dir / "pbrt" / "deep" / "cloth.pbrt", "new pbrt");
+    weft::write_text_atomically(dir / "report.json", "new report, after the plots");
+    if (succeed) outputs.keep();
+  };
+  prefill();
+  const auto before = snapshot(dir);
+  run(false);
+  EXPECT_EQ(snapshot(dir), before);
+  run(true);
+  auto after = before;
+  after["report.json"] = "new report, after the plots";
+  after["mitsuba/cloth.xml"] = "new scene";
+  after["mitsuba/cloth.vol"] = "new grid";
+  after["pbrt"] = after["pbrt/deep"] = "<dir>";
+  after["pbrt/deep/cloth.pbrt"] = "new pbrt";
+  EXPECT_EQ(snapshot(dir), after);  // and no earlier version left beside them
+  fs::remove_all(dir);
+}
+
+// Guards nest (a study's work folder inside its --out): whichever fails, the folder it guards is
+// as it was, though the inner one kept its files or put them back first.
+TEST(FolderRollback, NestedGuardsEachPutBackTheirFolder) {
+  const auto dir = fresh_dir("rollback-nested");
+  fs::create_directories(dir / "scene.study");
+  std::ofstream(dir / "scene.exr") << "earlier image";
+  std::ofstream(dir / "scene.study" / "coarse.vdb") << "earlier grid";
+  const auto before = snapshot(dir);
+  for (const bool inner_keeps : {true, false}) {
+    {
+      weft::FolderRollback out(dir);
+      {
+        weft::FolderRollback work(dir / "scene.study");
+        weft::write_text_atomically(dir / "scene.study" / "coarse.vdb", "new grid");
+        weft::write_text_atomically(dir / "scene.study" / "fields.vdb", "new fields");
+        if (inner_keeps) work.keep();
+      }
+      weft::write_text_atomically(dir / "scene.exr", "new image");
+    }
+    EXPECT_EQ(snapshot(dir), before) << "inner guard kept: " << inner_keeps;
+  }
   fs::remove_all(dir);
 }
 
