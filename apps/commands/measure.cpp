@@ -139,10 +139,9 @@ const Registrar kMeasure{Command{
               [](const std::array<double, 3>& d) { return volume::unit_direction(d, "beam"); });
         });
         const auto method = as_usage([&] { return volume::parse_beam_method(o->method); });
-        // An axis beam's rays all cross the whole box: the flag would change nothing.
-        if (o->full_chords &&
-            std::all_of(dirs.begin(), dirs.end(), [](const auto& d) { return volume::beam_axis(d) >= 0; }))
-          usage_fail("--full-chords changes oblique beams only, and every --direction is an axis");
+        // An axis beam's rays all cross the whole box: the flag would change nothing (the rule
+        // Python shares).
+        as_usage([&] { volume::check_full_chords(dirs, o->full_chords, FrontEnd::cli); });
         const std::array<double, 3> scatterer_direction =
             o->scatterer_direction.empty() ? std::array<double, 3>{0.0, 0.0, 1.0}
                                            : as_usage([&] { return volume::parse_direction(o->scatterer_direction); });
@@ -164,6 +163,21 @@ const Registrar kMeasure{Command{
               "--fields predicts the linear rule's extinction (sigma C of the fields' means), not --voxel-rule {}",
               o->voxel_rule);
         const LoadedGrid loaded = load_grid_input(o->input);
+        // Every beam's full chords before any beam is traced: a beam whose lattice would keep no
+        // ray (its voxel and fields rays, and its fibre rays) is refused here, not after the others.
+        if (o->full_chords) {
+          const volume::WorldBox box = volume::active_world_box(loaded.grid);
+          for (const auto& d : dirs) {
+            volume::BeamSpec fc;
+            fc.direction = d;
+            fc.full_chords = true;
+            fc.rays_per_column = o->rays;
+            as_usage([&] { volume::check_full_chord_rays(box, loaded.grid.voxel_size(), fc, FrontEnd::cli); });
+            fc.rays_per_column = o->fibre_rays;
+            if (o->fibres)
+              as_usage([&] { volume::check_full_chord_rays(box, loaded.grid.voxel_size(), fc, FrontEnd::cli); });
+          }
+        }
         // The fibres first: a grid that does not name its fibres is refused before any beam.
         std::optional<fibres::CapsuleIndex> fibre_index;
         const auto fibre_spec = [&](const std::array<double, 3>& d) {

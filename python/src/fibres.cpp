@@ -7,6 +7,7 @@
 #include "common.h"
 #include "data_gen/cloth/grid_fibres.h"
 #include "weft/fibres/fibre_beam.h"
+#include "weft/volume/beam_checks.h"
 #include "weft/volume/voxel_rule.h"
 
 namespace weft::python {
@@ -91,6 +92,7 @@ void init_fibres(py::module_& m) {
         vol::BeamSpec spec;
         spec.direction = direction_arg(direction);
         spec.full_chords = full_chords;
+        vol::check_full_chords({spec.direction}, full_chords, FrontEnd::python);
         if (rays_per_cell < 1) fail("measure_fibre_beam: rays_per_cell must be >= 1, got {}", rays_per_cell);
         spec.rays_per_column = rays_per_cell;
         spec.jitter = rays_per_cell > 1;
@@ -104,6 +106,7 @@ void init_fibres(py::module_& m) {
           const auto& g = arg_cast<const vol::Grid&>(grid, "measure_fibre_beam: grid", "a weft.Grid or None");
           if (fibres.lattice)
             cloth::check_on_lattice(g, *fibres.lattice, fmt::format("measure_fibre_beam: grid '{}'", g.name()));
+          vol::check_full_chord_rays(vol::active_world_box(g), g.voxel_size(), spec, FrontEnd::python);
           return run_released(
               progress, [&](ProgressSink& p) { return fib::measure_fibre_beam(*fibres.index, g, spec, kappa, p); });
         }

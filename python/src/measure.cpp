@@ -103,8 +103,9 @@ void init_measure(py::module_& m) {
         vol::BeamSpec spec;
         spec.direction = direction_of(axis, direction);
         spec.full_chords = full_chords;
-        // The CLI's rule (weft measure), in Python's words.
+        // The CLI's rules (weft measure), in Python's words.
         vol::check_rays_per_column({spec.direction}, rays_per_column, jitter, FrontEnd::python);
+        vol::check_full_chords({spec.direction}, full_chords, FrontEnd::python);
         // σ as `weft measure` picks it: sigma=, else the grid's provenance, never a silent 1.
         spec.scale = grid_sigma(grid, sigma, "measure_beam").sigma;
         if (column_stride < 1) fail("measure_beam: column_stride must be >= 1, got {}", column_stride);
@@ -114,6 +115,7 @@ void init_measure(py::module_& m) {
         spec.depth_step = require_non_negative("measure_beam: depth_step", depth_step);
         spec.method = vol::parse_beam_method(method);
         spec.column_stride = column_stride;
+        vol::check_full_chord_rays(vol::active_world_box(grid), grid.voxel_size(), spec, FrontEnd::python);
         return run_released(progress, [&](ProgressSink& p) { return vol::measure_beam(grid, spec, p); });
       },
       py::arg("grid"), py::arg("axis") = py::none(), py::kw_only(), py::arg("direction") = py::none(),
@@ -137,12 +139,14 @@ void init_measure(py::module_& m) {
         spec.direction = direction_of(axis, direction);
         spec.full_chords = full_chords;
         vol::check_rays_per_column({spec.direction}, rays_per_column, jitter, FrontEnd::python);
+        vol::check_full_chords({spec.direction}, full_chords, FrontEnd::python);
         if (column_stride < 1) fail("measure_fields_beam: column_stride must be >= 1, got {}", column_stride);
         spec.rays_per_column = rays_per_column;
         spec.jitter = jitter;
         spec.seed = seed;
         spec.depth_step = require_non_negative("measure_fields_beam: depth_step", depth_step);
         spec.column_stride = column_stride;
+        vol::check_full_chord_rays(vol::active_world_box(grid), grid.voxel_size(), spec, FrontEnd::python);
         const auto rule = transmittance::parse_memory_rule(memory);
         if (!rule)
           fail("measure_fields_beam: unknown memory rule '{}' (optical-depth, segment, renewal, carried)", memory);

@@ -322,3 +322,58 @@ def test_fields_beam_bad_input(tmp_path, small_cloth, kwargs, words):
         weft.measure_fields_beam(fields, small_cloth.grid, **kwargs)
     with pytest.raises(weft.Error, match="missing.vdb"):
         weft.measure_fields_beam(tmp_path / "missing.vdb", small_cloth.grid)
+
+
+def test_full_chords_on_an_axis_beam_is_refused_as_the_cli_refuses_it():
+    """An axis beam's rays all cross the whole box: full_chords=True would change nothing, and
+    `weft measure --full-chords` with only axis directions is refused (weft/volume/beam_checks.cpp)."""
+    g, _ = random_grid()
+    fibres = weft.Fibres([[(-0.5, 0.5, 0.5), (1.5, 0.5, 0.5)]], 0.05)
+    calls = [lambda: weft.measure_beam(g, "z", sigma=1, full_chords=True),
+             lambda: weft.measure_beam(g, direction=(0, -1, 0), sigma=1, full_chords=True),
+             lambda: weft.measure_fields_beam("no-such-fields.vdb", g, "x", sigma=1, full_chords=True),
+             lambda: weft.measure_fibre_beam(fibres, direction="z", cell=0.1, full_chords=True)]
+    for call in calls:
+        with pytest.raises(weft.Error) as e:
+            call()
+        said = str(e.value)
+        assert "full_chords=True changes oblique beams only" in said and "--" not in said, said
+    assert weft.measure_beam(g, direction=(1, 0, 2), sigma=1, full_chords=True).rays > 0
+
+
+def uniform_slab(index_origin=(0, 0, 0), origin=(0.0, 0.0, 0.0)):
+    """A uniform 8 x 8 x 3 slab of voxels 0.1 wide: a square face across x and y."""
+    a = np.full((8, 8, 3), 0.3, dtype=np.float32)
+    return weft.Grid.from_numpy(a, voxel_size=0.1, index_origin=index_origin, origin=origin)
+
+
+@pytest.mark.parametrize("far", [False, True])
+def test_full_chords_exactly_45_degrees_across_a_square_face_is_refused(far):
+    """Only the diagonal crosses a square face's box face to face at exactly 45 degrees: refused
+    before any ray is traced, in Python's words, wherever the grid is indexed."""
+    shift = np.array([2**29 + 3, 5, -2**29]) if far else np.zeros(3, dtype=np.int64)
+    g = uniform_slab(tuple(int(v) for v in shift), tuple(float(v) for v in -0.1 * shift))
+    for d in [(1, 1, 0), (-1, 1, 0), (1, -1, 0)]:
+        with pytest.raises(weft.Error) as e:
+            weft.measure_beam(g, direction=d, sigma=1, full_chords=True)
+        assert str(e.value).startswith("full_chords=True: beam (") and "no ray crosses the box" in str(e.value)
+        assert weft.measure_beam(g, direction=d, sigma=1).rays > 0
+    # Tilted out of the square's plane, the slab's two large faces set the depth: rays are kept.
+    assert weft.measure_beam(g, direction=(1, 1, 3), sigma=1, full_chords=True).rays > 0
+
+
+def test_a_grid_indexed_far_away_gives_the_same_beam_bytes():
+    """The same slab in the same place, indexed from 2^29 away: the same T, byte for byte, with
+    and without full chords (docs/validate.md "Beams far from index 0")."""
+    rng = np.random.default_rng(5)
+    a = rng.uniform(0.05, 1.0, size=(9, 7, 5)).astype(np.float32)
+    shift = np.array([2**30, 5, -2**29])
+    near = weft.Grid.from_numpy(a, voxel_size=0.02, index_origin=(-6, -6, -17), origin=(0.0, 0.0, 0.0))
+    far = weft.Grid.from_numpy(a, voxel_size=0.02, index_origin=tuple(int(v) for v in shift + (-6, -6, -17)),
+                               origin=tuple(float(v) for v in -0.02 * shift))
+    for full in (False, True):
+        b0 = weft.measure_beam(near, direction=(1, 0, 2), sigma=3, rays_per_column=3, full_chords=full)
+        b1 = weft.measure_beam(far, direction=(1, 0, 2), sigma=3, rays_per_column=3, full_chords=full)
+        assert b0.rays == b1.rays > 0
+        for x, y in zip(b0, b1):
+            assert np.array_equal(x, y)

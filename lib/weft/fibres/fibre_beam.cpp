@@ -15,24 +15,6 @@ namespace {
 
 constexpr std::size_t kShards = 64;  // fixed, so the sums do not depend on the thread count
 
-/// The parameter range [t0, t1] of the ray o + t·d inside the box, false when it misses.
-bool clip_to_box(const Point3& o, const Point3& d, const volume::WorldBox& box, double& t0, double& t1) {
-  t0 = -1e300;
-  t1 = 1e300;
-  for (int k = 0; k < 3; ++k) {
-    if (d[k] == 0.0) {
-      if (o[k] < box.lo[k] || o[k] > box.hi[k]) return false;
-      continue;
-    }
-    double a = (box.lo[k] - o[k]) / d[k];
-    double b = (box.hi[k] - o[k]) / d[k];
-    if (a > b) std::swap(a, b);
-    t0 = std::max(t0, a);
-    t1 = std::min(t1, b);
-  }
-  return t0 < t1;
-}
-
 }  // namespace
 
 volume::WorldBox fibre_box(const CapsuleIndex& fibres) {
@@ -99,10 +81,19 @@ volume::TransmittanceCurve measure_fibre_beam(const CapsuleIndex& fibres, const 
     const std::size_t end = (shard + 1) * units / shards;
     L.for_each_ray(
         begin, end,
-        [&](const Point3& o, std::int64_t, std::int64_t, int) {
+        [&](const Point3& offset, std::int64_t, std::int64_t, int) {
           double t_in = 0.0;
           double t_out = L.depths.back();
-          if (L.axis < 0 && !(clip_to_box(o, L.d, box, t_in, t_out) && L.traces_chord(t_in, t_out))) return;
+          if (L.axis < 0) {
+            // The chord in the box's own frame, as the voxel beam takes it (lattice.h): the same
+            // rays kept wherever the box sits.
+            const volume::BeamLattice::Chord c = L.chord(offset);
+            if (!L.traces_chord(c)) return;
+            t_in = c.t_enter;
+            t_out = c.t_exit;
+          }
+          Point3 o{};
+          for (int a = 0; a < 3; ++a) o[a] = L.box_lo[a] + offset[a];
           hits.clear();
           fibres.intersect(o, L.d, t_in, t_out, hits);
           ++sum.n;
@@ -158,6 +149,9 @@ volume::TransmittanceCurve measure_fibre_beam(const CapsuleIndex& fibres, const 
       }
     }
   });
+  std::uint64_t traced = 0;
+  for (const volume::CurveSums& p : parts) traced += p.n;
+  L.require_full_chord_rays(traced, "fibre beam " + volume::direction_label(L.d));
   return volume::curve_of_sums(parts, L.depths, L.d,
                                opaque ? "fibres (opaque)" : fmt::format("fibres (extinction {:.6g})", extinction),
                                "fibre beam " + volume::direction_label(L.d));

@@ -101,22 +101,22 @@ volume::TransmittanceCurve predict_fields_beam(const FieldsSpec& fields, const v
   parallel_units(shards, [&](std::size_t shard) {
     volume::CurveSums& sum = parts[shard];
     const std::unique_ptr<LocalGammaField> walker = field.clone();
-    const volume::Tracer fine(grid);
     const volume::Tracer coarse(mean);
     std::vector<double> log_t(K);
     const std::size_t begin = shard * units / shards;
     const std::size_t end = (shard + 1) * units / shards;
     L.for_each_ray(
         begin, end,
-        [&](const std::array<double, 3>& origin, std::int64_t, std::int64_t, int) {
-          volume::Ray ray{origin, L.d};
+        [&](std::array<double, 3> offset, std::int64_t, std::int64_t, int) {
           // The voxel beam's entry (trace_rays): an oblique ray starts where it enters the
-          // grid's active box, an axis ray on the box's entry face.
+          // grid's active box, an axis ray on the box's entry face; both in the box's frame.
           if (L.axis < 0) {
-            const volume::BoxHit hit = fine.intersect_active_box(ray, 0.0);
-            if (!hit.hit || !L.traces_chord(hit.t_enter, hit.t_exit)) return;
-            for (int c = 0; c < 3; ++c) ray.origin[c] += hit.t_enter * ray.direction[c];
+            const volume::BeamLattice::Chord c = L.chord(offset);
+            if (!L.traces_chord(c)) return;
+            for (int a = 0; a < 3; ++a) offset[a] += c.t_enter * L.d[a];
           }
+          volume::Ray ray{{}, L.d};
+          for (int a = 0; a < 3; ++a) ray.origin[a] = L.box_lo[a] + offset[a];
           // The memory starts at the medium's boundary, where a flight through it would start.
           const volume::BoxHit in = coarse.intersect_active_box(ray, -kInf);
           const double t0 = in.hit ? std::min(in.t_enter, 0.0) : 0.0;
@@ -125,6 +125,9 @@ volume::TransmittanceCurve predict_fields_beam(const FieldsSpec& fields, const v
         },
         [&] { task.step(); });
   });
+  std::uint64_t traced = 0;
+  for (const volume::CurveSums& p : parts) traced += p.n;
+  L.require_full_chord_rays(traced, "fields beam " + volume::direction_label(L.d));
   return volume::curve_of_sums(
       parts, L.depths, L.d,
       fmt::format("local-gamma fields ({} memory)", transmittance::memory_rule_name(fields.memory)),

@@ -210,6 +210,7 @@ TransmittanceCurve measure_beam(const Grid& grid, const BeamSpec& spec, Progress
   const std::uint64_t independent = (L.axis >= 0 && !streamed) ? total.n / per_cell : total.n;
   curve.distinct_rays = independent;
   total.finish(curve, independent);
+  L.require_full_chord_rays(total.n, "beam " + direction_label(L.d));
   if (total.n == 0) fail("beam {}: no ray entered the grid", direction_label(L.d));
   return curve;
 }

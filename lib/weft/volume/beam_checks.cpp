@@ -27,4 +27,23 @@ void check_rays_per_column(const std::vector<std::array<double, 3>>& directions,
       what.in(asker), oblique.in(asker));
 }
 
+void check_full_chords(const std::vector<std::array<double, 3>>& directions, bool full_chords, FrontEnd asker) {
+  if (!full_chords || directions.empty()) return;
+  const bool all_axis =
+      std::all_of(directions.begin(), directions.end(), [](const auto& d) { return beam_axis(d) >= 0; });
+  if (!all_axis) return;
+  const Spelling option{"--full-chords", "full_chords=True"};
+  const Spelling every{"every --direction is an axis",
+                       fmt::format("the beam runs along {}", direction_label(directions[0]))};
+  fail("{} changes oblique beams only (an axis beam's rays all cross the whole box), and {}", option.in(asker),
+       every.in(asker));
+}
+
+void check_full_chord_rays(const WorldBox& box, double cell, const BeamSpec& spec, FrontEnd asker) {
+  const std::string why = full_chord_problem(box, cell, spec);
+  if (why.empty()) return;
+  const Spelling option{"--full-chords", "full_chords=True"};
+  fail("{}: beam {}: {}", option.in(asker), direction_label(spec.direction), why);
+}
+
 }  // namespace weft::volume

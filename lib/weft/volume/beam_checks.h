@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "weft/core/front_end.h"
+#include "weft/volume/beam.h"
+#include "weft/volume/lattice.h"
 
 namespace weft::volume {
 
@@ -16,5 +18,16 @@ namespace weft::volume {
 /// `asker` writes it.
 void check_rays_per_column(const std::vector<std::array<double, 3>>& directions, int rays_per_column, bool jitter,
                            FrontEnd asker);
+
+/// @brief Refuses full chords when every beam runs along an axis: an axis beam's rays all cross
+/// the whole box, so the option would change nothing. Throws weft::Error naming the option as
+/// `asker` writes it.
+void check_full_chords(const std::vector<std::array<double, 3>>& directions, bool full_chords, FrontEnd asker);
+
+/// @brief Refuses full chords on a beam over `box` (cells of width `cell`) whose lattice would keep
+/// no ray: no ray crosses the box from face to opposite face (two faces tie, as across a square
+/// face at exactly 45°) or fewer than one lattice ray's share does (BeamLattice::full_chord_problem).
+/// Cheap (no ray is traced): front ends call it for every beam before the first is traced.
+void check_full_chord_rays(const WorldBox& box, double cell, const BeamSpec& spec, FrontEnd asker);
 
 }  // namespace weft::volume

@@ -158,6 +158,24 @@ void stream_columns(const Grid& grid, const Lattice& L, double scale, ProgressSi
   });
 }
 
+/// The cell-space ray of the lattice ray from `offset` (world, relative to the box's lower
+/// corner), relative to the box's lowest voxel: a scale-translate map takes a world length to
+/// cells by its inverse scale alone, so the ray's numbers are the same wherever the box sits.
+/// An axis beam's entry coordinate is the box face itself (0 or the box's extent), exactly.
+inline CellRay box_cell_ray(const CellMap& map, const Lattice& L, const std::array<double, 3>& offset,
+                            const CellBox& rel) {
+  CellRay r{};
+  for (int a = 0; a < 3; ++a) {
+    const auto i = static_cast<std::size_t>(a);
+    r.o[a] = offset[i] * map.index.inv_scale[a];
+    r.d[a] = L.d[i] * map.index.inv_scale[a];
+    r.sgn[a] = r.d[a] > 0.0 ? 1 : (r.d[a] < 0.0 ? -1 : 0);
+    r.inv[a] = r.sgn[a] != 0 ? 1.0 / r.d[a] : 0.0;
+  }
+  if (L.axis >= 0) r.o[L.axis] = r.sgn[L.axis] > 0 ? 0.0 : static_cast<double>(rel.hi[L.axis]);
+  return r;
+}
+
 /// Profiles traced ray by ray, by weft's DDA or OpenVDB's.
 template <typename Consumer>
 void trace_rays(const Grid& grid, const Lattice& L, double scale, bool use_openvdb, ProgressSink& progress,
@@ -173,10 +191,21 @@ void trace_rays(const Grid& grid, const Lattice& L, double scale, bool use_openv
   const auto batch = static_cast<std::uint64_t>(std::max(1.0, std::floor(kReportSteps / ray_steps)));
   ProgressTask task(progress, "beam " + direction_label(L.d) + (use_openvdb ? " (openvdb dda)" : " (dda)"), slots);
   const auto& vdb = *grid.impl().grid;
+  const CellMap map(vdb);
+  // Every weft grid's map is scale-translate: its rays are walked relative to the box's lowest
+  // voxel (box_cell_ray). Any other map is walked in its own index space.
+  const CellBox abs_box = active_cell_box(vdb);
+  CellBox box = abs_box;
+  const std::int64_t* base = nullptr;
+  if (map.scale_translate) {
+    for (int a = 0; a < 3; ++a) {
+      box.lo[a] = 0;
+      box.hi[a] = abs_box.hi[a] - abs_box.lo[a];
+    }
+    base = abs_box.lo;
+  }
   parallel_units(shards, [&](std::size_t shard) {
-    Tracer tracer(grid);
     auto acc = vdb.getConstAccessor();
-    const detail::CellBox box = detail::active_cell_box(vdb);
     std::vector<double> tau(L.depths.size());
     std::uint64_t pending = 0;  // ray slots not yet reported
     const auto report = [&](std::uint64_t n) {
@@ -199,23 +228,37 @@ void trace_rays(const Grid& grid, const Lattice& L, double scale, bool use_openv
         for (int r = 0; r < L.per_cell; ++r) {
           report(1);
           const std::array<double, 2> off = offsets.next();
-          Ray ray{L.ray_origin(ii, j, off[0], off[1]), L.d};
+          std::array<double, 3> offset = L.ray_offset(ii, j, off[0], off[1]);
           if (L.axis < 0) {
-            const BoxHit hit = tracer.intersect_active_box(ray, 0.0);
-            if (!hit.hit || !L.traces_chord(hit.t_enter, hit.t_exit)) continue;
-            for (int c = 0; c < 3; ++c) ray.origin[c] += hit.t_enter * ray.direction[c];
+            // The chord in the box's own frame (lattice.h), shared with the fibre and fields beams.
+            const Lattice::Chord c = L.chord(offset);
+            if (!L.traces_chord(c)) continue;
+            for (int a = 0; a < 3; ++a) offset[a] += c.t_enter * L.d[a];
           }
           ProfileBuilder pb{L.depths, tau.data()};
-          const detail::CellRay cr = detail::to_cell_ray(vdb, ray);
-          if (!use_openvdb) {
-            detail::march_cells(acc, cr, box, 0.0, L.depths.back(),
-                                [&](double t0, double t1, float v, const std::int64_t*, int) {
-                                  return pb.add(t0, t1, scale * static_cast<double>(v));
-                                });
+          detail::CellRay cr{};
+          if (base != nullptr) {
+            cr = box_cell_ray(map, L, offset, box);
           } else {
+            Ray ray{offset, L.d};
+            for (int a = 0; a < 3; ++a) ray.origin[a] += L.box_lo[a];
+            cr = detail::to_cell_ray(map, ray);
+          }
+          if (!use_openvdb) {
+            detail::march_cells(
+                acc, cr, box, 0.0, L.depths.back(),
+                [&](double t0, double t1, float v, const std::int64_t*, int) {
+                  return pb.add(t0, t1, scale * static_cast<double>(v));
+                },
+                base);
+          } else {
+            // OpenVDB's DDA walks the tree's own index space: the ray moved back to it.
+            if (base != nullptr) {
+              for (int a = 0; a < 3; ++a) cr.o[a] += static_cast<double>(base[a]);
+            }
             double t0 = 0.0;
             double t1 = L.depths.back();
-            if (detail::clip(cr, box, t0, t1)) {
+            if (detail::clip(cr, abs_box, t0, t1)) {
               using VRay = openvdb::math::Ray<double>;
               // math::Ray stores 1/d, ±inf for an axis-aligned ray, and its DDA relies on it.
               const HeldFpExceptions hold;

@@ -80,7 +80,13 @@ struct CellStep {
 /// node (getValueDepth) at once. Callers either pull pieces (Tracer::start/next, for code
 /// outside volume/ that cannot take a template through the header wall) or are called back
 /// (march_cells, inlined for volume's own hot loops). Inactive voxels have value 0.
+///
+/// The ray and the box may be given relative to a voxel `base` (cell space minus base): the
+/// walk's arithmetic is then on small numbers, the same whatever the grid's index origin, and
+/// only the tree's lookups and the pieces' voxels add base back (a beam walks relative to its
+/// box's corner, docs/validate.md "Beams far from index 0").
 struct CellWalk : WalkState {
+  std::int64_t base[3] = {0, 0, 0};
   // The leaf being walked (null: probe the tree at `cell` next) and its voxels [leaf_lo, leaf_hi).
   const LeafT* leaf = nullptr;
   std::int64_t leaf_lo[3] = {0, 0, 0};
@@ -89,9 +95,11 @@ struct CellWalk : WalkState {
   const LeafT::NodeMaskType* mask = nullptr;
 
   /// Begins a walk of `ray` over [t_begin, t_end]; false (and no pieces) when it misses the box.
-  bool start(const CellRay& ray, const CellBox& b, double t_begin, double t_end) {
+  /// `shift` (null: 0) is the base the ray and the box are relative to.
+  bool start(const CellRay& ray, const CellBox& b, double t_begin, double t_end, const std::int64_t* shift = nullptr) {
     leaf = nullptr;
     r = ray;
+    for (int a = 0; a < 3; ++a) base[a] = shift != nullptr ? shift[a] : 0;
     return begin(b, t_begin, t_end);
   }
 
@@ -104,14 +112,15 @@ struct CellWalk : WalkState {
           done = true;
           return false;
         }
-        const openvdb::Coord c(static_cast<openvdb::Int32>(cell[0]), static_cast<openvdb::Int32>(cell[1]),
-                               static_cast<openvdb::Int32>(cell[2]));
+        const openvdb::Coord c(static_cast<openvdb::Int32>(cell[0] + base[0]),
+                               static_cast<openvdb::Int32>(cell[1] + base[1]),
+                               static_cast<openvdb::Int32>(cell[2] + base[2]));
         leaf = acc.probeConstLeaf(c);
         if (leaf != nullptr) {
           const openvdb::Coord org = leaf->origin();
           for (int a = 0; a < 3; ++a) {
-            leaf_lo[a] = org[a];
-            leaf_hi[a] = std::int64_t{org[a]} + static_cast<std::int64_t>(LeafT::DIM);
+            leaf_lo[a] = org[a] - base[a];
+            leaf_hi[a] = leaf_lo[a] + static_cast<std::int64_t>(LeafT::DIM);
           }
           data = leaf->buffer().data();
           mask = &leaf->getValueMask();
@@ -133,7 +142,8 @@ struct CellWalk : WalkState {
           double tn[3];
           double te = kInf;
           for (int a = 0; a < 3; ++a) {
-            blo[a] = cell[a] & ~(size - 1);
+            // Aligned in the tree's own (absolute) indices.
+            blo[a] = ((cell[a] + base[a]) & ~(size - 1)) - base[a];
             tn[a] = r.sgn[a] > 0   ? (static_cast<double>(blo[a] + size) - r.o[a]) * r.inv[a]
                     : r.sgn[a] < 0 ? (static_cast<double>(blo[a]) - r.o[a]) * r.inv[a]
                                    : kInf;
@@ -145,7 +155,7 @@ struct CellWalk : WalkState {
             s.t0 = t;
             s.t1 = tend;
             s.value = v;
-            for (int a = 0; a < 3; ++a) s.lo[a] = blo[a];
+            for (int a = 0; a < 3; ++a) s.lo[a] = blo[a] + base[a];
             s.size = static_cast<int>(size);
             t = tend;
           }
@@ -166,10 +176,10 @@ struct CellWalk : WalkState {
         }
       }
       // Voxel by voxel inside the leaf: the step shared with the dense walk (voxel_walk.h).
-      const openvdb::Index off = LeafT::coordToOffset(openvdb::Coord(static_cast<openvdb::Int32>(cell[0]),
-                                                                     static_cast<openvdb::Int32>(cell[1]),
-                                                                     static_cast<openvdb::Int32>(cell[2])));
-      const std::int64_t voxel[3] = {cell[0], cell[1], cell[2]};
+      const openvdb::Index off = LeafT::coordToOffset(openvdb::Coord(static_cast<openvdb::Int32>(cell[0] + base[0]),
+                                                                     static_cast<openvdb::Int32>(cell[1] + base[1]),
+                                                                     static_cast<openvdb::Int32>(cell[2] + base[2])));
+      const std::int64_t voxel[3] = {cell[0] + base[0], cell[1] + base[1], cell[2] + base[2]};
       const VoxelStep step = voxel_step(*this, leaf_lo, leaf_hi);
       if (step.produced) {
         s.t0 = step.t0;
@@ -194,11 +204,13 @@ struct CellWalk : WalkState {
 };
 
 /// The walk of CellWalk over [t0, t1] (world distances) with a callback:
-/// `visit(t0, t1, value, lowest voxel, size)` returns false to stop.
+/// `visit(t0, t1, value, lowest voxel, size)` returns false to stop. `base` (null: 0): the voxel
+/// the ray and the box are relative to (CellWalk).
 template <typename Visit>
-void march_cells(Accessor& acc, const CellRay& r, const CellBox& box, double t0, double t1, Visit&& visit) {
+void march_cells(Accessor& acc, const CellRay& r, const CellBox& box, double t0, double t1, Visit&& visit,
+                 const std::int64_t* base = nullptr) {
   CellWalk walk;
-  if (!walk.start(r, box, t0, t1)) return;
+  if (!walk.start(r, box, t0, t1, base)) return;
   CellStep s;
   while (walk.next(acc, s))
     if (!visit(s.t0, s.t1, s.value, static_cast<const std::int64_t*>(s.lo), s.size)) return;

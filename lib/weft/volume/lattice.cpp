@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include <fmt/format.h>
+
 #include "weft/core/error.h"
 #include "weft/core/rng.h"
 
@@ -24,12 +26,12 @@ std::int64_t cells_over(double span, double h) {
 }
 
 /// A general direction's frame: e1, e2 ⊥ d, the box's corners projected on them, the lattice
-/// origin one cell upstream, and the shortest chord (the depth grid's length).
+/// origin one cell upstream, the shortest chord (the depth grid's length) and the area of the
+/// rays that have it.
 void oblique_frame(const WorldBox& box, BeamLattice& L) {
   // The corners relative to lo (0 or the span per axis): projections of small numbers, so the
   // lattice's extent and the chord do not depend on where the box sits.
-  const Vec3& lo = box.lo;
-  const Vec3 size{box.size(0), box.size(1), box.size(2)};
+  const Vec3& size = L.box_size;
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const Vec3 helper = std::abs(L.d[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
   L.e1 = unit_direction(cross(L.d, helper), "beam");
@@ -48,12 +50,24 @@ void oblique_frame(const WorldBox& box, BeamLattice& L) {
     cmin = std::min(cmin, dot(p, L.d));
   }
   const double upstream = cmin - L.h;
-  for (int a = 0; a < 3; ++a) L.origin[a] = lo[a] + (amin * L.e1[a] + bmin * L.e2[a] + upstream * L.d[a]);
+  for (int a = 0; a < 3; ++a) L.corner_offset[a] = amin * L.e1[a] + bmin * L.e2[a] + upstream * L.d[a];
+  for (int a = 0; a < 3; ++a) L.origin[a] = box.lo[a] + L.corner_offset[a];
   L.na = static_cast<std::int64_t>(std::ceil((amax - amin) / L.h - 1e-9));
   L.nb = static_cast<std::int64_t>(std::ceil((bmax - bmin) / L.h - 1e-9));
   L.depth_length = kInf;
+  int deep = 0;  // the axis whose two faces set the shortest chord
   for (int a = 0; a < 3; ++a) {
-    if (L.d[a] != 0.0) L.depth_length = std::min(L.depth_length, size[a] / std::abs(L.d[a]));
+    if (L.d[a] != 0.0 && size[a] / std::abs(L.d[a]) < L.depth_length) {
+      L.depth_length = size[a] / std::abs(L.d[a]);
+      deep = a;
+    }
+  }
+  // A ray has the whole depth when it enters through face `deep` and leaves through the opposite
+  // one: its entry point on that face must lie within size_b − depth·|d_b| of the face's edge
+  // along each other axis b, a rectangle that projects onto the plane ⊥ d with the factor |d_deep|.
+  L.full_chord_area = std::abs(L.d[deep]);
+  for (int b = 0; b < 3; ++b) {
+    if (b != deep) L.full_chord_area *= std::max(0.0, size[b] - L.depth_length * std::abs(L.d[b]));
   }
 }
 
@@ -104,12 +118,67 @@ std::vector<double> beam_depth_grid(double length, double step) {
   return d;
 }
 
-std::array<double, 3> BeamLattice::ray_origin(std::int64_t i, std::int64_t j, double ja, double jb) const {
+std::array<double, 3> BeamLattice::ray_offset(std::int64_t i, std::int64_t j, double ja, double jb) const {
   const double a = (static_cast<double>(i) + ja) * h;
   const double b = (static_cast<double>(j) + jb) * h;
   std::array<double, 3> p{};
-  for (int c = 0; c < 3; ++c) p[c] = origin[c] + a * e1[c] + b * e2[c];
+  for (int c = 0; c < 3; ++c) p[c] = corner_offset[c] + a * e1[c] + b * e2[c];
   return p;
+}
+
+std::array<double, 3> BeamLattice::ray_origin(std::int64_t i, std::int64_t j, double ja, double jb) const {
+  std::array<double, 3> p = ray_offset(i, j, ja, jb);
+  for (int c = 0; c < 3; ++c) p[c] += box_lo[c];
+  return p;
+}
+
+BeamLattice::Chord BeamLattice::chord(const std::array<double, 3>& offset) const {
+  // The slab test in the box's own frame [0, size]: exact for zero direction components.
+  Chord c;
+  double t0 = -std::numeric_limits<double>::infinity();
+  double t1 = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] == 0.0) {
+      if (offset[a] < 0.0 || offset[a] > box_size[a]) return c;
+      continue;
+    }
+    double ta = -offset[a] / d[a];
+    double tb = (box_size[a] - offset[a]) / d[a];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  c.hit = t0 < t1;
+  c.t_enter = t0;
+  c.t_exit = t1;
+  return c;
+}
+
+void BeamLattice::require_full_chord_rays(std::uint64_t rays, const std::string& what) const {
+  if (!full_chords || rays > 0) return;
+  fail(
+      "{} with full chords: none of the lattice's rays crosses the box from face to opposite face (those rays cover "
+      "an area of {:.3g} across the beam); tilt the direction, add rays per cell, or keep every chord",
+      what, full_chord_area);
+}
+
+std::string BeamLattice::full_chord_problem() const {
+  if (!full_chords) return {};
+  const double cell = h * static_cast<double>(stride);
+  const double rays = full_chord_area / (cell * cell) * static_cast<double>(per_cell);
+  if (rays >= 1.0) return {};
+  // Widths below the chord tolerance are a tie of two faces' depths rounded: no area at all.
+  if (full_chord_area <= kChordTolerance * depth_length * depth_length) {
+    return fmt::format(
+        "no ray crosses the box from face to opposite face: the box is as deep ({:.6g}) through two pairs of faces "
+        "along this direction (as across a square face at exactly 45 degrees), so only a line of rays has the whole "
+        "depth; tilt the direction or keep every chord",
+        depth_length);
+  }
+  return fmt::format(
+      "the rays crossing the box from face to opposite face cover an area of {:.3g} across the beam, where "
+      "{:.3g} of the lattice's rays fall; tilt the direction, add rays per cell, or keep every chord",
+      full_chord_area, rays);
 }
 
 bool BeamLattice::keeps(std::int64_t i, std::int64_t j) const {
@@ -129,7 +198,10 @@ CellOffsets BeamLattice::offsets(std::int64_t i, std::int64_t j) const {
   return {seed, static_cast<std::uint64_t>(i) * static_cast<std::uint64_t>(nb) + static_cast<std::uint64_t>(j), jitter};
 }
 
-BeamLattice make_beam_lattice(const WorldBox& box, double h, const BeamSpec& spec, bool with_depths) {
+namespace {
+
+/// The lattice without the full-chord refusal (make_beam_lattice's layout).
+BeamLattice lay_out(const WorldBox& box, double h, const BeamSpec& spec, bool with_depths) {
   require_positive("beam: cell width", h);
   BeamLattice L;
   L.d = unit_direction(spec.direction, "beam");
@@ -140,8 +212,8 @@ BeamLattice make_beam_lattice(const WorldBox& box, double h, const BeamSpec& spe
   L.seed = spec.seed;
   L.stride = spec.column_stride;
   L.full_chords = spec.full_chords && L.axis < 0;
-  const Vec3& lo = box.lo;
-  const Vec3& hi = box.hi;
+  L.box_lo = box.lo;
+  for (int a = 0; a < 3; ++a) L.box_size[a] = box.size(a);
   const double step = spec.depth_step > 0.0 ? spec.depth_step : L.h;
   if (L.axis >= 0) {
     const int a = L.axis;
@@ -151,11 +223,14 @@ BeamLattice make_beam_lattice(const WorldBox& box, double h, const BeamSpec& spe
     L.e2 = {0, 0, 0};
     L.e1[ua] = 1.0;
     L.e2[va] = 1.0;
-    L.origin = lo;
-    if (L.d[a] < 0.0) L.origin[a] = hi[a];
+    L.corner_offset = {0.0, 0.0, 0.0};
+    if (L.d[a] < 0.0) L.corner_offset[a] = L.box_size[a];
+    L.origin = box.lo;
+    if (L.d[a] < 0.0) L.origin[a] = box.hi[a];
     L.na = cells_over(box.size(ua), h);
     L.nb = cells_over(box.size(va), h);
     L.depth_length = box.size(a);
+    L.full_chord_area = box.size(ua) * box.size(va);
   } else {
     oblique_frame(box, L);
   }
@@ -163,6 +238,21 @@ BeamLattice make_beam_lattice(const WorldBox& box, double h, const BeamSpec& spe
   L.depth_count = beam_depth_count(L.depth_length, step);
   if (with_depths) L.depths = beam_depth_grid(L.depth_length, step);
   return L;
+}
+
+}  // namespace
+
+BeamLattice make_beam_lattice(const WorldBox& box, double h, const BeamSpec& spec, bool with_depths) {
+  // Refused before anything is traced (every beam's estimate lays its lattice out): a beam that
+  // would keep no ray (docs/validate.md "Full chords").
+  if (const std::string why = full_chord_problem(box, h, spec); !why.empty())
+    fail("beam {} with full chords: {}", direction_label(spec.direction), why);
+  return lay_out(box, h, spec, with_depths);
+}
+
+std::string full_chord_problem(const WorldBox& box, double h, const BeamSpec& spec) {
+  if (!spec.full_chords) return {};
+  return lay_out(box, h, spec, false).full_chord_problem();
 }
 
 }  // namespace weft::volume

@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "weft/core/rng.h"
@@ -73,8 +74,15 @@ struct BeamLattice {
   std::array<double, 3> e1{};
   std::array<double, 3> e2{};
   std::array<double, 3> origin{};  ///< world point of cell (0,0)'s corner (on the entry face for axis beams)
-  std::int64_t na = 0;             ///< cells along e1
-  std::int64_t nb = 0;             ///< cells along e2
+  /// The box's lower corner (world) and its size: the lattice is laid out relative to the
+  /// corner, so where a ray enters and how long its chord is are computed from small numbers
+  /// and do not move with where the box sits (a grid's index origin, docs/validate.md
+  /// "Beams far from index 0").
+  std::array<double, 3> box_lo{};
+  std::array<double, 3> box_size{};
+  std::array<double, 3> corner_offset{};  ///< origin − box_lo, computed without box_lo
+  std::int64_t na = 0;                    ///< cells along e1
+  std::int64_t nb = 0;                    ///< cells along e2
   int per_cell = 1;
   bool jitter = false;
   std::uint64_t seed = 1;
@@ -86,7 +94,9 @@ struct BeamLattice {
   std::size_t depth_count = 0;  ///< beam_depth_count(depth_length, depth_step): depths.size() once filled
   std::vector<double> depths;   ///< empty from make_beam_lattice(..., false)
 
-  /// The origin of the ray at offset (ja, jb) ∈ [0,1)² in cell (i, j).
+  /// The origin of the ray at offset (ja, jb) ∈ [0,1)² in cell (i, j), relative to box_lo.
+  [[nodiscard]] std::array<double, 3> ray_offset(std::int64_t i, std::int64_t j, double ja, double jb) const;
+  /// The same origin in world coordinates (box_lo + ray_offset).
   [[nodiscard]] std::array<double, 3> ray_origin(std::int64_t i, std::int64_t j, double ja, double jb) const;
   /// The most cells of width h one ray crosses in the box: its chord's length·(|dx| + |dy| +
   /// |dz|)/h, plus its two ends and one for rounding (the work of a ray beyond its depths).
@@ -97,9 +107,9 @@ struct BeamLattice {
   [[nodiscard]] bool keeps(std::int64_t i, std::int64_t j) const;
   /// The in-cell offsets of the per_cell rays of cell (i, j), one at a time (CellOffsets).
   [[nodiscard]] CellOffsets offsets(std::int64_t i, std::int64_t j) const;
-  /// Calls ray(origin, i, j, r) for every kept ray of the cell rows [row_begin, row_end), in the
-  /// beam's fixed order with each cell's own offsets, and row_done() after each row: the walk a
-  /// shard of a beam makes whatever it traces the rays through.
+  /// Calls ray(offset, i, j, r), offset = ray_offset(...), for every kept ray of the cell rows [row_begin, row_end), in
+  /// the beam's fixed order with each cell's own offsets, and row_done() after each row: the walk a shard of a beam
+  /// makes whatever it traces the rays through.
   template <typename RayFn, typename RowFn>
   void for_each_ray(std::size_t row_begin, std::size_t row_end, RayFn&& ray, RowFn&& row_done) const {
     for (std::size_t row = row_begin; row < row_end; ++row) {
@@ -109,17 +119,39 @@ struct BeamLattice {
         CellOffsets cell = offsets(i, j);
         for (int r = 0; r < per_cell; ++r) {
           const std::array<double, 2> off = cell.next();
-          ray(ray_origin(i, j, off[0], off[1]), i, j, r);
+          ray(ray_offset(i, j, off[0], off[1]), i, j, r);
         }
       }
       row_done();
     }
   }
-  /// Whether a ray whose chord through the box is [t_enter, t_exit] is traced: always, unless
-  /// full_chords asks for chords as long as the depth grid (to rounding).
-  [[nodiscard]] bool traces_chord(double t_enter, double t_exit) const {
-    return !full_chords || t_exit - t_enter >= depth_length * (1.0 - 1e-9);
+  /// Where the ray from `offset` (relative to box_lo) enters and leaves the box [0, box_size]:
+  /// world distances along d, in the box's own coordinates (the same numbers wherever the box
+  /// sits); `hit` false when it misses.
+  struct Chord {
+    bool hit = false;
+    double t_enter = 0.0;
+    double t_exit = 0.0;
+  };
+  [[nodiscard]] Chord chord(const std::array<double, 3>& offset) const;
+  /// Whether a ray whose chord through the box is `c` is traced: whenever it enters the box,
+  /// unless full_chords asks for chords as long as the depth grid (to kChordTolerance).
+  [[nodiscard]] bool traces_chord(const Chord& c) const {
+    return c.hit && (!full_chords || c.t_exit - c.t_enter >= depth_length * (1.0 - kChordTolerance));
   }
+  /// The relative shortfall a full chord may have: rounding of the chord's two ends.
+  static constexpr double kChordTolerance = 1e-9;
+  /// The area, on the plane ⊥ d, of the rays whose chord is the whole depth (those entering and
+  /// leaving through the two faces that set depth_length); the whole projection for axis beams.
+  double full_chord_area = 0.0;
+  /// Why full_chords would keep no ray of this lattice (empty when it keeps some): the rays with
+  /// full chords cover no area (two faces tie, as across a square face at exactly 45°), or
+  /// fewer than one lattice ray's share of it. Phrased for "<beam> with full chords: …".
+  [[nodiscard]] std::string full_chord_problem() const;
+  /// After tracing `rays` rays of a full_chords beam named `what`: throws weft::Error when none
+  /// had a full chord (the lattice missed a small area), naming full chords, not a ray missing
+  /// the box.
+  void require_full_chord_rays(std::uint64_t rays, const std::string& what) const;
   /// The index of the cell (i, j)'s ray r in the beam's fixed ray order.
   [[nodiscard]] std::uint64_t ray_index(std::int64_t i, std::int64_t j, int r) const {
     return (static_cast<std::uint64_t>(i) * static_cast<std::uint64_t>(nb) + static_cast<std::uint64_t>(j)) *
@@ -133,7 +165,13 @@ struct BeamLattice {
 /// whole number of cells; oblique beams start one cell upstream of the box's projection.
 /// Without `with_depths` the depth grid is only counted (depth_count), for estimates made
 /// before anything is allocated.
+/// Throws weft::Error, before anything is allocated, when spec.full_chords would keep no ray
+/// (full_chord_problem).
 [[nodiscard]] BeamLattice make_beam_lattice(const WorldBox& box, double h, const BeamSpec& spec,
                                             bool with_depths = true);
+
+/// BeamLattice::full_chord_problem of the lattice of `spec` over `box` (empty when spec.full_chords
+/// is off or keeps rays), for the front ends' checks in their own words (beam_checks.h).
+[[nodiscard]] std::string full_chord_problem(const WorldBox& box, double h, const BeamSpec& spec);
 
 }  // namespace weft::volume

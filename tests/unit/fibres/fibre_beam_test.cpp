@@ -2,6 +2,7 @@
 // (its shadow's area fraction; with internal extinction, the chord integral), a regular array of
 // parallel fibres, random isotropic fibres against the Boolean-model law, and thread-count
 // independence. Statistical checks use jittered rays and tolerances of 4 standard errors.
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -199,6 +200,64 @@ TEST(FibreBeam, SameBytesForAnyThreadCount) {
   EXPECT_EQ(one.rel_stderr, two.rel_stderr);
   EXPECT_EQ(one.rays, two.rays);
   EXPECT_LT(one.transmittance(one.size() - 1), 1.0);
+}
+
+// A grid over the same world box indexed from far away (the origin moved by −shift·h; only
+// its corner voxels active, which set the box): the fibre beam keeps the same rays, with full
+// chords too, and gives the same T to the rounding of the box's world corner (origin + h·index).
+// Its full chords were tested against world ends that lost the digits the span keeps: here the
+// box of the tester's cloth (67 × 67 × 35 voxels from (−6, −6, −17)) at 2²⁹ along z came out
+// 7.5e-10 short of its span, past the chord tolerance, and every ray was dropped
+// (docs/validate.md "Beams far from index 0").
+TEST(FibreBeam, AGridFarFromIndexZeroKeepsTheSameRays) {
+  const double h = 0.02;
+  // World origins 0 and off 0, as a cloth's.
+  Pcg32 origins = stream_for(31, 0);
+  for (int trial = 0; trial < 3; ++trial) {
+    Point3 o{origins.uniform() - 0.5, origins.uniform() - 0.5, origins.uniform() - 0.5};
+    if (trial == 0) o = {0.0, 0.0, 0.0};
+    FibreSet f;
+    Pcg32 rng = stream_for(12, 0);
+    for (int i = 0; i < 600; ++i) {
+      const Point3 p{o[0] - 0.12 + 1.34 * rng.uniform(), o[1] - 0.12 + 1.34 * rng.uniform(),
+                     o[2] - 0.34 + 0.7 * rng.uniform()};
+      f.add({p, {p[0] + 0.2 * rng.uniform(), p[1] + 0.2, p[2] - 0.1 * rng.uniform()}}, 0.01);
+    }
+    const CapsuleIndex index(f);
+    const auto grid_at = [&](const std::array<int, 3>& shift) {
+      volume::Grid g(h);
+      g.set_origin({o[0] - h * shift[0], o[1] - h * shift[1], o[2] - h * shift[2]});
+      for (int c = 0; c < 8; ++c)
+        g.set_value(((c & 1) ? 60 : -6) + shift[0], ((c & 2) ? 60 : -6) + shift[1], ((c & 4) ? 17 : -17) + shift[2],
+                    0.5f);
+      return g;
+    };
+    const volume::Grid near = grid_at({0, 0, 0});
+    for (const std::array<int, 3>& shift : {std::array<int, 3>{1000, -37, 5},
+                                            {1 << 30, 5, -(1 << 29)},
+                                            {5, -7, (1 << 30) + 3},
+                                            {-(1 << 30) - 11, 1 << 30, -(1 << 30) + 17}}) {
+      const volume::Grid far = grid_at(shift);
+      for (const bool full : {false, true}) {
+        for (const std::array<double, 3>& d : {std::array<double, 3>{1.0, 0.0, 2.0}, {-0.3, 0.5, -1.0}}) {
+          volume::BeamSpec spec = beam(d, trial % 2 == 0 ? 1 : 3, 7);
+          spec.full_chords = full;
+          const std::string what =
+              fmt::format("origin ({}, {}, {}), shift ({}, {}, {}), {}, full chords {}", o[0], o[1], o[2], shift[0],
+                          shift[1], shift[2], volume::direction_label(d), full);
+          const auto a = measure_fibre_beam(index, near, spec, kOpaque);
+          volume::TransmittanceCurve b;
+          ASSERT_NO_THROW(b = measure_fibre_beam(index, far, spec, kOpaque)) << what;
+          ASSERT_GT(a.rays, 0U);
+          EXPECT_EQ(a.rays, b.rays) << what;
+          ASSERT_EQ(a.depth, b.depth) << what;
+          for (std::size_t k = 0; k < a.size(); ++k)
+            EXPECT_NEAR(a.transmittance(k), b.transmittance(k), 1e-12) << what << " k=" << k;
+          EXPECT_LT(a.transmittance(a.size() - 1), 0.9) << what;
+        }
+      }
+    }
+  }
 }
 
 TEST(FibreBeam, BadInput) {

@@ -1,5 +1,6 @@
 // Beams: known column densities give exactly the known T(t); every tracing method gives the same
 // optical depths; log-space averaging survives T far below 1e−300; results ignore thread count.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <openvdb/openvdb.h>
 
@@ -13,6 +14,7 @@
 #include "weft/volume/beam.h"
 #include "weft/volume/grid.h"
 #include "weft/volume/grid_openvdb.h"
+#include "weft/volume/lattice.h"
 #include "weft/volume/scatterer.h"
 
 namespace weft::volume {
@@ -257,32 +259,115 @@ TEST(Beam, ResultDoesNotDependOnThreadCount) {
   }
 }
 
-// The same voxels in the same place in the world, indexed from far away (the origin moved by
-// −N·h): the depths are the same doubles and T the same to rounding, for axis and oblique beams.
-// Depths came from hi − lo of world coordinates, which lost the digits the two share (a
-// duplicate last depth at N = 10⁸).
-TEST(Beam, FarIndexOriginGivesTheSameDepthsAndTransmittance) {
+// The same voxels in the same place in the world, indexed from elsewhere (the origin moved by
+// −shift·h): the depths are the same doubles, and T the same bytes for the per-ray walk, with
+// every chord or full chords only. Depths came from hi − lo of world coordinates, which lost the
+// digits the two share (a duplicate last depth at 10⁸); the ray walk ran in index coordinates
+// ~2²⁹, whose rounding moved T by ~1e-8, and the full chords' test compared world ends against
+// the grid's exact span, which dropped every ray. Shifts that are not multiples of 8 put the
+// tree's leaves elsewhere along the rays (docs/validate.md "Beams far from index 0").
+TEST(Beam, ShiftedIndexOriginGivesTheSameBytes) {
   const Grid near = random_sparse(5, 17, 0.02);
   const double h = near.voxel_size();
-  for (std::int64_t n : {std::int64_t{10'000'000}, std::int64_t{100'000'000}, std::int64_t{-2'000'000'000}}) {
+  using Shift = std::array<std::int64_t, 3>;
+  for (const Shift& n :
+       {Shift{10'000'000, 10'000'000, -10'000'000}, Shift{1000, -37, 5},
+        Shift{(std::int64_t{1} << 30) + 3, 5, -(std::int64_t{1} << 29)}, Shift{-2'000'000'000, 100'000'000, 7}}) {
     Grid far(h);
     const auto o = near.origin();
-    far.set_origin(
-        {o[0] - static_cast<double>(n) * h, o[1] - static_cast<double>(n) * h, o[2] + static_cast<double>(n) * h});
+    far.set_origin({o[0] - static_cast<double>(n[0]) * h, o[1] - static_cast<double>(n[1]) * h,
+                    o[2] - static_cast<double>(n[2]) * h});
     for (auto it = near.impl().grid->cbeginValueOn(); it; ++it) {
       const auto c = it.getCoord();
-      far.set_value(static_cast<int>(c.x() + n), static_cast<int>(c.y() + n), static_cast<int>(c.z() - n), *it);
+      far.set_value(static_cast<int>(c.x() + n[0]), static_cast<int>(c.y() + n[1]), static_cast<int>(c.z() + n[2]),
+                    *it);
     }
-    for (const auto& dir : {std::array<double, 3>{1, 0, 0}, std::array<double, 3>{0, -1, 0},
-                            std::array<double, 3>{0, 0, 1}, std::array<double, 3>{1, 1, 1}}) {
-      BeamSpec spec;
-      spec.direction = dir;
-      const TransmittanceCurve a = measure_beam(near, spec);
-      const TransmittanceCurve b = measure_beam(far, spec);
-      ASSERT_EQ(a.depth, b.depth) << "offset " << n << ", direction " << direction_label(dir);
-      for (std::size_t k = 0; k < a.size(); ++k)
-        EXPECT_NEAR(a.log_t[k], b.log_t[k], 1e-9 * (1.0 + std::abs(a.log_t[k]))) << n << " " << k;
+    for (const auto& dir :
+         {std::array<double, 3>{1, 0, 0}, std::array<double, 3>{0, -1, 0}, std::array<double, 3>{0, 0, 1},
+          std::array<double, 3>{1, 1, 1}, std::array<double, 3>{-1, 0, 2}, std::array<double, 3>{0.3, -1, 0.2}}) {
+      for (const bool full : {false, true}) {
+        if (full && beam_axis(dir) >= 0) continue;
+        BeamSpec spec;
+        spec.direction = dir;
+        spec.full_chords = full;
+        spec.rays_per_column = beam_axis(dir) >= 0 ? 1 : 3;
+        spec.method = BeamMethod::per_ray;
+        const TransmittanceCurve a = measure_beam(near, spec);
+        const TransmittanceCurve b = measure_beam(far, spec);
+        const std::string what = fmt::format("shift ({}, {}, {}), direction {}, full chords {}", n[0], n[1], n[2],
+                                             direction_label(dir), full);
+        ASSERT_GT(a.rays, 0U) << what;
+        EXPECT_EQ(a.rays, b.rays) << what;
+        ASSERT_EQ(a.depth, b.depth) << what;
+        EXPECT_EQ(a.log_t, b.log_t) << what;
+        EXPECT_EQ(a.rel_stderr, b.rel_stderr) << what;
+      }
     }
+  }
+}
+
+// Full chords keep the rays whose chord is the whole depth grid: their number is the lattice's
+// full_chord_area over the cell area (up to the cells its edges cut), each is as long as the
+// depth grid, and every other ray is shorter. Exactly 45° across a square face leaves only the
+// diagonal with the whole depth: refused before anything is traced, wherever the box sits.
+TEST(Beam, FullChordsKeepTheRaysWithTheWholeDepthAndRefuseATie) {
+  const double h = 0.02;
+  const auto box_at = [&](double x0, std::array<double, 3> size) {
+    WorldBox b;
+    for (std::size_t a = 0; a < 3; ++a) {
+      b.lo[a] = x0 + 0.1 * static_cast<double>(a);
+      b.hi[a] = b.lo[a] + size[a];
+      b.span[a] = size[a];
+    }
+    return b;
+  };
+  for (const double x0 : {0.0, 5.4e6}) {
+    const WorldBox slab = box_at(x0, {1.2, 0.9, 0.3});
+    BeamSpec spec;
+    spec.direction = {0.4, -0.3, 1.0};
+    spec.full_chords = true;
+    const BeamLattice L = make_beam_lattice(slab, h, spec, false);
+    std::int64_t kept = 0;
+    for (std::int64_t i = 0; i < L.na; ++i) {
+      for (std::int64_t j = 0; j < L.nb; ++j) {
+        const BeamLattice::Chord c = L.chord(L.ray_offset(i, j, 0.5, 0.5));
+        if (!c.hit) continue;
+        if (L.traces_chord(c)) {
+          ++kept;
+          EXPECT_NEAR(c.t_exit - c.t_enter, L.depth_length, 1e-9 * L.depth_length);
+        } else {
+          EXPECT_LT(c.t_exit - c.t_enter, L.depth_length * (1.0 - 1e-12));
+        }
+      }
+    }
+    // The kept cells tile the area up to the ones its perimeter cuts (~perimeter / h).
+    const double expected = L.full_chord_area / (h * h);
+    EXPECT_NEAR(static_cast<double>(kept), expected, 2.0 * 4.0 * std::sqrt(L.full_chord_area) / h + 4.0) << x0;
+    EXPECT_GT(expected, 100.0);
+
+    // Square face, exactly 45°: a tie of the x and y faces.
+    const WorldBox square = box_at(x0, {0.8, 0.8, 0.24});
+    for (const auto& dir :
+         {std::array<double, 3>{1, 1, 0}, std::array<double, 3>{-1, 1, 0}, std::array<double, 3>{1, 0, 0.2}}) {
+      BeamSpec tie;
+      tie.direction = dir;
+      tie.full_chords = true;
+      const bool ties = dir[2] == 0.0;
+      EXPECT_EQ(full_chord_problem(square, h, tie).empty(), !ties) << direction_label(dir);
+      if (ties) {
+        EXPECT_THROW((void)make_beam_lattice(square, h, tie, false), Error);
+        tie.full_chords = false;
+        EXPECT_NO_THROW((void)make_beam_lattice(square, h, tie, false));
+      }
+    }
+    // Nearly 45°: an area narrower than one lattice ray's share is refused too, and more rays per
+    // cell bring it back.
+    BeamSpec thin;
+    thin.direction = {1.0, 1.0 + 1e-3, 0.0};
+    thin.full_chords = true;
+    EXPECT_FALSE(full_chord_problem(square, h, thin).empty());
+    thin.rays_per_column = 64;
+    EXPECT_TRUE(full_chord_problem(square, h, thin).empty());
   }
 }
 
