@@ -5,6 +5,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -80,7 +81,8 @@ const Registrar kMeasure{Command{
                      "memory budget is refused before it starts (docs/robustness.md \"Work and memory budgets\")")
           ->capture_default_str();
       sub.add_flag("--jitter", o->jitter, "Jitter ray origins inside their column cell (oblique beams only)");
-      sub.add_option("--depth-step", o->depth_step, "Depth spacing of T(t) [length] (default: one voxel)");
+      sub.add_option("--depth-step", o->depth_step, "Depth spacing of T(t) [length] (default 0: one voxel)")
+          ->check(non_negative);
       sub.add_option("--method", o->method, "auto | streaming | per-ray | openvdb")->capture_default_str();
       sub.add_option("--seed", o->seed, "Seed of jittered and scatterer rays")->capture_default_str();
       sub.add_flag("--scatterer", o->scatterer,
@@ -139,6 +141,7 @@ const Registrar kMeasure{Command{
               [](const std::array<double, 3>& d) { return volume::unit_direction(d, "beam"); });
         });
         const auto method = as_usage([&] { return volume::parse_beam_method(o->method); });
+        as_usage([&] { volume::check_beam_method(method, dirs, FrontEnd::cli); });
         // An axis beam's rays all cross the whole box: the flag would change nothing.
         if (o->full_chords &&
             std::all_of(dirs.begin(), dirs.end(), [](const auto& d) { return volume::beam_axis(d) >= 0; }))
@@ -188,9 +191,10 @@ const Registrar kMeasure{Command{
             ruled ? fmt::format("{} ({} voxel rule)", o->input.values, o->voxel_rule) : o->input.values;
         const double fibre_kappa = fibre_extinction_given ? o->fibre_extinction : fibres::kOpaque;
 
-        const render::FieldsSpec fields{o->fields, sigma, o->input.extinction(), *memory};
+        std::optional<render::CheckedFields> fields;
         if (!o->fields.empty()) {
-          // Every fields beam's budget before any beam runs.
+          // The fields read and checked against the grid, and every fields beam's budget, before
+          // any beam runs.
           for (const auto& d : dirs) {
             volume::BeamSpec fs;
             fs.direction = d;
@@ -200,6 +204,7 @@ const Registrar kMeasure{Command{
             fs.full_chords = o->full_chords;
             render::check_fields_beam(grid, fs);
           }
+          fields.emplace(render::check_fields({o->fields, sigma, o->input.extinction(), *memory}, grid));
         }
 
         // The scatterer rays' budget before any beam runs (docs/robustness.md "Work and memory budgets").
@@ -260,9 +265,9 @@ const Registrar kMeasure{Command{
                                       {"rms_stderr_fibre", diff.rms_stderr_b},
                                       {"seconds", fsecs}};
           }
-          if (!o->fields.empty()) {
+          if (fields) {
             const auto f0 = std::chrono::steady_clock::now();
-            const auto pc = render::predict_fields_beam(fields, grid, spec, ctx.progress);
+            const auto pc = render::predict_fields_beam(*fields, grid, spec, ctx.progress);
             const double fsecs = std::chrono::duration<double>(std::chrono::steady_clock::now() - f0).count();
             append_beside(fields_csv, b, pc, curve);
             const auto diff = fibres::curve_difference(curve, pc);

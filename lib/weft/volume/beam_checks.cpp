@@ -27,4 +27,16 @@ void check_rays_per_column(const std::vector<std::array<double, 3>>& directions,
       what.in(asker), oblique.in(asker));
 }
 
+void check_beam_method(BeamMethod method, const std::vector<std::array<double, 3>>& directions, FrontEnd asker) {
+  if (method != BeamMethod::streaming) return;
+  for (const auto& d : directions) {
+    if (beam_axis(d) >= 0) continue;
+    const Spelling streaming{"--method streaming", "method='streaming'"};
+    const Spelling direction{"--direction", "direction"};
+    const Spelling others{"--method auto or per-ray", "method='auto' or 'per-ray'"};
+    fail("{} traces axis beams only, and {} {} is oblique; use {}", streaming.in(asker), direction.in(asker),
+         direction_label(d), others.in(asker));
+  }
+}
+
 }  // namespace weft::volume

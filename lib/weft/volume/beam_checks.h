@@ -17,4 +17,11 @@ namespace weft::volume {
 void check_rays_per_column(const std::vector<std::array<double, 3>>& directions, int rays_per_column, bool jitter,
                            FrontEnd asker);
 
+enum class BeamMethod;
+
+/// @brief Refuses the streaming method for an oblique beam: it walks whole voxel columns along an
+/// axis (docs/validate.md "Ground truth"), so it has no oblique form. Throws weft::Error naming
+/// the method option and the direction as `asker` writes them, before any beam runs.
+void check_beam_method(BeamMethod method, const std::vector<std::array<double, 3>>& directions, FrontEnd asker);
+
 }  // namespace weft::volume
