@@ -361,6 +361,17 @@ const Registrar kMeasure{Command{
                 f["rms_T_voxel_minus_T_fibre"].get<double>(), f["max_abs_T_voxel_minus_T_fibre"].get<double>(),
                 f["rms_stderr_fibre"].get<double>(), f["seconds"].get<double>()));
           }
+          if (b.contains("fields")) {
+            // T_fields beside the beam's own line, as the fibres' (docs/validate.md "Fields along any direction").
+            const auto& f = b["fields"];
+            ctx.say(fmt::format(
+                "  fields {:>9} rays  T = {:.4e}  fields/voxel - 1 = {:+.4f} +- {:.4f}  RMS {:.4f} max "
+                "{:.4f}  {:.2f}s [{}]",
+                f["rays"].get<std::uint64_t>(), f["T_fields_at_depth_max"].get<double>(),
+                f["relative_difference_at_depth_max"].get<double>(), f["relative_difference_stderr"].get<double>(),
+                f["rms_T_fields_minus_T_voxel"].get<double>(), f["max_abs_T_fields_minus_T_voxel"].get<double>(),
+                f["seconds"].get<double>(), f["method"].get<std::string>()));
+          }
         }
         if (o->scatterer) {
           ctx.say(fmt::format("scatterer rays: max |p_Q - mu T_S|/mu = {:.3g}",

@@ -149,7 +149,10 @@ volume::TransmittanceCurve predict_fields_beam(const CheckedFields& checked, con
   const auto units = static_cast<std::size_t>(L.na);
   const std::size_t shards = std::min(kShards, units);
   std::vector<volume::CurveSums> parts(shards, volume::CurveSums(K));
-  ProgressTask task(progress, "fields beam " + volume::direction_label(L.d), units);
+  // Counted in rays, every cell's per_cell rays kept or not, as the voxel beam's per-ray walk.
+  const auto row_rays = static_cast<std::uint64_t>(L.nb) * static_cast<std::uint64_t>(L.per_cell);
+  ProgressTask task(progress, "fields beam " + volume::direction_label(L.d) + " [local-gamma fields]", units * row_rays,
+                    "rays");
   constexpr double kInf = std::numeric_limits<double>::infinity();
   parallel_units(shards, [&](std::size_t shard) {
     volume::CurveSums& sum = parts[shard];
@@ -176,7 +179,7 @@ volume::TransmittanceCurve predict_fields_beam(const CheckedFields& checked, con
           walker->log_transmittance_profile(ray, t0, L.depths, log_t);
           sum.add_log(log_t);
         },
-        [&] { task.step(); });
+        [&] { task.step(row_rays); });
   });
   return volume::curve_of_sums(
       parts, L.depths, L.d,
