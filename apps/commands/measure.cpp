@@ -167,6 +167,22 @@ const Registrar kMeasure{Command{
               "--fields predicts the linear rule's extinction (sigma C of the fields' means), not --voxel-rule {}",
               o->voxel_rule);
         const LoadedGrid loaded = load_grid_input(o->input);
+        std::optional<render::CheckedFields> fields;
+        if (!o->fields.empty()) {
+          // The fields read and checked against the grid, and every fields beam's budget, before
+          // the fibres are made and any beam runs (--fields keeps the linear rule: the grid as read).
+          for (const auto& d : dirs) {
+            volume::BeamSpec fs;
+            fs.direction = d;
+            fs.rays_per_column = o->rays;
+            fs.jitter = o->jitter;
+            fs.depth_step = o->depth_step;
+            fs.full_chords = o->full_chords;
+            render::check_fields_beam(loaded.grid, fs);
+          }
+          fields.emplace(
+              render::check_fields({o->fields, loaded.sigma.sigma, o->input.extinction(), *memory}, loaded.grid));
+        }
         // The fibres first: a grid that does not name its fibres is refused before any beam.
         std::optional<fibres::CapsuleIndex> fibre_index;
         const auto fibre_spec = [&](const std::array<double, 3>& d) {
@@ -190,22 +206,6 @@ const Registrar kMeasure{Command{
         const std::string values =
             ruled ? fmt::format("{} ({} voxel rule)", o->input.values, o->voxel_rule) : o->input.values;
         const double fibre_kappa = fibre_extinction_given ? o->fibre_extinction : fibres::kOpaque;
-
-        std::optional<render::CheckedFields> fields;
-        if (!o->fields.empty()) {
-          // The fields read and checked against the grid, and every fields beam's budget, before
-          // any beam runs.
-          for (const auto& d : dirs) {
-            volume::BeamSpec fs;
-            fs.direction = d;
-            fs.rays_per_column = o->rays;
-            fs.jitter = o->jitter;
-            fs.depth_step = o->depth_step;
-            fs.full_chords = o->full_chords;
-            render::check_fields_beam(grid, fs);
-          }
-          fields.emplace(render::check_fields({o->fields, sigma, o->input.extinction(), *memory}, grid));
-        }
 
         // The scatterer rays' budget before any beam runs (docs/robustness.md "Work and memory budgets").
         volume::ScattererSpec ss;
