@@ -13,12 +13,15 @@ namespace weft::app {
 
 TerminalProgress::TerminalProgress(bool enabled) : enabled_(enabled && ::isatty(STDERR_FILENO) != 0) {}
 
-void TerminalProgress::begin(std::string_view label, std::uint64_t total) {
+void TerminalProgress::begin(std::string_view label, std::uint64_t total) { begin_counting(label, total, {}); }
+
+void TerminalProgress::begin_counting(std::string_view label, std::uint64_t total, std::string_view unit) {
   // Ctrl-C or SIGTERM stops the computation at its next report, drawn or not (apps/interrupt.h).
   stop_if_interrupted();
   if (!enabled_) return;
   const std::lock_guard lock(mutex_);
   label_ = std::string(label);
+  unit_ = std::string(unit);
   total_ = total;
   last_done_ = 0;
   start_ = std::chrono::steady_clock::now();
@@ -63,8 +66,8 @@ void TerminalProgress::draw(std::uint64_t done, bool final) {
       final      ? fmt::format("{} {:.1f}s", interrupt_signal() != 0 ? "stopped after" : "took", elapsed)
       : rate > 0 ? fmt::format("eta {:.1f}s", static_cast<double>(total_ - std::min(done, total_)) / rate)
                  : std::string("eta --");
-  fmt::print(stderr, "\r{:<22} [{}{}] {:5.1f}% {:>10.3g}/s  {}\x1b[K", label_, std::string(filled, '#'),
-             std::string(kWidth - filled, '.'), 100.0 * fraction, rate, when);
+  fmt::print(stderr, "\r{:<22} [{}{}] {:5.1f}% {:>10.3g} {}/s  {}\x1b[K", label_, std::string(filled, '#'),
+             std::string(kWidth - filled, '.'), 100.0 * fraction, rate, unit_.empty() ? "units" : unit_, when);
   if (final) fmt::print(stderr, "\n");
   std::fflush(stderr);
 }

@@ -17,6 +17,7 @@ class TerminalProgress final : public ProgressSink {
   /// `enabled` false (or stderr not a terminal) makes every call a no-op.
   explicit TerminalProgress(bool enabled);
   void begin(std::string_view label, std::uint64_t total) override;
+  void begin_counting(std::string_view label, std::uint64_t total, std::string_view unit) override;
   void advance(std::uint64_t done_so_far) override;
   void end() noexcept override;
 
@@ -26,6 +27,7 @@ class TerminalProgress final : public ProgressSink {
   bool enabled_;
   std::mutex mutex_;
   std::string label_;
+  std::string unit_;  ///< what the rate counts ("rays"), or "" (units)
   std::uint64_t total_ = 0;
   std::uint64_t last_done_ = 0;
   std::chrono::steady_clock::time_point start_;

@@ -5,6 +5,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -80,7 +81,8 @@ const Registrar kMeasure{Command{
                      "memory budget is refused before it starts (docs/robustness.md \"Work and memory budgets\")")
           ->capture_default_str();
       sub.add_flag("--jitter", o->jitter, "Jitter ray origins inside their column cell (oblique beams only)");
-      sub.add_option("--depth-step", o->depth_step, "Depth spacing of T(t) [length] (default: one voxel)");
+      sub.add_option("--depth-step", o->depth_step, "Depth spacing of T(t) [length] (default 0: one voxel)")
+          ->check(non_negative);
       sub.add_option("--method", o->method, "auto | streaming | per-ray | openvdb")->capture_default_str();
       sub.add_option("--seed", o->seed, "Seed of jittered and scatterer rays")->capture_default_str();
       sub.add_flag("--scatterer", o->scatterer,
@@ -139,6 +141,7 @@ const Registrar kMeasure{Command{
               [](const std::array<double, 3>& d) { return volume::unit_direction(d, "beam"); });
         });
         const auto method = as_usage([&] { return volume::parse_beam_method(o->method); });
+        as_usage([&] { volume::check_beam_method(method, dirs, FrontEnd::cli); });
         // An axis beam's rays all cross the whole box: the flag would change nothing (the rule
         // Python shares).
         as_usage([&] { volume::check_full_chords(dirs, o->full_chords, FrontEnd::cli); });
@@ -178,6 +181,22 @@ const Registrar kMeasure{Command{
               as_usage([&] { volume::check_full_chord_rays(box, loaded.grid.voxel_size(), fc, FrontEnd::cli); });
           }
         }
+        std::optional<render::CheckedFields> fields;
+        if (!o->fields.empty()) {
+          // The fields read and checked against the grid, and every fields beam's budget, before
+          // the fibres are made and any beam runs (--fields keeps the linear rule: the grid as read).
+          for (const auto& d : dirs) {
+            volume::BeamSpec fs;
+            fs.direction = d;
+            fs.rays_per_column = o->rays;
+            fs.jitter = o->jitter;
+            fs.depth_step = o->depth_step;
+            fs.full_chords = o->full_chords;
+            render::check_fields_beam(loaded.grid, fs);
+          }
+          fields.emplace(
+              render::check_fields({o->fields, loaded.sigma.sigma, o->input.extinction(), *memory}, loaded.grid));
+        }
         // The fibres first: a grid that does not name its fibres is refused before any beam.
         std::optional<fibres::CapsuleIndex> fibre_index;
         const auto fibre_spec = [&](const std::array<double, 3>& d) {
@@ -201,20 +220,6 @@ const Registrar kMeasure{Command{
         const std::string values =
             ruled ? fmt::format("{} ({} voxel rule)", o->input.values, o->voxel_rule) : o->input.values;
         const double fibre_kappa = fibre_extinction_given ? o->fibre_extinction : fibres::kOpaque;
-
-        const render::FieldsSpec fields{o->fields, sigma, o->input.extinction(), *memory};
-        if (!o->fields.empty()) {
-          // Every fields beam's budget before any beam runs.
-          for (const auto& d : dirs) {
-            volume::BeamSpec fs;
-            fs.direction = d;
-            fs.rays_per_column = o->rays;
-            fs.jitter = o->jitter;
-            fs.depth_step = o->depth_step;
-            fs.full_chords = o->full_chords;
-            render::check_fields_beam(grid, fs);
-          }
-        }
 
         // The scatterer rays' budget before any beam runs (docs/robustness.md "Work and memory budgets").
         volume::ScattererSpec ss;
@@ -274,9 +279,9 @@ const Registrar kMeasure{Command{
                                       {"rms_stderr_fibre", diff.rms_stderr_b},
                                       {"seconds", fsecs}};
           }
-          if (!o->fields.empty()) {
+          if (fields) {
             const auto f0 = std::chrono::steady_clock::now();
-            const auto pc = render::predict_fields_beam(fields, grid, spec, ctx.progress);
+            const auto pc = render::predict_fields_beam(*fields, grid, spec, ctx.progress);
             const double fsecs = std::chrono::duration<double>(std::chrono::steady_clock::now() - f0).count();
             append_beside(fields_csv, b, pc, curve);
             const auto diff = fibres::curve_difference(curve, pc);
@@ -372,6 +377,17 @@ const Registrar kMeasure{Command{
                 f["rays"].get<std::uint64_t>(), f["T_fibre_at_depth_max"].get<double>(),
                 f["rms_T_voxel_minus_T_fibre"].get<double>(), f["max_abs_T_voxel_minus_T_fibre"].get<double>(),
                 f["rms_stderr_fibre"].get<double>(), f["seconds"].get<double>()));
+          }
+          if (b.contains("fields")) {
+            // T_fields beside the beam's own line, as the fibres' (docs/validate.md "Fields along any direction").
+            const auto& f = b["fields"];
+            ctx.say(fmt::format(
+                "  fields {:>9} rays  T = {:.4e}  fields/voxel - 1 = {:+.4f} +- {:.4f}  RMS {:.4f} max "
+                "{:.4f}  {:.2f}s [{}]",
+                f["rays"].get<std::uint64_t>(), f["T_fields_at_depth_max"].get<double>(),
+                f["relative_difference_at_depth_max"].get<double>(), f["relative_difference_stderr"].get<double>(),
+                f["rms_T_fields_minus_T_voxel"].get<double>(), f["max_abs_T_fields_minus_T_voxel"].get<double>(),
+                f["seconds"].get<double>(), f["method"].get<std::string>()));
           }
         }
         if (o->scatterer) {

@@ -142,6 +142,35 @@ class PyProgress final : public ProgressSink {
   std::optional<py::error_already_set> error_;
 };
 
+/// @brief Runs `fn()`; a weft::Error it throws is raised with the called function's name `call`
+/// in front, once (docs/python.md "API": every message of a call starts with its name, never
+/// another call's or none): "measure_fields_beam: local-gamma fields 'f.vdb': …". Cancelled and
+/// Python's own exceptions pass unchanged.
+template <typename Fn>
+decltype(auto) in_call(const char* call, Fn&& fn) {
+  try {
+    return std::forward<Fn>(fn)();
+  } catch (const Error& e) {
+    const std::string head = std::string(call) + ": ";
+    const std::string message = e.what();
+    if (message.rfind(head, 0) == 0) throw;
+    throw Error(head + message);
+  }
+}
+
+/// @brief A binding `f` (a non-generic lambda) whose weft::Error comes out through in_call(call):
+/// `m.def("measure_beam", named_call("measure_beam", [](…) {…}), …)`.
+template <typename F, typename R, typename... A>
+auto named_call_impl(const char* call, F f, R (F::*)(A...) const) {
+  return [call, f = std::move(f)](A... args) -> R {
+    return in_call(call, [&]() -> R { return f(std::forward<A>(args)...); });
+  };
+}
+template <typename F>
+auto named_call(const char* call, F f) {
+  return named_call_impl(call, std::move(f), &F::operator());
+}
+
 /// @brief Runs `fn(progress_sink)` with the GIL released; a progress callback (or None) gets
 /// reports. The callback's exception (or KeyboardInterrupt) is re-raised as itself, also when it
 /// came from the last report of a computation that had finished; weft::Error as weft.Error.

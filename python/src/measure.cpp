@@ -25,28 +25,39 @@ namespace {
 namespace vol = weft::volume;
 namespace fit = weft::fit;
 
-std::array<double, 3> direction_of(const py::object& axis, const py::object& direction) {
-  if (!axis.is_none() && !direction.is_none()) fail("measure_beam: give axis or direction, not both");
+// A beam's direction from axis= or direction=; each refusal names the called function `call`
+// once ("measure_fields_beam: direction ...", never another call's name).
+std::array<double, 3> direction_of(const char* call, const py::object& axis, const py::object& direction) {
+  if (!axis.is_none() && !direction.is_none()) fail("{}: give axis or direction, not both", call);
   if (!direction.is_none()) {
     if (py::isinstance<py::str>(direction)) return vol::parse_direction(direction.cast<std::string>());
     std::array<double, 3> d{};
     try {
       d = direction.cast<std::array<double, 3>>();
     } catch (const py::cast_error&) {
-      throw py::type_error("measure_beam: direction must be 3 numbers or 'dx,dy,dz'");
+      throw py::type_error(fmt::format("{}: direction must be 3 numbers or 'dx,dy,dz'", call));
     }
-    for (double c : d) require_finite("measure_beam: direction", c);
-    if (d[0] == 0.0 && d[1] == 0.0 && d[2] == 0.0) fail("measure_beam: direction must not be zero");
+    const std::string what = fmt::format("{}: direction", call);
+    for (double c : d) require_finite(what.c_str(), c);
+    if (d[0] == 0.0 && d[1] == 0.0 && d[2] == 0.0) fail("{}: direction must not be zero", call);
     return d;
   }
   if (axis.is_none()) return {0.0, 0.0, 1.0};
   if (py::isinstance<py::str>(axis)) {
-    const auto d = vol::parse_direction(axis.cast<std::string>());
-    if (vol::beam_axis(d) < 0) fail("measure_beam: axis '{}' is not x, y or z", axis.cast<std::string>());
+    // A signed axis ('-y'): the parsed direction, whose other components are +0.
+    const auto text = axis.cast<std::string>();
+    std::array<double, 3> d{0.0, 0.0, 0.0};
+    try {
+      d = vol::parse_direction(text);
+    } catch (const Error&) {
+      d = {1.0, 1.0, 1.0};  // not an axis: refused below
+    }
+    if (vol::beam_axis(d) < 0)
+      fail("{}: axis must be 0, 1, 2 or 'x', 'y', 'z' (optionally signed), got '{}'", call, text);
     return d;
   }
   std::array<double, 3> d{0.0, 0.0, 0.0};
-  d[static_cast<std::size_t>(axis_index(axis, "measure_beam: axis"))] = 1.0;
+  d[static_cast<std::size_t>(axis_index(axis, fmt::format("{}: axis", call).c_str()))] = 1.0;
   return d;
 }
 
@@ -97,27 +108,31 @@ void init_measure(py::module_& m) {
 
   m.def(
       "measure_beam",
-      [](const vol::Grid& grid, const py::object& axis, const py::object& direction, const std::optional<double>& sigma,
-         int rays_per_column, bool jitter, std::uint64_t seed, double depth_step, const std::string& method,
-         int column_stride, bool full_chords, const py::object& progress) {
-        vol::BeamSpec spec;
-        spec.direction = direction_of(axis, direction);
-        spec.full_chords = full_chords;
-        // The CLI's rules (weft measure), in Python's words.
-        vol::check_rays_per_column({spec.direction}, rays_per_column, jitter, FrontEnd::python);
-        vol::check_full_chords({spec.direction}, full_chords, FrontEnd::python);
-        // σ as `weft measure` picks it: sigma=, else the grid's provenance, never a silent 1.
-        spec.scale = grid_sigma(grid, sigma, "measure_beam").sigma;
-        if (column_stride < 1) fail("measure_beam: column_stride must be >= 1, got {}", column_stride);
-        spec.rays_per_column = rays_per_column;
-        spec.jitter = jitter;  // rays_per_column > 1 jitters anyway (beam.h)
-        spec.seed = seed;
-        spec.depth_step = require_non_negative("measure_beam: depth_step", depth_step);
-        spec.method = vol::parse_beam_method(method);
-        spec.column_stride = column_stride;
-        vol::check_full_chord_rays(vol::active_world_box(grid), grid.voxel_size(), spec, FrontEnd::python);
-        return run_released(progress, [&](ProgressSink& p) { return vol::measure_beam(grid, spec, p); });
-      },
+      named_call("measure_beam",
+                 [](const vol::Grid& grid, const py::object& axis, const py::object& direction,
+                    const std::optional<double>& sigma, int rays_per_column, bool jitter, std::uint64_t seed,
+                    double depth_step, const std::string& method, int column_stride, bool full_chords,
+                    const py::object& progress) {
+                   vol::BeamSpec spec;
+                   spec.direction = direction_of("measure_beam", axis, direction);
+                   spec.full_chords = full_chords;
+                   // The CLI's rule (weft measure), in Python's words.
+                   vol::check_rays_per_column({spec.direction}, rays_per_column, jitter, FrontEnd::python);
+                   vol::check_full_chords({spec.direction}, full_chords, FrontEnd::python);
+                   // σ as `weft measure` picks it: sigma=, else the grid's provenance, never a silent 1.
+                   spec.scale = grid_sigma(grid, sigma, "measure_beam").sigma;
+                   if (column_stride < 1 || column_stride > 4096)
+                     fail("measure_beam: column_stride must be in 1..4096, got {}", column_stride);
+                   spec.rays_per_column = rays_per_column;
+                   spec.jitter = jitter;  // rays_per_column > 1 jitters anyway (beam.h)
+                   spec.seed = seed;
+                   spec.depth_step = require_non_negative("measure_beam: depth_step", depth_step);
+                   spec.method = vol::parse_beam_method(method);
+                   vol::check_beam_method(spec.method, {spec.direction}, FrontEnd::python);
+                   spec.column_stride = column_stride;
+                   vol::check_full_chord_rays(vol::active_world_box(grid), grid.voxel_size(), spec, FrontEnd::python);
+                   return run_released(progress, [&](ProgressSink& p) { return vol::measure_beam(grid, spec, p); });
+                 }),
       py::arg("grid"), py::arg("axis") = py::none(), py::kw_only(), py::arg("direction") = py::none(),
       py::arg("sigma") = py::none(), py::arg("rays_per_column") = 1, py::arg("jitter") = false, py::arg("seed") = 1,
       py::arg("depth_step") = 0.0, py::arg("method") = "auto", py::arg("column_stride") = 1,
@@ -132,30 +147,34 @@ void init_measure(py::module_& m) {
 
   m.def(
       "measure_fields_beam",
-      [](const py::object& fields, const vol::Grid& grid, const py::object& axis, const py::object& direction,
-         const std::optional<double>& sigma, const std::string& memory, int rays_per_column, bool jitter,
-         std::uint64_t seed, double depth_step, int column_stride, bool full_chords, const py::object& progress) {
-        vol::BeamSpec spec;
-        spec.direction = direction_of(axis, direction);
-        spec.full_chords = full_chords;
-        vol::check_rays_per_column({spec.direction}, rays_per_column, jitter, FrontEnd::python);
-        vol::check_full_chords({spec.direction}, full_chords, FrontEnd::python);
-        if (column_stride < 1) fail("measure_fields_beam: column_stride must be >= 1, got {}", column_stride);
-        spec.rays_per_column = rays_per_column;
-        spec.jitter = jitter;
-        spec.seed = seed;
-        spec.depth_step = require_non_negative("measure_fields_beam: depth_step", depth_step);
-        spec.column_stride = column_stride;
-        vol::check_full_chord_rays(vol::active_world_box(grid), grid.voxel_size(), spec, FrontEnd::python);
-        const auto rule = transmittance::parse_memory_rule(memory);
-        if (!rule)
-          fail("measure_fields_beam: unknown memory rule '{}' (optical-depth, segment, renewal, carried)", memory);
-        // σ and the value kind as `weft measure --fields` takes them: the grid's.
-        const render::FieldsSpec f{path_arg(fields, "measure_fields_beam: fields"),
-                                   grid_sigma(grid, sigma, "measure_fields_beam").sigma,
-                                   vol::read_provenance(grid).value_kind == "extinction", *rule};
-        return run_released(progress, [&](ProgressSink& p) { return render::predict_fields_beam(f, grid, spec, p); });
-      },
+      named_call(
+          "measure_fields_beam",
+          [](const py::object& fields, const vol::Grid& grid, const py::object& axis, const py::object& direction,
+             const std::optional<double>& sigma, const std::string& memory, int rays_per_column, bool jitter,
+             std::uint64_t seed, double depth_step, int column_stride, bool full_chords, const py::object& progress) {
+            vol::BeamSpec spec;
+            spec.direction = direction_of("measure_fields_beam", axis, direction);
+            spec.full_chords = full_chords;
+            vol::check_rays_per_column({spec.direction}, rays_per_column, jitter, FrontEnd::python);
+            vol::check_full_chords({spec.direction}, full_chords, FrontEnd::python);
+            if (column_stride < 1 || column_stride > 4096)
+              fail("measure_fields_beam: column_stride must be in 1..4096, got {}", column_stride);
+            spec.rays_per_column = rays_per_column;
+            spec.jitter = jitter;
+            spec.seed = seed;
+            spec.depth_step = require_non_negative("measure_fields_beam: depth_step", depth_step);
+            spec.column_stride = column_stride;
+            vol::check_full_chord_rays(vol::active_world_box(grid), grid.voxel_size(), spec, FrontEnd::python);
+            const auto rule = transmittance::parse_memory_rule(memory);
+            if (!rule)
+              fail("measure_fields_beam: unknown memory rule '{}' (optical-depth, segment, renewal, carried)", memory);
+            // σ and the value kind as `weft measure --fields` takes them: the grid's.
+            const render::FieldsSpec f{path_arg(fields, "measure_fields_beam: fields"),
+                                       grid_sigma(grid, sigma, "measure_fields_beam").sigma,
+                                       vol::read_provenance(grid).value_kind == "extinction", *rule, FrontEnd::python};
+            return run_released(progress,
+                                [&](ProgressSink& p) { return render::predict_fields_beam(f, grid, spec, p); });
+          }),
       py::arg("fields"), py::arg("grid"), py::arg("axis") = py::none(), py::kw_only(),
       py::arg("direction") = py::none(), py::arg("sigma") = py::none(), py::arg("memory") = "optical-depth",
       py::arg("rays_per_column") = 1, py::arg("jitter") = false, py::arg("seed") = 1, py::arg("depth_step") = 0.0,

@@ -30,19 +30,25 @@ bool is_real_number(const py::handle& value) { return !is_bool(value) && is_inst
 bool is_integer_number(const py::handle& value) { return !is_bool(value) && is_instance_of(value, "Integral"); }
 
 int axis_index(const py::object& axis, const char* what) {
-  if (is_bool(axis)) throw py::type_error(std::string(what) + ": expected 0, 1, 2 or 'x', 'y', 'z'");
+  // `what` names the call and the argument ("window_stats: axis"): said once, not "axis: axis".
+  if (is_bool(axis)) throw py::type_error(std::string(what) + " must be 0, 1, 2 or 'x', 'y', 'z', got bool");
   if (is_integer_number(axis)) {
     const long a = arg_cast<long>(py::int_(axis), what, "0, 1 or 2");
-    if (a < 0 || a > 2) fail("{}: axis must be 0, 1 or 2, got {}", what, a);
+    if (a < 0 || a > 2) fail("{} must be 0, 1 or 2, got {}", what, a);
     return static_cast<int>(a);
   }
   if (py::isinstance<py::str>(axis)) {
     const auto text = axis.cast<std::string>();
-    const int a = volume::beam_axis(volume::parse_direction(text));
-    if (a < 0) fail("{}: '{}' is not an axis (x, y, z)", what, text);
+    int a = -1;
+    try {
+      a = volume::beam_axis(volume::parse_direction(text));
+    } catch (const Error&) {
+      a = -1;
+    }
+    if (a < 0) fail("{} must be 0, 1, 2 or 'x', 'y', 'z', got '{}'", what, text);
     return a;
   }
-  throw py::type_error(std::string(what) + ": expected 0, 1, 2 or 'x', 'y', 'z', got " +
+  throw py::type_error(std::string(what) + " must be 0, 1, 2 or 'x', 'y', 'z', got " +
                        py::str(py::type::of(axis)).cast<std::string>());
 }
 

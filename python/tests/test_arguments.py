@@ -319,7 +319,7 @@ def test_numpy_numbers_and_bytes_paths_are_taken_as_their_python_equals(small_cl
     a = weft.measure_beam(grid, 2, sigma=1.0)
     b = weft.measure_beam(grid, np.int64(2), sigma=1.0)
     assert np.array_equal(a.log_T, b.log_T)
-    with pytest.raises(weft.Error, match="expected 0, 1, 2"):
+    with pytest.raises(weft.Error, match=r"^measure_beam: axis must be 0, 1, 2 or .x., .y., .z., got bool$"):
         weft.measure_beam(grid, np.bool_(True), sigma=1.0)
     # bytes paths, as open() and os.fspath take them
     path = tmp_path / "g.vdb"

@@ -356,7 +356,7 @@ def test_full_chords_exactly_45_degrees_across_a_square_face_is_refused(far):
     for d in [(1, 1, 0), (-1, 1, 0), (1, -1, 0)]:
         with pytest.raises(weft.Error) as e:
             weft.measure_beam(g, direction=d, sigma=1, full_chords=True)
-        assert str(e.value).startswith("full_chords=True: beam (") and "no ray crosses the box" in str(e.value)
+        assert str(e.value).startswith("measure_beam: full_chords=True: beam (") and "no ray crosses the box" in str(e.value)
         assert weft.measure_beam(g, direction=d, sigma=1).rays > 0
     # Tilted out of the square's plane, the slab's two large faces set the depth: rays are kept.
     assert weft.measure_beam(g, direction=(1, 1, 3), sigma=1, full_chords=True).rays > 0
@@ -377,3 +377,78 @@ def test_a_grid_indexed_far_away_gives_the_same_beam_bytes():
         assert b0.rays == b1.rays > 0
         for x, y in zip(b0, b1):
             assert np.array_equal(x, y)
+
+
+def _copy_of(grid, array=None, kind=None):
+    """``grid``'s voxels (or ``array`` on its lattice) and weft: metadata in a new grid; ``kind``
+    recorded as weft:value_kind ("": none recorded)."""
+    lo = grid.bbox[0]
+    out = weft.Grid.from_numpy(grid.to_numpy() if array is None else array, voxel_size=grid.voxel_size,
+                               index_origin=tuple(int(v) for v in lo), origin=list(grid.origin))
+    for key, value in grid.metadata.items():
+        if key.startswith("weft:") and not (kind is not None and key == "weft:value_kind"):
+            out.set_metadata(key, value)
+    if kind:
+        out.set_metadata("weft:value_kind", kind)
+    return out
+
+
+def test_fields_beam_refuses_the_fields_of_another_cloth(tmp_path, small_cloth):
+    """The fields must be the grid's own block means (docs/validate.md "Fields along any direction"):
+    those of a part of the cloth, on the same lattice, are refused naming the file and the cell,
+    with advice in Python's words; the grid's own, through a copy, are taken."""
+    grid = small_cloth.grid
+    a = grid.to_numpy()
+    part = a.copy()
+    part[:, :, a.shape[2] // 2:] = 0.0
+    fields = tmp_path / "part_fields.vdb"
+    weft.local_fields(_copy_of(grid, part), 4).save(fields)
+    with pytest.raises(weft.Error) as e:
+        weft.measure_fields_beam(fields, grid, direction=(1, 0, 1))
+    text = str(e.value)
+    assert text.startswith("measure_fields_beam: local-gamma fields '%s': not grid" % fields)
+    assert "its cell at" in text and "weft.local_fields(grid, B).save(path)" in text and "--" not in text
+    own = tmp_path / "own_fields.vdb"
+    weft.local_fields(_copy_of(grid), 4).save(own)
+    assert len(weft.measure_fields_beam(own, grid, direction=(1, 0, 1))) > 1
+
+
+def test_fields_beam_value_kind_advice_names_no_cli_option(tmp_path, small_cloth):
+    """Fields recording the other value kind: Python's advice is one a Python caller can follow
+    (the grid's metadata, weft.local_fields), never `--values`."""
+    grid = small_cloth.grid
+    fields = tmp_path / "extinction_fields.vdb"
+    weft.local_fields(_copy_of(grid, kind="extinction"), 4).save(fields)
+    for g, words in ((_copy_of(grid, kind="concentration"), "fields of another grid"),
+                     (_copy_of(grid, kind=""), "grid.set_metadata('weft:value_kind', 'extinction')")):
+        with pytest.raises(weft.Error) as e:
+            weft.measure_fields_beam(fields, g, direction=(1, 0, 1), sigma=30.0)
+        assert words in str(e.value) and "--values" not in str(e.value)
+
+
+@pytest.mark.parametrize("call", ["measure_beam", "measure_fields_beam"])
+@pytest.mark.parametrize("kwargs", [
+    dict(axis="w"), dict(axis=5), dict(axis="x", direction=(1, 0, 0)), dict(direction=(1, 0)),
+    dict(direction=(np.nan, 0, 1)), dict(axis="x", rays_per_column=0), dict(axis="x", jitter=True),
+    dict(axis="x", column_stride=5000), dict(axis="x", depth_step=1e-300),
+])
+def test_beam_calls_name_themselves_once(tmp_path, small_cloth, call, kwargs):
+    """Every refusal of a beam call starts with the call's name, once (docs/python.md)."""
+    grid = small_cloth.grid
+    args = (grid,)
+    if call == "measure_fields_beam":
+        fields = tmp_path / "fields.vdb"
+        weft.local_fields(grid, 4).save(fields)
+        args = (fields, grid)
+    with pytest.raises(weft.Error) as e:
+        getattr(weft, call)(*args, **kwargs)
+    text = str(e.value)
+    assert text.startswith(call + ": "), text
+    assert text.count("measure_") == text.count(call + ": ") + text.count("weft.measure_beam("), text
+    assert "axis: axis" not in text and text.count(call + ": ") == 1, text
+
+
+def test_streaming_on_an_oblique_beam_is_refused_in_pythons_words(small_cloth):
+    with pytest.raises(weft.Error, match=r"^measure_beam: method='streaming' traces axis beams only, and direction "
+                                         r"\(0.7071, 0, 0.7071\) is oblique; use method='auto' or 'per-ray'$"):
+        weft.measure_beam(small_cloth.grid, direction=(1, 0, 1), method="streaming")

@@ -22,6 +22,11 @@ ProgressTask::ProgressTask(ProgressSink& sink, std::string_view label, std::uint
   sink_.begin(label, total);
 }
 
+ProgressTask::ProgressTask(ProgressSink& sink, std::string_view label, std::uint64_t total, std::string_view unit)
+    : sink_(sink) {
+  sink_.begin_counting(label, total, unit);
+}
+
 // end() is noexcept (ProgressSink's contract), so closing a stage while a Cancelled unwinds
 // cannot terminate the process.
 ProgressTask::~ProgressTask() { sink_.end(); }

@@ -37,6 +37,11 @@ class ProgressSink {
  public:
   virtual ~ProgressSink() = default;
   virtual void begin(std::string_view label, std::uint64_t total) = 0;
+  /// `begin` with what a unit of `total` is ("rays"), for a sink that shows a rate; the default
+  /// forgets it (Python's callback takes label, done, total).
+  virtual void begin_counting(std::string_view label, std::uint64_t total, std::string_view /*unit*/) {
+    begin(label, total);
+  }
   virtual void advance(std::uint64_t done_so_far) = 0;
   virtual void end() noexcept = 0;
 };
@@ -52,6 +57,8 @@ ProgressSink& null_progress();
 class ProgressTask {
  public:
   ProgressTask(ProgressSink& sink, std::string_view label, std::uint64_t total);
+  /// A stage whose units are `unit` ("rays"): a terminal shows the rate as "… rays/s".
+  ProgressTask(ProgressSink& sink, std::string_view label, std::uint64_t total, std::string_view unit);
   ~ProgressTask();
   ProgressTask(const ProgressTask&) = delete;
   ProgressTask& operator=(const ProgressTask&) = delete;

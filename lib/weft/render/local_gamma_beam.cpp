@@ -13,6 +13,7 @@
 #include "weft/render/local_gamma.h"
 #include "weft/volume/curve_sums.h"
 #include "weft/volume/dda.h"
+#include "weft/volume/downsample.h"
 #include "weft/volume/lattice.h"
 #include "weft/volume/pass_budget.h"
 #include "weft/volume/provenance.h"
@@ -28,9 +29,39 @@ bool whole_voxels(double length, double h) {
   return std::abs(q - std::round(q)) <= 1e-6 * std::max(1.0, std::abs(q));
 }
 
-/// The fields must be blocks of the grid's voxels: cells a whole number of voxels wide, their
-/// corners on the grid's voxel corners, and over the grid's active box somewhere.
-void check_fields_on_grid(const volume::Grid& fields, const volume::Grid& grid, const std::string& what) {
+/// What the caller runs to make the fields of this grid, in its own words.
+std::string make_them(FrontEnd asker) {
+  return asker == FrontEnd::cli ? "make them from this grid (weft fit --grid GRID --block B)"
+                                : "make them from this grid (weft.local_fields(grid, B).save(path))";
+}
+
+/// Fields record the value kind of the grid they were made from (its weft: metadata, carried on):
+/// a kind other than the one the grid is read as is another grid's, or the grid read wrongly.
+/// Each advice is something the caller can change in its own interface: Python has no --values,
+/// it reads the grid's recorded kind (concentration when none).
+void check_fields_kind(const volume::Grid& mean, const volume::Grid& grid, const FieldsSpec& fields,
+                       const std::string& what) {
+  const std::string kind = volume::read_provenance(mean).value_kind;
+  if (kind != "concentration" && kind != "extinction") return;
+  const std::string read_as = fields.extinction ? "extinction" : "concentration";
+  if (kind == read_as) return;
+  const std::string grid_kind = volume::read_provenance(grid).value_kind;
+  if (grid_kind == "concentration" || grid_kind == "extinction")
+    fail("{}: its metadata says its values are {}, grid '{}''s say {}: fields of another grid; {}", what, kind,
+         grid.name(), grid_kind, make_them(fields.asker));
+  fail("{}: its metadata says its values are {}, and grid '{}' (no kind recorded) is read as {}: {}, or {}", what, kind,
+       grid.name(), read_as,
+       fields.asker == FrontEnd::cli
+           ? fmt::format("pass --values {} if the grid's values are {}", kind, kind)
+           : fmt::format("record the grid's kind with grid.set_metadata('weft:value_kind', '{}') if its values are {}",
+                         kind, kind),
+       make_them(fields.asker));
+}
+
+/// The fields must be the grid's blocks: cells a whole number of voxels wide, their corners on the
+/// grid's voxel corners, over the grid's active box, each holding the mean of the voxels under it.
+void check_fields_on_grid(const volume::Grid& fields, const volume::Grid& grid, const std::string& what,
+                          FrontEnd asker) {
   const double h = grid.voxel_size();
   if (fields.voxel_size() < h * (1.0 - 1e-6) || !whole_voxels(fields.voxel_size(), h))
     fail("{}: its cells ({:.6g}) are not a whole number of grid '{}''s voxels ({:.6g})", what, fields.voxel_size(),
@@ -48,6 +79,15 @@ void check_fields_on_grid(const volume::Grid& fields, const volume::Grid& grid, 
   for (std::size_t a = 0; a < 3; ++a) {
     if (f.hi[a] <= g.lo[a] || g.hi[a] <= f.lo[a])
       fail("{}: its active cells do not overlap grid '{}'", what, grid.name());
+  }
+  // A cell whose mean is not the grid's voxels' mean there: another cloth, this one moved, or a
+  // part of it (a cell missing over the grid's active box holds 0 against the voxels' mean).
+  if (const auto m = volume::block_mean_mismatch(fields, grid)) {
+    const auto factor = std::lround(fields.voxel_size() / h);
+    fail(
+        "{}: not grid '{}''s fields: its cell at ({:.6g}, {:.6g}, {:.6g}) holds a mean of {:.6g}, the grid's {}^3 "
+        "voxels there average {:.6g}; {}",
+        what, grid.name(), m->centre[0], m->centre[1], m->centre[2], m->coarse, factor, m->fine_mean, make_them(asker));
   }
 }
 
@@ -75,28 +115,44 @@ void check_fields_beam(const volume::Grid& grid, const volume::BeamSpec& spec) {
                            (2.0 * static_cast<double>(kShards) + 4.0 + 2.0 * workers) * K * sizeof(double)});
 }
 
-volume::TransmittanceCurve predict_fields_beam(const FieldsSpec& fields, const volume::Grid& grid,
-                                               const volume::BeamSpec& spec, ProgressSink& progress) {
-  check_fields_beam(grid, spec);
+CheckedFields check_fields(const FieldsSpec& fields, const volume::Grid& grid) {
   const std::string what = fmt::format("local-gamma fields '{}'", fields.file.string());
   // The medium's own reading and checks (one-line errors naming the file), then its cells
   // against the grid's voxels.
-  const LocalGammaField field(fields.file, fields.sigma, fields.memory);
-  const volume::Grid mean = [&] {
+  auto field = std::make_shared<const LocalGammaField>(fields.file, fields.sigma, fields.memory);
+  volume::Grid mean = [&] {
     try {
       return volume::Grid::load(fields.file, "mean_concentration");
     } catch (const Error& e) {
       fail("{}: {}", what, e.what());
     }
   }();
-  volume::require_value_kind(volume::read_provenance(mean), fields.extinction, fields.file.string());
-  check_fields_on_grid(mean, grid, what);
+  check_fields_kind(mean, grid, fields, what);
+  check_fields_on_grid(mean, grid, what, fields.asker);
+  return {fields, std::move(field), std::move(mean)};
+}
+
+volume::TransmittanceCurve predict_fields_beam(const FieldsSpec& fields, const volume::Grid& grid,
+                                               const volume::BeamSpec& spec, ProgressSink& progress) {
+  check_fields_beam(grid, spec);
+  return predict_fields_beam(check_fields(fields, grid), grid, spec, progress);
+}
+
+volume::TransmittanceCurve predict_fields_beam(const CheckedFields& checked, const volume::Grid& grid,
+                                               const volume::BeamSpec& spec, ProgressSink& progress) {
+  check_fields_beam(grid, spec);
+  const FieldsSpec& fields = checked.spec;
+  const LocalGammaField& field = *checked.field;
+  const volume::Grid& mean = checked.mean;
   const volume::BeamLattice L = plan_of(grid, spec, true);
   const std::size_t K = L.depths.size();
   const auto units = static_cast<std::size_t>(L.na);
   const std::size_t shards = std::min(kShards, units);
   std::vector<volume::CurveSums> parts(shards, volume::CurveSums(K));
-  ProgressTask task(progress, "fields beam " + volume::direction_label(L.d), units);
+  // Counted in rays, every cell's per_cell rays kept or not, as the voxel beam's per-ray walk.
+  const auto row_rays = static_cast<std::uint64_t>(L.nb) * static_cast<std::uint64_t>(L.per_cell);
+  ProgressTask task(progress, "fields beam " + volume::direction_label(L.d) + " [local-gamma fields]", units * row_rays,
+                    "rays");
   constexpr double kInf = std::numeric_limits<double>::infinity();
   parallel_units(shards, [&](std::size_t shard) {
     volume::CurveSums& sum = parts[shard];
@@ -123,7 +179,7 @@ volume::TransmittanceCurve predict_fields_beam(const FieldsSpec& fields, const v
           walker->log_transmittance_profile(ray, t0, L.depths, log_t);
           sum.add_log(log_t);
         },
-        [&] { task.step(); });
+        [&] { task.step(row_rays); });
   });
   std::uint64_t traced = 0;
   for (const volume::CurveSums& p : parts) traced += p.n;

@@ -46,4 +46,16 @@ void check_full_chord_rays(const WorldBox& box, double cell, const BeamSpec& spe
   fail("{}: beam {}: {}", option.in(asker), direction_label(spec.direction), why);
 }
 
+void check_beam_method(BeamMethod method, const std::vector<std::array<double, 3>>& directions, FrontEnd asker) {
+  if (method != BeamMethod::streaming) return;
+  for (const auto& d : directions) {
+    if (beam_axis(d) >= 0) continue;
+    const Spelling streaming{"--method streaming", "method='streaming'"};
+    const Spelling direction{"--direction", "direction"};
+    const Spelling others{"--method auto or per-ray", "method='auto' or 'per-ray'"};
+    fail("{} traces axis beams only, and {} {} is oblique; use {}", streaming.in(asker), direction.in(asker),
+         direction_label(d), others.in(asker));
+  }
+}
+
 }  // namespace weft::volume

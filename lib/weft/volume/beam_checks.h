@@ -30,4 +30,11 @@ void check_full_chords(const std::vector<std::array<double, 3>>& directions, boo
 /// Cheap (no ray is traced): front ends call it for every beam before the first is traced.
 void check_full_chord_rays(const WorldBox& box, double cell, const BeamSpec& spec, FrontEnd asker);
 
+enum class BeamMethod;
+
+/// @brief Refuses the streaming method for an oblique beam: it walks whole voxel columns along an
+/// axis (docs/validate.md "Ground truth"), so it has no oblique form. Throws weft::Error naming
+/// the method option and the direction as `asker` writes them, before any beam runs.
+void check_beam_method(BeamMethod method, const std::vector<std::array<double, 3>>& directions, FrontEnd asker);
+
 }  // namespace weft::volume

@@ -62,7 +62,7 @@ void stream_columns(const Grid& grid, const Lattice& L, double scale, ProgressSi
   for (std::size_t q = 0; q < K && on_boundaries; ++q) {
     on_boundaries = std::abs(L.depths[q] - static_cast<double>(q) * L.h) <= 1e-12 * L.h * static_cast<double>(q + 1);
   }
-  ProgressTask task(progress, "beam " + direction_label(L.d) + " (streaming)", units);
+  ProgressTask task(progress, "beam " + direction_label(L.d) + " [streaming]", units, "column tiles");
   const bool sparse = kSparse && on_boundaries && L.stride == 1;
   parallel_units(shards, [&](std::size_t shard) {
     ColumnTile tile;
@@ -189,7 +189,9 @@ void trace_rays(const Grid& grid, const Lattice& L, double scale, bool use_openv
   const std::uint64_t slots = static_cast<std::uint64_t>(L.na) * static_cast<std::uint64_t>(L.nb) * per_cell;
   const double ray_steps = L.cells_crossed() + static_cast<double>(L.depths.size());
   const auto batch = static_cast<std::uint64_t>(std::max(1.0, std::floor(kReportSteps / ray_steps)));
-  ProgressTask task(progress, "beam " + direction_label(L.d) + (use_openvdb ? " (openvdb dda)" : " (dda)"), slots);
+  // The label names the method as the curve does (TransmittanceCurve::method, measure's summary).
+  ProgressTask task(progress, "beam " + direction_label(L.d) + (use_openvdb ? " [openvdb]" : " [per-ray]"), slots,
+                    "rays");
   const auto& vdb = *grid.impl().grid;
   const CellMap map(vdb);
   // Every weft grid's map is scale-translate: its rays are walked relative to the box's lowest

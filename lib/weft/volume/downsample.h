@@ -2,6 +2,9 @@
 /// @file
 /// @brief Volume-fraction preserving downsampling of a grid by an integer factor.
 
+#include <array>
+#include <optional>
+
 #include "weft/volume/grid.h"
 
 namespace weft::volume {
@@ -24,5 +27,22 @@ namespace weft::volume {
 ///
 /// Throws weft::Error for factor < 1 or > 4096, or a grid without active voxels.
 [[nodiscard]] Grid downsample(const Grid& fine, int factor);
+
+/// A coarse cell whose value is not the mean of the fine voxels under it.
+struct BlockMeanMismatch {
+  std::array<int, 3> index{};      ///< the coarse cell
+  std::array<double, 3> centre{};  ///< its centre [world length]
+  double coarse = 0.0;             ///< the value it holds
+  double fine_mean = 0.0;          ///< the mean of the fine voxels under it
+};
+
+/// @brief Whether `coarse` holds the block means of `fine`, as downsample and the local fields'
+/// mean (`weft fit --block`) compute them: every cell of `coarse` (voxels a whole number f of
+/// `fine`'s wide, on `fine`'s voxel corners: the caller checks both) against the mean of the f³
+/// fine voxels it covers, inactive voxels counting 0 on both sides (a block of zeros may be left
+/// out), to a relative 1e-3. The first cell that differs, in tree order (so the same every run),
+/// or nothing. The fields of another cloth, of this cloth elsewhere or of a part of it differ.
+/// One pass over `fine`'s active voxels, sums per block in double.
+[[nodiscard]] std::optional<BlockMeanMismatch> block_mean_mismatch(const Grid& coarse, const Grid& fine);
 
 }  // namespace weft::volume

@@ -177,6 +177,85 @@ TEST(FieldsBeam, FieldsNotOnTheGridAreRefused) {
       test::throws_one_line_error_with({"no_such_fields.vdb"}));
 }
 
+// Fields must be the grid's own block means (docs/validate.md "Fields along any direction"): of
+// another cloth on the same box, of a part of it, of a larger cloth, they are refused by
+// check_fields, naming the file and the cell; the same cloth refined (h/2, blocks of 8) is the
+// grid's own fields. Python's words name no CLI option.
+TEST(FieldsBeam, FieldsOfAnotherClothAreRefused) {
+  const volume::Grid g = random_grid({0, 0, 0}, 21);
+  const auto refused = [&](const fs::path& f, const volume::Grid& grid) {
+    EXPECT_THAT(
+        [&] {
+          (void)check_fields({f, 30.0}, grid);
+        },
+        test::throws_one_line_error_with(
+            {f.string(), "not grid 'density''s fields", "its cell at", "weft fit --grid GRID --block B"}))
+        << f;
+  };
+  // Another cloth on the same box (another seed).
+  refused(write_fields_of(random_grid({0, 0, 0}, 22), 4, "other_seed"), g);
+  // A part of it: the same voxels but the last four layers.
+  const volume::Grid part =
+      box_grid(0.05, {0, 0, 0}, {20, 16, 8}, [&](int i, int j, int k) { return g.value(i, j, k); });
+  refused(write_fields_of(part, 4, "part"), g);
+  // A larger cloth: the grid and a slab beyond it.
+  volume::Grid larger = random_grid({0, 0, 0}, 21);
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 16; ++j) larger.set_value(i, j, 14, 0.5f);
+  refused(write_fields_of(larger, 4, "larger"), g);
+  // The same cloth refined: each voxel 2×2×2 of half the width.
+  volume::Grid refined(0.025, "density");
+  refined.set_origin(g.origin());  // the same world box
+  for (int i = 0; i < 40; ++i)
+    for (int j = 0; j < 32; ++j)
+      for (int k = 0; k < 24; ++k) {
+        const float v = g.value(i / 2, j / 2, k / 2);
+        if (v > 0.0f) refined.set_value(i, j, k, v);
+      }
+  const fs::path own = write_fields_of(refined, 8, "refined");
+  EXPECT_NO_THROW((void)check_fields({own, 30.0}, g));
+  EXPECT_NO_THROW((void)check_fields({write_fields_of(g, 4, "own21"), 30.0}, refined));
+  // Python's words.
+  FieldsSpec py{write_fields_of(part, 4, "part_py"), 30.0};
+  py.asker = FrontEnd::python;
+  EXPECT_THAT([&] { (void)check_fields(py, g); },
+              test::throws_one_line_error_with({"not grid 'density''s fields", "weft.local_fields(grid, B)"}));
+}
+
+// Fields that record a value kind other than the grid's are another grid's: the advice is one the
+// caller can follow (--values only when the grid records no kind, and only on the command line).
+TEST(FieldsBeam, FieldsOfTheOtherValueKindAreRefusedWithAdviceForTheCaller) {
+  volume::Grid g = random_grid({0, 0, 0}, 23);
+  volume::Grid as_extinction = g.deep_copy();
+  as_extinction.set_metadata("weft:value_kind", "extinction");
+  const fs::path f = write_fields_of(as_extinction, 4, "extinction_kind");
+  // The grid records no kind, read as concentration.
+  FieldsSpec spec{f, 30.0};
+  EXPECT_THAT([&] { (void)check_fields(spec, g); },
+              test::throws_one_line_error_with({f.string(), "values are extinction", "no kind recorded",
+                                                "pass --values extinction", "weft fit --grid GRID --block B"}));
+  spec.asker = FrontEnd::python;
+  const auto python_message = [&] {
+    try {
+      (void)check_fields(spec, g);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  }();
+  EXPECT_THAT(python_message, ::testing::HasSubstr("grid.set_metadata('weft:value_kind', 'extinction')"));
+  EXPECT_THAT(python_message, ::testing::Not(::testing::HasSubstr("--values")));
+  // The grid records concentration: no option helps, only fields of this grid.
+  g.set_metadata("weft:value_kind", "concentration");
+  spec.asker = FrontEnd::cli;
+  EXPECT_THAT([&] { (void)check_fields(spec, g); },
+              test::throws_one_line_error_with(
+                  {"grid 'density''s say concentration", "fields of another grid", "weft fit --grid GRID --block B"}));
+  EXPECT_THAT([&] { (void)check_fields(spec, g); }, ::testing::Not(test::throws_one_line_error_with({"--values"})));
+  // Read as extinction, as the fields say: taken.
+  EXPECT_NO_THROW((void)check_fields({f, 1.0, true}, as_extinction));
+}
+
 }  // namespace
 }  // namespace weft::render
 

@@ -101,6 +101,48 @@ TEST(Downsample, RejectsEmptyGridsAndBadFactors) {
   EXPECT_THROW((void)downsample(fine, 5000), Error);
 }
 
+// The block means of a grid are its downsample; one cell changed, a cell left out where the fine
+// voxels hold something, a cell added where they hold nothing, or the blocks moved by a voxel are
+// each found, at that cell.
+TEST(BlockMeanMismatch, FindsTheCellThatIsNotTheMeanOfItsVoxels) {
+  const Grid fine = random_grid(5);
+  for (int f : {1, 2, 3}) {
+    const Grid coarse = downsample(fine, f);
+    EXPECT_FALSE(block_mean_mismatch(coarse, fine).has_value()) << "factor " << f;
+    const IndexBox box = coarse.active_bbox();
+    const std::array<int, 3> mid{(box.min[0] + box.max[0]) / 2, (box.min[1] + box.max[1]) / 2,
+                                 (box.min[2] + box.max[2]) / 2};
+    Grid changed = coarse.deep_copy();
+    const float v = coarse.value(mid[0], mid[1], mid[2]);
+    changed.set_value(mid[0], mid[1], mid[2], v * 1.01f + 0.01f);
+    const auto m = block_mean_mismatch(changed, fine);
+    ASSERT_TRUE(m.has_value()) << "factor " << f;
+    EXPECT_EQ(m->index, mid);
+    EXPECT_NEAR(m->fine_mean, v, 1e-6);
+    EXPECT_NEAR(m->coarse, v * 1.01f + 0.01f, 1e-6);
+    for (int a = 0; a < 3; ++a)
+      EXPECT_NEAR(m->centre[a], coarse.origin()[a] + coarse.voxel_size() * (mid[a] + 0.5), 1e-12);
+    // A cell past the grid's voxels.
+    Grid grown = coarse.deep_copy();
+    grown.set_value(box.max[0] + 2, mid[1], mid[2], 0.25f);
+    EXPECT_TRUE(block_mean_mismatch(grown, fine).has_value()) << "factor " << f;
+    // The fine voxels moved by one: other blocks (f = 1: every value beside its neighbour's).
+    Grid moved = fine.deep_copy();
+    moved.set_origin({fine.origin()[0] + fine.voxel_size(), fine.origin()[1], fine.origin()[2]});
+    EXPECT_TRUE(block_mean_mismatch(coarse, moved).has_value()) << "factor " << f;
+  }
+  // A cell of the fine grid's cloth left out.
+  Grid part(fine.voxel_size() * 2);
+  const Grid whole = downsample(fine, 2);
+  part.set_origin(whole.origin());
+  const IndexBox wbox = whole.active_bbox();
+  for (int i = wbox.min[0]; i <= wbox.max[0]; ++i)
+    for (int j = wbox.min[1]; j <= wbox.max[1]; ++j)
+      for (int k = wbox.min[2]; k <= wbox.max[2]; ++k)
+        if (k < wbox.max[2] && whole.value(i, j, k) > 0.0f) part.set_value(i, j, k, whole.value(i, j, k));
+  EXPECT_TRUE(block_mean_mismatch(part, fine).has_value());
+}
+
 TEST(Beam, ThinnedBeamKeepsTheSameColumnsForEveryMethod) {
   const Grid g = random_grid(5);
   for (int axis = 0; axis < 3; ++axis) {

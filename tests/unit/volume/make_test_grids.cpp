@@ -137,6 +137,32 @@ int main(int argc, char** argv) {
     }
   }
   write(dir + "/uniform.vdb", uniform);
+  // uniform_fields.vdb: uniform.vdb's local fields of blocks of 2 voxels (`weft fit --block 2`'s
+  // grids: 2×2×2 cells of mean 0.3, no variance), on good.vdb's voxel corners and over a corner of
+  // it: the fields of another cloth for good.vdb. extinction_fields.vdb: the same recording that
+  // its values are extinction.
+  const auto write_fields = [&](const std::string& name, const char* kind) {
+    openvdb::GridPtrVec grids;
+    for (const char* channel :
+         {"mean_concentration", "var_concentration_x", "var_concentration_y", "var_concentration_z"}) {
+      auto g = openvdb::FloatGrid::create(0.0f);
+      g->setName(channel);
+      // Cell 0 spans good.vdb's voxels 0 and 1: [-0.025, 0.075) (voxel centres at 0.05 i).
+      g->setTransform(openvdb::math::Transform::createLinearTransform(0.1));
+      g->transform().postTranslate(openvdb::Vec3d(0.025));
+      const bool mean = std::string(channel) == "mean_concentration";
+      for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j)
+          for (int k = 0; k < 2; ++k) g->getAccessor().setValue(openvdb::Coord(i, j, k), mean ? 0.3f : 0.0f);
+      if (kind != nullptr) g->insertMeta("weft:value_kind", openvdb::StringMetadata(kind));
+      grids.push_back(g);
+    }
+    openvdb::io::File file(dir + "/" + name);
+    file.write(grids);
+    file.close();
+  };
+  write_fields("uniform_fields.vdb", nullptr);
+  write_fields("extinction_fields.vdb", "extinction");
   std::ofstream(dir + "/corrupt.vdb", std::ios::binary) << "this is not an OpenVDB file\n";
   return 0;
 }
