@@ -37,9 +37,11 @@ InterruptGuard::InterruptGuard() {
   for (std::size_t i = 0; i < kSignals.size(); ++i) {
     g_installed[i] = ::sigaction(kSignals[i], &action, &g_previous[i]) == 0;
   }
+  set_stop_request(&g_signal);
 }
 
 InterruptGuard::~InterruptGuard() {
+  set_stop_request(nullptr);
   for (std::size_t i = 0; i < kSignals.size(); ++i) {
     if (g_installed[i]) ::sigaction(kSignals[i], &g_previous[i], nullptr);
     g_installed[i] = false;

@@ -4,7 +4,8 @@
 /// cancellation").
 ///
 /// The first such signal only records itself; the app's progress sink turns it into
-/// weft::Cancelled at the computation's next report, so the stack unwinds like Python's
+/// weft::Cancelled at the computation's next report (and the points where a run commits its
+/// outputs at theirs: set_stop_request, core/progress.h), so the stack unwinds like Python's
 /// KeyboardInterrupt: atomic writes remove their temporaries, nothing half-written is left, and
 /// the app exits 128 + the signal (130 for Ctrl-C, 143 for SIGTERM, as a shell reports them). A
 /// second signal keeps its default action, so a stretch of work that reports nothing (a file

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <mutex>
 #include <system_error>
@@ -11,6 +12,7 @@
 #include <unistd.h>
 
 #include "weft/core/error.h"
+#include "weft/core/progress.h"
 
 namespace weft {
 namespace fs = std::filesystem;
@@ -66,12 +68,17 @@ void write_atomically(const fs::path& target, const std::function<void(const fs:
     fail("output file '{}': {}", target.string(), problem);
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   std::error_code ec;
-  if (!fs::is_directory(dir, ec)) fail("output folder '{}' does not exist", dir.string());
+  if (!fs::is_directory(dir, ec)) {
+    // "file.vdb/x" or a path ending in "/" after a file's name: the folder is a file.
+    if (fs::exists(dir, ec)) fail("output folder '{}' is a file, not a folder", dir.string());
+    fail("output folder '{}' does not exist", dir.string());
+  }
   if (::access(dir.c_str(), W_OK) != 0) fail("output folder '{}' is not writable", dir.string());
   const fs::path tmp = temporary_beside(target);
   try {
     write(tmp);
     if (!fs::exists(tmp, ec)) fail("writing '{}' produced no file", target.string());
+    stop_if_requested();
     FolderRollback::before_replacing(target);
     fs::rename(tmp, target, ec);
     if (ec) fail("cannot rename '{}' to '{}': {}", tmp.string(), target.string(), ec.message());
@@ -81,14 +88,23 @@ void write_atomically(const fs::path& target, const std::function<void(const fs:
   }
 }
 
-void write_text_atomically(const fs::path& target, std::string_view text) {
+void write_stream_atomically(const fs::path& target, const std::function<void(std::ostream&)>& write) {
   write_atomically(target, [&](const fs::path& tmp) {
     std::ofstream out(tmp, std::ios::binary);
     if (!out) fail("cannot open '{}' for writing", target.string());
-    out.write(text.data(), static_cast<std::streamsize>(text.size()));
+    errno = 0;
+    write(out);
     out.flush();
-    if (!out) fail("cannot write '{}' (disk full?)", target.string());
+    const int error = errno;
+    out.close();
+    // The stream keeps only a failbit; errno still holds the write(2) that failed (ENOSPC, EFBIG).
+    if (!out) fail("cannot write '{}': {}", target.string(), error != 0 ? std::strerror(error) : "the write failed");
   });
+}
+
+void write_text_atomically(const fs::path& target, std::string_view text) {
+  write_stream_atomically(
+      target, [&](std::ostream& out) { out.write(text.data(), static_cast<std::streamsize>(text.size())); });
 }
 
 void ensure_directory(const fs::path& dir) {
@@ -195,6 +211,9 @@ void FolderRollback::after_creating(const fs::path& made) {
 
 void FolderRollback::keep() {
   if (!active_) return;
+  // A stop request that came while nothing reported progress (a plot being drawn) still undoes the
+  // run: the destructor puts the folder back (docs/robustness.md "Output folders of failed runs").
+  stop_if_requested();
   stop_watching();
   active_ = false;
   std::error_code ec;

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <iosfwd>
 #include <set>
 #include <string>
 #include <string_view>
@@ -24,13 +25,20 @@ namespace weft {
 /// @brief Calls `write(tmp)` with a temporary path beside `target`, then renames it to `target`.
 ///
 /// If `write` throws, the temporary file is removed and the exception propagates, so a failed
-/// run never leaves a half-written output. The target's folder must exist; an unwritable folder
-/// gives a weft::Error naming it, and an empty or blank `target` one saying so
-/// (output_name_problem), not a failed rename of the temporary file.
+/// run never leaves a half-written output. A stop request (stop_if_requested, core/progress.h) that
+/// arrived while `write` ran stops the run here, before anything is replaced. The target's folder must exist; an
+/// unwritable folder gives a weft::Error naming it, and an empty or blank `target` one saying so (output_name_problem),
+/// not a failed rename of the temporary file.
 void write_atomically(const std::filesystem::path& target,
                       const std::function<void(const std::filesystem::path& tmp)>& write);
 
-/// @brief Writes `text` to `target` atomically.
+/// @brief Calls `write(out)` with a binary stream on a temporary file beside `target`, then renames
+/// it to `target` (write_atomically). A short write (a full disk, a file size limit) is an error
+/// naming `target` ("cannot write '<target>': <reason>"), raised before the rename: a writer that
+/// does not check its stream (OpenVDB's, for one) cannot leave a truncated file under the name.
+void write_stream_atomically(const std::filesystem::path& target, const std::function<void(std::ostream& out)>& write);
+
+/// @brief Writes `text` to `target` atomically (write_stream_atomically).
 void write_text_atomically(const std::filesystem::path& target, std::string_view text);
 
 /// @brief Creates `dir` (and parents) or throws a weft::Error naming it.
@@ -63,7 +71,8 @@ class FolderRollback {
   ~FolderRollback();
   FolderRollback(const FolderRollback&) = delete;
   FolderRollback& operator=(const FolderRollback&) = delete;
-  /// The run succeeded: its files stay.
+  /// The run succeeded: its files stay. Throws Cancelled instead, keeping nothing, when a stop was
+  /// requested (stop_if_requested): a run stopped during its last, unreported stretch is undone.
   void keep();
 
   /// Called by write_atomically before it renames a finished file onto `target`, and by

@@ -11,7 +11,16 @@ class NullProgress final : public ProgressSink {
   void advance(std::uint64_t /*done_so_far*/) override {}
   void end() noexcept override {}
 };
+
+std::atomic<const std::atomic<int>*> g_stop_request{nullptr};
 }  // namespace
+
+void set_stop_request(const std::atomic<int>* flag) noexcept { g_stop_request.store(flag); }
+
+void stop_if_requested() {
+  const std::atomic<int>* flag = g_stop_request.load();
+  if (flag != nullptr && flag->load(std::memory_order_relaxed) != 0) throw Cancelled();
+}
 
 ProgressSink& null_progress() {
   static NullProgress sink;

@@ -46,6 +46,15 @@ class ProgressSink {
   virtual void end() noexcept = 0;
 };
 
+/// @brief Registers the flag a signal handler sets to ask the process to stop (apps/interrupt.h),
+/// or none (nullptr). Library code reads it only where a run commits its outputs, so a request
+/// that arrived during a stretch that reports no progress (drawing a plot, writing a file) still
+/// stops the run before its outputs replace anything.
+void set_stop_request(const std::atomic<int>* flag) noexcept;
+
+/// @brief Throws Cancelled when the registered flag (set_stop_request) is set.
+void stop_if_requested();
+
 /// @brief A sink that ignores everything (the default for library callers and tests).
 ProgressSink& null_progress();
 

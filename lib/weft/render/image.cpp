@@ -138,17 +138,22 @@ void write_rgb8_png(const std::filesystem::path& path, int width, int height, co
   for (int y = 0; y < height; ++y)  // VTK images start at the bottom row
     std::copy_n(&rgb[static_cast<std::size_t>(y) * row_bytes], row_bytes,
                 &pixels[static_cast<std::size_t>(height - 1 - y) * row_bytes]);
-  write_atomically(path, [&](const std::filesystem::path& tmp) {
-    vtkNew<vtkPNGWriter> writer;
-    writer->SetFileName(tmp.c_str());
-    // zlib's fastest level, as for every picture weft writes (viz/vtk_support.cpp): the PNG is
-    // the sRGB view of the EXR, and at VTK's default (5) its compression on one thread was the
-    // longest serial stretch of a large film's render (docs/benchmarks.md "Threads").
-    writer->SetCompressionLevel(1);
-    writer->SetInputData(data);
-    writer->Write();
-    if (writer->GetErrorCode() != 0 || !std::filesystem::exists(tmp) || std::filesystem::file_size(tmp) == 0)
-      fail("cannot write PNG '{}'", path.string());
+  // Encoded in memory, then written through a checked stream: a full disk is one error naming
+  // the file (write_stream_atomically), not that and libpng's and VTK's own lines on stderr.
+  vtkNew<vtkPNGWriter> writer;
+  writer->SetWriteToMemory(1);
+  // zlib's fastest level, as for every picture weft writes (viz/vtk_support.cpp): the PNG is
+  // the sRGB view of the EXR, and at VTK's default (5) its compression on one thread was the
+  // longest serial stretch of a large film's render (docs/benchmarks.md "Threads").
+  writer->SetCompressionLevel(1);
+  writer->SetInputData(data);
+  writer->Write();
+  vtkUnsignedCharArray* png = writer->GetResult();
+  if (writer->GetErrorCode() != 0 || png == nullptr || png->GetNumberOfValues() == 0)
+    fail("cannot encode PNG '{}'", path.string());
+  write_stream_atomically(path, [&](std::ostream& out) {
+    out.write(reinterpret_cast<const char*>(png->GetPointer(0)),
+              static_cast<std::streamsize>(png->GetNumberOfValues()));
   });
 }
 

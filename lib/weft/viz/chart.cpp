@@ -24,7 +24,6 @@
 #include <vtkTable.h>
 #include <vtkTextProperty.h>
 
-#include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 #include "weft/viz/chart_items.h"
 #include "weft/viz/display.h"
@@ -455,7 +454,7 @@ RenderOutcome save_chart_grid_png(const std::vector<Chart>& panels, int columns,
     detail::add_scene_title(scene, 0.5f * static_cast<float>(width), static_cast<float>(height - 6), title,
                             fonts.title + 2);
   }
-  write_atomically(path, [&](const std::filesystem::path& tmp) { detail::capture_png(*window, tmp, path); });
+  detail::capture_png(*window, path);
   outcome.written = true;
   return outcome;
 }

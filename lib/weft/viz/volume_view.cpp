@@ -26,7 +26,6 @@
 #include <vtkTransform.h>
 #include <vtkTransformPolyDataFilter.h>
 
-#include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 #include "weft/core/fp_hold.h"
 #include "weft/viz/display.h"
@@ -416,7 +415,7 @@ RenderOutcome save_volume_png(const volume::Grid& grid, const VolumeView& view, 
     frame(*top, title_margin, key_margin);
   }
 
-  write_atomically(path, [&](const std::filesystem::path& tmp) { detail::capture_png(*window, tmp, path); });
+  detail::capture_png(*window, path);
   outcome.written = true;
   return outcome;
 }

@@ -18,8 +18,10 @@
 #include <vtkSmartPointer.h>
 #include <vtkStdString.h>
 #include <vtkTextProperty.h>
+#include <vtkUnsignedCharArray.h>
 #include <vtkWindowToImageFilter.h>
 
+#include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
 #include "weft/core/fp_hold.h"
 
@@ -142,7 +144,7 @@ void prepare_renderer(vtkRenderer& renderer) {
   renderer.UseFXAAOn();
 }
 
-void capture_png(vtkRenderWindow& window, const std::filesystem::path& path, const std::filesystem::path& target) {
+void capture_png(vtkRenderWindow& window, const std::filesystem::path& target) {
   const HeldFpExceptions hold;  // Mesa's software rasterizer (llvmpipe) overflows in clipping
   window.Render();
   pin_gl_driver();
@@ -152,17 +154,24 @@ void capture_png(vtkRenderWindow& window, const std::filesystem::path& path, con
   grab->ReadFrontBufferOff();  // offscreen windows draw to the back buffer
   grab->ShouldRerenderOff();   // just rendered: a second pass would double the (software) cost
   grab->Update();
+  // Encoded in memory, then written through a checked stream (write_stream_atomically): a full
+  // disk is one error naming the file, not that and libpng's own line on stderr.
   vtkNew<vtkPNGWriter> writer;
-  writer->SetFileName(path.c_str());
+  writer->SetWriteToMemory(1);
   // zlib's fastest level: pictures of flat colours compress nearly as well, in a fraction of the
   // time (level 5, VTK's default, was a visible part of each picture's cost).
   writer->SetCompressionLevel(1);
   writer->SetInputConnection(grab->GetOutputPort());
   writer->Write();
-  if (writer->GetErrorCode() != 0) {
+  vtkUnsignedCharArray* png = writer->GetResult();
+  if (writer->GetErrorCode() != 0 || png == nullptr || png->GetNumberOfValues() == 0) {
     const std::string detail = take_vtk_message();
-    fail("{}: cannot write PNG{}{}", target.string(), detail.empty() ? "" : ": ", detail);
+    fail("{}: cannot encode PNG{}{}", target.string(), detail.empty() ? "" : ": ", detail);
   }
+  write_stream_atomically(target, [&](std::ostream& out) {
+    out.write(reinterpret_cast<const char*>(png->GetPointer(0)),
+              static_cast<std::streamsize>(png->GetNumberOfValues()));
+  });
 }
 
 }  // namespace weft::viz::detail

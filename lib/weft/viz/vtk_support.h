@@ -40,8 +40,9 @@ void prepare_window(vtkRenderWindow& window, int width, int height);
 /// @brief White background and FXAA (a cheap post-pass antialiasing) for a renderer.
 void prepare_renderer(vtkRenderer& renderer);
 
-/// @brief Renders `window` and writes its pixels as a PNG to `path` (a temporary file; the caller
-/// makes it atomic). Throws weft::Error naming `target` on failure.
-void capture_png(vtkRenderWindow& window, const std::filesystem::path& path, const std::filesystem::path& target);
+/// @brief Renders `window` and writes its pixels as a PNG to `target`, atomically
+/// (write_stream_atomically: a short write is an error naming `target`, and a stop requested while
+/// the window rendered leaves the earlier file). Throws weft::Error naming `target` on failure.
+void capture_png(vtkRenderWindow& window, const std::filesystem::path& target);
 
 }  // namespace weft::viz::detail

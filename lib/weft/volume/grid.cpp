@@ -11,8 +11,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
-#include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
+#include "weft/core/number_name.h"
 #include "weft/volume/grid_io.h"
 #include "weft/volume/grid_openvdb.h"
 
@@ -151,9 +151,9 @@ openvdb::math::Transform::Ptr voxel_transform(double h) {
   require_positive("voxel size", h);
   if (h * h * h < 3.0 * openvdb::math::Tolerance<double>::value())
     fail(
-        "voxel size {:.6g} is below the smallest OpenVDB represents (h^3 >= 3e-15, h >= {:.4g}): give lengths in a "
+        "voxel size {:.6g} is below the smallest OpenVDB represents (h^3 >= 3e-15, h >= {}): give lengths in a "
         "smaller unit (e.g. millimetres instead of metres)",
-        h, min_voxel_size());
+        h, bound_text(min_voxel_size(), BoundSide::at_least));
   return openvdb::math::Transform::createLinearTransform(h);
 }
 
@@ -289,19 +289,7 @@ Grid Grid::load(const fs::path& path, const std::string& grid_name) {
   return Grid(std::move(impl));
 }
 
-void Grid::save(const fs::path& path) const {
-  require_writable(*impl_->grid, path.string());
-  write_atomically(path, [&](const fs::path& tmp) {
-    try {
-      openvdb::io::File file(tmp.string());
-      openvdb::GridPtrVec grids{impl_->grid};
-      file.write(grids);
-      file.close();
-    } catch (const openvdb::Exception& e) {
-      fail("{}: cannot write OpenVDB file: {}", path.string(), e.what());
-    }
-  });
-}
+void Grid::save(const fs::path& path) const { save_grids({*this}, path); }
 
 Grid Grid::deep_copy() const {
   auto impl = std::make_shared<Impl>();

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <ostream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -14,6 +15,7 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
+#include <openvdb/io/Archive.h>
 #include <openvdb/io/Compression.h>
 #include <openvdb/io/File.h>
 
@@ -422,6 +424,13 @@ class VdbScanner {
   std::vector<std::uint32_t> leaves_;  // active voxels of each leaf, in topology order
 };
 
+// The layout io::File writes (a seekable archive: grid offsets for reading one grid by name), into
+// any stream; io::File offers it only onto a file stream of its own.
+class SeekableArchive final : public openvdb::io::Archive {
+ public:
+  void write_to(std::ostream& os, const openvdb::GridCPtrVec& grids) const { write(os, grids, /*seekable=*/true); }
+};
+
 }  // namespace
 
 void check_vdb_file(const std::filesystem::path& path) {
@@ -432,13 +441,14 @@ void check_vdb_file(const std::filesystem::path& path) {
 void save_grids(const std::vector<Grid>& grids, const std::filesystem::path& path) {
   ensure_openvdb_initialized();
   for (const auto& g : grids) require_writable(*g.impl().grid, path.string());
-  write_atomically(path, [&](const std::filesystem::path& tmp) {
+  // io::File writes through a stream it never checks, so a full disk would leave a truncated file
+  // reported as saved; the archive writes into a stream write_stream_atomically checks instead.
+  write_stream_atomically(path, [&](std::ostream& os) {
     try {
-      openvdb::GridPtrVec out;
+      openvdb::GridCPtrVec out;
       for (const auto& g : grids) out.push_back(g.impl().grid);
-      openvdb::io::File file(tmp.string());
-      file.write(out);
-      file.close();
+      const SeekableArchive archive;
+      archive.write_to(os, out);
     } catch (const openvdb::Exception& e) {
       fail("{}: cannot write OpenVDB file: {}", path.string(), e.what());
     }

@@ -1,6 +1,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <atomic>
+
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -8,8 +10,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "file_size_limit.h"
 #include "weft/core/atomic_file.h"
 #include "weft/core/error.h"
+#include "weft/core/progress.h"
 
 #include <unistd.h>
 
@@ -51,9 +55,60 @@ TEST(AtomicFile, FailedWriteLeavesNothing) {
   fs::remove_all(dir);
 }
 
+// A short write is an error naming the output, and the earlier file stays whole under its name.
+TEST(AtomicFile, ShortWriteIsAnErrorNamingTheFile) {
+  const auto dir = fresh_dir("atomic-short");
+  std::ofstream(dir / "big.txt") << "earlier";
+  {
+    const weft::test::FileSizeLimit limit(4096);
+    EXPECT_THAT(
+        [&] { weft::write_text_atomically(dir / "big.txt", std::string(1 << 20, 'x')); },
+        ::testing::ThrowsMessage<weft::Error>(::testing::HasSubstr("cannot write '" + (dir / "big.txt").string())));
+  }
+  EXPECT_EQ(count_files(dir), 1U);
+  std::ifstream in(dir / "big.txt");
+  std::string s;
+  in >> s;
+  EXPECT_EQ(s, "earlier");
+  fs::remove_all(dir);
+}
+
+// A stop request (Ctrl-C in the app) that came while nothing reported progress stops the run where
+// it commits: no file is replaced, and a guarded folder is put back instead of kept.
+TEST(AtomicFile, StopRequestStopsBeforeReplacing) {
+  const auto dir = fresh_dir("atomic-stop");
+  std::ofstream(dir / "a.txt") << "earlier";
+  std::atomic<int> flag{0};
+  weft::set_stop_request(&flag);
+  {
+    weft::FolderRollback outputs(dir);
+    weft::write_text_atomically(dir / "b.txt", "written before the request");
+    flag = 2;
+    EXPECT_THROW(weft::write_text_atomically(dir / "a.txt", "new"), weft::Cancelled);
+    EXPECT_THROW(outputs.keep(), weft::Cancelled);
+  }
+  weft::set_stop_request(nullptr);
+  EXPECT_EQ(count_files(dir), 1U);  // b.txt removed with the run, a.txt as it was
+  std::ifstream in(dir / "a.txt");
+  std::string s;
+  in >> s;
+  EXPECT_EQ(s, "earlier");
+  weft::write_text_atomically(dir / "a.txt", "new");  // no flag registered: writes go on
+  fs::remove_all(dir);
+}
+
 TEST(AtomicFile, MissingFolderIsAClearError) {
   EXPECT_THAT([] { weft::write_text_atomically("/nonexistent-weft-folder/x.txt", "x"); },
               ::testing::ThrowsMessage<weft::Error>(::testing::HasSubstr("/nonexistent-weft-folder")));
+}
+
+TEST(AtomicFile, AFileGivenAsTheFolderIsSaidSo) {
+  const auto dir = fresh_dir("atomic-file-folder");
+  std::ofstream(dir / "grid.vdb") << "a file";
+  EXPECT_THAT([&] { weft::write_text_atomically(dir / "grid.vdb" / "x.txt", "x"); },
+              ::testing::ThrowsMessage<weft::Error>(
+                  ::testing::HasSubstr("'" + (dir / "grid.vdb").string() + "' is a file, not a folder")));
+  fs::remove_all(dir);
 }
 
 // An empty or blank name is refused before anything is written, not as a failed rename of the

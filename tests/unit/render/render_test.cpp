@@ -21,6 +21,7 @@
 #include <unistd.h>
 
 #include "error_matchers.h"
+#include "file_size_limit.h"
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
 #include "weft/core/progress.h"
@@ -796,6 +797,32 @@ TEST(ImageFiles, NonFinitePixelsAreRefused) {
   EXPECT_FALSE(std::filesystem::exists(exr));
   EXPECT_FALSE(std::filesystem::exists(png));
   EXPECT_THROW(write_exr(exr, im), Error);
+}
+
+// A PNG that does not fit on the disk (here past a file size limit) is one error naming it, with
+// nothing printed besides (libpng and VTK had their own lines), and no file under its name.
+TEST(ImageFiles, ShortPngWriteIsOneErrorAndNoChatter) {
+  Image im;
+  im.width = im.height = 256;
+  im.spp = 1;
+  im.rgb.resize(static_cast<std::size_t>(3 * im.width * im.height));
+  for (std::size_t i = 0; i < im.rgb.size(); ++i) im.rgb[i] = static_cast<float>((i * 2654435761U) % 1000) / 1000.0F;
+  const std::filesystem::path png =
+      std::filesystem::temp_directory_path() / fmt::format("weft-short-{}.png", ::getpid());
+  std::string message;
+  testing::internal::CaptureStderr();
+  {
+    const test::FileSizeLimit limit(1024);
+    try {
+      write_png(png, im, 1.0);
+    } catch (const Error& e) {
+      message = e.what();
+    }
+  }
+  const std::string printed = testing::internal::GetCapturedStderr();
+  EXPECT_THAT(message, ::testing::HasSubstr("cannot write '" + png.string() + "'"));
+  EXPECT_EQ(printed, "");
+  EXPECT_FALSE(std::filesystem::exists(png));
 }
 
 }  // namespace

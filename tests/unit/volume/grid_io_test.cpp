@@ -23,6 +23,8 @@
 #include "weft/volume/grid_openvdb.h"
 #include "weft/volume/voxel_rule.h"
 
+#include "file_size_limit.h"
+
 namespace weft::volume {
 namespace {
 
@@ -101,6 +103,27 @@ INSTANTIATE_TEST_SUITE_P(SizesAndFills, GridRoundTrip,
                          testing::Combine(testing::Values(64, 128),
                                           testing::Values(Fill::Constant, Fill::Binary, Fill::Random)),
                          fill_and_size);
+
+// OpenVDB's own file writer never checks its stream: a full disk (here a file size limit) must be
+// an error naming the file, and the earlier file must stay readable under its name.
+TEST(GridSave, ShortWriteIsAnErrorNamingTheFile) {
+  const auto path = std::filesystem::temp_directory_path() / "weft_grid_io_short.vdb";
+  block(64, Fill::Constant).save(path);
+  const auto earlier = read_bytes(path);
+  {
+    const test::FileSizeLimit limit(earlier.size() + 1024);
+    std::string message;
+    try {
+      block(128, Fill::Random).save(path);
+    } catch (const Error& e) {
+      message = e.what();
+    }
+    EXPECT_NE(message.find("cannot write '" + path.string() + "'"), std::string::npos) << message;
+  }
+  EXPECT_EQ(read_bytes(path), earlier);
+  EXPECT_EQ(Grid::load(path).active_voxel_count(), block(64, Fill::Constant).active_voxel_count());
+  std::filesystem::remove(path);
+}
 
 /// The file of a 64³ checkerboard with its leaf count set to `count`; Grid::load's message.
 std::string load_with_leaf_count(std::uint32_t count) {
