@@ -102,6 +102,11 @@ int main(int argc, char** argv) {
     }
     if (weft::dist::is_root()) fmt::print(stderr, "weft: error: {}\n", extras_message(app, sub));
     return 2;
+  } catch (const CLI::ConversionError& e) {
+    const std::string message = narrow_integer_message(app, e);
+    if (weft::dist::is_root())
+      fmt::print(stderr, "weft: error: {} (see --help)\n", message.empty() ? std::string(e.what()) : message);
+    return 2;
   } catch (const CLI::ParseError& e) {
     // --help and --version exit 0; every usage error exits 2 (the POSIX convention), whatever
     // CLI11's internal code, so scripts can tell a usage error from a failed run (exit 1).

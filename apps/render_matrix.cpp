@@ -1,12 +1,14 @@
 // `weft render --study` with no scene: the study matrix's files (docs/render.md §6e).
 #include "render_matrix.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <map>
 
 #include <fmt/format.h>
 
 #include "render_study.h"
+#include "terminal_progress.h"
 #include "usage.h"
 #include "weft/core/atomic_file.h"
 #include "weft/dist/distributed.h"
@@ -138,11 +140,18 @@ void run_render_matrix(study::MatrixSpec spec, const fs::path& out, bool resume,
   study::check_matrix_spec(spec);
   const std::vector<study::MatrixCase> cases = study::matrix_cases(spec);
   // Say the cost before spending it.
+  const std::size_t candidates = study::candidate_count(spec.study, spec.study.factors.size());
+  const std::string images =
+      spec.study.spp > 0
+          ? fmt::format("{} candidates x 2 images at {} spp", candidates, spec.study.spp)
+          : fmt::format("{} candidates x 2 images of {:g} s (about {} of rendering in all)", candidates,
+                        spec.study.seconds,
+                        duration_text(2.0 * static_cast<double>(candidates * cases.size()) * spec.study.seconds));
   ctx.say(fmt::format(
       "study matrix: {} cloths x {} light set-ups x {} views = {} cases at {}x{} px, each a reference at {} spp and "
-      "2 images per candidate at {} spp; {} rank(s) x {} thread(s)",
+      "{}; {} rank(s) x {} thread(s)",
       spec.cloths.size(), spec.lightings.size(), spec.tilts.size(), cases.size(), spec.width, spec.height,
-      spec.study.reference_spp, spec.study.spp, ctx.ranks(), ctx.threads()));
+      spec.study.reference_spp, images, ctx.ranks(), ctx.threads()));
   dist::UnitStore store(out / "matrix.units", study::matrix_key(spec), resume);
   const std::vector<study::MatrixCaseResult> results = study::run_matrix(spec, ctx.progress, &store);
   if (!dist::is_root()) return;
@@ -170,6 +179,14 @@ void run_render_matrix(study::MatrixSpec spec, const fs::path& out, bool resume,
   }
   if (store.found() > 0)
     ctx.say(fmt::format("{} of {} cases resumed from {}", store.found(), cases.size(), store.folder().string()));
+  // A case's warnings (a clamped window) are said once per cloth: its cases share the grid.
+  std::vector<std::string> warnings;
+  for (const auto& r : results)
+    for (const auto& n : r.notes)
+      if (const std::string w = fmt::format("warning: {}: {}", r.c.pattern, n);
+          std::find(warnings.begin(), warnings.end(), w) == warnings.end())
+        warnings.push_back(w);
+  for (const auto& w : warnings) ctx.say(w);
   for (const auto& h : headlines) ctx.say("headline: " + h.text);
   written.keep();
 }

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "terminal_progress.h"
 #include "weft/core/atomic_file.h"
 #include "weft/dist/distributed.h"
 #include "weft/study/albedo_fit.h"
@@ -153,10 +154,11 @@ void run_render_study(const render::SceneDesc& scene, study::StudySpec spec, con
                     fmt::join(pairs, ",")));
   }
   // Say the cost before spending it: two images per candidate (the second at the first's spp).
-  const std::size_t candidates = 2 + (3 + spec.memory_rules.size()) * spec.factors.size() + spec.albedo_factors.size();
+  const std::size_t candidates = study::candidate_count(spec, spec.albedo_factors.size());
   if (spec.spp == 0)
-    ctx.say(fmt::format("study: {} candidates x 2 images, about {:.3g} s of rendering plus the reference at {} spp",
-                        candidates, 2.0 * static_cast<double>(candidates) * spec.seconds, spec.reference_spp));
+    ctx.say(fmt::format("study: {} candidates x 2 images, about {} of rendering plus the reference at {} spp",
+                        candidates, duration_text(2.0 * static_cast<double>(candidates) * spec.seconds),
+                        spec.reference_spp));
   else
     ctx.say(fmt::format("study: {} candidates x 2 images at {} spp plus the reference at {} spp", candidates, spec.spp,
                         spec.reference_spp));

@@ -55,6 +55,16 @@ void TerminalProgress::end() noexcept {
   }
 }
 
+std::string duration_text(double seconds) {
+  if (!(seconds < 120.0)) {
+    if (seconds < 2.0 * 3600.0) return fmt::format("{:.1f} min", seconds / 60.0);
+    if (seconds < 2.0 * 86400.0) return fmt::format("{:.1f} h", seconds / 3600.0);
+    if (seconds < 2.0 * 365.25 * 86400.0) return fmt::format("{:.0f} days", seconds / 86400.0);
+    return fmt::format("{:.2g} years", seconds / (365.25 * 86400.0));
+  }
+  return fmt::format("{:.1f} s", seconds);
+}
+
 void TerminalProgress::draw(std::uint64_t done, bool final) {
   constexpr int kWidth = 30;
   const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
@@ -64,7 +74,7 @@ void TerminalProgress::draw(std::uint64_t done, bool final) {
   // Before the first unit is done there is no rate, so no estimate: "eta --", not "eta 0.0s".
   const std::string when =
       final      ? fmt::format("{} {:.1f}s", interrupt_signal() != 0 ? "stopped after" : "took", elapsed)
-      : rate > 0 ? fmt::format("eta {:.1f}s", static_cast<double>(total_ - std::min(done, total_)) / rate)
+      : rate > 0 ? "eta " + duration_text(static_cast<double>(total_ - std::min(done, total_)) / rate)
                  : std::string("eta --");
   fmt::print(stderr, "\r{:<22} [{}{}] {:5.1f}% {:>10.3g} {}/s  {}\x1b[K", label_, std::string(filled, '#'),
              std::string(kWidth - filled, '.'), 100.0 * fraction, rate, unit_.empty() ? "units" : unit_, when);

@@ -12,6 +12,10 @@
 
 namespace weft::app {
 
+/// @brief A duration for a person: "42.0 s", "12.5 min", "3.2 h", "58 days", "1.6e+03 years"
+/// (an estimate said before a run, a progress bar's ETA).
+[[nodiscard]] std::string duration_text(double seconds);
+
 class TerminalProgress final : public ProgressSink {
  public:
   /// `enabled` false (or stderr not a terminal) makes every call a no-op.

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <string_view>
 #include <vector>
@@ -136,6 +137,36 @@ void check_integer_options(CLI::App& app) {
         CLI::Validator([is_unsigned](std::string& text) { return integer_problem(text, is_unsigned); }, "", "integer"));
   }
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) check_integer_options(*sub);
+}
+
+std::string narrow_integer_message(const CLI::App& app, const CLI::ConversionError& e) {
+  // CLI11 2.x: "Could not convert: <name> = <values>".
+  static constexpr std::string_view kPrefix = "Could not convert: ";
+  const std::string_view what = e.what();
+  const std::size_t eq = what.find(" = ");
+  if (!what.starts_with(kPrefix) || eq == std::string_view::npos) return {};
+  const std::string name(what.substr(kPrefix.size(), eq - kPrefix.size()));
+  const std::string value(what.substr(eq + 3));
+  const CLI::Option* option = nullptr;
+  const std::function<void(const CLI::App&)> search = [&](const CLI::App& a) {
+    if (option == nullptr && a.parsed()) option = a.get_option_no_throw(name);
+    for (const CLI::App* sub : a.get_subcommands()) search(*sub);
+  };
+  search(app);
+  if (option == nullptr) return {};
+  const std::string type = option->get_type_name();
+  const bool is_unsigned = type.rfind("UINT", 0) == 0;
+  if (!is_unsigned && type.rfind("INT", 0) != 0) return {};
+  errno = 0;
+  char* end = nullptr;
+  const long long v = std::strtoll(value.c_str(), &end, 0);
+  if (end == value.c_str() || *end != '\0' || errno == ERANGE) return {};
+  if (v < 0 && !is_unsigned)
+    return fmt::format("{}: must be >= {}, got {}", name, std::numeric_limits<std::int32_t>::min(), value);
+  return fmt::format("{}: must be <= {}, got {}", name,
+                     is_unsigned ? std::numeric_limits<std::uint32_t>::max()
+                                 : static_cast<std::uint32_t>(std::numeric_limits<std::int32_t>::max()),
+                     value);
 }
 
 void check_output_options(const CLI::App& sub) {

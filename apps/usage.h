@@ -87,6 +87,12 @@ void check_empty_values(const CLI::App& app, int argc, const char* const* argv);
 /// has declared its options, so no command can forget it.
 void check_integer_options(CLI::App& app);
 
+/// @brief The message for an integer CLI11 could not store: check_integer_options lets through
+/// what fits in 64 bits, so a whole number refused here is past a narrower option's range (every
+/// narrower integer option of weft is 32 bits), said with that range instead of CLI11's "Could not
+/// convert". Empty for any other conversion error (CLI11's own message stands).
+[[nodiscard]] std::string narrow_integer_message(const CLI::App& app, const CLI::ConversionError& e);
+
 /// @brief Refuses, before the command runs, outputs it could not write (docs/robustness.md):
 /// the folder of every given or defaulted `--out` option of the parsed subcommand `sub`, and the
 /// folder of its `--output` file (weft::check_writable_folder). A given empty or blank value is

@@ -22,6 +22,7 @@
 #include "weft/core/error.h"
 #include "weft/core/memory.h"
 #include "weft/core/names.h"
+#include "weft/core/number_name.h"
 #include "weft/core/parse_number.h"
 #include "weft/curves/curve_io.h"
 #include "weft/dist/distributed.h"
@@ -314,8 +315,8 @@ const Registrar kGen{Command{
           ->check(positive)
           ->capture_default_str();
       sub.add_option("--voxel-size", o->voxel_size,
-                     fmt::format("Voxel edge in mm: >= {:.4g} (OpenVDB's smallest), below the cloth's longest side",
-                                 volume::min_voxel_size()))
+                     fmt::format("Voxel edge in mm: >= {} (OpenVDB's smallest), below the cloth's longest side",
+                                 bound_text(volume::min_voxel_size(), BoundSide::at_least)))
           ->check(positive)
           ->capture_default_str();
       sub.add_option("--samples-per-voxel", o->samples_per_voxel,

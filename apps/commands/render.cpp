@@ -51,7 +51,7 @@ struct RenderCliOptions {
   double study_time = 0.0;
   int study_spp = 0;
   std::vector<int> study_factors;
-  std::string study_window;
+  std::string study_window = study::StudySpec{}.scale;
   std::vector<std::string> study_memory;
   std::vector<std::string> study_albedo;  ///< {"fit"} or {"N:k", …}
   std::vector<std::string> study_components;
@@ -194,10 +194,9 @@ int run(const RenderCliOptions& o, const CLI::App& sub, const Context& ctx) {
       spec.factors = sorted;
       spec.factors_given = true;
     }
-    if (!o.study_window.empty()) {
-      as_usage([&] { fit::check_scale_text(o.study_window, "--study-window"); });
-      spec.scale = o.study_window;
-    }
+    // Checked even when given empty: `--study-window ""` is a mistake, not the default.
+    as_usage([&] { fit::check_scale_text(o.study_window, "--study-window"); });
+    spec.scale = o.study_window;
     if (!o.study_memory.empty()) {
       spec.memory_rules.clear();
       for (const std::string& name : o.study_memory) {

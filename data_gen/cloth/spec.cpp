@@ -13,6 +13,7 @@
 #include "weft/core/error.h"
 #include "weft/core/file_kind.h"
 #include "weft/core/json_input.h"
+#include "weft/core/number_name.h"
 #include "weft/volume/grid.h"
 
 namespace weft::cloth {
@@ -295,8 +296,8 @@ void validate(const ClothSpec& spec) {
   // The grid's voxel: OpenVDB represents none smaller (volume::min_voxel_size), and a voxel that
   // holds the whole cloth is no picture of it (the longest side, below and in pattern.cpp).
   if (spec.voxel_size < volume::min_voxel_size()) {
-    fail("voxel_size {} mm is below the smallest voxel OpenVDB represents: voxel_size must be >= {:.4g} mm",
-         spec.voxel_size, volume::min_voxel_size());
+    fail("voxel_size {} mm is below the smallest voxel OpenVDB represents: voxel_size must be >= {} mm",
+         spec.voxel_size, bound_text(volume::min_voxel_size(), BoundSide::at_least));
   }
   if (spec.samples_per_voxel < 1 || spec.samples_per_voxel > 64) {
     fail("samples_per_voxel must be in [1, 64], got {}", spec.samples_per_voxel);
@@ -324,6 +325,8 @@ void check_cloth_extent(const ClothSpec& given) {
     std::string what;  // the input that places the yarns along it
     double placement;  // mm from the origin to the farthest centreline
     bool automatic;    // a multiple of the yarn radius (resolve)
+    std::string knob;  // the field a user sets for it
+    double per;        // placement = per x knob
     [[nodiscard]] double fixed() const { return automatic ? 0.0 : placement; }  // what no yarn change moves
   };
   const auto rule = [&](bool automatic, double knit_factor, const char* woven) {
@@ -334,17 +337,18 @@ void check_cloth_extent(const ClothSpec& given) {
   const bool auto_weft = given.weft_spacing == 0.0;
   const bool auto_warp = given.warp_spacing == 0.0;
   const std::vector<Axis> axes = {
-      {fmt::format("crimp {:.3g} mm", spec.crimp) + rule(auto_crimp, 1.8, "0.6 x the warp and weft yarn radii"),
-       spec.crimp, auto_crimp},
-      {fmt::format("weft_count x weft_spacing ({} x {:.3g} mm)", spec.weft_count, spec.weft_spacing) +
+      {fmt::format("crimp {:g} mm", spec.crimp) + rule(auto_crimp, 1.8, "0.6 x the warp and weft yarn radii"),
+       spec.crimp, auto_crimp, "crimp", 1.0},
+      {fmt::format("weft_count x weft_spacing ({} x {:g} mm)", spec.weft_count, spec.weft_spacing) +
            rule(auto_weft, 6.5, "1.8 x the warp and weft yarn radii"),
-       spec.weft_count * spec.weft_spacing, auto_weft},
-      {fmt::format("warp_count x warp_spacing ({} x {:.3g} mm)", spec.warp_count, spec.warp_spacing) +
+       spec.weft_count * spec.weft_spacing, auto_weft, "weft_spacing", static_cast<double>(spec.weft_count)},
+      {fmt::format("warp_count x warp_spacing ({} x {:g} mm)", spec.warp_count, spec.warp_spacing) +
            rule(auto_warp, 8.0, "1.8 x the warp and weft yarn radii"),
-       (spec.warp_count + 1.5) * spec.warp_spacing, auto_warp},
+       (spec.warp_count + 1.5) * spec.warp_spacing, auto_warp, "warp_spacing", spec.warp_count + 1.5},
   };
   // The farthest axis is named; the bounds given hold for every axis.
   const Axis* worst = &axes[0];
+  const Axis* worst_given = nullptr;  // the farthest one past the range whose input was given
   double h_needed = 0.0;
   double radius_fits = std::numeric_limits<double>::infinity();
   for (const Axis& a : axes) {
@@ -352,24 +356,31 @@ void check_cloth_extent(const ClothSpec& given) {
     if (far > worst->placement + radius) worst = &a;
     h_needed = std::max(h_needed, far / static_cast<double>(kMaxVoxelIndex));
     if (far >= reach) radius_fits = std::min(radius_fits, radius * (reach - a.fixed()) / (far - a.fixed()));
+    if (!a.automatic && far >= reach && (worst_given == nullptr || a.placement > worst_given->placement))
+      worst_given = &a;
   }
   const double far = worst->placement + radius;
   if (far >= reach) {
     const std::string range =
         fmt::format("past the voxel index range +-{} at voxel_size {} mm (+-{:.3g} mm)", kMaxVoxelIndex, h, reach);
-    for (const Axis& a : axes) {
-      if (!a.automatic && a.placement >= reach) {
-        fail("{} puts the yarns {:.3g} mm from the origin, {}: lower it, or voxel_size must be above {:.3g} mm", a.what,
-             a.placement + radius, range, h_needed);
-      }
+    const std::string coarser = bound_text(h_needed, BoundSide::at_least);
+    // A given crimp or spacing is named with its own bound (what keeps its side, with the yarn's
+    // radius on top, inside the range), unless the radius alone is past it.
+    if (worst_given != nullptr && reach - radius > 0.0) {
+      fail(
+          "{} puts the yarns {:.6g} mm from the origin (with the yarn radius {:.3g} mm), {}: {} must be below {} mm "
+          "here, or voxel_size above {} mm",
+          worst_given->what, worst_given->placement + radius, radius, range, worst_given->knob,
+          bound_text((reach - radius) / worst_given->per, BoundSide::at_most), coarser);
     }
     const YarnParams& y = warp_widest ? spec.warp_yarn : spec.weft_yarn;
     fail(
         "the {} radius {:.3g} mm (ply_offset {:g} + ply_radius {:g} x max(ellipse_n {:g}, ellipse_b {:g}) x rho_max "
-        "{:g}) puts the yarns {:.3g} mm from the origin through {}{}, {}: the yarn radius must be below {:.3g} mm "
-        "here, or voxel_size above {:.3g} mm",
+        "{:g}) puts the yarns {:.3g} mm from the origin through {}{}, {}: the yarn radius must be below {} mm "
+        "here, or voxel_size above {} mm",
         warp_widest ? "warp_yarn" : "weft_yarn", radius, y.ply_offset, y.ply_radius, y.ellipse_n, y.ellipse_b,
-        y.rho_max, far, worst->automatic ? "the automatic " : "", worst->what, range, radius_fits, h_needed);
+        y.rho_max, far, worst->automatic ? "the automatic " : "", worst->what, range,
+        bound_text(radius_fits, BoundSide::at_most), coarser);
   }
   // The longest side of the cloth's box, yarn surfaces included: the largest voxel worth a grid.
   const double longest =

@@ -183,7 +183,7 @@ def test_copies_are_independent_grids():
 
 
 def test_the_smallest_voxel_openvdb_represents_is_accepted_and_named():
-    # 15 um in metres is just above OpenVDB's limit (h >= 1.442e-5); 14 um is refused in weft's words.
+    # 15 um in metres is just above OpenVDB's limit (h >= 1.443e-5); 14 um is refused in weft's words.
     g = weft.Grid.from_numpy(np.ones((2, 2, 2)), voxel_size=1.5e-5)
     assert g.voxel_size == pytest.approx(1.5e-5)
     with pytest.raises(weft.Error, match="smaller unit"):

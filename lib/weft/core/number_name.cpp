@@ -1,5 +1,8 @@
 #include "weft/core/number_name.h"
 
+#include <cmath>
+#include <cstdlib>
+
 #include <fmt/format.h>
 
 namespace weft {
@@ -8,5 +11,24 @@ namespace weft {
 std::string number_name(double x) { return fmt::format("{}", x + 0.0); }
 
 std::string signed_number_name(double x) { return fmt::format("{}{}", x + 0.0 < 0.0 ? "" : "+", number_name(x)); }
+
+std::string bound_text(double bound, BoundSide side) {
+  if (!std::isfinite(bound) || bound == 0.0) return fmt::format("{}", bound + 0.0);
+  const auto accepted = [&](const std::string& text) {
+    const double v = std::strtod(text.c_str(), nullptr);
+    return side == BoundSide::at_least ? v >= bound : v <= bound;
+  };
+  for (int digits = 4; digits <= 17; ++digits) {
+    std::string text = fmt::format("{:.{}g}", bound, digits);
+    if (accepted(text)) return text;
+    // Rounded to the nearest it fell on the refused side: one unit of the last digit the other way.
+    const double unit = std::pow(10.0, std::floor(std::log10(std::fabs(bound))) - (digits - 1));
+    const double stepped =
+        side == BoundSide::at_least ? std::ceil(bound / unit) * unit : std::floor(bound / unit) * unit;
+    text = fmt::format("{:.{}g}", stepped, digits);
+    if (accepted(text)) return text;
+  }
+  return fmt::format("{}", bound);  // the shortest round-trip form is the bound itself
+}
 
 }  // namespace weft

@@ -1,7 +1,8 @@
 #pragma once
 /// @file
-/// @brief Numbers in file and folder names (the study matrix's case folders, `weft sim2d`'s charts
-/// per η): one rule, so that distinct values never share a name.
+/// @brief Numbers written to be read back: in file and folder names (the study matrix's case
+/// folders, `weft sim2d`'s charts per η), one rule so that distinct values never share a name;
+/// and the bounds error messages give, which a user copies into the option they refused.
 
 #include <string>
 
@@ -16,5 +17,13 @@ namespace weft {
 /// @brief number_name with its sign always written, "+" for 0 too ("+0.5", "-0.5", "+0"): for
 /// names whose convention spells the sign.
 [[nodiscard]] std::string signed_number_name(double x);
+
+/// @brief Which side of a bound the value a message prints must fall on.
+enum class BoundSide { at_least, at_most };
+
+/// @brief A bound in 4 significant digits (more when needed), rounded to its accepted side: a
+/// lower bound up, an upper bound down, so that the printed number, given back, is accepted
+/// (the smallest voxel, 1.44225e-05, as "1.443e-05", not "1.442e-05" that is refused).
+[[nodiscard]] std::string bound_text(double bound, BoundSide side);
 
 }  // namespace weft

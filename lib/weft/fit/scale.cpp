@@ -13,6 +13,11 @@
 
 namespace weft::fit {
 namespace {
+// `value` of the window option as `asker` writes it: `--window yarn-measured`, `window="yarn-measured"`.
+std::string window_value(const Spelling& option, FrontEnd asker, std::string_view value) {
+  return asker == FrontEnd::cli ? fmt::format("{}{}", option.cli, value)
+                                : fmt::format("{}\"{}\"", option.python, value);
+}
 
 constexpr std::size_t kShards = 64;  // fixed: results do not depend on the thread count
 
@@ -143,13 +148,12 @@ double correlation_length(const volume::Grid& grid, int axis, ProgressSink& prog
   return n * h;
 }
 
-double measured_yarn_scale(const volume::Grid& grid, ProgressSink& progress, FrontEnd asker) {
+double measured_yarn_scale(const volume::Grid& grid, ProgressSink& progress, FrontEnd asker, const Spelling& option) {
   if (grid.active_voxel_count() == 0) fail("yarn scale: grid '{}' has no active voxels", grid.name());
   const double h = grid.voxel_size();
-  const Spelling length{"--window LENGTH", "window=LENGTH"};
   const auto unmeasurable = [&](const std::string& why) {
     fail("yarn scale: cannot be measured on grid '{}': {}: pass {} (about the yarn diameter, in the grid's units)",
-         grid.name(), why, length.in(asker));
+         grid.name(), why, option.in(asker) + "LENGTH");
   };
   // Per axis 3 ℓ_y, or a lower bound (3 × the largest lag) where the smoothed R stays above 1/e.
   // An axis one voxel long has no lag and says nothing.
@@ -197,18 +201,16 @@ void check_scale_text(const std::string& text, const std::string& option) {
 }
 
 StatisticsScale resolve_scale(const std::string& text, const volume::Grid& grid, const volume::Provenance& provenance,
-                              ProgressSink& progress, FrontEnd asker) {
+                              ProgressSink& progress, FrontEnd asker, const Spelling& option) {
   StatisticsScale s;
   if (text == "yarn") {
     // No silent voxel-dependent default: the measured scale drifts with the voxel size
     // (docs/validate.md), so a grid without a recorded yarn diameter must say its scale.
     if (!provenance.yarn_diameter) {
-      const Spelling length{"--window LENGTH", "window=LENGTH"};
-      const Spelling measured{"--window yarn-measured", "window=\"yarn-measured\""};
       fail(
           "grid '{}' records no yarn diameter (not written by weft gen): pass {} (about the yarn diameter, in the "
           "grid's units) or {} (estimated from the voxels; it depends on the voxel size)",
-          grid.name(), length.in(asker), measured.in(asker));
+          grid.name(), option.in(asker) + "LENGTH", window_value(option, asker, "yarn-measured"));
     }
     s.rule = "yarn";
     s.length.fill(*provenance.yarn_diameter);
@@ -217,7 +219,7 @@ StatisticsScale resolve_scale(const std::string& text, const volume::Grid& grid,
   }
   if (text == "yarn-measured") {
     s.rule = "yarn-measured";
-    s.length.fill(measured_yarn_scale(grid, progress, asker));
+    s.length.fill(measured_yarn_scale(grid, progress, asker, option));
     s.source = "yarn scale measured from the voxels (depends on the voxel size: docs/validate.md)";
     return s;
   }
@@ -278,7 +280,7 @@ ScaleUse scale_use(const StatisticsScale& scale, const volume::Grid& grid, bool 
   for (const Clamp& c : clamps) {
     use.notes.push_back(c.shorter
                             ? fmt::format("{}{:g} is shorter than half a voxel ({:g}) along {}: one voxel is used",
-                                          option.in(asker), c.given, h, c.axes)
+                                          option.in(asker), c.given, 0.5 * h, c.axes)
                             : fmt::format("{}{:g} is longer than the active box along {}: the box's extent is used",
                                           option.in(asker), c.given, c.axes));
   }

@@ -39,6 +39,11 @@
 
 namespace weft::fit {
 
+/// The window option as `weft validate`, `weft fit` and Python's validate/fit spell it, with its
+/// separator; the study's is kStudyWindowOption. The advice in every error names the asker's own.
+inline const Spelling kWindowOption{"--window ", "window="};
+inline const Spelling kStudyWindowOption{"--study-window ", "window="};
+
 struct StatisticsScale {
   std::string rule;                ///< "yarn", "yarn-measured", "corr", "extent" or "length"
   std::array<double, 3> length{};  ///< per axis, world units (0 = the extent along that axis)
@@ -62,15 +67,15 @@ struct ScaleUse {
 /// `option` is the window's option with its separator as each front end writes it (the study's
 /// is `--study-window `).
 [[nodiscard]] ScaleUse scale_use(const StatisticsScale& scale, const volume::Grid& grid, bool local_models,
-                                 FrontEnd asker = FrontEnd::cli,
-                                 const Spelling& option = Spelling{"--window ", "window="});
+                                 FrontEnd asker = FrontEnd::cli, const Spelling& option = kWindowOption);
 
 /// Parses `text` (one of the names above or a positive length) and resolves it for `grid`.
 /// Throws weft::Error for an unknown name or a non-positive length (naming the option as `asker`
 /// writes it).
 [[nodiscard]] StatisticsScale resolve_scale(const std::string& text, const volume::Grid& grid,
                                             const volume::Provenance& provenance,
-                                            ProgressSink& progress = null_progress(), FrontEnd asker = FrontEnd::cli);
+                                            ProgressSink& progress = null_progress(), FrontEnd asker = FrontEnd::cli,
+                                            const Spelling& option = kWindowOption);
 
 /// Checks `text` as resolve_scale would (a known name or a positive length) without a grid, so
 /// a bad --window is refused before anything is loaded; `option` names it in the errors (the
@@ -93,7 +98,7 @@ void check_scale_text(const std::string& text, const std::string& option = "wind
 /// The measured yarn scale (world units), from the voxels alone (see the file comment); throws
 /// weft::Error when it cannot be measured, naming the alternative as `asker` writes it.
 [[nodiscard]] double measured_yarn_scale(const volume::Grid& grid, ProgressSink& progress = null_progress(),
-                                         FrontEnd asker = FrontEnd::cli);
+                                         FrontEnd asker = FrontEnd::cli, const Spelling& option = kWindowOption);
 
 /// The first lag (interpolated linearly, in lags) at which `r` falls to 1/e (0 when r(0) is
 /// already there, as for a uniform grid's all-zero R); nullopt when it never does.

@@ -119,7 +119,15 @@ CheckedFields check_fields(const FieldsSpec& fields, const volume::Grid& grid) {
   const std::string what = fmt::format("local-gamma fields '{}'", fields.file.string());
   // The medium's own reading and checks (one-line errors naming the file), then its cells
   // against the grid's voxels.
-  auto field = std::make_shared<const LocalGammaField>(fields.file, fields.sigma, fields.memory);
+  // A file that is not fields (a cloth grid given for them, a file cut short) is refused with how
+  // to make the fields.
+  auto field = [&] {
+    try {
+      return std::make_shared<const LocalGammaField>(fields.file, fields.sigma, fields.memory);
+    } catch (const Error& e) {
+      fail("{}; {}", e.what(), make_them(fields.asker));
+    }
+  }();
   volume::Grid mean = [&] {
     try {
       return volume::Grid::load(fields.file, "mean_concentration");

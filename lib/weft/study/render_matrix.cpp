@@ -138,6 +138,7 @@ MatrixCaseResult decode(const MatrixCase& c, const dist::Bytes& b) {
     r.albedo_factors.emplace_back(f.at("factor").get<int>(), f.at("albedo_multiplier").get<double>());
   for (const auto& cj : j.at("candidates")) r.candidates.push_back(candidate_from(cj));
   for (const auto& fj : j.at("resolution_floors")) r.resolution_floors.push_back(resolution_floor_from_json(fj));
+  r.notes = j.at("notes").get<std::vector<std::string>>();
   return r;
 }
 
@@ -167,6 +168,7 @@ MatrixCaseResult run_case(const MatrixSpec& spec, const MatrixCase& c, const Fac
   out.reference_seconds = r.reference_seconds;
   out.albedo_factors = factors;
   out.resolution_floors = r.resolution_floors;
+  out.notes = r.notes;
   for (const StudyCandidate& sc : r.candidates) {
     MatrixCandidate mc;
     mc.study = sc;
@@ -242,6 +244,7 @@ json matrix_case_json(const MatrixCaseResult& r) {
           {"reference_seconds", r.reference_seconds},
           {"albedo_factors", factors},
           {"resolution_floors", floors},
+          {"notes", r.notes},
           {"candidates", cands}};
 }
 
@@ -350,10 +353,10 @@ std::string matrix_key(const MatrixSpec& spec) {
                     {"scale", spec.study.scale},
                     {"albedo_fit", true},
                     {"components", spec.study.components},
-                    // What a stored case holds (the study's candidate JSON, the resolution floors)
-                    // and what its coarse grids are (6: blocks anchored to the cloth, docs/render.md
-                    // §5); bumped when either changes.
-                    {"case_format", 6}};
+                    // What a stored case holds (the study's candidate JSON, the resolution floors,
+                    // 7: its warnings) and what its coarse grids are (6: blocks anchored to the
+                    // cloth, docs/render.md §5); bumped when either changes.
+                    {"case_format", 7}};
   return key.dump(2) + "\n";
 }
 

@@ -116,6 +116,7 @@ struct MatrixCaseResult {
   std::vector<std::pair<int, double>> albedo_factors;  ///< what the case's study was given
   std::vector<MatrixCandidate> candidates;
   std::vector<ResolutionFloor> resolution_floors;  ///< the case's study's (resolution_floor.h)
+  std::vector<std::string> notes;                  ///< the case's study's warnings (a clamped window)
 };
 
 /// @brief A case as JSON, written once: what a stored case holds and crosses ranks as (MessagePack,

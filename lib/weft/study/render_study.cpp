@@ -231,6 +231,12 @@ void check_study_scene(const SceneDesc& scene, const StudySpec& spec) {
   if (!spec.components.empty()) check_component_scene(scene);
 }
 
+std::size_t candidate_count(const StudySpec& spec, std::size_t albedo_candidates) {
+  // The fine grid and the slab; per factor the exponential, shadow-corrected and
+  // shadow-directional grids and a local-gamma candidate per memory rule; the albedo-corrected.
+  return 2 + (3 + spec.memory_rules.size()) * spec.factors.size() + albedo_candidates;
+}
+
 StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, ProgressSink& progress) {
   check_study_spec(requested);
   check_study_scene(scene, requested);
@@ -242,20 +248,15 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, Progre
   spec.factors = factors_for_grid(requested, fine);
   // The statistics scale: the yarn diameter of the grid's provenance, as `weft validate`.
   const volume::Provenance provenance = volume::read_provenance(fine);
-  fit::StatisticsScale scale;
   // No silent voxel-dependent fallback (as validate): a grid without a yarn diameter is refused
-  // with what to pass.
-  try {
-    scale = fit::resolve_scale(spec.scale, fine, provenance, progress);
-  } catch (const Error& e) {
-    if (spec.scale != "yarn") throw;
-    fail("--study: {} (weft render: --study-window)", e.what());
-  }
+  // with what to pass, in the asker's spelling of the study's window.
+  const fit::StatisticsScale scale =
+      fit::resolve_scale(spec.scale, fine, provenance, progress, spec.front, fit::kStudyWindowOption);
   // The window is used as validate uses it (fit::scale_use: clamped to one voxel .. the active
   // box per axis), and a clamp is said before the renders and kept in the report's notes, as
   // validate and fit warn and record it: a window is never changed in silence.
   const fit::ScaleUse scale_used =
-      fit::scale_use(scale, fine, /*local_models=*/true, spec.front, Spelling{"--study-window ", "window="});
+      fit::scale_use(scale, fine, /*local_models=*/true, spec.front, fit::kStudyWindowOption);
   for (const std::string& note : scale_used.notes) say(spec, "warning: " + note);
   const bool root = dist::is_root();
   // A study that fails leaves no half of its grids, fields and scenes behind (they are not
@@ -269,7 +270,8 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, Progre
                     ? fmt::format("fixed {} spp per candidate (equal samples, not equal time)", spec.spp)
                     : fmt::format("time budget of {:.3g} s per candidate (passes of 1 spp until spent)", spec.seconds);
 
-  result.scale = (scale.length[0] + scale.length[1] + scale.length[2]) / 3.0;
+  // The length used (clamped as said above), as validate's `window.length_used`.
+  result.scale = (scale_used.length[0] + scale_used.length[1] + scale_used.length[2]) / 3.0;
 
   // (c) The best model of `weft validate` on the fine grid, chosen against the ground truth
   // (fit::best_by_ground_truth: labelled so in the report, docs/architecture.md).

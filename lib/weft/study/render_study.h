@@ -240,6 +240,11 @@ struct StudyResult {
   std::string headline;  ///< "at N× coarser and M× less time, model X is within E of the fine grid"
 };
 
+/// The number of candidates run_study renders, two images each, when `albedo_candidates` of them
+/// are albedo-corrected (spec.albedo_factors.size(), or the factors a matrix will fit): what a run
+/// says it will cost before it starts.
+[[nodiscard]] std::size_t candidate_count(const StudySpec& spec, std::size_t albedo_candidates);
+
 /// @brief Runs the study on the one grid medium of `scene` (bounded by a box shape). Every MPI
 /// rank must call it (the renders are collective); rank 0 writes the files under work_dir and
 /// holds the images and statistics. Throws weft::Error for a scene without exactly one grid

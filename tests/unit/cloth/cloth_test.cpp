@@ -312,6 +312,19 @@ TEST(Cloth, AClothPastTheIndexRangeNamesTheInputThatPutsItThere) {
   ClothSpec crimp = spec;
   crimp.crimp = 1e300;
   EXPECT_EQ(refusal(crimp).rfind("crimp 1e+300 mm puts the yarns 1e+300 mm from the origin", 0), 0U) << refusal(crimp);
+  // A crimp given under the range by less than the yarn's radius is named, not the radius, with a
+  // bound of its own that is the real one; the voxel size that fits is above the one given.
+  ClothSpec near = spec;
+  near.crimp = static_cast<double>(kMaxVoxelIndex) * near.voxel_size * (1.0 - 1e-9);
+  const std::string past = refusal(near);
+  EXPECT_EQ(past.rfind("crimp ", 0), 0U) << past;
+  const double crimp_fits = number_after(past, "crimp must be below ");
+  ASSERT_LT(crimp_fits, near.crimp) << past;
+  near.crimp = crimp_fits;
+  EXPECT_EQ(refusal(near), "accepted");
+  near.crimp = 1.0001 * (static_cast<double>(kMaxVoxelIndex) * spec.voxel_size - yarn_envelope_radius(spec.warp_yarn));
+  EXPECT_NE(refusal(near), "accepted");
+  EXPECT_GT(number_after(past, "or voxel_size above "), spec.voxel_size) << past;
   ClothSpec given = with_yarns(1e6, 0.07);
   given.crimp = 0.1;
   given.warp_spacing = given.weft_spacing = 1.0;

@@ -3,6 +3,8 @@
 #include "weft/core/number_name.h"
 
 #include <cmath>
+#include <optional>
+#include <random>
 #include <set>
 #include <string>
 #include <vector>
@@ -52,6 +54,26 @@ TEST(NumberName, MinusZeroIsZeroAndTheSignIsAlwaysWritten) {
   EXPECT_EQ(signed_number_name(0.5), "+0.5");
   EXPECT_EQ(signed_number_name(-0.5), "-0.5");
   EXPECT_EQ(number_name(45.0), "45");  // the study matrix's folder names as before
+}
+
+// A bound printed in a message, given back, is accepted: a lower bound is never printed below
+// itself nor an upper bound above, over random magnitudes and the values that round the wrong way.
+TEST(BoundText, PrintedBoundsAreOnTheAcceptedSide) {
+  EXPECT_EQ(bound_text(std::cbrt(3e-15), BoundSide::at_least), "1.443e-05");  // OpenVDB's smallest voxel
+  EXPECT_EQ(bound_text(std::cbrt(3e-15), BoundSide::at_most), "1.442e-05");
+  EXPECT_EQ(bound_text(2.5, BoundSide::at_least), "2.5");
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> exponent(-300.0, 300.0);
+  for (int i = 0; i < 20000; ++i) {
+    const double x = std::pow(10.0, exponent(rng)) * (i % 2 == 0 ? 1.0 : -1.0);
+    const std::optional<double> low = parse_number(bound_text(x, BoundSide::at_least));
+    const std::optional<double> high = parse_number(bound_text(x, BoundSide::at_most));
+    ASSERT_TRUE(low && high) << x;
+    EXPECT_GE(*low, x) << bound_text(x, BoundSide::at_least);
+    EXPECT_LE(*high, x) << bound_text(x, BoundSide::at_most);
+    EXPECT_LE(std::fabs(*low - x), 1e-3 * std::fabs(x)) << x;  // still 4 digits' worth of x
+    EXPECT_LE(std::fabs(*high - x), 1e-3 * std::fabs(x)) << x;
+  }
 }
 
 }  // namespace

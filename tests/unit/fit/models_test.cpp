@@ -209,7 +209,7 @@ TEST(Scale, AClampedWindowIsReportedWithTheLengthUsed) {
   const ScaleUse tiny = scale_use(s, g, true);
   for (double l : tiny.length) EXPECT_DOUBLE_EQ(l, 0.05);
   ASSERT_EQ(tiny.notes.size(), 2U);
-  EXPECT_TRUE(holds(tiny.notes[0], "--window 1e-09 is shorter than half a voxel (0.05) along x, y, z: one voxel"))
+  EXPECT_TRUE(holds(tiny.notes[0], "--window 1e-09 is shorter than half a voxel (0.025) along x, y, z: one voxel"))
       << tiny.notes[0];
   EXPECT_TRUE(holds(tiny.notes[1], "one voxel along x, y, z: the local models")) << tiny.notes[1];
   EXPECT_EQ(scale_use(s, g, false).notes.size(), 1U);  // fit: no local models
