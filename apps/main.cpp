@@ -60,6 +60,10 @@ int main(int argc, char** argv) {
   using namespace weft::app;
   // Under mpirun every rank runs this same main; rank 0 alone prints and writes (docs/scale-out.md).
   weft::dist::Session mpi(argc, argv);
+  // A file size limit (ulimit -f) is a short write like a full disk: with SIGXFSZ ignored write(2)
+  // fails with EFBIG and the writer names the file and keeps the earlier one (docs/robustness.md
+  // "Short writes"); its default action killed weft mid-file and left the temporary file behind.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{
       "weft: transmittance of spatially-correlated media (cloth) -- ground truth, gamma models, rendering.\n"
       "Lengths are in the scene's unit (millimetres for cloth) unless an option says otherwise."};

@@ -512,7 +512,7 @@ ClothSpec cloth_spec_from_json(const std::string& text, const std::string& where
   ClothSpec spec;
   for (auto it = j.begin(); it != j.end(); ++it) {
     const std::string& k = it.key();
-    const std::string at = where + ": " + k;
+    const std::string at = fmt::format("{}: {}", where, k);
     const json& v = it.value();
     if (k == "generator" || k == "units") {
       if (k == "units" && v != "mm") fail("{}: only \"mm\" is supported, got {}", at, v.dump());

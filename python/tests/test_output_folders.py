@@ -108,3 +108,27 @@ def test_render_convergence_into_an_earlier_one(tmp_path, weft_bin, small_cloth)
     out = tmp_path / "out"
     check_all_or_nothing([weft_bin, "render", str(small_cloth / "scene.json"), "--convergence", "auto", "--quick",
                           "--spp", "128", "--reference-spp", "16", "--out", str(out)], out)
+
+
+def test_a_file_size_limit_is_an_error_naming_the_file(tmp_path, weft_bin, small_cloth):
+    """`ulimit -f` makes the kernel stop a file at the limit and send SIGXFSZ, whose default action
+    kills the process; weft ignores it, so the write fails and is reported like a full disk: exit
+    1, one line naming the file, and the folder as it was (docs/robustness.md "Short writes"). The
+    child starts with the default action (Python ignores SIGXFSZ, and exec keeps an ignored one)."""
+    import resource
+
+    out = tmp_path / "out"
+    args = [weft_bin, "gen", "--config", str(small_cloth / "small.json"), "--write", "grid,config", "--out", str(out)]
+    subprocess.run(args, check=True, capture_output=True)
+    before = snapshot(out)
+    grid_bytes = os.path.getsize(out / "cloth.vdb")
+
+    def limited():
+        signal.signal(signal.SIGXFSZ, signal.SIG_DFL)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (grid_bytes // 2, resource.RLIM_INFINITY))
+
+    run = subprocess.run(args, capture_output=True, text=True, preexec_fn=limited)
+    assert run.returncode == 1, (run.returncode, run.stderr)
+    lines = run.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"weft: error: cannot write '{out / 'cloth.vdb'}'"), run.stderr
+    assert snapshot(out) == before

@@ -105,11 +105,9 @@ Sampled sample_grid(const volume::Grid& grid) {
     }
   }
   s.image->GetPointData()->SetScalars(values);
-  for (int a = 0; a < 3; ++a) {
-    s.bounds[static_cast<std::size_t>(2 * a)] =
-        o[static_cast<std::size_t>(a)] + h * box.min[static_cast<std::size_t>(a)];
-    s.bounds[static_cast<std::size_t>(2 * a + 1)] =
-        o[static_cast<std::size_t>(a)] + h * (box.max[static_cast<std::size_t>(a)] + 1.0);
+  for (std::size_t a = 0; a < 3; ++a) {
+    s.bounds[2 * a] = o[a] + h * box.min[a];
+    s.bounds[2 * a + 1] = o[a] + h * (box.max[a] + 1.0);
   }
   return s;
 }

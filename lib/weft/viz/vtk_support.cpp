@@ -8,6 +8,7 @@
 #include <link.h>
 #include <unistd.h>
 
+#include <fmt/format.h>
 #include <vtkFreeTypeTools.h>
 #include <vtkNew.h>
 #include <vtkObjectFactory.h>
@@ -113,7 +114,7 @@ std::string wrap_text(vtkTextProperty& text, const std::string& s, int max_width
   while (pos <= s.size()) {
     const std::size_t end = std::min(s.find(' ', pos), s.size());
     const std::string word = s.substr(pos, end - pos);
-    const std::string candidate = line.empty() ? word : line + " " + word;
+    const std::string candidate = line.empty() ? word : fmt::format("{} {}", line, word);
     if (!line.empty() && width_of(candidate) > max_width) {
       out += line + "\n";
       line = word;

@@ -287,11 +287,11 @@ class VdbScanner {
     if (type == "AffineMap" || type == "UnitaryMap") {
       skip(128, "grid transform");  // Mat4d
     } else if (type == "ScaleMap" || type == "UniformScaleMap") {
-      skip(5 * 24, "grid transform");  // five Vec3d
+      skip(std::uint64_t{5} * 24, "grid transform");  // five Vec3d
     } else if (type == "TranslationMap") {
       skip(24, "grid transform");
     } else if (type == "ScaleTranslateMap" || type == "UniformScaleTranslateMap") {
-      skip(6 * 24, "grid transform");
+      skip(std::uint64_t{6} * 24, "grid transform");
     } else if (type == "NonlinearFrustumMap" && depth == 0) {
       skip(48 + 16, "grid transform");  // bounding box, taper, depth, then a second map
       transform(depth + 1);
