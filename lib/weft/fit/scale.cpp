@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <optional>
 
 #include "weft/core/error.h"
@@ -17,6 +18,20 @@ namespace {
 std::string window_value(const Spelling& option, FrontEnd asker, std::string_view value) {
   return asker == FrontEnd::cli ? fmt::format("{}{}", option.cli, value)
                                 : fmt::format("{}\"{}\"", option.python, value);
+}
+
+// A window given as a length: a positive finite number. A number that is not one (nan, inf, past
+// double's range) is said as such, not as an unknown name.
+double window_length(const std::string& text, const std::string& option) {
+  const std::optional<double> v = parse_number(text);
+  if (!v) {
+    char* end = nullptr;
+    (void)std::strtod(text.c_str(), &end);
+    if (end == text.c_str() || *end != '\0')
+      fail("{} '{}' is not yarn, yarn-measured, corr, extent or a length", option, text);
+  }
+  if (!v || !std::isfinite(*v) || !(*v > 0.0)) fail("{} must be finite and > 0, got {}", option, text);
+  return *v;
 }
 
 constexpr std::size_t kShards = 64;  // fixed: results do not depend on the thread count
@@ -195,9 +210,7 @@ double measured_yarn_scale(const volume::Grid& grid, ProgressSink& progress, Fro
 
 void check_scale_text(const std::string& text, const std::string& option) {
   if (text == "yarn" || text == "yarn-measured" || text == "corr" || text == "extent") return;
-  const std::optional<double> v = parse_number(text);
-  if (!v || std::isnan(*v)) fail("{} '{}' is not yarn, yarn-measured, corr, extent or a length", option, text);
-  require_positive(option.c_str(), *v);
+  (void)window_length(text, option);
 }
 
 StatisticsScale resolve_scale(const std::string& text, const volume::Grid& grid, const volume::Provenance& provenance,
@@ -235,11 +248,8 @@ StatisticsScale resolve_scale(const std::string& text, const volume::Grid& grid,
     s.source = "the grid's extent along each beam";
     return s;
   }
-  const std::optional<double> v = parse_number(text);
-  if (!v || std::isnan(*v)) fail("window '{}' is not yarn, yarn-measured, corr, extent or a length", text);
-  require_positive("window", *v);
   s.rule = "length";
-  s.length.fill(*v);
+  s.length.fill(window_length(text, "window"));
   s.source = "given length";
   return s;
 }
