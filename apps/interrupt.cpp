@@ -17,8 +17,6 @@ std::atomic<int> g_signal{0};
 static_assert(std::atomic<int>::is_always_lock_free);
 
 constexpr std::array<int, 2> kSignals{SIGINT, SIGTERM};
-std::array<struct sigaction, kSignals.size()> g_previous{};
-std::array<bool, kSignals.size()> g_installed{};
 
 extern "C" void on_signal(int signal) {
   int none = 0;
@@ -27,25 +25,15 @@ extern "C" void on_signal(int signal) {
 
 }  // namespace
 
-InterruptGuard::InterruptGuard() {
+void catch_interrupts() {
   if (dist::size() > 1) return;
   struct sigaction action {};
   action.sa_handler = on_signal;
   sigemptyset(&action.sa_mask);
   // One-shot: the handler resets itself to the default, so a second signal kills the process.
   action.sa_flags = SA_RESETHAND | SA_RESTART;
-  for (std::size_t i = 0; i < kSignals.size(); ++i) {
-    g_installed[i] = ::sigaction(kSignals[i], &action, &g_previous[i]) == 0;
-  }
+  for (const int signal : kSignals) ::sigaction(signal, &action, nullptr);
   set_stop_request(&g_signal);
-}
-
-InterruptGuard::~InterruptGuard() {
-  set_stop_request(nullptr);
-  for (std::size_t i = 0; i < kSignals.size(); ++i) {
-    if (g_installed[i]) ::sigaction(kSignals[i], &g_previous[i], nullptr);
-    g_installed[i] = false;
-  }
 }
 
 int interrupt_signal() noexcept { return g_signal.load(std::memory_order_relaxed); }

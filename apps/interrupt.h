@@ -15,19 +15,16 @@
 
 namespace weft::app {
 
-/// @brief While alive, the first SIGINT or SIGTERM is caught (one-shot handlers); restores the
-/// previous actions when destroyed. Installed only when this process runs alone: under several
+/// @brief From now until the process exits, the first SIGINT or SIGTERM is caught (one-shot
+/// handlers). Not restored at the end of the run: a signal between a run's last commit and the
+/// exit would otherwise kill the process by the default action, its outputs new and complete but
+/// its exit code 130 and its buffered `wrote` lines lost; caught, it is too late to stop anything
+/// and the run reports its success. Installed only when this process runs alone: under several
 /// MPI ranks a rank stopping at its own next report could leave the others waiting in a
 /// collective, so there both keep their default action (mpirun stops the job).
-class InterruptGuard {
- public:
-  InterruptGuard();
-  ~InterruptGuard();
-  InterruptGuard(const InterruptGuard&) = delete;
-  InterruptGuard& operator=(const InterruptGuard&) = delete;
-};
+void catch_interrupts();
 
-/// @brief The signal a live InterruptGuard caught (SIGINT or SIGTERM), 0 if none.
+/// @brief The signal caught since catch_interrupts (SIGINT or SIGTERM), 0 if none.
 [[nodiscard]] int interrupt_signal() noexcept;
 
 /// @brief Throws weft::Cancelled once interrupt_signal() is not 0.

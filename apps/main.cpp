@@ -129,7 +129,7 @@ int main(int argc, char** argv) {
   std::string error;
   try {
     const weft::ThreadLimit limit(globals.threads);
-    const InterruptGuard interrupt;
+    catch_interrupts();
     TerminalProgress progress(!globals.quiet);
     const Context context{globals, progress};
     bool ran = false;

@@ -6,8 +6,10 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 #include <system_error>
 #include <utility>
 #include <vector>
@@ -192,15 +194,23 @@ ClothSpec make_spec(CLI::App& sub, const GenOptions& o) {
     if (!given("--spacing") && !given("--crimp")) spec.warp_spacing = spec.weft_spacing = spec.crimp = 0.0;
   }
   if (given("--yarns")) {
-    int a = 0;
-    int b = 0;
-    char x = 0;
-    char extra = 0;
-    if (std::sscanf(o.yarns.c_str(), "%d%c%d%c", &a, &x, &b, &extra) != 3 || (x != 'x' && x != 'X') || a < 1 || b < 1) {
+    // Two whole numbers around an x, each read whole (sscanf's %d wrapped 4294967297 to 1).
+    const std::string_view text = o.yarns;
+    const std::size_t x = text.find_first_of("xX");
+    const auto count = [](std::string_view t) -> std::optional<long long> {
+      long long v = 0;
+      const auto [end, error] = std::from_chars(t.data(), t.data() + t.size(), v);
+      if (error != std::errc() || end != t.data() + t.size()) return std::nullopt;
+      return v;
+    };
+    const std::optional<long long> a = x == std::string_view::npos ? std::nullopt : count(text.substr(0, x));
+    const std::optional<long long> b = x == std::string_view::npos ? std::nullopt : count(text.substr(x + 1));
+    if (!a || !b || *a < 1 || *b < 1)
       usage_fail("--yarns: expected WARPxWEFT with positive counts (e.g. 8x8), got '{}'", o.yarns);
-    }
-    spec.warp_count = a;
-    spec.weft_count = b;
+    if (*a > cloth::kMaxYarnCount || *b > cloth::kMaxYarnCount)
+      usage_fail("--yarns: counts must be in [1, {}], got '{}'", cloth::kMaxYarnCount, o.yarns);
+    spec.warp_count = static_cast<int>(*a);
+    spec.weft_count = static_cast<int>(*b);
   }
   if (given("--yarn")) spec.warp_yarn = spec.weft_yarn = as_usage([&] { return cloth::yarn_preset(o.yarn); });
   if (given("--warp-yarn")) spec.warp_yarn = as_usage([&] { return cloth::yarn_preset(o.warp_yarn); });

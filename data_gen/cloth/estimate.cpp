@@ -197,11 +197,13 @@ ClothEstimate estimate_cloth(const ClothSpec& spec) {
   return e;
 }
 
-std::string describe(const ClothEstimate& e) {
+std::string describe(const ClothEstimate& e) { return describe(e, format_bytes(e.peak_bytes)); }
+
+std::string describe(const ClothEstimate& e, const std::string& peak) {
   return fmt::format(
       "{} fibres, {:.4g} mm of fibre, {} points ({}), {} loop flyaways; ~{:.3g} active voxels, grid {}; peak ~{}",
       e.fibers, e.fiber_length, e.fiber_points, format_bytes(e.fiber_bytes), e.loops,
-      static_cast<double>(e.active_voxels), format_bytes(e.grid_bytes), format_bytes(e.peak_bytes));
+      static_cast<double>(e.active_voxels), format_bytes(e.grid_bytes), peak);
 }
 
 namespace {
@@ -262,7 +264,8 @@ void check_budget(const ClothEstimate& e, std::uint64_t budget_bytes, FrontEnd a
   if (e.peak_bytes > budget) {
     const Spelling options{"--max-memory; check --input-scale, --yarns, --voxel-size" + in_config,
                            "max_memory_mb=; check input_scale=, yarns=, voxel_size=" + in_config};
-    fail("{}: estimated {}, over the memory budget of {} ({})", subject, describe(e), format_bytes(budget),
+    const auto [peak, limit] = format_bytes_apart(e.peak_bytes, budget);
+    fail("{}: estimated {}, over the memory budget of {} ({})", subject, describe(e, peak), limit,
          bytes_advice(options));
   }
   // Work, as every pass over a grid is bounded (volume/pass_budget.h): a step here (a point made,

@@ -65,6 +65,8 @@ ClothEstimate estimate_cloth(const ClothSpec& spec);
 
 /// The estimate on one line, for messages and the summary.
 std::string describe(const ClothEstimate& e);
+/// describe with the peak as given (`peak`: a budget message prints it apart from the budget).
+std::string describe(const ClothEstimate& e, const std::string& peak);
 
 /// Throws weft::Error (naming the estimate and the budget, and the options that set them in the
 /// words of `asker`: `--max-memory` or `max_memory_mb=`) when e.peak_bytes exceeds `budget_bytes`

@@ -281,10 +281,10 @@ void validate(const ClothSpec& spec) {
     for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
     fail("pattern: unknown pattern '{}' (known: {})", spec.pattern, list);
   }
-  if (spec.warp_count < 1 || spec.warp_count > 100000)
-    fail("warp_count must be in [1, 100000], got {}", spec.warp_count);
-  if (spec.weft_count < 1 || spec.weft_count > 100000)
-    fail("weft_count must be in [1, 100000], got {}", spec.weft_count);
+  if (spec.warp_count < 1 || spec.warp_count > kMaxYarnCount)
+    fail("warp_count must be in [1, {}], got {}", kMaxYarnCount, spec.warp_count);
+  if (spec.weft_count < 1 || spec.weft_count > kMaxYarnCount)
+    fail("weft_count must be in [1, {}], got {}", kMaxYarnCount, spec.weft_count);
   require_non_negative("warp_spacing", spec.warp_spacing);
   require_non_negative("weft_spacing", spec.weft_spacing);
   require_non_negative("crimp", spec.crimp);

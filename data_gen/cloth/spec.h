@@ -109,6 +109,9 @@ ClothSpec resolve(ClothSpec spec);
 /// The voxelizer's bound on |voxel index| (its leaf keys hold 21 bits an axis, voxelize.cpp): a
 /// cloth reaching kMaxVoxelIndex · voxel_size mm from the origin cannot be voxelized.
 inline constexpr std::int64_t kMaxVoxelIndex = 1LL << 22;
+
+/// The most yarns of one direction a cloth takes (warp_count, weft_count).
+inline constexpr int kMaxYarnCount = 100000;
 /// Throws weft::Error naming the parameter and its valid range when any value is NaN, negative,
 /// out of range or unknown: voxel_size below volume::min_voxel_size, or a woven or knit cloth
 /// that check_cloth_extent refuses. Best called before resolve: a spacing or crimp still 0 is

@@ -362,8 +362,9 @@ volume::Grid voxelize(const FiberSet& fibers, const VoxelizeOptions& options, Vo
   // long yarns meandering through a large, mostly empty box).
   const std::uint64_t binning = estimate.bin_entries * kBinEntryBytes;
   if (binning > budget) {
+    const auto [need, limit] = format_bytes_apart(binning, budget);
     fail("voxel_size {} mm: voxelizing would take {} for {} fibre pieces alone, over the memory budget of {} ({})", h,
-         format_bytes(binning), estimate.pieces, format_bytes(budget), budget_option(options));
+         need, estimate.pieces, limit, budget_option(options));
   }
 
   const double delta = h / options.samples_per_voxel;
@@ -378,7 +379,8 @@ volume::Grid voxelize(const FiberSet& fibers, const VoxelizeOptions& options, Vo
     fail(
         "voxel_size {} mm: voxelizing would take up to {} ({} leaves of 8^3 voxels), over the memory budget of {} "
         "({})",
-        h, format_bytes(binning + leaf_count * kLeafBytes), leaf_count, format_bytes(budget), budget_option(options));
+        h, format_bytes_apart(binning + leaf_count * kLeafBytes, budget).first, leaf_count,
+        format_bytes_apart(binning + leaf_count * kLeafBytes, budget).second, budget_option(options));
   }
 
   using Leaf = openvdb::FloatTree::LeafNodeType;

@@ -74,6 +74,9 @@ void write_atomically(const fs::path& target, const std::function<void(const fs:
     fail("output folder '{}' does not exist", dir.string());
   }
   if (::access(dir.c_str(), W_OK) != 0) fail("output folder '{}' is not writable", dir.string());
+  // A folder under the output's name: the rename would fail after the work, and a guard would take
+  // the name for one the run wrote and remove what is the user's.
+  if (fs::is_directory(target, ec)) fail("output file '{}' is a folder, not a file", target.string());
   const fs::path tmp = temporary_beside(target);
   try {
     write(tmp);

@@ -34,6 +34,21 @@ std::uint64_t memory_budget_bytes(const char* what, double mib) {
   return std::max<std::uint64_t>(1U, static_cast<std::uint64_t>(bytes));
 }
 
+std::pair<std::string, std::string> format_bytes_apart(std::uint64_t a, std::uint64_t b) {
+  std::pair<std::string, std::string> texts{format_bytes(a), format_bytes(b)};
+  if (a == b || texts.first != texts.second) return texts;
+  const std::uint64_t larger = std::max(a, b);
+  const auto [unit, name] = larger < 1024U * 1024U             ? std::pair{1024.0, "KiB"}
+                            : larger < 1024ULL * 1024U * 1024U ? std::pair{1024.0 * 1024.0, "MiB"}
+                                                               : std::pair{1024.0 * 1024.0 * 1024.0, "GiB"};
+  for (int decimals = 2; decimals <= 9; ++decimals) {
+    texts = {fmt::format("{:.{}f} {}", static_cast<double>(a) / unit, decimals, name),
+             fmt::format("{:.{}f} {}", static_cast<double>(b) / unit, decimals, name)};
+    if (texts.first != texts.second) return texts;
+  }
+  return {fmt::format("{} bytes", a), fmt::format("{} bytes", b)};
+}
+
 std::string format_bytes(std::uint64_t bytes) {
   if (bytes == 1U) return "1 byte";
   if (bytes < 1024U) return fmt::format("{} bytes", bytes);

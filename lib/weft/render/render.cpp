@@ -187,8 +187,9 @@ RenderResult render(const World& world, const RenderOptions& options, ProgressSi
     fail(
         "{}: the camera's {}x{} film needs about {} (sample sums and images), over the memory budget of {}: lower "
         "camera.width and camera.height",
-        world.source, camera.width, camera.height, format_bytes(film_bytes(camera.width, camera.height)),
-        format_bytes(budget));
+        world.source, camera.width, camera.height,
+        format_bytes_apart(film_bytes(camera.width, camera.height), budget).first,
+        format_bytes_apart(film_bytes(camera.width, camera.height), budget).second);
 
   RenderResult result;
   result.stats.features = world.features;

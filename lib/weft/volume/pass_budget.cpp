@@ -13,9 +13,10 @@ void check_pass_cost(std::string_view what, std::string_view subject, const Pass
   // Compared in double: a sparse grid's box can make the estimate larger than any integer.
   if (!(cost.bytes <= static_cast<double>(budget))) {
     const bool fits = cost.bytes < 0x1p63;
-    fail("{} over {} would take {}, over the memory budget of {} (half the RAM or of ulimit -v)", what, subject,
-         fits ? format_bytes(static_cast<std::uint64_t>(cost.bytes)) : fmt::format("{:.3g} bytes", cost.bytes),
-         format_bytes(budget));
+    const auto [need, limit] = fits ? format_bytes_apart(static_cast<std::uint64_t>(cost.bytes), budget)
+                                    : std::pair{fmt::format("{:.3g} bytes", cost.bytes), format_bytes(budget)};
+    fail("{} over {} would take {}, over the memory budget of {} (half the RAM or of ulimit -v)", what, subject, need,
+         limit);
   }
   if (!(cost.steps <= kMaxPassSteps)) {
     fail(

@@ -214,8 +214,9 @@ void check_float_resolution(const Grid& grid, const IndexBox& box, ExportFormat 
 void check_mitsuba_vol(const IndexBox& box, const fs::path& path, std::uint64_t max_bytes) {
   const std::uint64_t bytes = dense_bytes(box);
   if (bytes > max_bytes) {
+    const auto [need, limit] = format_bytes_apart(bytes, max_bytes);
     fail("{}: the dense volume of {} voxels would take {}, over the limit of {}", path.string(), bytes / sizeof(float),
-         format_bytes(bytes), format_bytes(max_bytes));
+         need, limit);
   }
   for (const auto n : box.extent()) {
     if (n > std::numeric_limits<std::int32_t>::max())

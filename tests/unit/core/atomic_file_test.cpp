@@ -102,6 +102,22 @@ TEST(AtomicFile, MissingFolderIsAClearError) {
               ::testing::ThrowsMessage<weft::Error>(::testing::HasSubstr("/nonexistent-weft-folder")));
 }
 
+// A folder under the output's name is refused before the write, and stays, also in a guarded
+// folder (the guard had taken it for the run's file and removed it).
+TEST(AtomicFile, AFolderUnderTheOutputsNameIsRefusedAndKept) {
+  const auto dir = fresh_dir("atomic-folder-name");
+  fs::create_directories(dir / "img.exr");
+  {
+    weft::FolderRollback outputs(dir);
+    bool wrote = false;
+    EXPECT_THAT([&] { weft::write_atomically(dir / "img.exr", [&](const fs::path&) { wrote = true; }); },
+                ::testing::ThrowsMessage<weft::Error>(::testing::HasSubstr("is a folder, not a file")));
+    EXPECT_FALSE(wrote);
+  }
+  EXPECT_TRUE(fs::is_directory(dir / "img.exr"));
+  fs::remove_all(dir);
+}
+
 TEST(AtomicFile, AFileGivenAsTheFolderIsSaidSo) {
   const auto dir = fresh_dir("atomic-file-folder");
   std::ofstream(dir / "grid.vdb") << "a file";

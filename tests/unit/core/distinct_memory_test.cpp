@@ -70,5 +70,17 @@ TEST(MemoryBudget, FormatBytesSaysOneByte) {
   EXPECT_EQ(format_bytes(1536), "1.5 KiB");
 }
 
+// An estimate over a budget never reads as equal to it: the decimals grow until the texts differ,
+// in the same unit, down to exact bytes; counts that differ always print differently.
+TEST(MemoryBudget, BytesApartDifferWhenTheCountsDo) {
+  EXPECT_EQ(format_bytes_apart(6836715, 6815744), (std::pair<std::string, std::string>{"6.52 MiB", "6.50 MiB"}));
+  EXPECT_EQ(format_bytes_apart(3 << 20, 1 << 10), (std::pair<std::string, std::string>{"3.0 MiB", "1.0 KiB"}));
+  EXPECT_EQ(format_bytes_apart(1ULL << 40, (1ULL << 40) - 1).second, "1023.999999999 GiB");
+  for (std::uint64_t a = 1000000; a < 1000000000; a = a * 3 + 17) {
+    const auto [x, y] = format_bytes_apart(a + 1, a);
+    EXPECT_NE(x, y) << a;
+  }
+}
+
 }  // namespace
 }  // namespace weft
