@@ -143,7 +143,9 @@ void run_render_matrix(study::MatrixSpec spec, const fs::path& out, bool resume,
   const std::size_t candidates = study::candidate_count(spec.study, spec.study.factors.size());
   const std::string images =
       spec.study.spp > 0
-          ? fmt::format("{} candidates x 2 images at {} spp", candidates, spec.study.spp)
+          ? fmt::format("{} candidates x 2 images at {} spp ({:.3g} pixel samples in all)", candidates, spec.study.spp,
+                        static_cast<double>(spec.width) * spec.height * static_cast<double>(cases.size()) *
+                            (2.0 * static_cast<double>(candidates) * spec.study.spp + spec.study.reference_spp))
           : fmt::format("{} candidates x 2 images of {:g} s (about {} of rendering in all)", candidates,
                         spec.study.seconds,
                         duration_text(2.0 * static_cast<double>(candidates * cases.size()) * spec.study.seconds));

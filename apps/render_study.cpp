@@ -160,8 +160,11 @@ void run_render_study(const render::SceneDesc& scene, study::StudySpec spec, con
                         candidates, duration_text(2.0 * static_cast<double>(candidates) * spec.seconds),
                         spec.reference_spp));
   else
-    ctx.say(fmt::format("study: {} candidates x 2 images at {} spp plus the reference at {} spp", candidates, spec.spp,
-                        spec.reference_spp));
+    ctx.say(fmt::format(
+        "study: {} candidates x 2 images at {} spp plus the reference at {} spp ({:.3g} pixel samples in all)",
+        candidates, spec.spp, spec.reference_spp,
+        static_cast<double>(scene.camera.width) * scene.camera.height *
+            (2.0 * static_cast<double>(candidates) * spec.spp + spec.reference_spp)));
   const study::StudyResult r = study::run_study(scene, spec, ctx.progress);
   if (!dist::is_root()) return;
 

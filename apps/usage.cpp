@@ -227,6 +227,12 @@ void check_empty_values(const CLI::App& app, int argc, const char* const* argv) 
     if (delimiter != '\0' && value.find_first_not_of(delimiter) == std::string_view::npos)
       usage_fail("{}: an empty list, got '{}' (give at least one item)", name, value);
     if (attached && value.empty()) usage_fail("{}: an empty value ('{}')", name, token);
+    // Given as a separate argument (`--seed ""`), CLI11 reads an empty value as 0 or as the option
+    // left out. Files, folders and lists have checks of their own that name what they expect.
+    const std::string type = option->get_type_name();
+    const bool own_check = type.find("FILE") != std::string::npos || type.find("LIST") != std::string::npos ||
+                           option->check_lname("out") || option->check_lname("output");
+    if (value.empty() && !own_check) usage_fail("{}: an empty value ('')", name);
   }
 }
 

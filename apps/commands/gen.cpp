@@ -137,7 +137,8 @@ void set_yarn_field(cloth::YarnParams& yarn, const std::string& key, const std::
     if (!parsed) usage_fail("{}: '{}' is not a number", where, value);
     const double v = *parsed;
     if (f.integer) {
-      if (v != std::floor(v) || std::abs(v) > 1e9) usage_fail("{}: '{}' is not an integer", where, value);
+      if (v != std::floor(v)) usage_fail("{}: '{}' is not an integer", where, value);
+      if (std::abs(v) > 1e9) usage_fail("{}: must be in [-1e9, 1e9] (an integer field), got {}", where, value);
       yarn.*(f.whole) = static_cast<int>(v);
     } else {
       yarn.*(f.real) = v;

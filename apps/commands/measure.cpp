@@ -116,6 +116,7 @@ const Registrar kMeasure{Command{
                      "Also predict every beam from local-gamma fields of this grid (weft fit --block B's "
                      "local_fields.vdb), along the same rays, as the render's local-gamma medium walks them: "
                      "fields.csv and the fields-voxel difference (docs/validate.md \"Fields along any direction\")")
+          ->check(file_name)
           ->check(CLI::ExistingFile);
       sub.add_option("--memory", o->memory,
                      "Memory rule across the fields' cells for --fields: optical-depth | segment | renewal | carried "

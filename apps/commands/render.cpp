@@ -136,6 +136,9 @@ int run(const RenderCliOptions& o, const CLI::App& sub, const Context& ctx) {
     return 0;
   }
   std::string label;
+  // `weft render ""` is a scene name left empty by mistake, not the default cloth.
+  if (o.scene.empty() && sub.get_option("scene")->count() > 0)
+    usage_fail("scene: must name a scene file or a built-in scene, got an empty value");
   const bool default_scene = o.scene.empty();
   render::SceneDesc scene;
   usage_needs(sub, {"--lighting", "--tilt"}, default_scene, "the default cloth's scene (give no scene file)");

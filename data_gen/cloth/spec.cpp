@@ -374,13 +374,20 @@ void check_cloth_extent(const ClothSpec& given) {
           bound_text((reach - radius) / worst_given->per, BoundSide::at_most), coarser);
     }
     const YarnParams& y = warp_widest ? spec.warp_yarn : spec.weft_yarn;
+    // The radius is a sum of the yarn's fields: its bound also said for the ply radius, the field a
+    // user sets, at the ply offset given.
+    const double per_ply = std::max(y.ellipse_n, y.ellipse_b) * y.rho_max;
+    const double ply_fits = (radius_fits - y.ply_offset) / per_ply;
+    const std::string ply_bound =
+        ply_fits > 0.0 ? fmt::format("ply_radius below {} at this ply_offset", bound_text(ply_fits, BoundSide::at_most))
+                       : std::string("ply_offset alone is past it");
     fail(
-        "the {} radius {:.3g} mm (ply_offset {:g} + ply_radius {:g} x max(ellipse_n {:g}, ellipse_b {:g}) x rho_max "
+        "the {} radius {:.6g} mm (ply_offset {:g} + ply_radius {:g} x max(ellipse_n {:g}, ellipse_b {:g}) x rho_max "
         "{:g}) puts the yarns {:.3g} mm from the origin through {}{}, {}: the yarn radius must be below {} mm "
-        "here, or voxel_size above {} mm",
+        "here ({}), or voxel_size above {} mm",
         warp_widest ? "warp_yarn" : "weft_yarn", radius, y.ply_offset, y.ply_radius, y.ellipse_n, y.ellipse_b,
         y.rho_max, far, worst->automatic ? "the automatic " : "", worst->what, range,
-        bound_text(radius_fits, BoundSide::at_most), coarser);
+        bound_text(radius_fits, BoundSide::at_most), ply_bound, coarser);
   }
   // The longest side of the cloth's box, yarn surfaces included: the largest voxel worth a grid.
   const double longest =
@@ -545,6 +552,9 @@ ClothSpec cloth_spec_from_json(const std::string& text, const std::string& where
     } else if (k == "max_memory_mb") {
       spec.max_memory_mb = number(v, at);
     } else if (k == "seed") {
+      // A whole number past 64 bits reaches here as a double: said as out of range, not as no integer.
+      if (v.is_number_float() && v.get<double>() >= 0x1p64 && v.get<double>() == std::floor(v.get<double>()))
+        fail("{}: must be <= {}, got {}", at, std::numeric_limits<std::uint64_t>::max(), v.dump());
       if (!v.is_number_unsigned()) fail("{}: expected a non-negative integer", at);
       spec.seed = v.get<std::uint64_t>();
     } else {
