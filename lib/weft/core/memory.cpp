@@ -38,7 +38,7 @@ std::pair<std::string, std::string> format_bytes_apart(std::uint64_t a, std::uin
   std::pair<std::string, std::string> texts{format_bytes(a), format_bytes(b)};
   if (a == b || texts.first != texts.second) return texts;
   const std::uint64_t larger = std::max(a, b);
-  const auto [unit, name] = larger < 1024U * 1024U             ? std::pair{1024.0, "KiB"}
+  const auto [unit, name] = larger < 1024ULL * 1024U           ? std::pair{1024.0, "KiB"}
                             : larger < 1024ULL * 1024U * 1024U ? std::pair{1024.0 * 1024.0, "MiB"}
                                                                : std::pair{1024.0 * 1024.0 * 1024.0, "GiB"};
   for (int decimals = 2; decimals <= 9; ++decimals) {
