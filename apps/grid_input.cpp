@@ -68,6 +68,11 @@ std::string beams_record_line(const BeamsRecord& r) {
 BeamsRecord parse_beams_record(const std::string& line, const std::string& path) {
   const std::string prefix = "# weft measure: ";
   if (line.rfind(prefix, 0) != 0) {
+    // Another of weft measure's tables (scatterer.csv, fibres.csv, fields.csv) has a header row
+    // where beams.csv has its record line (an older beams.csv starts with its own header, below).
+    if (line.rfind("t,", 0) == 0 || (line.rfind("beam,", 0) == 0 && line.rfind("beam,dx,dy,dz,t,T,", 0) != 0))
+      fail("{}: not a beams.csv (its first line is a table header, '{}'): give the beams.csv of weft measure's --out",
+           path, line.substr(0, 40));
     fail(
         "{}: no '# weft measure: sigma=...' first line (written by an older weft measure or by hand): re-run "
         "weft measure, so the sigma of the curves is known",

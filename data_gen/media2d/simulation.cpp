@@ -74,7 +74,7 @@ void validate(const SimulationSpec& spec) {
         "every domain length: a longer ray measures its own periodic images, at a cost that grows with t-max)",
         spec.t_max, spec.mean_free_path, above_limit(spec.t_max * spec.mean_free_path, kMaxReach), kMaxReach);
   }
-  if (spec.bins < 2 || spec.bins > 100'000) fail("sim2d: bins must be in [2, 100000], got {}", spec.bins);
+  if (spec.bins < 2 || spec.bins > 100'000) fail("sim2d: bins (--bins) must be in [2, 100000], got {}", spec.bins);
   for (const double theta : spec.thetas_deg) {
     if (!std::isfinite(theta)) fail("sim2d: source angle theta must be finite, got {}", theta);
   }
