@@ -254,15 +254,15 @@ const Registrar kValidate{Command{
           grid.save(out / "cloth.vdb");
           outputs.add(out / "cloth.vdb", "generated grid");
         }
+        // The .vti is optional: a grid it cannot hold is skipped with the reason; a failed write
+        // (a full disk) fails the run like any other output.
         if (o->no_vti) {
           skipped["cloth.vti"] = "--no-vti";
+        } else if (const std::string why = viz::vti_refusal(grid); !why.empty()) {
+          skipped["cloth.vti"] = fmt::format("{}: {}", (out / "cloth.vti").string(), why);
         } else {
-          try {
-            viz::write_vti(grid, out / "cloth.vti");
-            outputs.add(out / "cloth.vti", "grid for ParaView");
-          } catch (const Error& e) {
-            skipped["cloth.vti"] = e.what();
-          }
+          viz::write_vti(grid, out / "cloth.vti");
+          outputs.add(out / "cloth.vti", "grid for ParaView");
         }
         if (o->scenes) {
           // The fine grid as the scenes name it: the generated cloth.vdb beside scenes/, or the input.

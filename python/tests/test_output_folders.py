@@ -132,3 +132,29 @@ def test_a_file_size_limit_is_an_error_naming_the_file(tmp_path, weft_bin, small
     lines = run.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(f"weft: error: cannot write '{out / 'cloth.vdb'}'"), run.stderr
     assert snapshot(out) == before
+
+
+def test_a_short_vti_write_fails_the_validate_run(tmp_path, weft_bin, small_cloth):
+    """validate's cloth.vti is optional only for a grid it cannot hold: a write that fails (a file
+    size limit between the other files' sizes and the .vti's) fails the run, with one line, and
+    leaves the folder as it was."""
+    import resource
+
+    out = tmp_path / "out"
+    args = [weft_bin, "validate", "--grid", str(small_cloth / "cloth.vdb"), "--sigma", "2", "--window", "extent",
+            "--no-plot", "--out", str(out)]
+    subprocess.run(args, check=True, capture_output=True)
+    before = snapshot(out)
+    vti = os.path.getsize(out / "cloth.vti")
+    others = max(os.path.getsize(out / n) for n in os.listdir(out) if n != "cloth.vti")
+    limit = (vti + others) // 2
+    assert others < limit < vti, (others, vti)
+
+    def limited():
+        signal.signal(signal.SIGXFSZ, signal.SIG_DFL)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (limit, resource.RLIM_INFINITY))
+
+    run = subprocess.run(args, capture_output=True, text=True, preexec_fn=limited)
+    assert run.returncode == 1, (run.returncode, run.stderr)
+    assert run.stderr.strip().splitlines() == [f"weft: error: cannot write '{out / 'cloth.vti'}': File too large"]
+    assert snapshot(out) == before

@@ -1,6 +1,7 @@
 #include "weft/viz/vtk_files.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cstring>
 #include <set>
 #include <utility>
@@ -117,7 +118,13 @@ template <typename Writer>
 void run_writer(Writer& writer, const fs::path& tmp, const fs::path& target) {
   writer.SetFileName(tmp.c_str());
   (void)detail::take_vtk_message();
+  errno = 0;
   if (writer.Write() != 1 || writer.GetErrorCode() != 0) {
+    // A short write (a full disk, a file size limit) in the words every other writer uses, not
+    // VTK's pipeline dump.
+    const int error = errno;
+    if (error == ENOSPC || error == EFBIG || error == EDQUOT || error == EIO)
+      fail("cannot write '{}': {}", target.string(), std::strerror(error));
     const std::string detail = detail::take_vtk_message();
     fail("{}: cannot write VTK file{}{}", target.string(), detail.empty() ? "" : ": ", detail);
   }
@@ -385,17 +392,25 @@ std::string vtp_bytes(const PointSet& points, const fs::path& path) {
   return writer->GetOutputString();
 }
 
-void write_vti(const volume::Grid& grid, const fs::path& path, std::uint64_t max_voxels, std::uint64_t piece_voxels) {
-  detail::quiet_vtk_messages();
+std::string vti_refusal(const volume::Grid& grid, std::uint64_t max_voxels) {
   const volume::IndexBox box = grid.active_bbox();
-  if (box.empty()) fail("{}: grid '{}' has no active voxels; nothing to write", path.string(), grid.name());
+  if (box.empty()) return fmt::format("grid '{}' has no active voxels; nothing to write", grid.name());
   const auto ext = box.extent();
   const std::uint64_t total =
       static_cast<std::uint64_t>(ext[0]) * static_cast<std::uint64_t>(ext[1]) * static_cast<std::uint64_t>(ext[2]);
-  if (total > max_voxels) {
-    fail("{}: grid '{}' spans {}x{}x{} = {} voxels, above the limit of {} for a dense .vti", path.string(), grid.name(),
-         ext[0], ext[1], ext[2], total, max_voxels);
-  }
+  if (total > max_voxels)
+    return fmt::format("grid '{}' spans {}x{}x{} = {} voxels, above the limit of {} for a dense .vti", grid.name(),
+                       ext[0], ext[1], ext[2], total, max_voxels);
+  return {};
+}
+
+void write_vti(const volume::Grid& grid, const fs::path& path, std::uint64_t max_voxels, std::uint64_t piece_voxels) {
+  detail::quiet_vtk_messages();
+  if (const std::string why = vti_refusal(grid, max_voxels); !why.empty()) fail("{}: {}", path.string(), why);
+  const volume::IndexBox box = grid.active_bbox();
+  const auto ext = box.extent();
+  const std::uint64_t total =
+      static_cast<std::uint64_t>(ext[0]) * static_cast<std::uint64_t>(ext[1]) * static_cast<std::uint64_t>(ext[2]);
   vtkNew<GridImageSource> source;
   source->grid = grid.impl().grid.get();
   source->box = box;

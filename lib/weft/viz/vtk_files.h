@@ -39,6 +39,11 @@ void write_vtp(const PointSet& points, const std::filesystem::path& path);
 /// (`weft sim2d`'s particles, compressed while the realizations run).
 [[nodiscard]] std::string vtp_bytes(const PointSet& points, const std::filesystem::path& path);
 
+/// Why write_vti would refuse `grid` before writing anything (no active voxels, or a box over
+/// `max_voxels`), or "" when it would write it: a caller for which the .vti is optional skips it
+/// for these reasons, and lets a failed write (a full disk) fail the run like any other output.
+[[nodiscard]] std::string vti_refusal(const volume::Grid& grid, std::uint64_t max_voxels = 256ULL << 20U);
+
 /// The grid's active bounding box as dense image data (cell values = voxel values), named
 /// after the grid. Throws weft::Error when the box would exceed `max_voxels`. Written in pieces
 /// of at most `piece_voxels` voxels (several <Piece> elements of one file, which VTK and

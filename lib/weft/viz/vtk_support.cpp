@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 #include <vtkFreeTypeTools.h>
+#include <vtkLogger.h>
 #include <vtkNew.h>
 #include <vtkObjectFactory.h>
 #include <vtkOutputWindow.h>
@@ -78,6 +79,8 @@ void quiet_vtk_messages() {
   std::call_once(once, [] {
     vtkNew<BufferedOutputWindow> window;
     vtkOutputWindow::SetInstance(window);
+    // VTK 9 also logs errors to stderr through its own logger (loguru), besides the window.
+    vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);
   });
 }
 
