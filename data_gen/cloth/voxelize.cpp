@@ -376,11 +376,11 @@ volume::Grid voxelize(const FiberSet& fibers, const VoxelizeOptions& options, Vo
   starts.push_back(bins.size());
   const std::size_t leaf_count = starts.size() - 1;
   if (binning + leaf_count * kLeafBytes > budget) {
+    const auto [need, limit] = format_bytes_apart(binning + leaf_count * kLeafBytes, budget);
     fail(
         "voxel_size {} mm: voxelizing would take up to {} ({} leaves of 8^3 voxels), over the memory budget of {} "
         "({})",
-        h, format_bytes_apart(binning + leaf_count * kLeafBytes, budget).first, leaf_count,
-        format_bytes_apart(binning + leaf_count * kLeafBytes, budget).second, budget_option(options));
+        h, need, leaf_count, limit, budget_option(options));
   }
 
   using Leaf = openvdb::FloatTree::LeafNodeType;

@@ -1,9 +1,11 @@
 #include "weft/core/number_name.h"
 
 #include <cmath>
-#include <cstdlib>
+#include <optional>
 
 #include <fmt/format.h>
+
+#include "weft/core/parse_number.h"
 
 namespace weft {
 
@@ -14,9 +16,10 @@ std::string signed_number_name(double x) { return fmt::format("{}{}", x + 0.0 < 
 
 std::string bound_text(double bound, BoundSide side) {
   if (!std::isfinite(bound) || bound == 0.0) return fmt::format("{}", bound + 0.0);
+  // Read back as weft reads options (parse_number: the same in every locale).
   const auto accepted = [&](const std::string& text) {
-    const double v = std::strtod(text.c_str(), nullptr);
-    return side == BoundSide::at_least ? v >= bound : v <= bound;
+    const std::optional<double> v = parse_number(text);
+    return v && (side == BoundSide::at_least ? *v >= bound : *v <= bound);
   };
   for (int digits = 4; digits <= 17; ++digits) {
     std::string text = fmt::format("{:.{}g}", bound, digits);

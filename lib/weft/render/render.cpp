@@ -183,13 +183,13 @@ RenderResult render(const World& world, const RenderOptions& options, ProgressSi
   // The same rule as every "estimate before spending" guard (core/memory.h): a film the budget
   // cannot hold is one line, not std::bad_alloc half-way through.
   const std::uint64_t budget = default_memory_budget();
-  if (film_bytes(camera.width, camera.height) > budget)
+  if (film_bytes(camera.width, camera.height) > budget) {
+    const auto [need, limit] = format_bytes_apart(film_bytes(camera.width, camera.height), budget);
     fail(
         "{}: the camera's {}x{} film needs about {} (sample sums and images), over the memory budget of {}: lower "
         "camera.width and camera.height",
-        world.source, camera.width, camera.height,
-        format_bytes_apart(film_bytes(camera.width, camera.height), budget).first,
-        format_bytes_apart(film_bytes(camera.width, camera.height), budget).second);
+        world.source, camera.width, camera.height, need, limit);
+  }
 
   RenderResult result;
   result.stats.features = world.features;
