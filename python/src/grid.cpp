@@ -56,7 +56,7 @@ vol::Grid from_numpy(const py::array_t<float, py::array::c_style | py::array::fo
   const std::array<std::int64_t, 3> extent{values.shape(0), values.shape(1), values.shape(2)};
   const float* data = values.data();
   py::gil_scoped_release release;
-  vol::from_dense(grid, index_origin, extent, data);
+  vol::from_dense(grid, index_origin, extent, data, "from_numpy");
   return grid;
 }
 

@@ -117,6 +117,16 @@ def test_bad_input_raises(tmp_path, call, exc):
         call(str(tmp_path))
 
 
+@pytest.mark.parametrize("values, message", [
+    (np.full((2, 2, 2), np.nan), r"^from_numpy: value nan at index \(0, 0, 0\); grid values must be finite and >= 0$"),
+    (np.array([[[1.0, 2.0], [3.0, -4.0]]]), r"^from_numpy: value -4 at index \(0, 1, 1\); grid values must be finite"),
+], ids=["nan", "negative"])
+def test_a_bad_value_is_named_as_from_numpy_s(values, message):
+    """The array's errors name the call the user made, not the library's dense copy under it."""
+    with pytest.raises(weft.Error, match=message):
+        weft.Grid.from_numpy(values)
+
+
 KMAX = 2**31 - 4097  # volume::kMaxIndex (docs/robustness.md "Index range")
 BEYOND = r"the index range of a grid, \|index\| <= 2147479551 \(OpenVDB's 32-bit node origins overflow past it\)$"
 
@@ -128,11 +138,11 @@ BEYOND = r"the index range of a grid, \|index\| <= 2147479551 \(OpenVDB's 32-bit
     (lambda: random_grid()[0].to_numpy(box=((0, 0, KMAX + 1), (0, 0, KMAX + 1))), r"^to_numpy: box .* reaches beyond "),
     (lambda: random_grid()[0].to_numpy(box=((-KMAX - 1, 0, 0), (0, 0, 0))), r"^to_numpy: box .* reaches beyond "),
     (lambda: weft.Grid.from_numpy(np.ones((1, 1, 1), np.float32), index_origin=(2**31 - 1, 0, 0)),
-     r"index_origin \(2147483647, 0, 0\) with shape \(1, 1, 1\) leaves"),
+     r"^from_numpy: index_origin \(2147483647, 0, 0\) with shape \(1, 1, 1\) leaves"),
     (lambda: weft.Grid.from_numpy(np.ones((2, 1, 1), np.float32), index_origin=(KMAX, 0, 0)),
-     r"index_origin \(2147479551, 0, 0\) with shape \(2, 1, 1\) leaves"),
+     r"^from_numpy: index_origin \(2147479551, 0, 0\) with shape \(2, 1, 1\) leaves"),
     (lambda: weft.Grid.from_numpy(np.ones((1, 1, 1), np.float32), index_origin=(0, -KMAX - 1, 0)),
-     r"index_origin \(0, -2147479552, 0\) with shape \(1, 1, 1\) leaves"),
+     r"^from_numpy: index_origin \(0, -2147479552, 0\) with shape \(1, 1, 1\) leaves"),
     (lambda: weft.Grid(0.1).set_value(0, 0, 2**31 - 1, 1.0), r"^set_value: voxel .* is beyond "),
     (lambda: weft.Grid(0.1).set_value(-2**31, 0, 0, 1.0), r"^set_value: voxel .* is beyond "),
 ], ids=["to_numpy_int_max", "to_numpy_outer_child", "to_numpy_below", "from_numpy_int_max", "from_numpy_outer_child",

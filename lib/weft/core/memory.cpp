@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -34,16 +35,38 @@ std::uint64_t memory_budget_bytes(const char* what, double mib) {
   return std::max<std::uint64_t>(1U, static_cast<std::uint64_t>(bytes));
 }
 
+namespace {
+// The binary units a byte count is said in, past bytes: a 64-bit count is below 16 EiB, so a huge
+// estimate reads "3.05 PiB", never a run of digits in GiB.
+struct ByteUnit {
+  double size;
+  const char* name;
+  int decimals;  // format_bytes's: one below a GiB, two from there on
+};
+constexpr std::array<ByteUnit, 6> kByteUnits{{{0x1p10, "KiB", 1},
+                                              {0x1p20, "MiB", 1},
+                                              {0x1p30, "GiB", 2},
+                                              {0x1p40, "TiB", 2},
+                                              {0x1p50, "PiB", 2},
+                                              {0x1p60, "EiB", 2}}};
+
+// The largest unit `bytes` (>= 1024) holds at least once.
+const ByteUnit& unit_of(std::uint64_t bytes) {
+  std::size_t u = 0;
+  while (u + 1 < kByteUnits.size() && static_cast<double>(bytes) >= kByteUnits[u + 1].size) ++u;
+  return kByteUnits[u];
+}
+}  // namespace
+
 std::pair<std::string, std::string> format_bytes_apart(std::uint64_t a, std::uint64_t b) {
   std::pair<std::string, std::string> texts{format_bytes(a), format_bytes(b)};
   if (a == b || texts.first != texts.second) return texts;
-  const std::uint64_t larger = std::max(a, b);
-  const auto [unit, name] = larger < 1024ULL * 1024U           ? std::pair{1024.0, "KiB"}
-                            : larger < 1024ULL * 1024U * 1024U ? std::pair{1024.0 * 1024.0, "MiB"}
-                                                               : std::pair{1024.0 * 1024.0 * 1024.0, "GiB"};
+  // Equal texts: both counts are past 1 KiB. The smaller one's unit keeps its integer part
+  // (1023.999999999 GiB against 1024.000000000 GiB, not 1.000000000 TiB twice).
+  const ByteUnit& unit = unit_of(std::min(a, b));
   for (int decimals = 2; decimals <= 9; ++decimals) {
-    texts = {fmt::format("{:.{}f} {}", static_cast<double>(a) / unit, decimals, name),
-             fmt::format("{:.{}f} {}", static_cast<double>(b) / unit, decimals, name)};
+    texts = {fmt::format("{:.{}f} {}", static_cast<double>(a) / unit.size, decimals, unit.name),
+             fmt::format("{:.{}f} {}", static_cast<double>(b) / unit.size, decimals, unit.name)};
     if (texts.first != texts.second) return texts;
   }
   return {fmt::format("{} bytes", a), fmt::format("{} bytes", b)};
@@ -52,11 +75,12 @@ std::pair<std::string, std::string> format_bytes_apart(std::uint64_t a, std::uin
 std::string format_bytes(std::uint64_t bytes) {
   if (bytes == 1U) return "1 byte";
   if (bytes < 1024U) return fmt::format("{} bytes", bytes);
-  const double kib = static_cast<double>(bytes) / 1024.0;
-  if (kib < 1024.0) return fmt::format("{:.1f} KiB", kib);
-  const double mebi = kib / 1024.0;
-  if (mebi < 1024.0) return fmt::format("{:.1f} MiB", mebi);
-  return fmt::format("{:.2f} GiB", mebi / 1024.0);
+  const ByteUnit* unit = &unit_of(bytes);
+  // A count that rounds up to 1024 of its unit is said in the next one ("1.00 TiB", not "1024.00 GiB").
+  const double scale = std::pow(10.0, unit->decimals);
+  if (unit != &kByteUnits.back() && std::round(static_cast<double>(bytes) / unit->size * scale) / scale >= 1024.0)
+    ++unit;
+  return fmt::format("{:.{}f} {}", static_cast<double>(bytes) / unit->size, unit->decimals, unit->name);
 }
 
 }  // namespace weft

@@ -22,13 +22,13 @@ std::uint64_t default_memory_budget();
 std::uint64_t memory_budget_bytes(const char* what, double mib);
 
 /// A byte count for a message, in the unit that keeps it readable ("812 bytes", "3.4 KiB",
-/// "27.1 MiB", "2.05 GiB"); a small budget never reads as "0.0 MiB".
+/// "27.1 MiB", "2.05 GiB", up to EiB: "3.05 PiB"); a small budget never reads as "0.0 MiB".
 std::string format_bytes(std::uint64_t bytes);
 
-/// Two byte counts said side by side ("needs X, over the budget of Y"): format_bytes of each in
-/// the larger one's unit, with as many decimals as it takes for the texts to differ when the
-/// counts do (6.5 MiB against 6.45 MiB, not "6.5 MiB, over the budget of 6.5 MiB"), exact bytes
-/// at the end.
+/// Two byte counts said side by side ("needs X, over the budget of Y"): format_bytes of each or,
+/// when those read the same, both in the smaller one's unit with as many decimals as it takes for
+/// the texts to differ when the counts do (6.52 MiB against 6.50 MiB, not "6.5 MiB, over the
+/// budget of 6.5 MiB"), exact bytes at the end.
 std::pair<std::string, std::string> format_bytes_apart(std::uint64_t a, std::uint64_t b);
 
 }  // namespace weft

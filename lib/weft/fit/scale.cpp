@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "weft/core/error.h"
+#include "weft/core/number_name.h"
 #include "weft/core/parallel.h"
 #include "weft/core/parse_number.h"
 #include "weft/fit/window_stats.h"
@@ -287,12 +288,12 @@ ScaleUse scale_use(const StatisticsScale& scale, const volume::Grid& grid, bool 
       clamps.push_back({shorter, given, std::string(1, axis)});
     }
   }
+  // The length is echoed as given (number_name: 1e-320, not {:g}'s 9.99989e-321).
   for (const Clamp& c : clamps) {
-    use.notes.push_back(c.shorter
-                            ? fmt::format("{}{:g} is shorter than half a voxel ({:g}) along {}: one voxel is used",
-                                          option.in(asker), c.given, 0.5 * h, c.axes)
-                            : fmt::format("{}{:g} is longer than the active box along {}: the box's extent is used",
-                                          option.in(asker), c.given, c.axes));
+    use.notes.push_back(c.shorter ? fmt::format("{}{} is shorter than half a voxel ({:g}) along {}: one voxel is used",
+                                                option.in(asker), number_name(c.given), 0.5 * h, c.axes)
+                                  : fmt::format("{}{} is longer than the active box along {}: the box's extent is used",
+                                                option.in(asker), number_name(c.given), c.axes));
   }
   if (local_models && !one_voxel.empty())
     use.notes.push_back(fmt::format(

@@ -82,12 +82,12 @@ std::vector<float> to_dense(const Grid& grid, const IndexBox& box, std::uint64_t
 }
 
 void from_dense(Grid& grid, const std::array<int, 3>& min, const std::array<std::int64_t, 3>& extent,
-                const float* values) {
+                const float* values, std::string_view what) {
   // copyFromDense's node steps overflow past kMaxIndex (grid.h): refused before any voxel is written.
   for (int a = 0; a < 3; ++a) {
-    if (extent[a] < 0) fail("dense copy: extent {} along axis {} is negative", extent[a], a);
+    if (extent[a] < 0) fail("{}: extent {} along axis {} is negative", what, extent[a], a);
     if (min[a] < -kMaxIndex || std::int64_t{min[a]} + extent[a] - 1 > kMaxIndex)
-      fail("dense copy: index_origin ({}, {}, {}) with shape ({}, {}, {}) leaves, along axis {}, {}", min[0], min[1],
+      fail("{}: index_origin ({}, {}, {}) with shape ({}, {}, {}) leaves, along axis {}, {}", what, min[0], min[1],
            min[2], extent[0], extent[1], extent[2], a, index_range_text());
   }
   const std::int64_t n = extent[0] * extent[1] * extent[2];
@@ -97,7 +97,7 @@ void from_dense(Grid& grid, const std::array<int, 3>& min, const std::array<std:
       const std::int64_t k = q % extent[2];
       const std::int64_t j = (q / extent[2]) % extent[1];
       const std::int64_t i = q / (extent[1] * extent[2]);
-      fail("dense copy: value {} at index ({}, {}, {}); grid values must be finite and >= 0", v, i, j, k);
+      fail("{}: value {} at index ({}, {}, {}); grid values must be finite and >= 0", what, v, i, j, k);
     }
   }
   if (n == 0) return;

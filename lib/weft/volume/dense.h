@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string_view>
 #include <vector>
 
 #include "weft/core/progress.h"
@@ -39,8 +40,9 @@ void copy_to_dense(const Grid& grid, const IndexBox& box, float* out, DenseLayou
 /// @brief Writes a dense x-major array of extent `extent` into `grid` starting at index `min`:
 /// non-zero values become active voxels, zeros inactive background. Throws weft::Error for a
 /// NaN, infinite or negative value (naming its index), which no weft grid may hold, and before
-/// writing anything when the box leaves the index range (|index| <= kMaxIndex, grid.h).
+/// writing anything when the box leaves the index range (|index| <= kMaxIndex, grid.h). The
+/// errors begin with `what`, the caller's name for the copy (Python's is "from_numpy").
 void from_dense(Grid& grid, const std::array<int, 3>& min, const std::array<std::int64_t, 3>& extent,
-                const float* values);
+                const float* values, std::string_view what = "dense copy");
 
 }  // namespace weft::volume

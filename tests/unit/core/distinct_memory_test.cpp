@@ -70,6 +70,20 @@ TEST(MemoryBudget, FormatBytesSaysOneByte) {
   EXPECT_EQ(format_bytes(1536), "1.5 KiB");
 }
 
+// A huge estimate is said in a unit that keeps it short, up to EiB; a count that rounds to 1024 of
+// a unit is said in the next one.
+TEST(MemoryBudget, FormatBytesKeepsHugeCountsShort) {
+  EXPECT_EQ(format_bytes(1ULL << 40), "1.00 TiB");
+  EXPECT_EQ(format_bytes((1ULL << 40) - 1), "1.00 TiB");
+  EXPECT_EQ(format_bytes((1ULL << 20) - 1), "1.0 MiB");
+  EXPECT_EQ(format_bytes(3ULL << 50), "3.00 PiB");
+  EXPECT_EQ(format_bytes(std::numeric_limits<std::uint64_t>::max()), "16.00 EiB");
+  for (std::uint64_t b = 1024; b < std::numeric_limits<std::uint64_t>::max() / 3; b = b * 3 + 1) {
+    const std::string text = format_bytes(b);
+    EXPECT_LE(text.size(), 11U) << text;  // "1023.95 PiB" at most
+  }
+}
+
 // An estimate over a budget never reads as equal to it: the decimals grow until the texts differ,
 // in the same unit, down to exact bytes; counts that differ always print differently.
 TEST(MemoryBudget, BytesApartDifferWhenTheCountsDo) {

@@ -213,12 +213,16 @@ TEST(Scale, AClampedWindowIsReportedWithTheLengthUsed) {
       << tiny.notes[0];
   EXPECT_TRUE(holds(tiny.notes[1], "one voxel along x, y, z: the local models")) << tiny.notes[1];
   EXPECT_EQ(scale_use(s, g, false).notes.size(), 1U);  // fit: no local models
+  s.length.fill(1e-320);                               // subnormal: echoed as given, not as {:g}'s 9.99989e-321
+  const ScaleUse subnormal = scale_use(s, g, false, FrontEnd::cli, kStudyWindowOption);
+  ASSERT_EQ(subnormal.notes.size(), 1U);
+  EXPECT_TRUE(holds(subnormal.notes[0], "--study-window 1e-320 is shorter than half a voxel")) << subnormal.notes[0];
   s.length.fill(1e9);
   const ScaleUse huge = scale_use(s, g, true, FrontEnd::python);
   EXPECT_DOUBLE_EQ(huge.length[0], 16 * 0.05);
   EXPECT_DOUBLE_EQ(huge.length[2], 6 * 0.05);
   ASSERT_EQ(huge.notes.size(), 1U);
-  EXPECT_TRUE(holds(huge.notes[0], "window=1e+09 is longer than the active box along x, y, z")) << huge.notes[0];
+  EXPECT_TRUE(holds(huge.notes[0], "window=1000000000 is longer than the active box along x, y, z")) << huge.notes[0];
   // Within the box: no note; rounding to whole voxels is not a clamp. The length used is the
   // window of the statistics.
   s.length = {0.2, 0.26, 0.0};
