@@ -91,39 +91,47 @@ CLI::Validator in_range(double lo, double hi, bool hi_included) {
 
 namespace {
 
-// The parse CLI11 does (strtoull / strtoll, base 0), checked for sign and range.
-std::string integer_problem(const std::string& text, bool is_unsigned) {
+// An integer option's value in decimal digits, checked and written back canonically before any
+// other check or CLI11's conversion sees it. CLI11 2.1 converts with strtoll's base 0, which
+// reads a leading 0 as octal (--spp 010 was 8, --seed 08 a refusal) and 0x as hex: here every
+// integer is decimal, as the docs and the Python calls read it. Blanks around the digits are
+// dropped (as parse_number drops them for the real-valued options), leading zeros too, and -0 is
+// 0. A whole number in another spelling (1e3, 2.0, 0x10) is refused with its digits.
+std::string canonical_integer(std::string& text, bool is_unsigned) {
   const std::size_t first = text.find_first_not_of(" \t");
-  if (is_unsigned && first != std::string::npos && text[first] == '-') {
-    return fmt::format("must be >= 0, got {}", text);
+  const std::size_t last = text.find_last_not_of(" \t");
+  const std::string given = text;
+  std::string body = first == std::string::npos ? std::string() : text.substr(first, last - first + 1);
+  const bool negative = !body.empty() && body[0] == '-';
+  const std::string_view digits = std::string_view(body).substr(!body.empty() && (body[0] == '-' || body[0] == '+'));
+  if (digits.empty() || digits.find_first_not_of("0123456789") != std::string_view::npos) {
+    // Not decimal digits: said as a whole number when it is one in another spelling.
+    char* number_end = nullptr;
+    const double v = body.empty() ? 0.0 : std::strtod(body.c_str(), &number_end);
+    if (!body.empty() && number_end == body.c_str() + body.size() && std::isfinite(v)) {
+      if (v == std::floor(v) && std::abs(v) < 1e18 && (v >= 0.0 || !is_unsigned))
+        return fmt::format("must be a whole number written in decimal digits ({:.0f}), got {}", v, given);
+      return fmt::format("must be a whole number, got {}", given);
+    }
+    return fmt::format("must be a whole number written in decimal digits, got {}", given);
   }
-  char* end = nullptr;
+  const std::size_t nonzero = digits.find_first_not_of('0');
+  const std::string_view magnitude = nonzero == std::string_view::npos ? std::string_view("0") : digits.substr(nonzero);
+  if (negative && magnitude != "0" && is_unsigned) return fmt::format("must be >= 0, got {}", given);
+  const std::string canonical = (negative && magnitude != "0" ? "-" : "") + std::string(magnitude);
   errno = 0;
   if (is_unsigned) {
-    (void)std::strtoull(text.c_str(), &end, 0);
+    (void)std::strtoull(canonical.c_str(), nullptr, 10);
   } else {
-    (void)std::strtoll(text.c_str(), &end, 0);
+    (void)std::strtoll(canonical.c_str(), nullptr, 10);
   }
   if (errno == ERANGE) {
-    return is_unsigned ? fmt::format("must be <= {}, got {}", std::numeric_limits<std::uint64_t>::max(), text)
+    return is_unsigned ? fmt::format("must be <= {}, got {}", std::numeric_limits<std::uint64_t>::max(), given)
                        : fmt::format("must be in [{}, {}], got {}", std::numeric_limits<std::int64_t>::min(),
-                                     std::numeric_limits<std::int64_t>::max(), text);
+                                     std::numeric_limits<std::int64_t>::max(), given);
   }
-  // A number the integer parse stops inside (1e13, 2.5): CLI11 would say only "Could not
-  // convert". Said as a whole number, with its digits when it is one.
-  const auto blank_from = [&](const char* at) {
-    return text.find_first_not_of(" \t", static_cast<std::size_t>(at - text.c_str())) == std::string::npos;
-  };
-  if (!blank_from(end)) {
-    char* number_end = nullptr;
-    const double v = std::strtod(text.c_str(), &number_end);
-    if (number_end != text.c_str() && blank_from(number_end) && std::isfinite(v)) {
-      if (v == std::floor(v) && std::abs(v) < 1e18 && (v >= 0.0 || !is_unsigned))
-        return fmt::format("must be a whole number written in digits ({:.0f}), got {}", v, text);
-      return fmt::format("must be a whole number, got {}", text);
-    }
-  }
-  return {};  // not a number at all: CLI11's own conversion says so
+  text = canonical;
+  return {};
 }
 
 }  // namespace
@@ -133,8 +141,10 @@ void check_integer_options(CLI::App& app) {
     const std::string type = option->get_type_name();
     const bool is_unsigned = type.rfind("UINT", 0) == 0;
     if (!is_unsigned && type.rfind("INT", 0) != 0) continue;
-    option->check(
-        CLI::Validator([is_unsigned](std::string& text) { return integer_problem(text, is_unsigned); }, "", "integer"));
+    // A transform: it runs first (CLI11 puts transforms before the checks), so the range checks
+    // and the conversion see the canonical digits.
+    option->transform(CLI::Validator([is_unsigned](std::string& text) { return canonical_integer(text, is_unsigned); },
+                                     "", "integer"));
   }
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) check_integer_options(*sub);
 }
@@ -159,7 +169,7 @@ std::string narrow_integer_message(const CLI::App& app, const CLI::ConversionErr
   if (!is_unsigned && type.rfind("INT", 0) != 0) return {};
   errno = 0;
   char* end = nullptr;
-  const long long v = std::strtoll(value.c_str(), &end, 0);
+  const long long v = std::strtoll(value.c_str(), &end, 10);  // canonical_integer's digits
   if (end == value.c_str() || *end != '\0' || errno == ERANGE) return {};
   if (v < 0 && !is_unsigned)
     return fmt::format("{}: must be >= {}, got {}", name, std::numeric_limits<std::int32_t>::min(), value);

@@ -158,3 +158,54 @@ def test_a_short_vti_write_fails_the_validate_run(tmp_path, weft_bin, small_clot
     assert run.returncode == 1, (run.returncode, run.stderr)
     assert run.stderr.strip().splitlines() == [f"weft: error: cannot write '{out / 'cloth.vti'}': File too large"]
     assert snapshot(out) == before
+
+
+def xvfb_child(pid):
+    """The pid of the Xvfb that the weft process `pid` started, or None."""
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            with open(f"/proc/{entry}/stat") as f:
+                fields = f.read().rsplit(")", 1)[1].split()
+            with open(f"/proc/{entry}/comm") as f:
+                comm = f.read().strip()
+        except OSError:
+            continue
+        if int(fields[1]) == pid and comm == "Xvfb":
+            return int(entry)
+    return None
+
+
+def test_a_signal_to_the_process_group_while_drawing_stops_like_ctrl_c(tmp_path, weft_bin, small_cloth):
+    """A terminal's Ctrl-C (and `timeout`, `kill -- -PGID`) signals the whole process group. The
+    X server weft starts for its charts when there is no display is in a session of its own, so
+    the signal stops the run as a Ctrl-C does (exit 130, the folder as it was) instead of killing
+    the server under the run's charts (which crashed the run or ended it in Xlib's exit, with the
+    folder half old, half new)."""
+    out = tmp_path / "out"
+    args = [weft_bin, "validate", "--grid", str(small_cloth / "cloth.vdb"), "--no-vti", "--out", str(out)]
+    env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+    subprocess.run(args, check=True, capture_output=True, env=env)  # the earlier run's files
+    before = snapshot(out)
+    child = subprocess.Popen(args + ["--window", "extent"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                             text=True, env=env, start_new_session=True)
+    deadline = time.monotonic() + 120
+    server = None
+    while child.poll() is None and server is None and time.monotonic() < deadline:
+        server = xvfb_child(child.pid)
+        time.sleep(0.0005)
+    if server is None:
+        child.communicate(timeout=120)
+        pytest.skip("the run ended before its X server was seen (a display of its own was reachable?)")
+    assert os.getpgid(server) != os.getpgid(child.pid)  # out of weft's process group
+    os.killpg(child.pid, signal.SIGINT)
+    _, err = child.communicate(timeout=120)
+    after = snapshot(out)
+    if child.returncode == 0:  # the signal came after the last file was in place
+        assert after.keys() == before.keys()
+        assert all(after[k][1] != v[1] for k, v in before.items() if v != "folder")
+    else:
+        assert child.returncode == 130, err
+        assert err.rstrip().splitlines()[-1] == "weft: interrupted", err
+        assert after == before

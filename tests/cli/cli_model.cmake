@@ -55,6 +55,15 @@ b=$(\"$0\" model --law gamma-path --k 0.5 --theta 1 --pair same --sample 50 --se
 c=$(\"$0\" model --law gamma-path --k 0.5 --theta 1 --pair same --sample 50 --seed 10); \
 [ \"$a\" = \"$b\" ] && [ \"$a\" != \"$c\" ]" $<TARGET_FILE:weft>)
 set_tests_properties(cli.model.sample_reproducible PROPERTIES LABELS cli)
+# Integers are decimal whatever their spelling: a leading zero is not octal (010 draws ten, with
+# the draws of seed 10), blanks around the digits are dropped; 0x10 is refused with its digits.
+add_test(NAME cli.model.integers_are_decimal
+         COMMAND sh -c "a=$(\"$0\" model --law exponential --mu 1 --sample 010 --seed 010); \
+b=$(\"$0\" model --law exponential --mu 1 --sample ' 10 ' --seed 10); \
+[ $(printf '%s\\n' \"$a\" | wc -l) -eq 10 ] && [ \"$a\" = \"$b\" ] && \
+\"$0\" model --law exponential --mu 1 --sample 0x10 2>&1 >/dev/null | grep -q 'decimal digits (16), got 0x10'"
+                 $<TARGET_FILE:weft>)
+set_tests_properties(cli.model.integers_are_decimal PROPERTIES LABELS cli)
 # Scatterer segments of the gamma pair: mean of T_S (alpha 3, mean 4/3 ... ) = l_S = 1/mean_extinction = 1.
 weft_model_output_test(sample_scatterer
   "awk '{ s += $1 } END { m = s / NR; exit !(NR == 4000 && m > 0.85 && m < 1.15) }'"

@@ -129,6 +129,11 @@ DisplayState start_xvfb() {
     return {false, fmt::format("cannot start Xvfb: fork: {}", std::strerror(errno))};
   }
   if (pid == 0) {
+    // A session of its own: a terminal's Ctrl-C, `timeout` and `kill -- -PGID` signal weft's
+    // process group, and a server killed there took the run's X connection with it while it
+    // drew (Xlib then exits the process, or it crashes, with no unwinding: no interrupted-run
+    // rollback). The server still ends with weft: SIGTERM at exit (stop_xvfb) or PDEATHSIG.
+    ::setsid();
     if (main_thread) {
       ::prctl(PR_SET_PDEATHSIG, SIGTERM);
       if (::getppid() != parent) ::_exit(127);
