@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "weft/core/error.h"
+#include "weft/core/number_name.h"
 
 namespace weft::media2d {
 namespace {
@@ -49,6 +50,12 @@ double santalo_mean_free_path(std::size_t count, double radius) {
   return (1.0 - n * std::numbers::pi * radius * radius) / (2.0 * n * radius);
 }
 
+double max_step_unit(double radius) {
+  // A step s = −log(ξ)(1 − |η|)² ℓ_step stays below 40 ℓ_step (ξ ≥ 2⁻⁵³: −log ξ < 37), and
+  // x + s rounds x by up to s·2⁻⁵³ before the wrap: kept under r / 1000.
+  return 1e-3 * radius / (40.0 * 0x1p-53);
+}
+
 void validate(const MediumSpec& spec) {
   if (!std::isfinite(spec.eta) || spec.eta < -1.0 || spec.eta >= 1.0) {
     fail("medium: eta must be in [-1, 1), got {}", spec.eta);
@@ -60,6 +67,12 @@ void validate(const MediumSpec& spec) {
   if (spec.cluster_size == 0) fail("medium: cluster size must be >= 1");
   if (!std::isfinite(spec.step_unit) || spec.step_unit < 0.0) {
     fail("medium: step unit must be >= 0 (0 = mean spacing), got {}", spec.step_unit);
+  }
+  if (spec.step_unit > max_step_unit(spec.radius)) {
+    fail("medium: step unit {} is over {} for radius {}: a step that long, added to a position in [0, 1) and "
+         "wrapped, rounds it by more than a thousandth of a disk radius (a step unit past the square's side 1 "
+         "already spreads the particles uniformly)",
+         spec.step_unit, bound_text(max_step_unit(spec.radius), BoundSide::at_most), spec.radius);
   }
   const double n = 1.0 / (2.0 * spec.radius * spec.mean_free_path + std::numbers::pi * spec.radius * spec.radius);
   if (!(n >= static_cast<double>(kMinParticles))) {

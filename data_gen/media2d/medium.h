@@ -86,6 +86,13 @@ void validate(const MediumSpec& spec);
 /// @brief The number of particles `generate` will produce for this spec.
 [[nodiscard]] std::size_t planned_count(const MediumSpec& spec);
 
+/// @brief The longest step unit a medium of disks of `radius` takes: a step is added to a position
+/// in [0, 1) and wrapped, which rounds the position by the step's last bit; kept under a thousandth
+/// of the radius (r = 1e−5: 2.25e6). Past the square's side 1 a step already spreads the
+/// particles uniformly, so nothing physical is lost (a step unit of 1e20 collapsed the medium
+/// onto a few points).
+[[nodiscard]] double max_step_unit(double radius);
+
 /// @brief ℓ_step for this spec: spec.step_unit, or 1/√n when 0.
 [[nodiscard]] double step_unit(const MediumSpec& spec);
 

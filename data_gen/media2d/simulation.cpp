@@ -16,6 +16,7 @@
 #include "data_gen/media2d/tally.h"
 #include "weft/core/distinct.h"
 #include "weft/core/error.h"
+#include "weft/core/number_name.h"
 #include "weft/core/memory.h"
 #include "weft/dist/distributed.h"
 
@@ -97,6 +98,21 @@ void validate(const SimulationSpec& spec) {
   }
   if (std::min(spec.structure_realizations, spec.realizations) > 0 && spec.structure_max_points < 16) {
     fail("sim2d: structure max points must be >= 16, got {}", spec.structure_max_points);
+  }
+  // The structure's stand-in (realization_structure) stretches a given step unit by √(n / n'),
+  // so it meets max_step_unit before the medium does: refused here, not after the rays.
+  if (std::min(spec.structure_realizations, spec.realizations) > 0 && spec.step_unit > 0.0) {
+    for (const double eta : spec.etas) {
+      const MediumSpec m{eta, spec.radius, spec.mean_free_path, spec.cluster_size, spec.step_unit};
+      const std::size_t n = planned_count(m);
+      if (n <= spec.structure_max_points) continue;
+      const double stretched = spec.step_unit * std::sqrt(static_cast<double>(n) / spec.structure_max_points);
+      if (stretched > max_step_unit(spec.radius))
+        fail("sim2d: step unit {} is {:.4g} on the structure's stand-in of {} particles (the medium of eta {} has {}), "
+             "over {} for radius {}: lower the step unit or raise the structure's max points",
+             spec.step_unit, stretched, spec.structure_max_points, eta, n,
+             bound_text(max_step_unit(spec.radius), BoundSide::at_most), spec.radius);
+    }
   }
   // Work units are keyed (η index << 40) | (realization << 4) (realization_tallies.h).
   if (spec.realizations > kMaxRealizations) {

@@ -61,12 +61,16 @@ TEST(Medium, RejectsBadInput) {
       {"too few particles", {0.0, 1e-2, 10.0, 1000, 0.0}, "at least"},
       {"cluster size 0", {0.5, 1e-4, 0.025, 0, 0.0}, "cluster size"},
       {"negative step unit", {0.5, 1e-4, 0.025, 10, -1.0}, "step unit"},
+      // Positions after a step this long round by more than r/1000: the medium collapsed.
+      {"step unit past the positions' resolution", {0.5, 1e-4, 0.025, 10, 1e20}, "rounds it by more than"},
+      {"step unit just past it", {0.5, 1e-4, 0.025, 10, 1.01 * max_step_unit(1e-4)}, "step unit"},
   };
   for (const auto& row : table) {
     EXPECT_THAT([&] { validate(row.spec); }, ::testing::ThrowsMessage<Error>(::testing::HasSubstr(row.message)))
         << row.what;
   }
   EXPECT_NO_THROW(validate(MediumSpec{-1.0, 1e-4, 0.025, 1000, 0.0}));
+  EXPECT_NO_THROW(validate(MediumSpec{0.5, 1e-4, 0.025, 10, max_step_unit(1e-4)}));
 }
 
 TEST(Lattice, SitesArePeriodicDistinctAndHexagonal) {
