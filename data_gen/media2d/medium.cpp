@@ -69,10 +69,11 @@ void validate(const MediumSpec& spec) {
     fail("medium: step unit must be >= 0 (0 = mean spacing), got {}", spec.step_unit);
   }
   if (spec.step_unit > max_step_unit(spec.radius)) {
-    fail("medium: step unit {} is over {} for radius {}: a step that long, added to a position in [0, 1) and "
-         "wrapped, rounds it by more than a thousandth of a disk radius (a step unit past the square's side 1 "
-         "already spreads the particles uniformly)",
-         spec.step_unit, bound_text(max_step_unit(spec.radius), BoundSide::at_most), spec.radius);
+    fail(
+        "medium: step unit {} is over {} for radius {}: a step that long, added to a position in [0, 1) and "
+        "wrapped, rounds it by more than a thousandth of a disk radius (a step unit past the square's side 1 "
+        "already spreads the particles uniformly)",
+        spec.step_unit, bound_text(max_step_unit(spec.radius), BoundSide::at_most), spec.radius);
   }
   const double n = 1.0 / (2.0 * spec.radius * spec.mean_free_path + std::numbers::pi * spec.radius * spec.radius);
   if (!(n >= static_cast<double>(kMinParticles))) {

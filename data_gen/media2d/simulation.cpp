@@ -16,8 +16,8 @@
 #include "data_gen/media2d/tally.h"
 #include "weft/core/distinct.h"
 #include "weft/core/error.h"
-#include "weft/core/number_name.h"
 #include "weft/core/memory.h"
+#include "weft/core/number_name.h"
 #include "weft/dist/distributed.h"
 
 namespace weft::media2d {
@@ -108,10 +108,11 @@ void validate(const SimulationSpec& spec) {
       if (n <= spec.structure_max_points) continue;
       const double stretched = spec.step_unit * std::sqrt(static_cast<double>(n) / spec.structure_max_points);
       if (stretched > max_step_unit(spec.radius))
-        fail("sim2d: step unit {} is {:.4g} on the structure's stand-in of {} particles (the medium of eta {} has {}), "
-             "over {} for radius {}: lower the step unit or raise the structure's max points",
-             spec.step_unit, stretched, spec.structure_max_points, eta, n,
-             bound_text(max_step_unit(spec.radius), BoundSide::at_most), spec.radius);
+        fail(
+            "sim2d: step unit {} is {:.4g} on the structure's stand-in of {} particles (the medium of eta {} has {}), "
+            "over {} for radius {}: lower the step unit or raise the structure's max points",
+            spec.step_unit, stretched, spec.structure_max_points, eta, n,
+            bound_text(max_step_unit(spec.radius), BoundSide::at_most), spec.radius);
     }
   }
   // Work units are keyed (η index << 40) | (realization << 4) (realization_tallies.h).

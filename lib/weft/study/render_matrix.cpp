@@ -149,6 +149,10 @@ MatrixCaseResult decode(const MatrixCase& c, const dist::Bytes& b) {
 MatrixCaseResult run_case(const MatrixSpec& spec, const MatrixCase& c, const Factors& factors, ProgressTask& cases) {
   const dist::RankLocal local;  // the study's renders stay on this rank
   const fs::path dir = matrix_case_dir(spec, c);
+  // The case's folder is whole or as it was: the study guards its own folder (study/), this the
+  // report files written after it, up to the case's result, which the store keeps next. A stop
+  // between the two leaves a complete case that --resume renders again.
+  FolderRollback case_files(dir);
   StudySpec s = spec.study;
   s.work_dir = dir / "study";
   s.log = nullptr;
@@ -177,6 +181,7 @@ MatrixCaseResult run_case(const MatrixSpec& spec, const MatrixCase& c, const Fac
     mc.memory = memory_of(sc.scene_file);
     out.candidates.push_back(std::move(mc));
   }
+  case_files.keep();
   return out;
 }
 

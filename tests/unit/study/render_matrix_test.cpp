@@ -372,6 +372,21 @@ TEST(MatrixRun, AStopInsideACaseStopsItThereAndStoresNothingOfIt) {
     EXPECT_FALSE(store.load(1).has_value());
     EXPECT_FALSE(fs::exists(matrix_case_dir(s, cases[1]) / "study" / "reference.json"));
   }
+  {
+    // A case that fails in its report files, after its study kept its own folder (here a folder
+    // in the way of its .study.json), leaves its folder as it was: none of the report files
+    // written before the failure, none of the study's, nothing stored.
+    const fs::path dir = matrix_case_dir(s, cases[1]);
+    fs::remove_all(dir);
+    fs::create_directories(dir / "reference.study.json");
+    dist::UnitStore store(s.study.work_dir / "matrix.units", matrix_key(s), true);
+    EXPECT_THROW((void)run_matrix(s, null_progress(), &store), Error);
+    EXPECT_FALSE(store.load(1).has_value());
+    std::vector<std::string> left;
+    for (const auto& e : fs::recursive_directory_iterator(dir)) left.push_back(fs::relative(e.path(), dir).string());
+    EXPECT_EQ(left, std::vector<std::string>{"reference.study.json"}) << "a half-written case folder";
+    fs::remove_all(dir);
+  }
   dist::UnitStore store(s.study.work_dir / "matrix.units", matrix_key(s), true);
   const std::vector<MatrixCaseResult> r = run_matrix(s, null_progress(), &store);
   EXPECT_EQ(store.found(), 1U);
