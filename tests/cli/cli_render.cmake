@@ -174,6 +174,23 @@ if(CMAKE_SCRIPT_MODE_FILE)
     if(NOT rc EQUAL 0)
       message(FATAL_ERROR "the printed scene does not load beside the original (rc=${rc}): ${err}")
     endif()
+  elseif(CASE STREQUAL "study_any_tracking")
+    # The study takes a fine scene with any tracking: a candidate that needs another (the
+    # direction-dependent shadow-directional-Nx needs delta tracking) uses it, and every candidate
+    # is read before the first render (it used to fail after the reference and four candidates).
+    small_cloth()
+    file(READ ${WORK}/g1/scene.json scene)
+    string(REPLACE "\"tracking\": \"delta\"" "\"tracking\": \"optical-depth\"" scene "${scene}")
+    file(WRITE ${WORK}/g1/od.json "${scene}")
+    execute_process(COMMAND ${WEFT} --quiet render g1/od.json --study --quick --study-spp 1 --reference-spp 2
+                            --study-factors 2 --out st WORKING_DIRECTORY ${WORK} RESULT_VARIABLE rc ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0 OR NOT EXISTS ${WORK}/st/od.study/shadow-directional-2x.exr)
+      message(FATAL_ERROR "study of a scene with optical-depth tracking failed (rc=${rc}): ${err}")
+    endif()
+    file(READ ${WORK}/st/od.study/reference.json reference)
+    if(NOT reference MATCHES "optical-depth")
+      message(FATAL_ERROR "the reference did not keep the scene's tracking")
+    endif()
   elseif(CASE STREQUAL "film_budget")
     # A film the memory budget (half the address-space limit here) cannot hold is one line and
     # exit 1, before anything is allocated; a study that fails so leaves no folder behind.
@@ -289,7 +306,7 @@ set_tests_properties(cli.render.time_budget PROPERTIES LABELS "cli;render" TIMEO
                      PASS_REGULAR_EXPRESSION "64x64 at [0-9]+ spp")
 
 foreach(case bad_input threads round_trip convergence fibres local_gamma default_cloth gen_scene model_scenes
-             relative_scene_path film_budget)
+             relative_scene_path study_any_tracking film_budget)
   add_test(NAME cli.render.${case}
            COMMAND ${CMAKE_COMMAND} -DWEFT=$<TARGET_FILE:weft> -DCASE=${case} -DWORK=${_render_work}/${case}
                    -DCHECK=$<TARGET_FILE:weft_cloth_image_check>

@@ -405,6 +405,10 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, Progre
     // The same correction kept per axis, σ(ω) = Σ_a ω_a² σ'_a (docs/render.md §6d): 3 channels.
     json directional_medium = em;
     directional_medium["file"] = directional_file.string();
+    // A direction-dependent extinction is sampled by delta tracking only (docs/render.md §5): the
+    // scene's tracking is an estimator's choice, unbiased either way, so this candidate uses the
+    // default whatever the fine scene asked for.
+    directional_medium.erase("tracking");
     directional_medium["axis_grids"] = json::array();
     std::uint64_t directional_bytes = 0;
     for (const volume::Grid& g : shadowed_grids.per_axis) {
@@ -452,6 +456,9 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, Progre
     // Named with the study's scene, so its errors point at the file the camera came from.
     return parse_scene(j.dump(), fmt::format("{}: study candidate '{}'", scene.source, name), scene.base_dir);
   };
+  // Every candidate's scene is read before the first render, so one it cannot take is refused
+  // before minutes of renders, not after them.
+  for (const Plan& p : plans) (void)parse(p.scene, p.c.name);
   const auto write_scene = [&](const json& j, int spp, std::uint64_t seed, const fs::path& path) {
     if (!root) return;
     json w = j;

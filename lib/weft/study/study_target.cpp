@@ -55,6 +55,13 @@ Target find_target(const SceneDesc& scene) {
   if (found != 1) fail("study: medium '{}' must fill exactly one box shape, {} shapes name it", t.medium, found);
   t.scene = json::parse(scene_to_json(scene));
   t.medium_json = t.scene["media"][t.medium];
+  // σ scales the statistics of every candidate (Eq. 19–20 in σ units): with σ = 0 the cloth has
+  // no extinction and the study nothing to compare. Said with the scene's key, before any work.
+  if (m.concentration && !(m.sigma > 0.0))
+    fail(
+        "study: media.{}.sigma is {}: the study needs sigma > 0 (with 0 the cloth does not attenuate light and "
+        "there is nothing to downsample)",
+        t.medium, m.sigma);
   t.sigma_stats = m.concentration ? m.sigma : 1.0;
   return t;
 }

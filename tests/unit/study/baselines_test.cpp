@@ -293,5 +293,16 @@ TEST(StudyBaselines, AnyAlbedoFactorIsTakenForAMediumThatDoesNotScatter) {
   EXPECT_NO_THROW(check_study_scene(scene, s));
 }
 
+// σ = 0 leaves the cloth without extinction: refused with the scene's key before any work (it
+// was said as validate's "sigma must be finite and > 0" after the study had begun).
+TEST(StudyBaselines, AZeroSigmaIsRefusedWithItsKey) {
+  const TempDir dir("sigma_zero");
+  render::SceneDesc scene = cube_scene(dir.path, [](int, int, int) { return 0.5F; });
+  scene.media.at("cloth").sigma = 0.0;
+  EXPECT_THAT(
+      [&] { check_study_scene(scene, small_spec(dir.path)); },
+      testing::ThrowsMessage<Error>(testing::HasSubstr("study: media.cloth.sigma is 0: the study needs sigma > 0")));
+}
+
 }  // namespace
 }  // namespace weft::study
