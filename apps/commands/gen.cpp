@@ -349,25 +349,46 @@ const Registrar kGen{Command{
         std::set<std::string> outputs = read_outputs(o->write).first;  // checked by output_list
         if (o->fibers_bcc) outputs.insert("fibers-bcc");
         const ClothSpec spec = make_spec(*app, *o);
+        // Only the stages the outputs need: cloth.json alone resolves the spec, yarns.bcc adds the
+        // centrelines, the fibre files the fibres, cloth.vdb (and scene.json) the grid.
+        const cloth::ClothStage upto = outputs.count("grid") != 0 ? cloth::ClothStage::grid
+                                       : outputs.count("fibers") != 0 || outputs.count("fibers-bcc") != 0
+                                           ? cloth::ClothStage::fibers
+                                       : outputs.count("yarns") != 0 ? cloth::ClothStage::centerlines
+                                                                     : cloth::ClothStage::spec;
         // Under mpirun the voxelizer's leaves are spread over the ranks; rank 0 gets the grid and
         // writes (docs/scale-out.md).
-        cloth::ClothBuild build = cloth::build_cloth(spec, ctx.progress, /*spread_over_ranks=*/true);
+        cloth::ClothBuild build =
+            cloth::build_cloth(spec, ctx.progress, /*spread_over_ranks=*/true, FrontEnd::cli, upto);
         if (!dist::is_root()) return 0;
         // The summary's figures first: the grid and the fibres are released as soon as their
         // files are written, so that the run's peak is the voxelizer's, not the outputs'.
         const auto& r = build.report;
         // Loops reshape regular fibres and add none: said as how many and on how many fibres.
         const cloth::FiberSet& f = build.fibers;
-        const std::string made = fmt::format(
-            "{} cloth, {} yarns, {} fibres ({:.1f} mm of fibre) with {} hairs and {} loop flyaways on {} of "
-            "them, seed {}",
-            build.spec.pattern, build.centerlines.curves.size(), r.fiber_count, f.length(),
-            f.count(cloth::FiberKind::hair), f.loops, f.count(cloth::FiberKind::loop), build.spec.seed);
-        const std::vector<std::string> warnings = cloth::cloth_warnings(build);
-        const std::string memory = fmt::format("memory: grid {} (OpenVDB), fibres {}; estimated before generating: {}",
-                                               format_bytes(build.grid.memory_bytes()),
-                                               format_bytes(build.fibers.points.size() * sizeof(cloth::Point3)),
-                                               cloth::describe(build.estimate));
+        const std::string made =
+            upto >= cloth::ClothStage::fibers
+                ? fmt::format(
+                      "{} cloth, {} yarns, {} fibres ({:.1f} mm of fibre) with {} hairs and {} loop flyaways on {} of "
+                      "them, seed {}",
+                      build.spec.pattern, build.centerlines.curves.size(), r.fiber_count, f.length(),
+                      f.count(cloth::FiberKind::hair), f.loops, f.count(cloth::FiberKind::loop), build.spec.seed)
+            : upto == cloth::ClothStage::centerlines
+                ? fmt::format("{} cloth, {} yarns (centrelines only: no fibres or grid were asked for), seed {}",
+                              build.spec.pattern, build.centerlines.curves.size(), build.spec.seed)
+                : fmt::format("{} cloth, seed {} (its parameters only: no yarns, fibres or grid were asked for)",
+                              build.spec.pattern, build.spec.seed);
+        const std::vector<std::string> warnings =
+            upto >= cloth::ClothStage::fibers ? cloth::cloth_warnings(build) : std::vector<std::string>();
+        const std::string memory =
+            upto == cloth::ClothStage::grid
+                ? fmt::format("memory: grid {} (OpenVDB), fibres {}; estimated before generating: {}",
+                              format_bytes(build.grid.memory_bytes()),
+                              format_bytes(build.fibers.points.size() * sizeof(cloth::Point3)),
+                              cloth::describe(build.estimate))
+                : fmt::format("memory: fibres {}; estimated before generating: {}",
+                              format_bytes(build.fibers.points.size() * sizeof(cloth::Point3)),
+                              cloth::describe(build.estimate));
         const fs::path out(o->out);
         // The outputs appear together or not at all: a Ctrl-C (or a failed write) between two
         // files removes what this run added (docs/robustness.md "Output folders of failed runs").
@@ -405,17 +426,22 @@ const Registrar kGen{Command{
         stop_if_interrupted();
         written.keep();
         ctx.say(made);
-        ctx.say(
-            fmt::format("voxel size {} mm: {} active voxels; fibre volume {:.6g} mm^3, grid volume {:.6g} mm^3 "
-                        "(relative error {:.2e}, overlap clamped {:.3f} %)",
-                        build.spec.voxel_size, r.active_voxels, r.fiber_volume, r.grid_volume, r.relative_error,
-                        100.0 * r.overlap_fraction));
-        ctx.say(
-            fmt::format("generated in {:.2f} s, voxelized in {:.2f} s ({:.0f} fibres/s, {:.3g} voxels/s); {} rank(s) x "
-                        "{} thread(s)",
-                        r.generate_seconds, r.voxelize_seconds, r.fiber_count / std::max(r.voxelize_seconds, 1e-9),
-                        r.active_voxels / std::max(r.voxelize_seconds, 1e-9), ctx.ranks(), ctx.threads()));
-        ctx.say(memory);
+        if (upto == cloth::ClothStage::grid) {
+          ctx.say(
+              fmt::format("voxel size {} mm: {} active voxels; fibre volume {:.6g} mm^3, grid volume {:.6g} mm^3 "
+                          "(relative error {:.2e}, overlap clamped {:.3f} %)",
+                          build.spec.voxel_size, r.active_voxels, r.fiber_volume, r.grid_volume, r.relative_error,
+                          100.0 * r.overlap_fraction));
+          ctx.say(fmt::format(
+              "generated in {:.2f} s, voxelized in {:.2f} s ({:.0f} fibres/s, {:.3g} voxels/s); {} rank(s) x "
+              "{} thread(s)",
+              r.generate_seconds, r.voxelize_seconds, r.fiber_count / std::max(r.voxelize_seconds, 1e-9),
+              r.active_voxels / std::max(r.voxelize_seconds, 1e-9), ctx.ranks(), ctx.threads()));
+        } else if (upto == cloth::ClothStage::fibers) {
+          ctx.say(fmt::format("generated in {:.2f} s (no grid: cloth.vdb was not asked for); {} rank(s) x {} thread(s)",
+                              r.generate_seconds, ctx.ranks(), ctx.threads()));
+        }
+        if (upto >= cloth::ClothStage::fibers) ctx.say(memory);
         files.say(ctx);
         for (const std::string& w : warnings) ctx.warn(w);
         return 0;

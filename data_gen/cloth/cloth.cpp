@@ -141,19 +141,24 @@ std::vector<std::string> cloth_warnings(const ClothBuild& build, FrontEnd asker)
   return out;
 }
 
-ClothBuild build_cloth(const ClothSpec& input, ProgressSink& progress, bool spread_over_ranks, FrontEnd asker) {
+ClothBuild build_cloth(const ClothSpec& input, ProgressSink& progress, bool spread_over_ranks, FrontEnd asker,
+                       ClothStage upto) {
   ClothBuild build;
   validate(input);  // before resolve: an automatic spacing or crimp is named as such
   build.spec = resolve(input);
+  if (upto == ClothStage::spec) return build;
   const auto t0 = std::chrono::steady_clock::now();
   const std::uint64_t budget = memory_budget_bytes("max_memory_mb", build.spec.max_memory_mb);
+  // The budget covers the stages built: without a grid, the fibres and what makes them.
+  const auto what_is_built = [upto](ClothEstimate e) { return upto == ClothStage::grid ? e : without_grid(e); };
   // Woven and knit specs are checked before their centrelines are made (a huge --yarns would
   // spend minutes and gigabytes on those alone); imports on the curves they read.
-  if (build.spec.pattern != "import")
-    check_budget(estimate_cloth(build.spec), budget, asker, "cloth", build.spec.config);
+  if (build.spec.pattern != "import" && upto != ClothStage::centerlines)
+    check_budget(what_is_built(estimate_cloth(build.spec)), budget, asker, "cloth", build.spec.config);
   build.centerlines = cloth_centerlines(build.spec);
   if (build.centerlines.curves.empty()) fail("cloth: the pattern produced no yarns");
-  build.estimate = estimate_cloth(build.spec, build.centerlines);
+  if (upto == ClothStage::centerlines) return build;
+  build.estimate = what_is_built(estimate_cloth(build.spec, build.centerlines));
   check_budget(build.estimate, budget, asker,
                build.spec.pattern == "import"
                    ? fmt::format("cloth of {} at input_scale {}", build.spec.input, build.spec.input_scale)
@@ -161,6 +166,11 @@ ClothBuild build_cloth(const ClothSpec& input, ProgressSink& progress, bool spre
                build.spec.config);
   build.fibers = generate_fibers(build.spec, build.centerlines, progress);
   const double generate_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (upto == ClothStage::fibers) {
+    build.report.fiber_count = build.fibers.size();
+    build.report.generate_seconds = generate_seconds;
+    return build;
+  }
   VoxelizeOptions options;
   options.voxel_size = build.spec.voxel_size;
   options.samples_per_voxel = build.spec.samples_per_voxel;

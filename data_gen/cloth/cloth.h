@@ -41,13 +41,23 @@ std::string cloth_spec_json(const ClothSpec& spec);
 
 /// Result of the whole pipeline; FiberSet kept for writers (vtp, bcc).
 struct ClothBuild;
+
+/// How far build_cloth goes: a run computes only what its outputs need (`weft gen --write`).
+/// Each stage includes the ones before it.
+enum class ClothStage {
+  spec,         ///< the resolved spec (cloth.json)
+  centerlines,  ///< and the yarn centrelines (yarns.bcc)
+  fibers,       ///< and the fibres (fibers.vtp, fibers.bcc): checked against the budget without a grid
+  grid,         ///< and the voxel grid (cloth.vdb): the whole pipeline
+};
 /// Generates fibres and voxelizes them to a grid of volume fraction C with provenance metadata.
 /// The cost is estimated from the centrelines first (estimate.h) and a build over
 /// spec.max_memory_mb is refused before any fibre is made. `spread_over_ranks`: the voxelizer's
 /// leaves go over the MPI ranks and only rank 0 gets the grid (VoxelizeOptions::spread; weft gen).
-/// `asker`: whose words the budget errors use (`--max-memory` or `max_memory_mb=`).
+/// `asker`: whose words the budget errors use (`--max-memory` or `max_memory_mb=`). `upto`: the
+/// last stage built (the build's later members stay empty, its report zero).
 ClothBuild build_cloth(const ClothSpec& spec, ProgressSink& progress, bool spread_over_ranks = false,
-                       FrontEnd asker = FrontEnd::cli);
+                       FrontEnd asker = FrontEnd::cli, ClothStage upto = ClothStage::grid);
 
 }  // namespace weft::cloth
 

@@ -160,7 +160,21 @@ ClothEstimate estimate_cloth(const ClothSpec& spec, const CurveSet& centerlines)
   // voxelized, the VTK copy while fibers.vtp is written: one at a time.
   const double transient = std::max({voxelize, vtk, plan});
   e.transient_bytes = count(transient, o);
+  e.voxelizer_bytes = count(voxelize, o);
+  e.vtk_bytes = count(vtk, o);
   e.peak_bytes = count(points * sizeof(Point3) + fibers * kFiberBytes + leaves * kLeafBytes + internal + transient, o);
+  return e;
+}
+
+ClothEstimate without_grid(ClothEstimate e) {
+  e.active_voxels = 0;
+  e.leaves = 0;
+  e.grid_bytes = 0;
+  e.loop_reach_bytes = 0;  // grid leaves along the loops' paths
+  e.voxelizer_bytes = 0;
+  e.transient_bytes = std::max(e.vtk_bytes, e.plan_bytes);
+  // Saturated counts stay saturated (overflow is kept, and check_budget says so).
+  e.peak_bytes = e.fiber_bytes > ~0ULL - e.transient_bytes ? ~0ULL : e.fiber_bytes + e.transient_bytes;
   return e;
 }
 
@@ -193,6 +207,8 @@ ClothEstimate estimate_cloth(const ClothSpec& spec) {
   e.leaves = scale(p.leaves);
   e.grid_bytes = scale(p.grid_bytes);
   e.transient_bytes = scale(p.transient_bytes);
+  e.voxelizer_bytes = scale(p.voxelizer_bytes);
+  e.vtk_bytes = scale(p.vtk_bytes);
   e.peak_bytes = scale(p.peak_bytes);
   return e;
 }
@@ -200,10 +216,13 @@ ClothEstimate estimate_cloth(const ClothSpec& spec) {
 std::string describe(const ClothEstimate& e) { return describe(e, format_bytes(e.peak_bytes)); }
 
 std::string describe(const ClothEstimate& e, const std::string& peak) {
-  return fmt::format(
-      "{} fibres, {:.4g} mm of fibre, {} points ({}), {} loop flyaways; ~{:.3g} active voxels, grid {}; peak ~{}",
-      e.fibers, e.fiber_length, e.fiber_points, format_bytes(e.fiber_bytes), e.loops,
-      static_cast<double>(e.active_voxels), format_bytes(e.grid_bytes), peak);
+  // A build without a grid (without_grid) says none.
+  const std::string grid = e.grid_bytes == 0 && e.active_voxels == 0
+                               ? std::string("no grid")
+                               : fmt::format("~{:.3g} active voxels, grid {}", static_cast<double>(e.active_voxels),
+                                             format_bytes(e.grid_bytes));
+  return fmt::format("{} fibres, {:.4g} mm of fibre, {} points ({}), {} loop flyaways; {}; peak ~{}", e.fibers,
+                     e.fiber_length, e.fiber_points, format_bytes(e.fiber_bytes), e.loops, grid, peak);
 }
 
 namespace {

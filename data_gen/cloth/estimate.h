@@ -25,6 +25,8 @@ struct ClothEstimate {
   std::uint64_t leaves = 0;            ///< 8³ leaf nodes of the grid
   std::uint64_t grid_bytes = 0;        ///< the OpenVDB tree (what its memUsage() reports)
   std::uint64_t transient_bytes = 0;   ///< largest short-lived buffer: voxelizer bins, the VTK copy or the plan
+  std::uint64_t voxelizer_bytes = 0;   ///< the voxelizer's bins (transient_bytes' first part)
+  std::uint64_t vtk_bytes = 0;         ///< the VTK copy of the fibres for fibers.vtp (its second part)
   std::uint64_t peak_bytes = 0;        ///< fibres + grid + transient
   std::uint64_t loops = 0;             ///< loop flyaways drawn (they reshape regular fibres and add none)
   std::uint64_t plan_bytes = 0;        ///< the random part held while points are made (yarn_cost): stations, flyaways
@@ -55,6 +57,10 @@ struct ClothEstimate {
 /// period (c = loop_coverage; docs/cloth.md "Estimate before spending"). O(centreline points),
 /// nothing allocated.
 ClothEstimate estimate_cloth(const ClothSpec& spec, const CurveSet& centerlines);
+
+/// @brief The estimate of a build that stops at the fibres (`weft gen --write` without `grid`):
+/// no grid, no voxelizer bins; the peak is the fibres and the larger of the plan and the VTK copy.
+[[nodiscard]] ClothEstimate without_grid(ClothEstimate e);
 
 /// @brief The estimate of a woven or knitted spec before its centrelines exist (they alone take
 /// 3 GB for 2000×2000 yarns): specs up to 60×60 yarns are estimated on their centrelines, larger
