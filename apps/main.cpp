@@ -94,7 +94,7 @@ int main(int argc, char** argv) {
     CLI::App* sub = app.add_subcommand(command.name, command.summary);
     actions.push_back({sub, command.setup(*sub), command.distributed});
   }
-  check_integer_options(app);
+  check_number_options(app);
 
   try {
     check_empty_values(app, argc, argv);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "weft/core/atomic_file.h"
+#include "weft/core/parse_number.h"
 
 namespace weft::app {
 
@@ -134,11 +135,27 @@ std::string canonical_integer(std::string& text, bool is_unsigned) {
   return {};
 }
 
+// A real-valued option's value: parse_option_number's spelling (decimal, blanks around it
+// dropped), written back without the blanks; CLI11 2.1 took hex floats and leading blanks through
+// strtod, refused trailing ones with "Could not convert" and read 1e309 as inf.
+std::string canonical_real(std::string& text) {
+  const std::string_view t = trim_blanks(text);
+  if (parse_number(t)) {
+    text = std::string(t);
+    return {};
+  }
+  return fmt::format("'{}' is {}", text, number_problem(text));
+}
+
 }  // namespace
 
-void check_integer_options(CLI::App& app) {
+void check_number_options(CLI::App& app) {
   for (CLI::Option* option : app.get_options()) {
     const std::string type = option->get_type_name();
+    if (type.rfind("FLOAT", 0) == 0) {
+      option->transform(CLI::Validator(canonical_real, "", "real"));
+      continue;
+    }
     const bool is_unsigned = type.rfind("UINT", 0) == 0;
     if (!is_unsigned && type.rfind("INT", 0) != 0) continue;
     // A transform: it runs first (CLI11 puts transforms before the checks), so the range checks
@@ -146,7 +163,7 @@ void check_integer_options(CLI::App& app) {
     option->transform(CLI::Validator([is_unsigned](std::string& text) { return canonical_integer(text, is_unsigned); },
                                      "", "integer"));
   }
-  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) check_integer_options(*sub);
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) check_number_options(*sub);
 }
 
 std::string narrow_integer_message(const CLI::App& app, const CLI::ConversionError& e) {

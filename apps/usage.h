@@ -79,17 +79,21 @@ CLI::Validator in_range(double lo, double hi, bool hi_included = true);
 /// once on the command line, before parsing, so every option of every command is covered.
 void check_empty_values(const CLI::App& app, int argc, const char* const* argv);
 
-/// @brief Gives every integer option of `app` and its subcommands (CLI11 type name UINT or INT)
-/// a checked parse: CLI11 2.1 reads "-1" into an unsigned option as 2^64 − 1, a number past the
-/// 64-bit range as the largest value, and converts in base 0 (010 is 8, 0x10 is 16), silently.
-/// Instead every integer is read in decimal digits (blanks around them and leading zeros
-/// dropped, -0 as 0), and refused with the option named otherwise: another spelling (1e3, 2.0,
-/// 0x10: said with its digits), a negative value of an unsigned option, any value outside the
-/// 64-bit range. (Narrower types CLI11 itself refuses when the value does not fit.) main() calls it once, after every
-/// command has declared its options, so no command can forget it.
-void check_integer_options(CLI::App& app);
+/// @brief Gives every numeric option of `app` and its subcommands one checked parse, run before
+/// its other checks (a CLI11 transform). Integers (CLI11 type name UINT or INT): CLI11 2.1 reads
+/// "-1" into an unsigned option as 2^64 − 1, a number past the 64-bit range as the largest value,
+/// and converts in base 0 (010 is 8, 0x10 is 16), silently. Instead every integer is read in
+/// decimal digits (blanks around them and leading zeros dropped, -0 as 0), and refused with the
+/// option named otherwise: another spelling (1e3, 2.0, 0x10: said with its digits), a negative
+/// value of an unsigned option, any value outside the 64-bit range. (Narrower types CLI11 itself
+/// refuses when the value does not fit.) Reals (FLOAT): weft::parse_option_number's spelling, the
+/// one every list of numbers and every file header uses too (decimal, blanks around it dropped;
+/// a hexadecimal number or one past double's range refused as such, weft::number_problem).
+/// main() calls it once, after every command has declared its options, so no command can forget
+/// it.
+void check_number_options(CLI::App& app);
 
-/// @brief The message for an integer CLI11 could not store: check_integer_options lets through
+/// @brief The message for an integer CLI11 could not store: check_number_options lets through
 /// what fits in 64 bits, so a whole number refused here is past a narrower option's range (every
 /// narrower integer option of weft is 32 bits), said with that range instead of CLI11's "Could not
 /// convert". Empty for any other conversion error (CLI11's own message stands).

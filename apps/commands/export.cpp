@@ -39,8 +39,8 @@ std::array<double, 3> parse_albedo(const std::string& text) {
   std::stringstream ss(text);
   std::string item;
   while (std::getline(ss, item, ',')) {
-    const std::optional<double> x = parse_number(item);
-    if (!x) fail("--albedo: '{}' is not a number", item);
+    const std::optional<double> x = parse_option_number(item);
+    if (!x) fail("--albedo: '{}' is {}", item, number_problem(item));
     v.push_back(*x);
   }
   if (v.size() == 1) return {v[0], v[0], v[0]};

@@ -133,8 +133,8 @@ void set_yarn_field(cloth::YarnParams& yarn, const std::string& key, const std::
                     const std::string& where) {
   for (const auto& f : cloth::yarn_fields()) {
     if (key != f.name) continue;
-    const std::optional<double> parsed = parse_number(value);
-    if (!parsed) usage_fail("{}: '{}' is not a number", where, value);
+    const std::optional<double> parsed = parse_option_number(value);
+    if (!parsed) usage_fail("{}: '{}' is {}", where, value, number_problem(value));
     const double v = *parsed;
     if (f.integer) {
       if (v != std::floor(v)) usage_fail("{}: '{}' is not an integer", where, value);

@@ -75,8 +75,8 @@ struct ModelOptions {
 
 /// An option's number (weft::parse_number: subnormals are numbers, a value past double's range is not).
 double number_option(const std::string& what, const std::string& text) {
-  const std::optional<double> value = parse_number(text);
-  if (!value) usage_fail("{}: expected a number, got '{}'", what, text);
+  const std::optional<double> value = parse_option_number(text);
+  if (!value) usage_fail("{}: '{}' is {}", what, text, number_problem(text));
   return *value;
 }
 

@@ -214,8 +214,8 @@ int run(const RenderCliOptions& o, const CLI::App& sub, const Context& ctx) {
     if (!o.study_albedo.empty() && !fit_albedo) {
       for (const std::string& item : o.study_albedo) {
         const auto colon = item.find(':');
-        const auto f = colon == std::string::npos ? std::nullopt : parse_number(item.substr(0, colon));
-        const auto k = colon == std::string::npos ? std::nullopt : parse_number(item.substr(colon + 1));
+        const auto f = colon == std::string::npos ? std::nullopt : parse_option_number(item.substr(0, colon));
+        const auto k = colon == std::string::npos ? std::nullopt : parse_option_number(item.substr(colon + 1));
         if (!f || !k || *f != std::floor(*f) || !std::isfinite(*k))
           usage_fail("--study-albedo: '{}' is not FACTOR:K (e.g. 4:1.08), nor 'fit'", item);
         spec.albedo_factors.emplace_back(static_cast<int>(*f), *k);

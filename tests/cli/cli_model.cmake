@@ -112,7 +112,13 @@ weft_model_error_test(negative_alpha "alpha" --law gamma --alpha -1 --mean-extin
 weft_model_error_test(nan_alpha "alpha" --law gamma --alpha nan --mean-extinction 1)
 weft_model_error_test(zero_alpha "alpha must be > 0" --law gamma --alpha 0 --mean-extinction 1)
 weft_model_error_test(negative_mu "mu" --law exponential --mu -2)
-weft_model_error_test(not_a_number "--theta: expected a number" --law gamma-path --k 2 --theta abc)
+weft_model_error_test(not_a_number "--theta: .abc. is not a number" --law gamma-path --k 2 --theta abc)
+# One spelling of numbers for every option (check_number_options, weft::parse_option_number):
+# decimal with blanks around it dropped; hexadecimal and past double's range said as such.
+weft_model_error_test(hexadecimal "--t: .0x1p3. is a hexadecimal number (write it in decimal)" --law exponential --mu 1
+                      --t 0x1p3)
+weft_model_error_test(past_range "--mu: .1e309. is past double.s range" --law exponential --mu 1e309 --t 1)
+weft_model_output_test(blanks_around_numbers "grep -E '^ +5 +0.0067379'" --law exponential --mu " 1" --t " 5 ")
 weft_model_error_test(misspelt_law "did you mean .gamma." --law gamme --alpha 1 --mean-extinction 1)
 weft_model_error_test(incomplete_set "accepted set" --law gamma --alpha 1)
 weft_model_error_test(no_reciprocal "infinite mean free path" --law gamma --alpha 0.5 --mean-extinction 1 --given S)

@@ -24,14 +24,13 @@ std::string window_value(const Spelling& option, FrontEnd asker, std::string_vie
 // A window given as a length: a positive finite number. A number that is not one (nan, inf, past
 // double's range) is said as such, not as an unknown name.
 double window_length(const std::string& text, const std::string& option) {
-  const std::optional<double> v = parse_number(text);
+  const std::optional<double> v = parse_option_number(text);
   if (!v) {
-    char* end = nullptr;
-    (void)std::strtod(text.c_str(), &end);
-    if (end == text.c_str() || *end != '\0')
-      fail("{} '{}' is not yarn, yarn-measured, corr, extent or a length", option, text);
+    const std::string problem = number_problem(text);
+    if (problem == "not a number") fail("{} '{}' is not yarn, yarn-measured, corr, extent or a length", option, text);
+    fail("{} '{}' is {}", option, text, problem);
   }
-  if (!v || !std::isfinite(*v) || !(*v > 0.0)) fail("{} must be finite and > 0, got {}", option, text);
+  if (!std::isfinite(*v) || !(*v > 0.0)) fail("{} must be finite and > 0, got {}", option, text);
   return *v;
 }
 
