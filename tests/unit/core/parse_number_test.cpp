@@ -43,5 +43,20 @@ TEST(ParseNumber, RoundTripsSeventeenDigits) {
   }
 }
 
+// An option's number: the blanks around it are not part of it; what is refused is said as what it is.
+TEST(ParseNumber, OptionNumbersDropTheBlanksAroundThem) {
+  EXPECT_EQ(parse_option_number(" 2"), 2.0);
+  EXPECT_EQ(parse_option_number("2 \t"), 2.0);
+  EXPECT_EQ(parse_option_number("\t-0.5 "), -0.5);
+  for (const char* bad : {"", "   ", "1 2", "0x10", "1e999"})
+    EXPECT_FALSE(parse_option_number(bad).has_value()) << "'" << bad << "'";
+  EXPECT_EQ(number_problem(" 2 "), "");
+  EXPECT_EQ(number_problem("0x1p3"), "a hexadecimal number (write it in decimal)");
+  EXPECT_EQ(number_problem("-0X10"), "a hexadecimal number (write it in decimal)");
+  EXPECT_EQ(number_problem("1e309"), "past double's range");
+  EXPECT_EQ(number_problem("-1e-400"), "past double's range");
+  for (const char* bad : {"", "abc", "1mm", "1e", "+-1"}) EXPECT_EQ(number_problem(bad), "not a number") << bad;
+}
+
 }  // namespace
 }  // namespace weft
