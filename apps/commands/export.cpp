@@ -34,14 +34,22 @@ struct ExportOptions {
   double max_memory_mb = 0.0;
 };
 
+// A comma list's items must all be there: getline drops a trailing empty one ("pbrt," read as
+// "pbrt", "0.5," as a grey albedo), so an empty item anywhere is refused, as gen's --write does.
+void require_items(const char* option, const std::string& text) {
+  if (text.empty() || text.front() == ',' || text.back() == ',' || text.find(",,") != std::string::npos)
+    usage_fail("{}: an empty item in '{}'", option, text);
+}
+
 std::array<double, 3> parse_albedo(const std::string& text) {
+  require_items("--albedo", text);
   std::vector<double> v;
   std::stringstream ss(text);
   std::string item;
   while (std::getline(ss, item, ',')) {
     const std::optional<double> x = parse_option_number(item);
     if (!x) fail("--albedo: '{}' is {}", item, number_problem(item));
-    v.push_back(*x);
+    v.push_back(*x + 0.0);  // -0 is 0: the scenes write "0", not "-0"
   }
   if (v.size() == 1) return {v[0], v[0], v[0]};
   if (v.size() != 3) fail("--albedo: expected A or R,G,B, got '{}'", text);
@@ -52,6 +60,7 @@ int run(const ExportOptions& o, const Context& ctx) {
   // Every option is checked before anything is read (exit 2), every refusal before the first file.
   bool mitsuba = false;
   bool pbrt = false;
+  require_items("--format", o.formats);
   std::stringstream ss(o.formats);
   std::string f;
   while (std::getline(ss, f, ',')) {
@@ -65,6 +74,9 @@ int run(const ExportOptions& o, const Context& ctx) {
     }
   }
   if (!mitsuba && !pbrt) usage_fail("--format: give mitsuba, pbrt or both");
+  // The budget bounds the dense cloth.vol; pbrt's NanoVDB grid is the size of the grid itself.
+  if (o.max_memory_mb > 0.0 && !mitsuba)
+    usage_fail("--max-memory-mb needs --format mitsuba (the dense cloth.vol it bounds)");
   check_grid_input(o.input);
   volume::ExportMedium medium;
   medium.albedo = as_usage([&] { return parse_albedo(o.albedo); });

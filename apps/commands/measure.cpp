@@ -132,6 +132,9 @@ const Registrar kMeasure{Command{
         usage_needs(sub, {"--scatterer-rays", "--scatterer-direction"}, o->scatterer, "--scatterer");
         usage_needs(sub, {"--fibre-rays", "--fibre-extinction"}, o->fibres, "--fibres");
         usage_needs(sub, {"--memory"}, !o->fields.empty(), "--fields");
+        // Only random rays read the seed: jittered columns, the scatterer's, the fibres' jitter.
+        usage_needs(sub, {"--seed"}, o->jitter || o->rays > 1 || o->scatterer || (o->fibres && o->fibre_rays > 1),
+                    "random rays (--jitter, --rays above 1, --scatterer or --fibre-rays above 1)");
         std::vector<std::array<double, 3>> dirs;
         for (const auto& d : o->directions) dirs.push_back(as_usage([&] { return volume::parse_direction(d); }));
         // A direction given twice would trace the same rays again (same seed, same curve).

@@ -131,6 +131,9 @@ int run(const ModelOptions& o, const std::vector<bool>& given_flags, const CLI::
   // do nothing without it.
   const bool sampling = sub.count("--sample") > 0;
   usage_needs(sub, {"--sampler", "--from", "--seed"}, sampling, "--sample");
+  // --sample prints draws instead of the table at --t: a --t beside it would be read by nothing.
+  if (sampling && sub.count("--t") > 0)
+    usage_fail("--t does not go with --sample (it prints free-flight distances instead of T at --t)");
   // p ∝ T (S.55-S.57) is not a sampler of the law (it draws another density): it is the source law
   // of the reciprocal pair given as T_S, p_Q = T_S/l_S (docs/transmittance.md), the same draws.
   if (o.sampler == "proportional")

@@ -419,6 +419,14 @@ const Registrar kSim2d{Command{
           if (unset("--realizations")) spec.realizations = 2000;
           if (unset("--samples")) spec.samples = 1000;
         }
+        // Options of generators or passes this run does not have would do nothing (docs/sim2d.md).
+        const auto any_eta = [&](auto&& pred) { return std::any_of(spec.etas.begin(), spec.etas.end(), pred); };
+        usage_needs(sub, {"--cluster-size"}, any_eta([](double e) { return e > 0.0; }),
+                    "a positively correlated medium (an --eta above 0: random-walk clusters)");
+        usage_needs(sub, {"--step-unit"}, any_eta([](double e) { return e != 0.0 && e != -1.0; }),
+                    "a correlated medium with steps (an --eta other than 0 and -1)");
+        usage_needs(sub, {"--structure-max-points"}, std::min(spec.structure_realizations, spec.realizations) > 0,
+                    "a structure pass (--structure-realizations above 0)");
         // The spec holds option values only: what it refuses is a usage error (exit 2).
         as_usage([&] { media2d::validate(spec); });
         const fs::path out(o->out);

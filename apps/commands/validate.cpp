@@ -125,6 +125,10 @@ const Registrar kValidate{Command{
           usage_fail("--fibres goes with a validation, not --sweep or --corpus");
         usage_needs(sub, {"--quick", "--resume"}, o->sweep || o->corpus, "--sweep or --corpus");
         usage_needs(sub, {"--cases"}, o->corpus, "--corpus");
+        // The seed draws the default cloth, the sweep's and the corpus's cloths; a given grid or
+        // cloth.json (which holds its own seed) and validate's axis beams draw nothing.
+        usage_needs(sub, {"--seed"}, o->sweep || o->corpus || (o->input.grid.empty() && o->cloth.empty()),
+                    "a cloth to generate (no --grid or --cloth), --sweep or --corpus");
         usage_needs(sub, {"--models"}, !o->corpus && !o->sweep, "a validation, not --sweep or --corpus");
         if (o->scenes && (o->sweep || o->corpus))
           usage_fail("--scenes goes with a validation, not --sweep or --corpus");
