@@ -15,7 +15,13 @@ namespace weft {
 /// got -1"); apps print it as `weft: error: <message>` and exit non-zero.
 class Error : public std::runtime_error {
  public:
-  explicit Error(const std::string& message) : std::runtime_error(message) {}
+  /// The message is kept to one line whatever it quotes (one_line).
+  explicit Error(const std::string& message) : std::runtime_error(one_line(message)) {}
+
+  /// `text` with its control characters written out: a newline as \n, a carriage return as \r,
+  /// NUL as \0, the others as \xHH (a tab stays). A path or scene key that holds them then
+  /// prints as one line, and NUL no longer cuts the message short (what() is a C string).
+  static std::string one_line(const std::string& text);
 };
 
 /// @brief Throws weft::Error with a fmt-formatted message.

@@ -334,6 +334,9 @@ TriangleMesh load_ply(const std::filesystem::path& path) {
 }
 
 TriangleMesh load_mesh(const std::filesystem::path& path) {
+  // A folder opens as an empty stream on Linux: said as what it is, as the grid readers say it.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) fail("mesh file '{}': not a regular file (a folder)", path.string());
   const std::string ext = lower_extension(path);
   return ext == ".ply" ? load_ply(path) : load_obj(path);
 }

@@ -170,6 +170,8 @@ Enum parse_choice(const std::string& where, const std::string& what, const std::
     if (name == value) return e;
     names.push_back(name);
   }
+  // A shape or light has no default type: one left out is said as missing, not as "unknown ''".
+  if (value.empty()) fail("{}: no '{}' ({}: one of {})", where, "type", what, join(names));
   fail("{}: unknown {} '{}' (did you mean '{}'? known: {})", where, what, value, closest_name(value, names),
        join(names));
 }
@@ -397,8 +399,14 @@ LightDesc parse_light(const json& j, const std::string& where, const std::filesy
 
 SceneDesc parse_scene(std::string_view json_text, const std::string& source, const std::filesystem::path& base_dir) {
   // A file of another kind (a .vdb grid, an image) gets named, not a parser's "invalid JSON: ' B'".
-  if (!looks_like_json(skip_utf8_bom(json_text).substr(0, 512)))
-    fail("{}: not a scene JSON (looks like {})", source, file_kind(skip_utf8_bom(json_text).substr(0, 512)));
+  const std::string_view head = skip_utf8_bom(json_text).substr(0, 512);
+  if (!looks_like_json(head)) {
+    // JSON has no comments: a scene that starts with one is said as such, not as "a text file".
+    const std::size_t first = head.find_first_not_of(" \t\r\n");
+    if (first != std::string_view::npos && (head.substr(first, 2) == "//" || head.substr(first, 2) == "/*"))
+      fail("{}: JSON has no comments: remove the comment at the start of the scene", source);
+    fail("{}: not a scene JSON (looks like {})", source, file_kind(head));
+  }
   const json root = parse_json_input(json_text, source);
   // weft gen's cloth.json is JSON too: say what it is and how to render it, not "unknown key 'crimp'".
   if (root.is_object() && !root.contains("camera") && !root.contains("shapes") &&

@@ -248,13 +248,11 @@ MitsubaVolume mitsuba_volume(const Grid& grid, const IndexBox& box, const fs::pa
 }
 
 void write_mitsuba_vol(const MitsubaVolume& volume, const fs::path& path) {
-  write_atomically(path, [&](const fs::path& tmp) {
-    std::ofstream f(tmp, std::ios::binary);
+  // The checked stream of every writer: a short write says why ("File too large").
+  write_stream_atomically(path, [&](std::ostream& f) {
     f.write(volume.header.data(), static_cast<std::streamsize>(volume.header.size()));
     f.write(reinterpret_cast<const char*>(volume.values.data()),
             static_cast<std::streamsize>(volume.values.size() * sizeof(float)));
-    f.close();
-    if (!f) fail("{}: write failed", path.string());
   });
 }
 
