@@ -172,7 +172,12 @@ int run(const ModelOptions& o, const std::vector<bool>& given_flags, const CLI::
   const tr::LawPtr law = o.law == "tabulated" ? tr::make_law(spec) : as_usage([&] { return tr::make_law(spec); });
   const tr::PairMode mode = as_usage([&] { return tr::parse_pair_mode(o.pair); });
   const tr::Origin given = as_usage([&] { return tr::parse_origin(o.given); });
-  const tr::TransmittancePair pair = [&] {
+  const tr::Origin from = sampling ? as_usage([&] { return tr::parse_origin(o.from); }) : given;
+  // Draws from the given side need only the given law, as Python's Law.sample: its reciprocal
+  // partner, which may not exist (p_Q(0) = 0 for gamma-path with k > 1), is built only when it is
+  // drawn from or tabulated. The pair is still reported as the mode asked for.
+  const bool given_law_only = sampling && mode == tr::PairMode::reciprocal && from == given;
+  const tr::TransmittancePair pair = given_law_only ? tr::TransmittancePair::same(law) : [&] {
     switch (mode) {
       case tr::PairMode::same:
         return tr::TransmittancePair::same(law);
@@ -192,7 +197,6 @@ int run(const ModelOptions& o, const std::vector<bool>& given_flags, const CLI::
   if (static_cast<std::uint64_t>(o.sample) > tr::kMaxDraws)
     usage_fail("--sample: at most 1e9 samples per run, got {} (run several seeds)", o.sample);
   if (sampling) {
-    const tr::Origin from = as_usage([&] { return tr::parse_origin(o.from); });
     // Streamed chunk by chunk (N may be far larger than memory); each chunk is a progress report,
     // where Ctrl-C or SIGTERM stops the run (what was printed before stays printed). With --json,
     // the same numbers in one object whose "samples" array is streamed after its other fields (+∞
@@ -203,7 +207,7 @@ int run(const ModelOptions& o, const std::vector<bool>& given_flags, const CLI::
       json head = {{"law", law->name()},
                    {"parameters", parameters_json(*law)},
                    {"given", given == tr::Origin::source ? "Q" : "S"},
-                   {"pair", tr::to_string(pair.mode())},
+                   {"pair", tr::to_string(mode)},
                    {"from", tr::to_string(from)},
                    {"sampled_law", {{"law", drawn.name()}, {"parameters", parameters_json(drawn)}}},
                    {"sampling", drawn.sampling_method()},

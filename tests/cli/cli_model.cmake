@@ -55,6 +55,14 @@ b=$(\"$0\" model --law gamma-path --k 0.5 --theta 1 --pair same --sample 50 --se
 c=$(\"$0\" model --law gamma-path --k 0.5 --theta 1 --pair same --sample 50 --seed 10); \
 [ \"$a\" = \"$b\" ] && [ \"$a\" != \"$c\" ]" $<TARGET_FILE:weft>)
 set_tests_properties(cli.model.sample_reproducible PROPERTIES LABELS cli)
+# Draws from the given law need only that law (as Python's Law.sample): gamma-path with k = 3 has
+# no reciprocal partner (p_Q(0) = 0), yet its source draws are there; the JSON still names the
+# pair asked for. Its scatterer draws stay refused (model_* rows of the bad-input catalogue).
+weft_model_output_test(sample_given_law_only
+  "test $(wc -l < model_sample_given_law_only.out) -eq 5 && awk '{ if (!($1 > 0)) exit 1 }'"
+  --law gamma-path --k 3 --theta 0.5 --sample 5 --from source)
+weft_model_output_test(sample_given_law_only_json "grep -q '\"pair\": \"reciprocal\"'"
+  --law gamma-path --k 3 --theta 0.5 --sample 5 --from source --json)
 # Integers are decimal whatever their spelling: a leading zero is not octal (010 draws ten, with
 # the draws of seed 10), blanks around the digits are dropped; 0x10 is refused with its digits.
 add_test(NAME cli.model.integers_are_decimal
