@@ -9,9 +9,7 @@ std::string Error::one_line(const std::string& text) {
   out.reserve(text.size());
   for (const char c : text) {
     const auto u = static_cast<unsigned char>(c);
-    if (u >= 0x20 && u != 0x7f) {
-      out += c;
-    } else if (c == '\t') {
+    if ((u >= 0x20 && u != 0x7f) || c == '\t') {
       out += c;
     } else if (c == '\n') {
       out += "\\n";

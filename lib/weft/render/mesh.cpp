@@ -145,7 +145,7 @@ std::uint64_t check_ply_structure(const std::filesystem::path& path) {
         prop.size = ply_type_size(item_type);
         if (prop.count_size == 0 || prop.size == 0 || count_type == "float" || count_type == "double" ||
             count_type == "float32" || count_type == "float64")
-          bad("unsupported list types '" + count_type + " " + item_type + "'");
+          bad(fmt::format("unsupported list types '{} {}'", count_type, item_type));
       } else {
         prop.size = ply_type_size(type);
         if (prop.size == 0) bad("unknown property type '" + type + "'");

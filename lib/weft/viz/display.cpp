@@ -75,7 +75,7 @@ std::string find_in_path(const std::string& program) {
     const std::size_t end = dirs.find(':', start);
     const std::string dir = dirs.substr(start, end == std::string::npos ? std::string::npos : end - start);
     if (!dir.empty()) {
-      const std::string candidate = dir + "/" + program;
+      std::string candidate = fmt::format("{}/{}", dir, program);
       if (::access(candidate.c_str(), X_OK) == 0) return candidate;
     }
     if (end == std::string::npos) break;
@@ -114,6 +114,7 @@ DisplayState start_xvfb() {
   std::vector<std::string> args{xvfb,           "-displayfd", fd_arg, "-screen", "0",
                                 "1280x1024x24", "-nolisten",  "tcp",  "-noreset"};
   std::vector<char*> argv;
+  argv.reserve(args.size() + 1);
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
   // The server dies with us if we are killed, but PR_SET_PDEATHSIG fires when the forking
