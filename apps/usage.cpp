@@ -96,7 +96,7 @@ namespace {
 // other check or CLI11's conversion sees it. CLI11 2.1 converts with strtoll's base 0, which
 // reads a leading 0 as octal (--spp 010 was 8, --seed 08 a refusal) and 0x as hex: here every
 // integer is decimal, as the docs and the Python calls read it. Blanks around the digits are
-// dropped (as parse_number drops them for the real-valued options), leading zeros too, and -0 is
+// dropped (as parse_option_number drops them for the real-valued options), leading zeros too, and -0 is
 // 0. A whole number in another spelling (1e3, 2.0, 0x10) is refused with its digits.
 std::string canonical_integer(std::string& text, bool is_unsigned) {
   const std::size_t first = text.find_first_not_of(" \t");

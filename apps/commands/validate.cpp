@@ -84,7 +84,9 @@ const Registrar kValidate{Command{
       sub.add_flag("--no-vti", o->no_vti,
                    "Do not write cloth.vti (the grid's active box as dense image data: 0.8 GB and half the CPU of a "
                    "run on a 23 M-voxel knit)");
-      sub.add_option("--seed", o->seed, "Seed of the cloth generator and jittered rays")->capture_default_str();
+      sub.add_option("--seed", o->seed,
+                     "Seed of the generated cloth (no --grid or --cloth), of --sweep's and of --corpus's cloths")
+          ->capture_default_str();
       sub.add_option("--method", o->method, "Beam tracing: auto | streaming | per-ray | openvdb")
           ->capture_default_str();
       sub.add_option("--out", o->out, "Output folder")->capture_default_str();

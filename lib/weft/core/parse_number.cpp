@@ -37,7 +37,7 @@ std::string number_problem(std::string_view text) {
   double value = 0.0;
   const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
   if (ec == std::errc::result_out_of_range && end == digits.data() + digits.size()) return "past double's range";
-  return "not a number";
+  return std::string(kNotANumber);
 }
 
 }  // namespace weft

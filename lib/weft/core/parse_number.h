@@ -24,6 +24,10 @@ namespace weft {
 /// when it is a number.
 [[nodiscard]] std::string number_problem(std::string_view text);
 
+/// @brief number_problem's words for a text that is no number at all (a caller that also takes
+/// names, as --window does, tells this case apart by it).
+inline constexpr std::string_view kNotANumber = "not a number";
+
 /// @brief `text` without the blanks (spaces, tabs) around it.
 [[nodiscard]] std::string_view trim_blanks(std::string_view text);
 

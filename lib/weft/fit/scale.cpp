@@ -27,7 +27,7 @@ double window_length(const std::string& text, const std::string& option) {
   const std::optional<double> v = parse_option_number(text);
   if (!v) {
     const std::string problem = number_problem(text);
-    if (problem == "not a number") fail("{} '{}' is not yarn, yarn-measured, corr, extent or a length", option, text);
+    if (problem == kNotANumber) fail("{} '{}' is not yarn, yarn-measured, corr, extent or a length", option, text);
     fail("{} '{}' is {}", option, text, problem);
   }
   if (!std::isfinite(*v) || !(*v > 0.0)) fail("{} must be finite and > 0, got {}", option, text);
