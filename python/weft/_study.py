@@ -160,7 +160,9 @@ class MatrixCandidate(_Record):
     """A candidate in one case of the matrix (matrix.json's ``cases[i]["candidates"][j]``):
     ``name``, ``model``, ``factor``, ``spp``, ``cloth_bias``, ``cloth_bias_sq_stderr``,
     ``cloth_bias_z``, ``cloth_relative_bias``, ``cloth_rmse``, ``cloth_noise``, ``memory_bytes``,
-    ``memory_ratio``, ``sample_cpu_seconds``, ``cost_ratio``, ``speedup``, ..."""
+    ``memory_ratio``, ``sample_cpu_seconds``, ``cost_ratio``, ``speedup`` (at RMSE 5 %),
+    ``speedup_ceiling`` (at any RMSE), ``error_for_3x`` (the RMSE from which it is 3x faster,
+    relative; None: never), ..."""
 
     def __repr__(self):
         f = self._fields
@@ -193,7 +195,8 @@ class MatrixCase(_Record):
 class MatrixVerdict(_Record):
     """A representation of one cloth judged over its set-ups: ``name``, ``factor``,
     ``worst_relative_bias``, ``worst_case``, ``mean_relative_bias``, ``memory_ratio``,
-    ``cost_ratio``, ``speedup``."""
+    ``cost_ratio``, ``speedup``, ``speedup_ceiling``, ``error_for_3x`` (the worst over the
+    set-ups)."""
 
     def __repr__(self):
         f = self._fields

@@ -142,7 +142,7 @@ if(CMAKE_SCRIPT_MODE_FILE)
   if(CASE STREQUAL "same_bytes")
     include(${CMAKE_CURRENT_LIST_DIR}/mpi_common.cmake)
     # Timing-derived entries of matrix.json, besides the keys every MPI comparison skips.
-    set(SKIP_KEYS "^(timings|timings_seconds|seconds|.*_seconds|threads|ranks|resumed_units|elapsed|cost_ratio|speedup|text)$")
+    set(SKIP_KEYS "^(timings|timings_seconds|seconds|.*_seconds|threads|ranks|resumed_units|elapsed|cost_ratio|speedup|speedup_ceiling|error_for_3x|text)$")
     # 2 cases (one cloth, two light set-ups): one per rank under mpirun -n 2.
     set(small render --study --quick --study-factors 2 --study-cloths plain --study-lightings back,front --study-tilts 45
               --seed 3 --study-components exponential)

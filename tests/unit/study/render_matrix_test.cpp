@@ -55,6 +55,37 @@ TEST(MatrixSpeedup, FollowsTheEqualErrorFormula) {
   EXPECT_EQ(equal_error_speedup(candidate(4, 0.3, 0.2, 16, 1.0), fine, mean), 0.0);
 }
 
+// The speed-up at RMSE E is r (1 − b²/E²): its ceiling r bounds it at every E, and the error at
+// which it reaches a target is where that formula says, checked against equal_error_speedup
+// itself at that error (docs/render.md §6e "What accuracy costs in time").
+TEST(MatrixSpeedup, TheCeilingBoundsEveryErrorAndTheGoalsErrorReachesIt) {
+  const StudyCandidate fine = candidate(1, 0.003, 0.2, 16, 8.0);
+  EXPECT_EQ(speedup_ceiling(fine, fine), 1.0);
+  EXPECT_EQ(error_for_speedup(fine, fine, 2.0, 3.0), std::numeric_limits<double>::infinity());
+  // A quarter of the cost at equal noise: r = 4 whatever the bias.
+  const StudyCandidate c = candidate(8, 0.05, 0.2, 16, 2.0);
+  EXPECT_NEAR(speedup_ceiling(c, fine), 4.0, 1e-12);
+  const double e3 = error_for_speedup(c, fine, 1.0, 3.0);  // b / √(1 − 3/4) = 2 b
+  EXPECT_NEAR(e3, 0.1, 1e-12);
+  // equal_error_speedup takes E = kMatrixErrorFraction × mean: choose the mean that puts E at e3.
+  EXPECT_NEAR(equal_error_speedup(c, fine, e3 / kMatrixErrorFraction), 3.0, 1e-9);
+  // Below that error it is slower than the target, above it faster, never past r.
+  EXPECT_LT(equal_error_speedup(c, fine, 0.9 * e3 / kMatrixErrorFraction), 3.0);
+  for (const double e : {1.1, 2.0, 10.0, 1e6}) {
+    const double s = equal_error_speedup(c, fine, e * e3 / kMatrixErrorFraction);
+    EXPECT_GT(s, 3.0);
+    EXPECT_LE(s, speedup_ceiling(c, fine));
+  }
+  // r ≤ the target: never that fast, at any error, even unbiased.
+  const StudyCandidate slow = candidate(8, 0.0, 0.2, 16, 4.0);  // r = 2
+  EXPECT_EQ(error_for_speedup(slow, fine, 1.0, 3.0), std::numeric_limits<double>::infinity());
+  EXPECT_NEAR(equal_error_speedup(slow, fine, 1e9), 2.0, 1e-12);
+  // Unbiased and fast enough: the target holds at any error.
+  EXPECT_EQ(error_for_speedup(candidate(8, 0.0, 0.2, 16, 1.0), fine, 1.0, 3.0), 0.0);
+  // The noise counts as much as the cost: half the noise per sample at equal cost is r = 4.
+  EXPECT_NEAR(speedup_ceiling(candidate(8, 0.0, 0.1, 16, 8.0), fine), 4.0, 1e-12);
+}
+
 TEST(MatrixSpec, RefusesWhatCannotRun) {
   MatrixSpec s;
   s.study.work_dir = "unused";
