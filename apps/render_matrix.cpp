@@ -89,10 +89,10 @@ void add_matrix_options(CLI::App& sub, MatrixCliOptions& o) {
       ->check(cloth_tilt);
   sub.add_option("--study-film", o.film, "--study matrix: film WIDTH,HEIGHT (default 96,72; 32,24 with --quick)")
       ->delimiter(',')
-      ->check(CLI::Range(8, 4096));
+      ->check(CLI::Range(study::kMinMatrixFilm, study::kMaxMatrixFilm));
   sub.add_option("--study-yarns", o.yarns,
                  "--study matrix: yarns per side of each cloth (default 4 at 10 um; --quick: 2 at 20 um)")
-      ->check(CLI::Range(1, 64));
+      ->check(CLI::Range(1, study::kMaxMatrixYarns));
   sub.add_flag("--resume", o.resume,
                "--study matrix: keep the cases a previous run of the same options finished (<out>/matrix.units) "
                "and render only the others; other options are refused");
@@ -111,7 +111,6 @@ void run_render_matrix_command(const study::StudySpec& study, const MatrixCliOpt
   if (given.memory) m.study.memory_rules = study.memory_rules;
   m.study.scale = study.scale;
   m.study.components = study.components;
-  m.study.albedo_factors = study.albedo_factors;
   if (given.spp > 0) m.study.spp = given.spp;
   if (given.reference_spp > 0) m.study.reference_spp = given.reference_spp;
   m.study.seed = given.seed.value_or(1);

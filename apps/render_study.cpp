@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <string_view>
 
 #include <fmt/format.h>
 
@@ -177,11 +178,15 @@ void run_render_study(const render::SceneDesc& scene, study::StudySpec spec, con
     ctx.say(fmt::format("no chart {}: {}", chart.string(), outcome.reason));
 
   ctx.say(fmt::format("study ({}): reference {} spp in {:.3g} s", r.mode, r.reference.spp, r.reference_seconds));
-  ctx.say(fmt::format("{:<21} {:>7} {:>9} {:>11} {:>11} {:>9} {:>11} {:>9} {:>13}", "candidate", "spp", "seconds",
-                      "RMSE", "bias", "bias z", "noise", "speedup", "cloth bias %"));
+  // The name column as wide as the longest name (local-gamma-optical-depth-4096x), so the
+  // numbers stay under their headings.
+  std::size_t name_width = std::string_view("candidate").size();
+  for (const auto& c : r.candidates) name_width = std::max(name_width, c.name.size());
+  ctx.say(fmt::format("{:<{}} {:>7} {:>9} {:>11} {:>11} {:>9} {:>11} {:>9} {:>13}", "candidate", name_width, "spp",
+                      "seconds", "RMSE", "bias", "bias z", "noise", "speedup", "cloth bias %"));
   for (const auto& c : r.candidates)
-    ctx.say(fmt::format("{:<21} {:>7} {:>9.3g} {:>11.4g} {:>11.4g} {:>9.3g} {:>11.4g} {:>9.3g} {:>13.3g}", c.name,
-                        c.spp, c.seconds, c.rmse, c.bias, c.bias_z(), c.noise, c.speedup,
+    ctx.say(fmt::format("{:<{}} {:>7} {:>9.3g} {:>11.4g} {:>11.4g} {:>9.3g} {:>11.4g} {:>9.3g} {:>13.3g}", c.name,
+                        name_width, c.spp, c.seconds, c.rmse, c.bias, c.bias_z(), c.noise, c.speedup,
                         r.cloth_mean > 0.0 ? 100.0 * c.cloth_bias / r.cloth_mean : 0.0));
   ctx.say(r.best_by_ground_truth_note);
   for (const auto& n : r.notes) ctx.say("note: " + n);

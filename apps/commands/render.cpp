@@ -151,6 +151,12 @@ int run(const RenderCliOptions& o, const CLI::App& sub, const Context& ctx) {
   usage_needs(sub,
               {"--study-cloths", "--study-lightings", "--study-tilts", "--study-film", "--study-yarns", "--resume"},
               matrix, "the study matrix (--study with no scene, --lighting or --tilt)");
+  // The matrix fits its albedo factors per cloth on one set-up and writes its cases' PNGs at
+  // exposure 1, the light set-ups being exposed by their own intensities (docs/render.md §6e):
+  // these two would do nothing there.
+  usage_needs(sub, {"--study-albedo", "--exposure"}, !matrix,
+              "a scene, --lighting or --tilt (the study matrix fits its albedo factors per cloth and writes its "
+              "PNGs at exposure 1)");
   if (default_scene && !matrix) {
     label = render::kDefaultScene;
     render::ClothView view;
@@ -211,6 +217,7 @@ int run(const RenderCliOptions& o, const CLI::App& sub, const Context& ctx) {
     }
     spec.components = o.study_components;
     const bool fit_albedo = o.study_albedo == std::vector<std::string>{"fit"};
+    spec.albedo_fitted = fit_albedo;
     if (!o.study_albedo.empty() && !fit_albedo) {
       for (const std::string& item : o.study_albedo) {
         const auto colon = item.find(':');
@@ -450,11 +457,11 @@ const Registrar kRender{Command{
       auto* study_time = sub.add_option("--study-time", o->study_time,
                                         "--study: wall seconds per candidate image (default 10, 1 with --quick); "
                                         "the spp reached is recorded")
-                             ->check(in_range(1e-3, 1e6));
+                             ->check(in_range(study::kMinStudySeconds, study::kMaxStudySeconds));
       sub.add_option("--study-spp", o->study_spp,
                      "--study: every candidate at this spp instead of a time budget (deterministic: same bytes for "
                      "any --threads or ranks)")
-          ->check(CLI::Range(1, 1 << 20))
+          ->check(CLI::Range(1, study::kMaxStudySpp))
           ->excludes(study_time);
       sub.add_option("--study-factors", o->study_factors, "--study: coarsening factors (default 2,4,8,16)")
           ->delimiter(',')

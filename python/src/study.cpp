@@ -70,6 +70,8 @@ st::StudySpec study_spec(const py::dict& o, const char* call, bool matrix) {
   spec.work_dir = "(the out folder)";  // set by the caller; checked here for the other fields
   spec.front = FrontEnd::python;
   const auto check = [&] { st::check_study_spec(spec, FrontEnd::python); };
+  // albedo="fit": albedo-corrected candidates will be rendered (components= may name them).
+  if (!matrix) spec.albedo_fitted = get<bool>(o, "fit_albedo").value_or(false);
   if (auto f = get<std::vector<int>>(o, "factors")) {
     argument(call, "factors=" + shown(*f), [&] {
       std::vector<int> sorted = *f;  // the CLI runs them in increasing order
@@ -116,17 +118,17 @@ st::StudySpec study_spec(const py::dict& o, const char* call, bool matrix) {
       spec.scale = *window;
     });
   }
-  if (auto names = get<std::vector<std::string>>(o, "components")) {
-    argument(call, "components=" + shown(*names), [&] {
-      spec.components = *names;
-      check();
-    });
-  }
   if (auto pairs = get<std::vector<std::pair<int, double>>>(o, "albedo")) {
     std::vector<std::string> items;
     for (const auto& [f, k] : *pairs) items.push_back(fmt::format("{}: {}", f, k));
     argument(call, fmt::format("albedo={{{}}}", fmt::join(items, ", ")), [&] {
       spec.albedo_factors = *pairs;
+      check();
+    });
+  }
+  if (auto names = get<std::vector<std::string>>(o, "components")) {
+    argument(call, "components=" + shown(*names), [&] {
+      spec.components = *names;
       check();
     });
   }

@@ -4,6 +4,8 @@ import copy
 import math
 import os
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -120,11 +122,16 @@ def test_bad_input_raises(tmp_path, call, exc):
 @pytest.mark.parametrize("values, message", [
     (np.full((2, 2, 2), np.nan), r"^from_numpy: value nan at index \(0, 0, 0\); grid values must be finite and >= 0$"),
     (np.array([[[1.0, 2.0], [3.0, -4.0]]]), r"^from_numpy: value -4 at index \(0, 1, 1\); grid values must be finite"),
-], ids=["nan", "negative"])
+    # Finite, but past float32's range: named as given, not as the inf NumPy's cast would make it.
+    (np.array([[[1.0, 2.0], [1e300, 4.0]]]),
+     r"^Grid.from_numpy: values: value 1e\+300 at index \(0, 1, 0\) is past the range of a 32-bit float"),
+], ids=["nan", "negative", "past-float"])
 def test_a_bad_value_is_named_as_from_numpy_s(values, message):
     """The array's errors name the call the user made, not the library's dense copy under it."""
-    with pytest.raises(weft.Error, match=message):
-        weft.Grid.from_numpy(values)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # and no NumPy overflow warning on the way
+        with pytest.raises(weft.Error, match=message):
+            weft.Grid.from_numpy(values)
 
 
 KMAX = 2**31 - 4097  # volume::kMaxIndex (docs/robustness.md "Index range")

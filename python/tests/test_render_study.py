@@ -307,6 +307,14 @@ def test_shadowed_downsample_takes_sigma_from_the_provenance(small_cloth):
     (dict(spp=4, seconds=2.0), r"spp= and seconds= exclude each other"),
     (dict(seconds=float("nan")), r"seconds=nan"),
     (dict(reference_spp=0), r"reference_spp=0"),
+    # The CLI's limits (--study-spp, --study-time, --reference-spp), before any work.
+    (dict(spp=2 ** 21), r"spp=2097152: .*spp must be at most 1048576"),
+    (dict(seconds=1e-4), r"seconds=0.0001: .*time budget must be in \[0.001, 1e\+06\] seconds"),
+    (dict(seconds=1e7), r"seconds=10000000: .*time budget must be in \[0.001, 1e\+06\] seconds"),
+    (dict(reference_spp=2 ** 25), r"reference_spp=33554432: .*reference spp must be in \[1, 16777216\]"),
+    # A family that names no candidate: without albedo= there is no albedo-corrected one.
+    (dict(components="albedo-corrected"),
+     r"components=\['albedo-corrected'\]: .*no albedo-corrected candidate; add them with albedo="),
     (dict(albedo={8: 1.1}, factors=(2,)), r"albedo=\{8: 1.1\}: .*not a coarsening factor"),
     (dict(albedo={2: -1.0}, factors=(2,)), r"albedo=\{2: -1\}: .*> 0"),
     (dict(albedo="fitted"), r"albedo='fitted'"),
@@ -327,6 +335,75 @@ def test_study_bad_input_is_one_error_naming_the_argument(scene_file, tmp_path, 
     assert not out.exists() or not any(out.iterdir())  # refused before anything was written
 
 
+def test_components_may_name_the_albedo_corrected_candidates_a_fit_will_make(scene_file):
+    result = weft.render_study(str(scene_file), spp=1, reference_spp=8, factors=(2,), quick=True, albedo="fit",
+                               components="albedo-corrected")
+    assert result["albedo-corrected-2x"].components  # split, as asked
+
+
+def _scene_dict(scene_file):
+    scene = json.loads(scene_file.read_text())
+    scene["media"]["cloth"]["file"] = str(scene_file.parent / "cloth.vdb")
+    return scene
+
+
+def test_the_study_refuses_a_box_that_cuts_the_cloth_or_is_seen(scene_file, tmp_path):
+    """Each candidate's box is fitted to its own grid (docs/render.md §6c): a box that cut the fine
+    grid would cut the coarse grids' blocks elsewhere, and a box a ray sees (glass) would change
+    size with them. Either would compare other cloths, so both are refused before any work."""
+    grid = weft.load_grid(str(scene_file.parent / "cloth.vdb"))
+    (lo, hi), h = grid.bbox, grid.voxel_size
+    cut = _scene_dict(scene_file)
+    cut["shapes"][0]["min"] = [h * (lo[0] + hi[0]) / 2, h * lo[1], h * lo[2]]  # half the cloth in x
+    out = tmp_path / "cut"
+    with pytest.raises(weft.Error, match=r"the box holding medium 'cloth' .* cuts the active voxels of grid") as e:
+        weft.render_study(cut, spp=1, reference_spp=8, factors=(2,), quick=True, out=out)
+    assert "\n" not in str(e.value) and not out.exists()
+    seen = _scene_dict(scene_file)
+    seen["materials"]["glass"] = {"type": "dielectric", "ior": 1.5}
+    seen["shapes"][0]["material"] = "glass"
+    with pytest.raises(weft.Error, match=r"has material 'glass': .* must be a null boundary"):
+        weft.render_study(seen, spp=1, reference_spp=8, factors=(2,), quick=True)
+    with pytest.raises(weft.Error, match=r"cuts the active voxels"):
+        weft.fit_albedo(cut, factors=(2,), spp=1, reference_spp=8, quick=True)
+
+
+def test_a_laws_mu_is_the_same_cloth_as_sigma_times_mu(scene_file):
+    """A grid medium's extinction is the law's mu times sigma times the value (docs/scene-format.md):
+    every candidate (the fields, the self-shadowing correction, the slab) must take the product, so
+    the study of mu = 3 is the study of 3 sigma, image for image."""
+    with_mu = _scene_dict(scene_file)
+    with_mu["media"]["cloth"]["law"] = {"name": "exponential", "mu": 3.0}
+    with_sigma = _scene_dict(scene_file)
+    with_sigma["media"]["cloth"]["sigma"] = 3.0 * with_sigma["media"]["cloth"]["sigma"]
+    args = dict(spp=1, reference_spp=8, factors=(2,), quick=True)
+    a, b = weft.render_study(with_mu, **args), weft.render_study(with_sigma, **args)
+    assert [c.name for c in a.candidates] == [c.name for c in b.candidates]
+    for ca, cb in zip(a.candidates, b.candidates):
+        assert np.array_equal(ca.image, cb.image), ca.name
+        assert ca.cloth_bias == cb.cloth_bias, ca.name
+
+
+def test_a_study_whose_cloth_covers_no_pixel_is_refused(scene_file):
+    away = _scene_dict(scene_file)
+    camera = away["camera"]
+    camera["look_at"] = [2 * p - q for p, q in zip(camera["position"], camera["look_at"])]  # turned round
+    with pytest.raises(weft.Error, match=r"the cloth covers no pixel of the .* film"):
+        weft.render_study(away, spp=1, reference_spp=8, factors=(2,), quick=True)
+
+
+def test_a_resumed_case_whose_folder_was_removed_is_rendered_again(tmp_path):
+    args = dict(quick=True, cloths="plain", lightings="back", tilts=(45, 8), factors=(2,), spp=1, reference_spp=8,
+                out=tmp_path)
+    first = weft.render_matrix(**args)
+    import shutil
+    shutil.rmtree(tmp_path / "cases" / "plain-back-8deg")
+    again = weft.render_matrix(resume=True, **args)
+    assert again.resumed == 1  # the other case; this one rendered again, the same bytes
+    assert again.csv == first.csv
+    assert (tmp_path / "cases" / "plain-back-8deg" / "reference.study.json").exists()
+
+
 def test_study_refuses_a_scene_without_one_grid_medium():
     with pytest.raises(weft.Error, match="render_study: scene: study: the scene needs exactly one grid medium"):
         weft.render_study("cloth_patch")
@@ -340,8 +417,13 @@ def test_study_refuses_a_scene_without_one_grid_medium():
     (dict(cloths="plain,bogus"), r"render_matrix: cloths=\['plain', 'bogus'\]: .*bogus"),
     (dict(lightings="back,sideways"), r"lightings=\['back', 'sideways'\]"),
     (dict(tilts=(45, 95)), r"tilts=\[45, 95\]: .*95"),
-    (dict(film=(4, 4)), r"film=\(4, 4\): .*under 8 px"),
+    (dict(film=(4, 4)), r"film=\(4, 4\): .*each side must be in \[8, 4096\] px"),
     (dict(yarns=0), r"yarns=0"),
+    # The CLI's limits, refused before a cloth is made (the library checks them for both).
+    (dict(film=(5000, 8)), r"film=\(5000, 8\): .*each side must be in \[8, 4096\] px"),
+    (dict(yarns=65), r"yarns=65: .*yarns must be in \[1, 64\]"),
+    (dict(spp=2 ** 21), r"spp=2097152: .*spp must be at most 1048576"),
+    (dict(reference_spp=2 ** 25), r"reference_spp=33554432: .*reference spp must be in \[1, 16777216\]"),
     (dict(factors=()), r"factors=\[\]: .*no coarsening factors"),
     (dict(resume=True), r"resume=True needs out="),
     # A repeated cloth (an alias is its pattern), light set-up, view or memory rule would render the

@@ -391,6 +391,37 @@ def _holds_odd(args, kwargs):
     return False
 
 
+_FLOAT32_MAX = float(_numpy.finfo(_numpy.float32).max)
+
+
+def _holds_wide_floats(args, kwargs):
+    """Whether an argument is a NumPy array of floats wider than 32 bits (which a float32
+    parameter's cast could overflow)."""
+    for v in args:
+        if type(v) is _numpy.ndarray and v.dtype.kind == "f" and v.dtype.itemsize > 4:
+            return True
+    for v in kwargs.values():
+        if type(v) is _numpy.ndarray and v.dtype.kind == "f" and v.dtype.itemsize > 4:
+            return True
+    return False
+
+
+def _past_float32(call, arguments, names):
+    """weft.Error for the first finite value past float32's range in the ``names`` arguments, else
+    None: NumPy's cast would make it inf with a RuntimeWarning, and the binding would then name an
+    inf the caller never gave."""
+    for name in names:
+        v = arguments.get(name)
+        if type(v) is not _numpy.ndarray or v.dtype.kind != "f" or v.dtype.itemsize <= 4:
+            continue
+        past = _numpy.isfinite(v) & (_numpy.abs(v) > _FLOAT32_MAX)
+        if past.any():
+            index = tuple(int(i) for i in _numpy.unravel_index(int(_numpy.argmax(past)), v.shape))
+            return Error("%s: %s: value %r at index %s is past the range of a 32-bit float (+-%.6g)"
+                         % (call, name, float(v[index]), index, _FLOAT32_MAX))
+    return None
+
+
 def checked(fn, call):
     """``fn`` whose bad arguments raise weft.Error naming ``call`` and the argument."""
     if getattr(fn, "_weft_checked", False):
@@ -399,9 +430,16 @@ def checked(fn, call):
     compiled = type(fn).__name__ in ("builtin_function_or_method", "instancemethod")
     precheck = compiled and signature is not None and any(
         isinstance(p.annotation, str) and _PRECHECKED.search(p.annotation) for p in signature.parameters.values())
+    # The parameters that take float32 arrays (images, dense grids).
+    float32 = [n for n, p in signature.parameters.items()
+               if isinstance(p.annotation, str) and "numpy.float32" in p.annotation] if compiled and signature else []
 
     @_functools.wraps(fn)
     def call_checked(*args, **kwargs):
+        if float32 and _holds_wide_floats(args, kwargs):
+            wide = _past_float32(call, _bound(call, signature, args, kwargs), float32)
+            if wide is not None:
+                raise wide
         if precheck and _holds_odd(args, kwargs):
             arguments = _bound(call, signature, args, kwargs)
             odd = {n for n, v in arguments.items() if _odd(v)}

@@ -334,6 +334,8 @@ std::vector<Bytes> run_units(std::size_t count, const std::function<Bytes(std::s
         options.store->open();
         if (options.store->resume()) {
           for (std::size_t u = 0; u < count; ++u) {
+            // A stored unit whose outputs outside the store are gone is run again.
+            if (options.resumable && !options.resumable(u)) continue;
             if (auto b = options.store->load(u)) {
               results[u] = std::move(*b);
               have[u] = true;

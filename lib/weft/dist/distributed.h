@@ -120,6 +120,9 @@ struct UnitsOptions {
   std::uint64_t unit_weight = 0;
   /// Rank 0 records each finished unit here and, on --resume, skips those it already holds.
   UnitStore* store = nullptr;
+  /// On --resume, asked on rank 0 of each unit the store holds: false runs it again (a study
+  /// matrix case whose folder was removed). Empty: every stored unit is taken.
+  std::function<bool(std::size_t)> resumable;
   /// Units per rank per round; 0 = chosen from the unit count, the ranks and the threads.
   std::size_t batch = 0;
 };

@@ -36,6 +36,18 @@ std::string pair_estimator(const PairWeights& w, const std::string& sampling) {
 }
 }  // namespace
 
+std::optional<double> exponential_pair_rate(const MediumDesc& desc, const TransmittancePair& pair) {
+  // An exponential law is its own reciprocal partner (T_S = p_Q/p_Q(0) = e^{−μt}), so the
+  // given law decides in reciprocal and same mode; explicit pairs must agree.
+  if (desc.mode == PairMode::explicit_) {
+    const auto q = exponential_rate(pair.law(Origin::source));
+    const auto s = exponential_rate(pair.law(Origin::scatterer));
+    if (q && s && *q == *s) return q;
+    return std::nullopt;
+  }
+  return exponential_rate(pair.law(desc.given));
+}
+
 std::string MediumTraits::describe() const { return kind + " medium, " + law + " law, " + estimator; }
 
 TransmittancePair make_medium_pair(const MediumDesc& desc, const std::string& where) {
@@ -367,16 +379,7 @@ std::shared_ptr<const Medium> make_medium(const MediumDesc& desc, const std::str
     return std::make_shared<const LocalGammaMedium>(std::move(field), desc.albedo, desc.g);
   }
   TransmittancePair pair = make_medium_pair(desc, where);
-  // An exponential law is its own reciprocal partner (T_S = p_Q/p_Q(0) = e^{−μt}), so the
-  // given law decides in reciprocal and same mode; explicit pairs must agree.
-  std::optional<double> mu;
-  if (desc.mode == PairMode::explicit_) {
-    const auto q = exponential_rate(pair.law(Origin::source));
-    const auto s = exponential_rate(pair.law(Origin::scatterer));
-    if (q && s && *q == *s) mu = q;
-  } else {
-    mu = exponential_rate(pair.law(desc.given));
-  }
+  const std::optional<double> mu = exponential_pair_rate(desc, pair);
   const bool unit_weights = mu.has_value() || desc.mode == PairMode::reciprocal;
   if (desc.kind == MediumKind::homogeneous) {
     if (mu) return std::make_shared<const ExponentialMedium>(*mu, desc.albedo, desc.g);

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,13 @@ class LocalGammaField;
 /// Builds the source/scatterer pair a medium description asks for. Throws weft::Error naming
 /// `where` for an unknown law, bad parameters, or a reciprocal partner that does not exist.
 [[nodiscard]] transmittance::TransmittancePair make_medium_pair(const MediumDesc& desc, const std::string& where);
+
+/// The rate μ of `pair` when its transport is exponential (the given law's in reciprocal and
+/// same mode; in explicit mode both laws', when they agree), or nothing. A grid medium's
+/// extinction is μ times its values' scale (σ for a concentration grid, 1 for an extinction
+/// grid): docs/scene-format.md "Media".
+[[nodiscard]] std::optional<double> exponential_pair_rate(const MediumDesc& desc,
+                                                          const transmittance::TransmittancePair& pair);
 
 /// What a medium is and how it is estimated: the integrator specialises on it and the run
 /// summary prints it.

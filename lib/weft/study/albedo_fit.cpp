@@ -12,6 +12,7 @@
 #include "weft/core/error.h"
 #include "weft/dist/distributed.h"
 #include "weft/render/render.h"
+#include "weft/study/study_target.h"
 #include "weft/volume/downsample.h"
 #include "weft/volume/grid.h"
 #include "weft/volume/lattice.h"
@@ -55,17 +56,6 @@ MeanEstimate mean_estimate(const Image& im) {
   return e;
 }
 
-/// The one grid medium of a study scene and the box shape holding it (check_study_scene has
-/// refused every other scene).
-std::pair<std::string, std::size_t> study_medium(const SceneDesc& scene) {
-  std::string name;
-  for (const auto& [n, m] : scene.media)
-    if (m.kind == render::MediumKind::grid) name = n;
-  for (std::size_t i = 0; i < scene.shapes.size(); ++i)
-    if (scene.shapes[i].interior == name) return {name, i};
-  fail("albedo fit: medium '{}' fills no shape", name);
-}
-
 }  // namespace
 
 double albedo_k_max(const render::Rgb& albedo) {
@@ -82,9 +72,9 @@ std::vector<AlbedoFit> fit_albedo(const SceneDesc& scene, const StudySpec& reque
   check_study_scene(scene);
   // Named copies, not a structured binding: lambdas below capture them (clang < 16 refuses
   // to capture bindings).
-  const std::pair<std::string, std::size_t> where = study_medium(scene);
-  const std::string medium = where.first;
-  const std::size_t shape = where.second;
+  const Target study_target = find_target(scene);
+  const std::string medium = study_target.medium;
+  const std::size_t shape = study_target.shape;
   const render::MediumDesc& fine_desc = scene.media.at(medium);
   const volume::Grid fine = volume::Grid::load(fine_desc.file, fine_desc.grid_name);
   StudySpec spec = requested;

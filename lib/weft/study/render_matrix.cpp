@@ -260,6 +260,7 @@ MatrixSpec default_matrix_spec(bool quick) {
   spec.study.memory_rules = {transmittance::kDefaultMemoryRule, transmittance::MemoryRule::segment};
   spec.study.spp = quick ? 8 : 64;
   spec.study.reference_spp = quick ? 128 : 1024;
+  spec.study.albedo_fitted = true;  // per cloth, on its first set-up (fit_factors)
   if (quick) {
     spec.yarns = 2;
     spec.voxel_size = 0.02;
@@ -297,13 +298,21 @@ void check_matrix_spec(const MatrixSpec& spec, FrontEnd front) {
       "render matrix", spec.tilts,
       [&](std::size_t i) { return fmt::format("view at tilt {} degrees", matrix_tilt_name(spec.tilts[i])); },
       [](double t) { return t; });  // no NaN: check_cloth_tilt refused it
-  if (spec.width < 8 || spec.height < 8) fail("render matrix: film {}x{} is under 8 px", spec.width, spec.height);
-  if (spec.yarns < 1) fail("render matrix: yarns must be >= 1, got {}", spec.yarns);
+  if (spec.width < kMinMatrixFilm || spec.height < kMinMatrixFilm || spec.width > kMaxMatrixFilm ||
+      spec.height > kMaxMatrixFilm)
+    fail("render matrix: film {}x{}: each side must be in [{}, {}] px", spec.width, spec.height, kMinMatrixFilm,
+         kMaxMatrixFilm);
+  if (spec.yarns < 1 || spec.yarns > kMaxMatrixYarns)
+    fail("render matrix: yarns must be in [1, {}], got {}", kMaxMatrixYarns, spec.yarns);
   if (!(spec.voxel_size > 0.0) || !std::isfinite(spec.voxel_size))
     fail("render matrix: voxel size must be > 0, got {}", spec.voxel_size);
   if (spec.study.spp <= 0)
     fail("render matrix: the cases render at a fixed spp (so a case's numbers do not depend on where it ran)");
-  check_study_spec(spec.study, front);
+  // The matrix always fits albedo factors per cloth, so its albedo-corrected candidates exist
+  // for --study-components even where the spec was not made by default_matrix_spec.
+  StudySpec study = spec.study;
+  study.albedo_fitted = true;
+  check_study_spec(study, front);
 }
 
 std::vector<std::string> matrix_patterns(const MatrixSpec& spec) {
@@ -414,6 +423,10 @@ std::vector<MatrixCaseResult> run_matrix(const MatrixSpec& spec, ProgressSink& p
   how.progress = &task;
   how.unit_weight = kMatrixCaseUnits;  // run_case steps its own case as it renders
   how.store = store;
+  // A stored case is its numbers; its images, grids and scenes are in its folder. If that folder
+  // was removed, or never finished its report, the case is rendered again rather than reported
+  // without them (run_case's rollback keeps a folder whole, so its report file says it is).
+  how.resumable = [&](std::size_t u) { return fs::exists(matrix_case_dir(spec, cases[u]) / "reference.study.json"); };
   how.name = [&](std::size_t u) { return fmt::format("study case {} ({})", u, cases[u].name); };
   const std::vector<dist::Bytes> units = dist::run_units(
       cases.size(), [&](std::size_t u) { return encode(run_case(spec, cases[u], factors[cases[u].cloth], task)); },

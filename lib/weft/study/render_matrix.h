@@ -30,6 +30,13 @@ class UnitStore;
 
 namespace weft::study {
 
+/// A case's film side, pixels (`--study-film`, Python's film=).
+constexpr int kMinMatrixFilm = 8;
+constexpr int kMaxMatrixFilm = 4096;
+/// Yarns per side of a matrix cloth (`--study-yarns`, Python's yarns=): 64 × 64 yarns at 10 µm
+/// are already about 10⁹ voxels of box.
+constexpr int kMaxMatrixYarns = 64;
+
 struct MatrixSpec {
   /// Cloth patterns of `weft gen` (default: the plain weave, a twill, the stockinette knit), each
   /// generated with the default yarns at `yarns` × `yarns` and `voxel_size`.

@@ -110,8 +110,10 @@ std::vector<std::string> candidate_families(const StudySpec& spec) {
     out.push_back(rule == transmittance::kDefaultMemoryRule
                       ? "local-gamma"
                       : "local-gamma-" + std::string(transmittance::memory_rule_name(rule)));
-  for (const char* f : {"shadow-corrected", "shadow-directional", "albedo-corrected", "slab-gamma"})
-    out.emplace_back(f);
+  out.emplace_back("shadow-corrected");
+  out.emplace_back("shadow-directional");
+  if (!spec.albedo_factors.empty() || spec.albedo_fitted) out.emplace_back("albedo-corrected");
+  out.emplace_back("slab-gamma");
   return out;
 }
 
@@ -122,11 +124,16 @@ void check_study_spec(const StudySpec& spec, FrontEnd front) {
     if (f < 2 || f > 4096) fail("study: coarsening factor {} is not in [2, 4096]", f);
     if (!seen.insert(f).second) fail("study: coarsening factor {} given twice", f);
   }
+  // The limits of the CLI's options, here so that every front end refuses the same values before
+  // anything is rendered.
   if (spec.spp < 0) fail("study: spp must be >= 0 (0 = time budget), got {}", spec.spp);
-  if (spec.spp == 0 && !(std::isfinite(spec.seconds) && spec.seconds > 0.0))
-    fail("study: time budget must be finite and > 0 seconds, got {}", spec.seconds);
+  if (spec.spp > kMaxStudySpp) fail("study: spp must be at most {}, got {}", kMaxStudySpp, spec.spp);
+  if (spec.spp == 0 && !(spec.seconds >= kMinStudySeconds && spec.seconds <= kMaxStudySeconds))
+    fail("study: time budget must be in [{:g}, {:g}] seconds, got {}", kMinStudySeconds, kMaxStudySeconds,
+         spec.seconds);
   if (spec.max_spp < 1) fail("study: max spp must be >= 1, got {}", spec.max_spp);
-  if (spec.reference_spp < 1) fail("study: reference spp must be >= 1, got {}", spec.reference_spp);
+  if (spec.reference_spp < 1 || spec.reference_spp > render::kMaxSpp)
+    fail("study: reference spp must be in [1, {}], got {}", render::kMaxSpp, spec.reference_spp);
   if (spec.work_dir.empty()) fail("study: no folder for the candidates' files");
   // A rule given twice would render its candidates twice under one name.
   require_distinct(
@@ -157,6 +164,9 @@ void check_study_spec(const StudySpec& spec, FrontEnd front) {
       fail("study: components of '{}': {} is not one of the study's memory rules ({}); add it to {}", f,
            transmittance::memory_rule_name(*rule), fmt::join(rules, ", "),
            Spelling{"--study-memory", "memory="}.in(front));
+    if (f == "albedo-corrected")
+      fail("study: components of 'albedo-corrected': the study has no albedo-corrected candidate; add them with {}",
+           Spelling{"--study-albedo", "albedo="}.in(front));
     if (rule)  // local-gamma-optical-depth: the default rule's candidates are local-gamma-Nx
       fail("study: components of '{}': the {} rule's candidates are local-gamma-Nx: give 'local-gamma'", f,
            transmittance::memory_rule_name(*rule));
@@ -229,6 +239,10 @@ void check_study_scene(const SceneDesc& scene, const StudySpec& spec) {
           f, k, albedo[0], albedo[1], albedo[2], target.medium, k_max, k_max);
   }
   if (!spec.components.empty()) check_component_scene(scene);
+  // The box against the grid: loaded here, so that every front end refuses a box that cuts the
+  // cloth before it says what the study will cost, let alone renders.
+  const MediumDesc& fine_desc = scene.media.at(target.medium);
+  check_target_box(target, scene, volume::Grid::load(fine_desc.file, fine_desc.grid_name));
 }
 
 std::size_t candidate_count(const StudySpec& spec, std::size_t albedo_candidates) {
@@ -530,7 +544,13 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, Progre
       ++result.cloth_pixels;
       for (std::size_t c = 0; c < 3; ++c) sum += reference.rgb[3 * p + c];
     }
-    result.cloth_mean = result.cloth_pixels > 0 ? sum / (3.0 * result.cloth_pixels) : 0.0;
+    // With no pixel of cloth every cloth statistic is 0, which would read as "unbiased".
+    if (result.cloth_pixels == 0)
+      fail(
+          "study: the cloth covers no pixel of the {}x{} film (the reference equals the scene without the cloth's "
+          "box everywhere): point the camera at the cloth",
+          reference.width, reference.height);
+    result.cloth_mean = sum / (3.0 * static_cast<double>(result.cloth_pixels));
   }
 
   for (Plan& p : plans) {

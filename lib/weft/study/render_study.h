@@ -79,6 +79,13 @@ constexpr std::uint64_t kStudySeedStep = 0x9E3779B97F4A7C15ULL;
 /// (ProgressShare: the study matrix, docs/render.md §6e).
 inline constexpr std::string_view kStudyRendersStage = "study renders";
 
+/// The largest fixed spp per candidate image (`--study-spp`, Python's spp=): a candidate renders
+/// two images at it, plus its component renders.
+constexpr int kMaxStudySpp = 1 << 20;
+/// The time budget per candidate image, seconds (`--study-time`, Python's seconds=).
+constexpr double kMinStudySeconds = 1e-3;
+constexpr double kMaxStudySeconds = 1e6;
+
 struct StudySpec {
   std::vector<int> factors{2, 4, 8, 16};  ///< coarsening factors, each in [2, 4096], no repeats
   /// The caller chose `factors` (CLI --study-factors, Python factors=): each must suit the grid
@@ -102,6 +109,10 @@ struct StudySpec {
   /// albedo × k_N clamped to [0, 1] (fitted on another scene by fit_albedo_factors, albedo_fit.h;
   /// docs/render.md §6d). Each N must be one of `factors`, each k_N finite and > 0. Empty: none.
   std::vector<std::pair<int, double>> albedo_factors;
+  /// The albedo factors are fitted before the study renders (`--study-albedo fit`, Python's
+  /// albedo="fit", the matrix's per-cloth fit): there will be albedo-corrected candidates
+  /// although albedo_factors is still empty when the spec is checked (candidate_families).
+  bool albedo_fitted = false;
   /// Candidates whose error is split into transmission, single and multiple scattering
   /// (render_components.h): families such as "exponential" or "local-gamma-segment" (a
   /// candidate's name without "-Nx"), or "all"; the fine grid is split whenever anything is.
@@ -124,11 +135,13 @@ struct StudySpec {
 /// The candidates' families, a candidate's name without its "-Nx" (docs/render.md §6c): fine,
 /// exponential, local-gamma, local-gamma-<rule> for each of StudySpec::memory_rules but the
 /// default (whose candidates are local-gamma-Nx), shadow-corrected, shadow-directional,
-/// albedo-corrected, slab-gamma. What StudySpec::components takes (and "all").
+/// albedo-corrected (when the study has albedo factors, given or to be fitted), slab-gamma. What
+/// StudySpec::components takes (and "all").
 [[nodiscard]] std::vector<std::string> candidate_families(const StudySpec& spec);
 
 /// Throws weft::Error naming the bad field (factors out of range or repeated, a memory rule
-/// repeated, seconds not finite and > 0, spp < 0, max_spp or reference_spp < 1, an empty work_dir,
+/// repeated, seconds outside [kMinStudySeconds, kMaxStudySeconds], spp < 0 or > kMaxStudySpp,
+/// max_spp < 1, reference_spp outside [1, render::kMaxSpp], an empty work_dir,
 /// a component family that names no candidate: a local-gamma rule not among memory_rules is
 /// named with the option that adds it, spelt for `front`).
 void check_study_spec(const StudySpec& spec, FrontEnd front = FrontEnd::cli);
@@ -150,7 +163,8 @@ void check_factors_for_grid(const std::vector<int>& factors, const volume::Grid&
 [[nodiscard]] std::vector<int> factors_for_grid(const StudySpec& spec, const volume::Grid& fine);
 
 /// Throws weft::Error unless `scene` has exactly one grid medium with an exponential law filling
-/// one box shape (what run_study needs), and, when `spec` asks for components, no reflecting
+/// one box shape (what run_study needs) that is a null boundary holding the grid's whole active
+/// box (check_target_box: it loads the grid), and, when `spec` asks for components, no reflecting
 /// surface (check_component_scene), before anything is computed or written.
 void check_study_scene(const render::SceneDesc& scene, const StudySpec& spec = {});
 

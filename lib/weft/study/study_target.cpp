@@ -2,6 +2,7 @@
 #include "weft/study/study_target.h"
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "weft/core/error.h"
@@ -62,8 +63,38 @@ Target find_target(const SceneDesc& scene) {
         "study: media.{}.sigma is {}: the study needs sigma > 0 (with 0 the cloth does not attenuate light and "
         "there is nothing to downsample)",
         t.medium, m.sigma);
-  t.sigma_stats = m.concentration ? m.sigma : 1.0;
+  // The extinction per grid value is the law's μ times σ (docs/scene-format.md "Media"): every
+  // candidate, the fields, the self-shadowing correction and the slab take that product, so a
+  // law with μ ≠ 1 describes the same cloth in all of them.
+  const std::optional<double> mu = exponential_pair_rate(m, make_medium_pair(m, "study: media." + t.medium));
+  if (!mu || !(*mu > 0.0))
+    fail(
+        "study: media.{}.law.mu is {}: the study needs mu > 0 (with 0 the cloth does not attenuate light and "
+        "there is nothing to downsample)",
+        t.medium, mu ? *mu : 0.0);
+  t.sigma_stats = *mu * (m.concentration ? m.sigma : 1.0);
   return t;
+}
+
+void check_target_box(const Target& t, const SceneDesc& scene, const volume::Grid& fine) {
+  const ShapeDesc& shape = scene.shapes.at(t.shape);
+  const auto material = scene.materials.find(shape.material);
+  if (material == scene.materials.end() || material->second.kind != MaterialKind::null)
+    fail(
+        "study: shapes[{}], the box holding medium '{}', has material '{}': the study fits each candidate's box "
+        "to its grid, so the box must be a null boundary (a material of type \"null\") that no ray sees",
+        t.shape, t.medium, shape.material);
+  const Box grid = world_box(fine);
+  // The box's faces are where the scene puts them, the grid's where its voxels end: equal up to
+  // the rounding of the numbers that wrote them, hence the relative slack.
+  const double slack = 1e-9 * (grid.max - grid.min).cwiseAbs().maxCoeff();
+  if (((grid.min - t.box.min).array() < -slack).any() || ((grid.max - t.box.max).array() > slack).any())
+    fail(
+        "study: shapes[{}], the box holding medium '{}' ({:g}, {:g}, {:g})..({:g}, {:g}, {:g}), cuts the active "
+        "voxels of grid '{}' ({:g}, {:g}, {:g})..({:g}, {:g}, {:g}): a coarse grid's blocks would be cut elsewhere "
+        "and its candidates render another cloth; give a box that holds the whole grid",
+        t.shape, t.medium, t.box.min.x(), t.box.min.y(), t.box.min.z(), t.box.max.x(), t.box.max.y(), t.box.max.z(),
+        fine.name(), grid.min.x(), grid.min.y(), grid.min.z(), grid.max.x(), grid.max.y(), grid.max.z());
 }
 
 json candidate_scene(const Target& t, const json& medium, const Box& box) {

@@ -29,13 +29,20 @@ struct Target {
   std::size_t shape = 0;
   nlohmann::json scene;  ///< the scene as canonical JSON, to edit per candidate
   nlohmann::json medium_json;
-  double sigma_stats = 1.0;  ///< σ that turns grid values into extinction (1 for extinction grids)
-  Box box;                   ///< the bounding box shape
+  /// What turns grid values into extinction: the law's μ times σ (μ for an extinction grid).
+  double sigma_stats = 1.0;
+  Box box;  ///< the bounding box shape
 };
 
 /// Throws weft::Error unless `scene` has exactly one grid medium, with the exponential law,
 /// filling exactly one box shape.
 [[nodiscard]] Target find_target(const render::SceneDesc& scene);
+
+/// @brief Throws weft::Error unless the target's box leaves every candidate the same cloth: a
+/// null boundary (the candidates' boxes are fitted to their grids, which only an invisible box
+/// allows) that holds the whole of `fine`'s active box (a box that cut the grid would cut each
+/// coarse grid's blocks elsewhere, so the candidates would render other cloths).
+void check_target_box(const Target& t, const render::SceneDesc& scene, const volume::Grid& fine);
 
 /// The scene with the target medium replaced and its box grown to `box` (the box is an
 /// index-matched boundary, so a larger one changes nothing but what it may hold).
