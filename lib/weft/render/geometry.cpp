@@ -261,6 +261,12 @@ Geometry::Geometry(const SceneDesc& scene, const std::map<std::string, int>& mat
             s.mesh = box_mesh(d.min, d.max);
           } else if (d.kind == ShapeKind::rectangle) {
             s.mesh = rectangle_mesh(d.corner, d.edge_u, d.edge_v);
+            s.corner = d.corner;
+            s.u = d.edge_u;
+            s.v = d.edge_v;
+            s.gram_uu = d.edge_u.dot(d.edge_u);
+            s.gram_uv = d.edge_u.dot(d.edge_v);
+            s.gram_vv = d.edge_v.dot(d.edge_v);
           } else {
             s.mesh = load_mesh(d.file);
             for (auto& v : s.mesh.vertices) v = v * d.scale + d.translate;
@@ -340,6 +346,9 @@ Geometry::Geometry(const SceneDesc& scene, const std::map<std::string, int>& mat
     rtcCommitScene(impl_->scene);
   }
   lone_convex_ = shapes_.size() == 1 && (shapes_[0].kind == ShapeKind::box || shapes_[0].kind == ShapeKind::sphere);
+  analytic_ = shapes_.size() <= kMaxAnalyticShapes && std::all_of(shapes_.begin(), shapes_.end(), [](const auto& s) {
+                return s.kind == ShapeKind::box || s.kind == ShapeKind::sphere || s.kind == ShapeKind::rectangle;
+              });
   if (rtcGetDeviceError(impl_->device) != RTC_ERROR_NONE) fail("Embree: scene build failed");
 }
 
@@ -355,7 +364,7 @@ Geometry::~Geometry() = default;
 
 std::optional<SurfaceHit> Geometry::intersect(const Vec3& o, const Vec3& d, double tmin, double tmax) const {
   if (shapes_.empty()) return std::nullopt;
-  if (lone_convex_) return intersect_lone(o, d, tmin, tmax);
+  if (analytic_) return intersect_analytic(o, d, tmin, tmax);
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   double lead = 0.0;
@@ -388,29 +397,30 @@ std::optional<SurfaceHit> Geometry::intersect(const Vec3& o, const Vec3& d, doub
   return hit;
 }
 
-std::optional<SurfaceHit> Geometry::intersect_lone(const Vec3& o, const Vec3& d, double tmin, double tmax) const {
-  // docs/render.md §1, "Queries a path skips": one box or sphere, in closed form and in double
-  // precision (Embree's answer is the same surface in float).
-  const ShapeInfo& s = shapes_[0];
+namespace {
+
+/// The sphere's nearer crossing in (tmin, tmax), or its farther one (a ray from inside).
+std::optional<SurfaceHit> hit_sphere(const ShapeInfo& s, const Vec3& o, const Vec3& d, double tmin, double tmax) {
+  const Vec3 oc = o - s.center;
+  const double a = d.squaredNorm();
+  const double b = oc.dot(d);
+  const double disc = b * b - a * (oc.squaredNorm() - s.radius * s.radius);
+  if (!(disc >= 0.0) || !(a > 0.0)) return std::nullopt;
+  const double root = std::sqrt(disc);
+  const double near = (-b - root) / a;
+  const double far = (-b + root) / a;
   SurfaceHit hit;
-  hit.shape = 0;
-  if (s.kind == ShapeKind::sphere) {
-    const Vec3 oc = o - s.center;
-    const double a = d.squaredNorm();
-    const double b = oc.dot(d);
-    const double disc = b * b - a * (oc.squaredNorm() - s.radius * s.radius);
-    if (!(disc >= 0.0) || !(a > 0.0)) return std::nullopt;
-    const double root = std::sqrt(disc);
-    const double near = (-b - root) / a;
-    const double far = (-b + root) / a;
-    hit.t = near > tmin ? near : far;
-    if (!(hit.t > tmin && hit.t < tmax)) return std::nullopt;
-    hit.p = o + hit.t * d;
-    hit.n = (hit.p - s.center).normalized();
-    hit.p = s.center + s.radius * hit.n;  // as the Embree path snaps it
-    return hit;
-  }
-  // A box: the slabs. near/far faces per axis; the normal is the outward one of the face hit.
+  hit.t = near > tmin ? near : far;
+  if (!(hit.t > tmin && hit.t < tmax)) return std::nullopt;
+  hit.p = o + hit.t * d;
+  hit.n = (hit.p - s.center).normalized();
+  hit.p = s.center + s.radius * hit.n;  // as the Embree path snaps it
+  return hit;
+}
+
+/// The box's slabs: the face the ray enters by in (tmin, tmax), or the one it leaves by; the
+/// normal is the outward one of the face hit (as the box mesh's winding gives it).
+std::optional<SurfaceHit> hit_box(const ShapeInfo& s, const Vec3& o, const Vec3& d, double tmin, double tmax) {
   double t_near = -std::numeric_limits<double>::infinity();
   double t_far = std::numeric_limits<double>::infinity();
   int axis_near = -1;
@@ -435,6 +445,7 @@ std::optional<SurfaceHit> Geometry::intersect_lone(const Vec3& o, const Vec3& d,
   }
   if (t_near > t_far) return std::nullopt;
   const bool front = t_near > tmin;
+  SurfaceHit hit;
   hit.t = front ? t_near : t_far;
   const int k = front ? axis_near : axis_far;
   if (k < 0 || !(hit.t > tmin && hit.t < tmax)) return std::nullopt;
@@ -444,6 +455,48 @@ std::optional<SurfaceHit> Geometry::intersect_lone(const Vec3& o, const Vec3& d,
   n[k] = (d[k] > 0.0) == front ? -1.0 : 1.0;
   hit.n = n;
   return hit;
+}
+
+/// The rectangle's plane crossing in (tmin, tmax) when it falls inside corner + [0, 1]·u +
+/// [0, 1]·v; the normal is its triangles' (by winding, u × v), from either side.
+std::optional<SurfaceHit> hit_rectangle(const ShapeInfo& s, const Vec3& o, const Vec3& d, double tmin, double tmax) {
+  const Vec3& n = s.normals.front();
+  const double across = n.dot(d);
+  if (across == 0.0) return std::nullopt;  // parallel to the plane (or in it: no area is crossed)
+  SurfaceHit hit;
+  hit.t = n.dot(s.corner - o) / across;
+  if (!(hit.t > tmin && hit.t < tmax)) return std::nullopt;
+  hit.p = o + hit.t * d;
+  const Vec3 w = hit.p - s.corner;
+  const double wu = w.dot(s.u);
+  const double wv = w.dot(s.v);
+  const double det = s.gram_uu * s.gram_vv - s.gram_uv * s.gram_uv;
+  const double a = (s.gram_vv * wu - s.gram_uv * wv) / det;
+  const double b = (s.gram_uu * wv - s.gram_uv * wu) / det;
+  if (!(a >= 0.0 && a <= 1.0 && b >= 0.0 && b <= 1.0)) return std::nullopt;
+  hit.n = n;
+  return hit;
+}
+
+}  // namespace
+
+std::optional<SurfaceHit> Geometry::intersect_analytic(const Vec3& o, const Vec3& d, double tmin, double tmax) const {
+  // docs/render.md §1, "Queries a path skips": a few boxes, spheres and rectangles, each in
+  // closed form and in double precision (Embree's answer is the same surfaces in float); the
+  // nearest hit, each shape's test bounded by the nearest found so far.
+  std::optional<SurfaceHit> nearest;
+  for (std::size_t i = 0; i < shapes_.size(); ++i) {
+    const ShapeInfo& s = shapes_[i];
+    const double bound = nearest ? nearest->t : tmax;
+    std::optional<SurfaceHit> hit = s.kind == ShapeKind::box      ? hit_box(s, o, d, tmin, bound)
+                                    : s.kind == ShapeKind::sphere ? hit_sphere(s, o, d, tmin, bound)
+                                                                  : hit_rectangle(s, o, d, tmin, bound);
+    if (hit) {
+      hit->shape = static_cast<int>(i);
+      nearest = hit;
+    }
+  }
+  return nearest;
 }
 
 double Geometry::clearance(const Vec3& p, const Vec3& d) const {
@@ -500,7 +553,7 @@ double Geometry::clearance(const Vec3& p, const Vec3& d) const {
 
 bool Geometry::occluded(const Vec3& o, const Vec3& d, double tmin, double tmax) const {
   if (shapes_.empty()) return false;
-  if (lone_convex_) return intersect_lone(o, d, tmin, tmax).has_value();
+  if (analytic_) return intersect_analytic(o, d, tmin, tmax).has_value();
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   double lead = 0.0;

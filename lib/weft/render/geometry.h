@@ -31,6 +31,15 @@ struct ShapeInfo {
   std::size_t curve_segments = 0;  ///< curves: round linear segments in the BVH
   Vec3 lo{0, 0, 0};                ///< axis-aligned bounds (a box shape is exactly its bounds)
   Vec3 hi{0, 0, 0};
+  /// rectangle: corner + a·u + b·v, a, b in [0, 1]; (a, b) of a point w − corner from the dot
+  /// products with u and v through the inverse Gram matrix [uu uv; uv vv]⁻¹ (edges need not be
+  /// orthogonal).
+  Vec3 corner{0, 0, 0};
+  Vec3 u{0, 0, 0};
+  Vec3 v{0, 0, 0};
+  double gram_uu = 0.0;
+  double gram_uv = 0.0;
+  double gram_vv = 0.0;
   double extent = 1.0;  ///< (hi − lo).maxCoeff(), for Geometry::spawn_offset
 };
 
@@ -94,9 +103,13 @@ class Geometry {
   /// §1, "Queries a path skips"): 0 when unknown (more than a few shapes, or `p` inside the bounds of a
   /// shape that is not a box or sphere), +inf when the ray misses every shape's bounds.
   [[nodiscard]] double clearance(const Vec3& p, const Vec3& d) const;
-  /// The scene is one convex shape (a box or a sphere): intersected in closed form, and a ray
-  /// that has just left it through its surface, going outward, hits nothing more.
+  /// The scene is one convex shape (a box or a sphere): a ray that has just left it through its
+  /// surface, going outward, hits nothing more.
   [[nodiscard]] bool lone_convex() const { return lone_convex_; }
+  /// The scene is up to kMaxAnalyticShapes boxes, spheres and rectangles: intersected in closed
+  /// form, in double precision, without Embree (docs/render.md §1, "Queries a path skips").
+  [[nodiscard]] bool analytic() const { return analytic_; }
+  static constexpr std::size_t kMaxAnalyticShapes = 8;
 
   [[nodiscard]] const std::vector<ShapeInfo>& shapes() const { return shapes_; }
   /// Uniform point on a shape's surface (pdf 1/area).
@@ -120,8 +133,9 @@ class Geometry {
   [[nodiscard]] double spawn_offset(const Vec3& p, int shape) const;
 
  private:
-  /// intersect() for a lone box or sphere, in closed form.
-  [[nodiscard]] std::optional<SurfaceHit> intersect_lone(const Vec3& o, const Vec3& d, double tmin, double tmax) const;
+  /// intersect() over the shapes of an analytic() scene, each in closed form.
+  [[nodiscard]] std::optional<SurfaceHit> intersect_analytic(const Vec3& o, const Vec3& d, double tmin,
+                                                             double tmax) const;
 
   struct Impl;
   std::unique_ptr<Impl> impl_;
@@ -132,6 +146,7 @@ class Geometry {
   double cube_ = kMaxReachCurves;  ///< rays starting beyond this reach are started where they enter it
   Vec3 frame_{0, 0, 0};
   bool lone_convex_ = false;
+  bool analytic_ = false;
 };
 
 }  // namespace weft::render
