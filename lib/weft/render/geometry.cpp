@@ -399,8 +399,17 @@ std::optional<SurfaceHit> Geometry::intersect(const Vec3& o, const Vec3& d, doub
 
 namespace {
 
+/// Where a ray crosses a shape of an analytic scene: its distance and, for a box, the face (axis
+/// and whether the ray enters by it). The hit point and normal are made once, for the nearest.
+struct Crossing {
+  double t = 0.0;
+  int axis = -1;
+  bool entering = false;
+};
+
 /// The sphere's nearer crossing in (tmin, tmax), or its farther one (a ray from inside).
-std::optional<SurfaceHit> hit_sphere(const ShapeInfo& s, const Vec3& o, const Vec3& d, double tmin, double tmax) {
+[[gnu::always_inline]] inline std::optional<Crossing> cross_sphere(const ShapeInfo& s, const Vec3& o, const Vec3& d,
+                                                                   double tmin, double tmax) {
   const Vec3 oc = o - s.center;
   const double a = d.squaredNorm();
   const double b = oc.dot(d);
@@ -408,19 +417,14 @@ std::optional<SurfaceHit> hit_sphere(const ShapeInfo& s, const Vec3& o, const Ve
   if (!(disc >= 0.0) || !(a > 0.0)) return std::nullopt;
   const double root = std::sqrt(disc);
   const double near = (-b - root) / a;
-  const double far = (-b + root) / a;
-  SurfaceHit hit;
-  hit.t = near > tmin ? near : far;
-  if (!(hit.t > tmin && hit.t < tmax)) return std::nullopt;
-  hit.p = o + hit.t * d;
-  hit.n = (hit.p - s.center).normalized();
-  hit.p = s.center + s.radius * hit.n;  // as the Embree path snaps it
-  return hit;
+  const double t = near > tmin ? near : (-b + root) / a;
+  if (!(t > tmin && t < tmax)) return std::nullopt;
+  return Crossing{t};
 }
 
-/// The box's slabs: the face the ray enters by in (tmin, tmax), or the one it leaves by; the
-/// normal is the outward one of the face hit (as the box mesh's winding gives it).
-std::optional<SurfaceHit> hit_box(const ShapeInfo& s, const Vec3& o, const Vec3& d, double tmin, double tmax) {
+/// The box's slabs: the face the ray enters by in (tmin, tmax), or the one it leaves by.
+[[gnu::always_inline]] inline std::optional<Crossing> cross_box(const ShapeInfo& s, const Vec3& o, const Vec3& d,
+                                                                double tmin, double tmax) {
   double t_near = -std::numeric_limits<double>::infinity();
   double t_far = std::numeric_limits<double>::infinity();
   int axis_near = -1;
@@ -444,38 +448,44 @@ std::optional<SurfaceHit> hit_box(const ShapeInfo& s, const Vec3& o, const Vec3&
     }
   }
   if (t_near > t_far) return std::nullopt;
-  const bool front = t_near > tmin;
-  SurfaceHit hit;
-  hit.t = front ? t_near : t_far;
-  const int k = front ? axis_near : axis_far;
-  if (k < 0 || !(hit.t > tmin && hit.t < tmax)) return std::nullopt;
-  hit.p = o + hit.t * d;
-  // Entering through the near face, the ray goes against its outward normal; leaving, along it.
-  Vec3 n = Vec3::Zero();
-  n[k] = (d[k] > 0.0) == front ? -1.0 : 1.0;
-  hit.n = n;
-  return hit;
+  const bool entering = t_near > tmin;
+  const double t = entering ? t_near : t_far;
+  const int axis = entering ? axis_near : axis_far;
+  if (axis < 0 || !(t > tmin && t < tmax)) return std::nullopt;
+  return Crossing{t, axis, entering};
 }
 
 /// The rectangle's plane crossing in (tmin, tmax) when it falls inside corner + [0, 1]·u +
-/// [0, 1]·v; the normal is its triangles' (by winding, u × v), from either side.
-std::optional<SurfaceHit> hit_rectangle(const ShapeInfo& s, const Vec3& o, const Vec3& d, double tmin, double tmax) {
+/// [0, 1]·v.
+[[gnu::always_inline]] inline std::optional<Crossing> cross_rectangle(const ShapeInfo& s, const Vec3& o, const Vec3& d,
+                                                                      double tmin, double tmax) {
   const Vec3& n = s.normals.front();
   const double across = n.dot(d);
   if (across == 0.0) return std::nullopt;  // parallel to the plane (or in it: no area is crossed)
-  SurfaceHit hit;
-  hit.t = n.dot(s.corner - o) / across;
-  if (!(hit.t > tmin && hit.t < tmax)) return std::nullopt;
-  hit.p = o + hit.t * d;
-  const Vec3 w = hit.p - s.corner;
+  const double t = n.dot(s.corner - o) / across;
+  if (!(t > tmin && t < tmax)) return std::nullopt;
+  const Vec3 w = o + t * d - s.corner;
   const double wu = w.dot(s.u);
   const double wv = w.dot(s.v);
   const double det = s.gram_uu * s.gram_vv - s.gram_uv * s.gram_uv;
   const double a = (s.gram_vv * wu - s.gram_uv * wv) / det;
   const double b = (s.gram_uu * wv - s.gram_uv * wu) / det;
   if (!(a >= 0.0 && a <= 1.0 && b >= 0.0 && b <= 1.0)) return std::nullopt;
-  hit.n = n;
-  return hit;
+  return Crossing{t};
+}
+
+// Inlined, with every shape's test, into both loops (intersect_analytic, occluded_analytic):
+// called, or with only the box's test inlined, the front-lit cloth's samples cost 1–3 % more.
+[[gnu::always_inline]] inline std::optional<Crossing> cross(const ShapeInfo& s, const Vec3& o, const Vec3& d,
+                                                            double tmin, double tmax) {
+  switch (s.kind) {
+    case ShapeKind::box:
+      return cross_box(s, o, d, tmin, tmax);
+    case ShapeKind::sphere:
+      return cross_sphere(s, o, d, tmin, tmax);
+    default:
+      return cross_rectangle(s, o, d, tmin, tmax);
+  }
 }
 
 }  // namespace
@@ -483,20 +493,42 @@ std::optional<SurfaceHit> hit_rectangle(const ShapeInfo& s, const Vec3& o, const
 std::optional<SurfaceHit> Geometry::intersect_analytic(const Vec3& o, const Vec3& d, double tmin, double tmax) const {
   // docs/render.md §1, "Queries a path skips": a few boxes, spheres and rectangles, each in
   // closed form and in double precision (Embree's answer is the same surfaces in float); the
-  // nearest hit, each shape's test bounded by the nearest found so far.
-  std::optional<SurfaceHit> nearest;
+  // nearest crossing, each shape's test bounded by the nearest found so far.
+  std::size_t best = shapes_.size();
+  Crossing nearest;
+  double bound = tmax;
   for (std::size_t i = 0; i < shapes_.size(); ++i) {
-    const ShapeInfo& s = shapes_[i];
-    const double bound = nearest ? nearest->t : tmax;
-    std::optional<SurfaceHit> hit = s.kind == ShapeKind::box      ? hit_box(s, o, d, tmin, bound)
-                                    : s.kind == ShapeKind::sphere ? hit_sphere(s, o, d, tmin, bound)
-                                                                  : hit_rectangle(s, o, d, tmin, bound);
-    if (hit) {
-      hit->shape = static_cast<int>(i);
-      nearest = hit;
+    if (const std::optional<Crossing> c = cross(shapes_[i], o, d, tmin, bound)) {
+      best = i;
+      nearest = *c;
+      bound = c->t;
     }
   }
-  return nearest;
+  if (best == shapes_.size()) return std::nullopt;
+  const ShapeInfo& s = shapes_[best];
+  SurfaceHit hit;
+  hit.t = nearest.t;
+  hit.shape = static_cast<int>(best);
+  hit.p = o + hit.t * d;
+  if (s.kind == ShapeKind::sphere) {
+    hit.n = (hit.p - s.center).normalized();
+    hit.p = s.center + s.radius * hit.n;  // as the Embree path snaps it
+  } else if (s.kind == ShapeKind::box) {
+    // Entering through the near face, the ray goes against its outward normal; leaving, along it
+    // (the outward normal, as the box mesh's winding gives it).
+    Vec3 n = Vec3::Zero();
+    n[nearest.axis] = (d[nearest.axis] > 0.0) == nearest.entering ? -1.0 : 1.0;
+    hit.n = n;
+  } else {
+    hit.n = s.normals.front();  // its triangles' normal (by winding, u × v), from either side
+  }
+  return hit;
+}
+
+bool Geometry::occluded_analytic(const Vec3& o, const Vec3& d, double tmin, double tmax) const {
+  for (const ShapeInfo& s : shapes_)
+    if (cross(s, o, d, tmin, tmax)) return true;
+  return false;
 }
 
 double Geometry::clearance(const Vec3& p, const Vec3& d) const {
@@ -553,7 +585,7 @@ double Geometry::clearance(const Vec3& p, const Vec3& d) const {
 
 bool Geometry::occluded(const Vec3& o, const Vec3& d, double tmin, double tmax) const {
   if (shapes_.empty()) return false;
-  if (analytic_) return intersect_analytic(o, d, tmin, tmax).has_value();
+  if (analytic_) return occluded_analytic(o, d, tmin, tmax);
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   double lead = 0.0;

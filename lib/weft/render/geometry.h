@@ -136,6 +136,8 @@ class Geometry {
   /// intersect() over the shapes of an analytic() scene, each in closed form.
   [[nodiscard]] std::optional<SurfaceHit> intersect_analytic(const Vec3& o, const Vec3& d, double tmin,
                                                              double tmax) const;
+  /// occluded() for an analytic() scene: any shape crossed in (tmin, tmax).
+  [[nodiscard]] bool occluded_analytic(const Vec3& o, const Vec3& d, double tmin, double tmax) const;
 
   struct Impl;
   std::unique_ptr<Impl> impl_;
