@@ -475,9 +475,11 @@ const Registrar kRender{Command{
                      "named local-gamma-Nx; the study matrix: optical-depth,segment; others are named "
                      "local-gamma-RULE-Nx: segment, renewal, carried; docs/render.md §5e)")
           ->delimiter(',');
-      sub.add_option("--study-albedo", o->study_albedo,
-                     "--study: albedo-corrected candidates (docs/render.md 6d): FACTOR:K,... (k_N fitted on another "
-                     "set-up) or 'fit' (fit k_N on this scene first and print them; in-sample)")
+      sub.add_option(
+             "--study-albedo", o->study_albedo,
+             "--study: albedo-corrected candidates (docs/render.md 6d): FACTOR:K,... (k_N fitted on another "
+             "set-up) or 'fit' (fit k_N on this scene first and print them; in-sample); not with the study matrix, "
+             "which fits them per cloth")
           ->delimiter(',');
       sub.add_option(
              "--study-components", o->study_components,
@@ -497,7 +499,9 @@ const Registrar kRender{Command{
       sub.add_flag("--quick", o->quick,
                    "Small film (longest side 48 px); with --convergence, a 128 spp series; with --study, 1 s per "
                    "candidate and a 256 spp reference");
-      sub.add_option("--exposure", o->exposure, "Scale before sRGB conversion of the PNG")->check(positive);
+      sub.add_option("--exposure", o->exposure,
+                     "Scale before sRGB conversion of the PNG (not with the study matrix: its PNGs are at 1)")
+          ->check(positive);
       sub.add_flag("--list-scenes", o->list, "List the built-in scenes and exit");
       sub.add_flag("--print-scene", o->print_scene, "Print the scene as canonical JSON and exit");
       return [o, &sub](const Context& ctx) -> int { return run(*o, sub, ctx); };

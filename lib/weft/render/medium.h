@@ -35,7 +35,7 @@ class LocalGammaField;
 /// The rate μ of `pair` when its transport is exponential (the given law's in reciprocal and
 /// same mode; in explicit mode both laws', when they agree), or nothing. A grid medium's
 /// extinction is μ times its values' scale (σ for a concentration grid, 1 for an extinction
-/// grid): docs/scene-format.md "Media".
+/// grid): docs/scene-format.md "media".
 [[nodiscard]] std::optional<double> exponential_pair_rate(const MediumDesc& desc,
                                                           const transmittance::TransmittancePair& pair);
 

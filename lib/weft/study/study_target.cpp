@@ -63,7 +63,7 @@ Target find_target(const SceneDesc& scene) {
         "study: media.{}.sigma is {}: the study needs sigma > 0 (with 0 the cloth does not attenuate light and "
         "there is nothing to downsample)",
         t.medium, m.sigma);
-  // The extinction per grid value is the law's μ times σ (docs/scene-format.md "Media"): every
+  // The extinction per grid value is the law's μ times σ (docs/scene-format.md "media"): every
   // candidate, the fields, the self-shadowing correction and the slab take that product, so a
   // law with μ ≠ 1 describes the same cloth in all of them.
   const std::optional<double> mu = exponential_pair_rate(m, make_medium_pair(m, "study: media." + t.medium));
