@@ -245,6 +245,20 @@ def test_an_integer_out_of_range_inside_a_sequence_is_named_with_its_place(call,
         call()
 
 
+@pytest.mark.parametrize("keywords, name", [
+    (dict(spp=2**40), "spp"), (dict(reference_spp=2**31), "reference_spp"), (dict(yarns=-2**31 - 1), "yarns"),
+    (dict(film=(2**40, 8)), "film's width"), (dict(factors=[2, 2**40]), "factors"), (dict(seed=2**64), "seed"),
+], ids=["spp", "reference_spp", "yarns", "film", "factors", "seed"])
+def test_the_studys_integers_beyond_their_cpp_type_are_out_of_range_not_of_a_wrong_type(keywords, name, tmp_path):
+    # Refused before a cloth is made: the same message whichever keyword, naming it and the value.
+    with pytest.raises(weft.Error) as e:
+        weft.render_matrix(quick=True, out=tmp_path / "m", threads=1, **keywords)
+    assert not isinstance(e.value, TypeError), str(e.value)
+    assert re.search(r"^render_matrix: %s is out of the range of its C\+\+ integer type, got -?\d+$" % re.escape(name),
+                     str(e.value)), str(e.value)
+    assert not (tmp_path / "m").exists()
+
+
 def test_the_brief_examples():
     with pytest.raises(weft.Error, match=r"^measure_beam: seed must be >= 0, got -1$"):
         weft.measure_beam(GRID, seed=-1)

@@ -13,6 +13,8 @@ import numbers as _numbers
 import os as _os
 import tempfile as _tempfile
 
+_INT_MIN, _INT_MAX = -(2**31), 2**31 - 1  # a C++ int's range
+
 from . import _weft
 from . import ArgumentTypeError, Error, Grid, _flag, _path_or_none, _run, _scene_kind, _scene_with_files
 
@@ -270,10 +272,16 @@ class MatrixResult(_Record):
 # ---- arguments: Python values as the library's spec takes them; a wrong type is an ArgumentTypeError
 # naming the argument, a bad value the library's check (a weft.Error naming it).
 
-def _integer(call, name, value):
+def _integer(call, name, value, low=_INT_MIN, high=_INT_MAX):
     if isinstance(value, bool) or not isinstance(value, _numbers.Integral):
         raise ArgumentTypeError("%s: %s must be an integer, got %s" % (call, name, type(value).__name__))
-    return int(value)
+    value = int(value)
+    # The study's integers are C++ ints (the seed a 64-bit unsigned): a value beyond its type is out
+    # of range, not of the wrong type, as the binding's conversion would say. Inside the type, the
+    # library's own limits speak (e.g. the study's spp).
+    if value > high or (low is not None and value < low):  # low None: the caller refuses below
+        raise Error("%s: %s is out of the range of its C++ integer type, got %d" % (call, name, value))
+    return value
 
 
 def _real(call, name, value):
@@ -350,9 +358,10 @@ def _study_options(call, spp, reference_spp, factors, memory, window, seed, quic
     if window is not None:  # a name or a length, as fit::check_scale_text reads it
         o["window"] = window if isinstance(window, str) else repr(_real(call, "window", window))
     if seed is not None:
-        o["seed"] = _integer(call, "seed", seed)
-        if o["seed"] < 0:
-            raise Error("%s: seed=%d: must be >= 0" % (call, o["seed"]))
+        seed = _integer(call, "seed", seed, None, 2**64 - 1)
+        if seed < 0:
+            raise Error("%s: seed=%d: must be >= 0" % (call, seed))
+        o["seed"] = seed
     return o
 
 
