@@ -1,7 +1,9 @@
 // weft: how light gets through cloth. One binary, one subcommand per stage (docs/architecture.md §1).
 #include <algorithm>
+#include <cerrno>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <memory>
 #include <string>
@@ -166,6 +168,17 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     code = 3;
     error = fmt::format("weft: error: internal error: {}", e.what());
+  }
+  // The summary and `wrote` lines go to standard output, buffered: one that cannot take them (a
+  // full disk) is an error, not a success whose report is lost without a word.
+  if (code == 0) {
+    errno = 0;
+    const bool flushed = std::fflush(stdout) == 0;
+    if (!flushed || std::ferror(stdout) != 0) {
+      code = 1;
+      error = fmt::format("weft: error: cannot write to standard output: {}",
+                          !flushed && errno != 0 ? std::strerror(errno) : "the write failed");
+    }
   }
   return mpi.finish(code, error);
 }

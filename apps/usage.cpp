@@ -212,9 +212,10 @@ void check_output_options(const CLI::App& sub) {
     }
     if (value.empty()) continue;  // an output the command does not write unless asked for
     const std::filesystem::path path(value);
-    std::error_code ec;
-    if (!folder && std::filesystem::is_directory(path, ec))
-      fail("output file '{}' is a folder, not a file", path.string());
+    if (!folder) {
+      if (const std::string problem = output_file_problem(path); !problem.empty())
+        fail("output file '{}' {}", path.string(), problem);
+    }
     check_writable_folder(folder ? path : (path.has_parent_path() ? path.parent_path() : std::filesystem::path(".")));
   }
 }

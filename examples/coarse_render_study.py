@@ -48,8 +48,8 @@ def main():
                    c.cloth_difference, c.cloth_rmse, c.cloth_noise)
         if not all(math.isfinite(v) for v in numbers):
             raise SystemExit("coarse_render_study: non-finite statistics for %s" % c.name)
-        print("%-28s %8.4f %8.1f%% %7.1f %+9.4f %8.4f %8.4f %8.2f MB"
-              % ((c.name, numbers[0], 100 * numbers[1]) + numbers[2:] + (c.memory_bytes / 1e6,)))
+        print("%-28s %8.4f %8.1f%% %7.1f %+9.4f %8.4f %8.4f %9d B"
+              % ((c.name, numbers[0], 100 * numbers[1]) + numbers[2:] + (c.memory_bytes,)))
     print("headline: %s" % result.headline)
     with open(os.path.join(args.out, "study.csv"), "w") as f:
         f.write(result.csv)

@@ -41,6 +41,8 @@ ClothSpec default_cloth_spec() {
 ClothSpec load_cloth_spec(const std::filesystem::path& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) fail("{}: no such file", path.string());
+  // A folder opens and reads as nothing: it would be said to be "an empty file".
+  if (std::filesystem::is_directory(path, ec)) fail("{}: not a regular file (a folder)", path.string());
   std::ifstream in(path, std::ios::binary);
   if (!in) fail("{}: cannot open", path.string());
   std::ostringstream text;

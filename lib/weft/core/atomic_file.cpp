@@ -63,9 +63,42 @@ std::string output_name_problem(std::string_view value, bool folder) {
   return {};
 }
 
-void write_atomically(const fs::path& target, const std::function<void(const fs::path&)>& write) {
-  if (const std::string problem = output_name_problem(target.native(), false); !problem.empty())
-    fail("output file '{}': {}", target.string(), problem);
+fs::path through_links(const fs::path& path) {
+  fs::path p = path;
+  std::error_code ec;
+  // 40: the kernel's own limit on the links one lookup follows (ELOOP).
+  for (int followed = 0; fs::is_symlink(fs::symlink_status(p, ec)); ++followed) {
+    if (followed == 40) fail("output file '{}': too many levels of symbolic links", path.string());
+    const fs::path to = fs::read_symlink(p, ec);
+    if (ec) fail("output file '{}': cannot read its symbolic link: {}", path.string(), ec.message());
+    p = to.is_absolute() ? to : p.parent_path() / to;
+  }
+  return p;
+}
+
+std::string output_file_problem(const fs::path& path) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(through_links(path), ec);
+  if (!fs::exists(st) || fs::is_regular_file(st)) return {};
+  if (fs::is_directory(st)) return "is a folder, not a file";
+  const char* kind = fs::is_character_file(st) ? "a character device"
+                     : fs::is_block_file(st)   ? "a block device"
+                     : fs::is_fifo(st)         ? "a named pipe"
+                     : fs::is_socket(st)       ? "a socket"
+                                               : "not a regular file";
+  // An output is written whole under a temporary name and renamed over the old file (above): over
+  // a device or a pipe that would replace the node itself, not write into it.
+  return fmt::format("is {}, not a regular file (weft writes a file whole and renames it into place)", kind);
+}
+
+void write_atomically(const fs::path& requested, const std::function<void(const fs::path&)>& write) {
+  if (const std::string problem = output_name_problem(requested.native(), false); !problem.empty())
+    fail("output file '{}': {}", requested.string(), problem);
+  if (const std::string problem = output_file_problem(requested); !problem.empty())
+    fail("output file '{}' {}", requested.string(), problem);
+  // A symbolic link names the file it points at: that file is replaced, not the link (as a shell's
+  // `>` writes through it).
+  const fs::path target = through_links(requested);
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) {

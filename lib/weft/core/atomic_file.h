@@ -22,7 +22,21 @@ namespace weft {
 /// write_atomically use it; the caller prefixes the option or argument it names.
 [[nodiscard]] std::string output_name_problem(std::string_view value, bool folder);
 
+/// @brief `path` with every symbolic link of its last component followed (a chain of them, relative
+/// ones against the link's folder), as far as the links exist: the file an output under `path`
+/// replaces. A loop is a weft::Error.
+[[nodiscard]] std::filesystem::path through_links(const std::filesystem::path& path);
+
+/// @brief What stops `path` (through its links) from taking an output file: "is a folder, not a
+/// file", "is a character device, not a regular file (...)" (a device, a pipe, a socket), or ""
+/// when nothing does (a regular file, or nothing yet). The CLI checks it before a run, and
+/// write_atomically again.
+[[nodiscard]] std::string output_file_problem(const std::filesystem::path& path);
+
 /// @brief Calls `write(tmp)` with a temporary path beside `target`, then renames it to `target`.
+/// A `target` that is a symbolic link is followed (through_links): the file it names is replaced.
+/// One that is a device, a pipe or a socket is refused (output_file_problem), not replaced by a
+/// regular file.
 ///
 /// If `write` throws, the temporary file is removed and the exception propagates, so a failed
 /// run never leaves a half-written output. A stop request (stop_if_requested, core/progress.h) that

@@ -167,6 +167,12 @@ std::uint64_t film_bytes(int width, int height) {
   return static_cast<std::uint64_t>(std::max(width, 0)) * static_cast<std::uint64_t>(std::max(height, 0)) * kPerPixel;
 }
 
+void require_pixel_samples(double samples, std::string_view what, std::string_view lower) {
+  if (samples > kMaxPixelSamples)
+    fail("{}: {:.3g} pixel samples, over the limit of {:.0e} a run takes (days at 10 M samples/s): lower {}", what,
+         samples, kMaxPixelSamples, lower);
+}
+
 RenderResult render(const SceneDesc& scene, const RenderOptions& options, ProgressSink& progress) {
   return render(build_world(scene), options, progress);
 }
@@ -176,6 +182,10 @@ RenderResult render(const World& world, const RenderOptions& options, ProgressSi
   const Camera camera(world.camera);
   const int spp = options.spp.value_or(world.settings.spp);
   if (spp < 1 || spp > kMaxSpp) fail("spp must be in [1, {}], got {}", kMaxSpp, spp);
+  // With a time budget the spp is a cap the budget ends before.
+  if (options.time_budget_seconds == 0.0)
+    require_pixel_samples(static_cast<double>(camera.width) * camera.height * spp, world.source,
+                          "the spp or camera.width and camera.height");
   const std::uint64_t seed = options.seed.value_or(world.settings.seed);
   if (options.time_budget_seconds < 0.0 || !std::isfinite(options.time_budget_seconds))
     fail("time budget must be finite and >= 0, got {}", options.time_budget_seconds);

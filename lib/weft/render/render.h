@@ -6,6 +6,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "weft/core/progress.h"
@@ -23,6 +24,15 @@ enum class IntegratorChoice { automatic, surfaces, exponential, general };
 /// --reference-spp and Python's spp= (sample s of a pixel draws from stream (s << 32) | pixel,
 /// so any int fits; 2^24 is already days for a small film).
 inline constexpr int kMaxSpp = 1 << 24;
+
+/// Most pixel samples (film pixels × spp, summed over every image a run renders) a run takes:
+/// 10¹² is days at the 1–10 M samples/s of a 2-core machine, as a streaming pass's 10¹² steps
+/// are (volume/pass_budget.h). Past it a run is refused before it spends anything.
+inline constexpr double kMaxPixelSamples = 1e12;
+
+/// Refuses `samples` pixel samples past kMaxPixelSamples with one line that starts with `what`
+/// and names what to lower.
+void require_pixel_samples(double samples, std::string_view what, std::string_view lower);
 
 /// Overrides of the scene's own settings, as given on the command line.
 struct RenderOptions {

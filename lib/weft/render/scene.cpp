@@ -462,6 +462,9 @@ SceneDesc parse_scene(std::string_view json_text, const std::string& source, con
 }
 
 SceneDesc load_scene(const std::filesystem::path& path) {
+  // A folder opens and reads as nothing: it would be said to be "an empty file".
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) fail("scene file '{}': not a regular file (a folder)", path.string());
   std::ifstream in(path, std::ios::binary);
   if (!in) fail("scene file '{}' cannot be opened (missing or unreadable)", path.string());
   std::ostringstream text;

@@ -19,6 +19,7 @@
 #include "weft/dist/distributed.h"
 #include "weft/dist/unit_store.h"
 #include "weft/render/cloth_scene.h"
+#include "weft/render/render.h"
 #include "weft/render/scene.h"
 #include "weft/study/albedo_fit.h"
 #include "weft/study/render_study_report.h"
@@ -54,6 +55,30 @@ fs::path cloth_file(const MatrixSpec& spec, const std::string& pattern) {
                       fmt::format("{}_{:016x}.vdb", c.pattern, std::hash<std::string>{}(text)));
 }
 
+/// The metadata key under which the matrix records a cloth's resolved generator spec in its grid:
+/// the file's name hashes the spec, the key says what the file holds.
+constexpr const char* kClothSpecKey = "weft:matrix_cloth_spec";
+
+/// Generates the cloth of `pattern` into its file, with its spec recorded (kClothSpecKey).
+void make_cloth(const MatrixSpec& spec, const std::string& pattern, const fs::path& file, ProgressSink& progress) {
+  const cloth::ClothSpec c = cloth_spec(spec, pattern);
+  volume::Grid grid = cloth::build_cloth(c, progress).grid;
+  grid.set_metadata(kClothSpecKey, cloth::cloth_spec_json(c));
+  grid.save(file);
+}
+
+/// A grid already under a cloth's name is taken only if it records that cloth's spec: a file
+/// copied or left there by hand would otherwise be rendered under the pattern's name.
+void require_matrix_cloth(const MatrixSpec& spec, const std::string& pattern, const fs::path& file,
+                          const volume::Grid& grid) {
+  const auto meta = grid.metadata();
+  const auto it = meta.find(kClothSpecKey);
+  if (it == meta.end() || it->second != cloth::cloth_spec_json(cloth_spec(spec, pattern)))
+    fail("render matrix: '{}' is not the {} cloth its name says ({}); remove it and run again", file.string(),
+         cloth::canonical_pattern(pattern),
+         it == meta.end() ? "it records no generator spec" : "it records another generator spec");
+}
+
 render::SceneDesc case_scene(const MatrixSpec& spec, const MatrixCase& c) {
   render::ClothView view;
   view.lighting = c.lighting;
@@ -61,42 +86,6 @@ render::SceneDesc case_scene(const MatrixSpec& spec, const MatrixCase& c) {
   view.width = spec.width;
   view.height = spec.height;
   return render::cloth_scene(cloth_file(spec, spec.cloths[c.cloth]), view);
-}
-
-/// Every channel of a representation, from the medium its scene holds (MatrixMemory).
-MatrixMemory memory_of(const fs::path& scene_file) {
-  const render::SceneDesc scene = render::load_scene(scene_file);
-  MatrixMemory m;
-  const auto add = [&](const volume::Grid& g) {
-    m.values += static_cast<std::uint64_t>(g.value_bytes()) * g.active_voxel_count();
-    m.tree += g.memory_bytes();
-    ++m.channels;
-  };
-  for (const auto& [name, d] : scene.media) {
-    if (d.kind == render::MediumKind::grid) {
-      if (d.axis_grids.empty()) {
-        add(volume::Grid::load(d.file, d.grid_name));
-      } else {
-        for (const std::string& name : d.axis_grids) add(volume::Grid::load(d.file, name));  // σ'_x, σ'_y, σ'_z
-      }
-    } else if (d.kind == render::MediumKind::local_gamma) {
-      // Every grid of the fields file (fit/local_fields.h), also any the medium does not read:
-      // the study writes only the four it reads (fit::FieldChannels::render), a file of `weft
-      // fit --block --fields all` would count ten. Each at the bytes its file stores a value in
-      // (the variances as half: fit/local_fields.h). Counted without Grid::load's value check
-      // (α, β hold +∞ on exponential blocks).
-      for (const volume::GridCount& g : volume::count_grids(d.file)) {
-        m.values += static_cast<std::uint64_t>(g.value_bytes) * g.active_voxels;
-        m.tree += g.tree_bytes;
-        ++m.channels;
-      }
-    } else if (d.kind == render::MediumKind::homogeneous) {
-      // One value per parameter of the law, as a float.
-      m.values += 4 * d.law.params.size();
-      m.channels += static_cast<int>(d.law.params.size());
-    }
-  }
-  return m;
 }
 
 /// The study's candidate JSON (study_candidate_json) with the memory of MatrixMemory, without
@@ -178,7 +167,7 @@ MatrixCaseResult run_case(const MatrixSpec& spec, const MatrixCase& c, const Fac
     mc.study = sc;
     mc.study.image = {};
     mc.study.error_map = {};
-    mc.memory = memory_of(sc.scene_file);
+    mc.memory = {sc.memory_bytes, sc.memory_tree_bytes, sc.memory_channels};
     out.candidates.push_back(std::move(mc));
   }
   case_files.keep();
@@ -313,6 +302,15 @@ void check_matrix_spec(const MatrixSpec& spec, FrontEnd front) {
   StudySpec study = spec.study;
   study.albedo_fitted = true;
   check_study_spec(study, front);
+  // Every case's renders (the reference and two images per candidate, the albedo-corrected one per
+  // factor), before a cloth is generated.
+  const double cases = static_cast<double>(spec.cloths.size() * spec.lightings.size() * spec.tilts.size());
+  const double candidates = static_cast<double>(candidate_count(study, study.factors.size()));
+  render::require_pixel_samples(
+      static_cast<double>(spec.width) * spec.height * cases * (2.0 * candidates * study.spp + study.reference_spp),
+      "render matrix",
+      front == FrontEnd::python ? "spp=, reference_spp=, film= or the cases"
+                                : "--study-spp, --reference-spp, --study-film or the cases");
 }
 
 std::vector<std::string> matrix_patterns(const MatrixSpec& spec) {
@@ -394,7 +392,7 @@ std::vector<MatrixCaseResult> run_matrix(const MatrixSpec& spec, ProgressSink& p
       [&](std::size_t u) {
         const dist::RankLocal local;
         const fs::path file = cloth_file(spec, spec.cloths[u]);
-        if (!fs::exists(file)) cloth::build_cloth(cloth_spec(spec, spec.cloths[u]), progress).grid.save(file);
+        if (!fs::exists(file)) make_cloth(spec, spec.cloths[u], file, progress);
         return dist::Bytes{};
       },
       gen);
@@ -403,8 +401,17 @@ std::vector<MatrixCaseResult> run_matrix(const MatrixSpec& spec, ProgressSink& p
   // cloth, so the refusal waits for all of them (a collective) before the root removes the cloths.
   std::exception_ptr refused;
   try {
-    for (const auto& pattern : spec.cloths)
-      check_factors_for_grid(spec.study.factors, volume::Grid::load(cloth_file(spec, pattern)));
+    for (const auto& pattern : spec.cloths) {
+      const fs::path file = cloth_file(spec, pattern);
+      const volume::Grid grid = volume::Grid::load(file);
+      require_matrix_cloth(spec, pattern, file, grid);
+      try {
+        check_factors_for_grid(spec.study.factors, grid);
+      } catch (const Error& e) {
+        // The grid's own name ("density") would not say which of the cloths is too small.
+        fail("render matrix: cloth '{}': {}", cloth::canonical_pattern(pattern), e.what());
+      }
+    }
   } catch (const Error&) {
     refused = std::current_exception();
   }

@@ -23,6 +23,7 @@
 #include "weft/core/progress.h"
 #include "weft/render/cloth_scene.h"
 #include "weft/study/render_study.h"
+#include "weft/study/representation_memory.h"
 
 namespace weft::dist {
 class UnitStore;
@@ -95,16 +96,9 @@ struct MatrixCase {
 /// Every cloth × lighting × view, in that nesting order.
 [[nodiscard]] std::vector<MatrixCase> matrix_cases(const MatrixSpec& spec);
 
-/// The bytes a representation takes, every channel counted, two ways: `values` = Σ over its
-/// channels of (active voxels, tiles counted per voxel) × the bytes its file stores a value in
-/// (4, a float; 2 for the local fields' variances, stored as half: fit/local_fields.h), the data
-/// a renderer must hold, which is the figure the study compares; `tree` = Σ OpenVDB Tree::memUsage() of its
-/// grids (nodes, masks and values), which adds the sparse tree's fixed cost.
-struct MatrixMemory {
-  std::uint64_t values = 0;
-  std::uint64_t tree = 0;
-  int channels = 0;
-};
+/// The bytes a representation takes, every channel counted (representation_memory.h): the
+/// study's own count of the candidate, carried per case.
+using MatrixMemory = RepresentationMemory;
 
 struct MatrixCandidate {
   StudyCandidate study;  ///< its numbers and curve (image and error map not kept)

@@ -28,6 +28,7 @@
 #include "weft/study/albedo_fit.h"
 #include "weft/study/bias_estimate.h"
 #include "weft/study/render_study_report.h"
+#include "weft/study/representation_memory.h"
 #include "weft/study/study_target.h"
 #include "weft/volume/downsample.h"
 #include "weft/volume/grid_io.h"
@@ -239,6 +240,13 @@ void check_study_scene(const SceneDesc& scene, const StudySpec& spec) {
           f, k, albedo[0], albedo[1], albedo[2], target.medium, k_max, k_max);
   }
   if (!spec.components.empty()) check_component_scene(scene);
+  // Its renders, before anything is made: the reference and two images per candidate (a time
+  // budget bounds its candidates' spp itself).
+  const double pixels = static_cast<double>(scene.camera.width) * scene.camera.height;
+  const double images_spp =
+      spec.spp > 0 ? 2.0 * static_cast<double>(candidate_count(spec, spec.albedo_factors.size())) * spec.spp : 0.0;
+  render::require_pixel_samples(pixels * (images_spp + spec.reference_spp), "study",
+                                "--study-spp, --reference-spp or the camera's film");
   // The box against the grid: loaded here, so that every front end refuses a box that cuts the
   // cloth before it says what the study will cost, let alone renders.
   const MediumDesc& fine_desc = scene.media.at(target.medium);
@@ -346,8 +354,6 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, Progre
     p.c.name = "fine";
     p.c.model = "fine grid";
     p.c.factor = 1;
-    p.c.memory_bytes = fine.memory_bytes();
-    p.c.memory_channels = 1;
     p.scene = target.scene;
     plans.push_back(std::move(p));
   }
@@ -359,14 +365,11 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, Progre
     const volume::Grid coarse = volume::downsample(fine, f);
     const volume::ShadowedGrids shadowed_grids = volume::shadowed_downsample(fine, f, target.sigma_stats);
     const volume::Grid& shadowed = shadowed_grids.isotropic;
-    std::uint64_t fields_bytes = 0;  // what the local-gamma medium loads: the mean and 3 variances
     if (root) {
       coarse.save(grid_file);
       shadowed.save(shadow_file);
       volume::save_grids({shadowed_grids.per_axis.begin(), shadowed_grids.per_axis.end()}, directional_file);
       const fit::LocalFields fields = fit::local_fields(fine, f, progress);
-      fields_bytes = fields.mean.memory_bytes();
-      for (const volume::Grid& v : fields.variance) fields_bytes += v.memory_bytes();
       fit::save_local_fields(fields, fields_file, fit::FieldChannels::render);  // what the medium reads
     }
     const Box box = union_box(target.box, world_box(coarse));
@@ -374,8 +377,6 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, Progre
     e.c.name = fmt::format("exponential-{}x", f);
     e.c.model = "exponential";
     e.c.factor = f;
-    e.c.memory_bytes = coarse.memory_bytes();
-    e.c.memory_channels = 1;
     json em = base_medium;
     em["file"] = grid_file.string();
     em.erase("grid");
@@ -385,8 +386,6 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, Progre
     g.c.name = fmt::format("local-gamma-{}x", f);
     g.c.model = "local-gamma";
     g.c.factor = f;
-    g.c.memory_bytes = fields_bytes;
-    g.c.memory_channels = 4;
     json gm = {{"type", "local-gamma"},
                {"fields", fields_file.string()},
                {"sigma", target.sigma_stats},
@@ -403,19 +402,17 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, Progre
       plans.push_back(std::move(gr));
     }
     // The baselines of docs/render.md §6d: exponential-Nx's medium with another grid or albedo.
-    const auto baseline = [&](const std::string& model, const json& medium, std::uint64_t bytes) {
+    const auto baseline = [&](const std::string& model, const json& medium) {
       Plan b;
       b.c.name = fmt::format("{}-{}x", model, f);
       b.c.model = model;
       b.c.factor = f;
-      b.c.memory_bytes = bytes;
-      b.c.memory_channels = 1;
       b.scene = candidate_scene(target, medium, box);  // the same blocks as exponential-Nx
       return b;
     };
     json shadow_medium = em;
     shadow_medium["file"] = shadow_file.string();
-    plans.push_back(baseline("shadow-corrected", shadow_medium, shadowed.memory_bytes()));
+    plans.push_back(baseline("shadow-corrected", shadow_medium));
     // The same correction kept per axis, σ(ω) = Σ_a ω_a² σ'_a (docs/render.md §6d): 3 channels.
     json directional_medium = em;
     directional_medium["file"] = directional_file.string();
@@ -424,14 +421,8 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, Progre
     // default whatever the fine scene asked for.
     directional_medium.erase("tracking");
     directional_medium["axis_grids"] = json::array();
-    std::uint64_t directional_bytes = 0;
-    for (const volume::Grid& g : shadowed_grids.per_axis) {
-      directional_medium["axis_grids"].push_back(g.name());
-      directional_bytes += g.memory_bytes();
-    }
-    Plan dir = baseline("shadow-directional", directional_medium, directional_bytes);
-    dir.c.memory_channels = 3;
-    plans.push_back(std::move(dir));
+    for (const volume::Grid& g : shadowed_grids.per_axis) directional_medium["axis_grids"].push_back(g.name());
+    plans.push_back(baseline("shadow-directional", directional_medium));
     for (const auto& [fa, k] : spec.albedo_factors) {
       if (fa != f) continue;
       json albedo_medium = em;
@@ -443,7 +434,7 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, Progre
         say(spec, fmt::format(
                       "albedo-corrected-{}x: k = {:g} clamps the albedo ({:g}, {:g}, {:g}) to ({:g}, {:g}, {:g})", f, k,
                       fine_desc.albedo[0], fine_desc.albedo[1], fine_desc.albedo[2], albedo[0], albedo[1], albedo[2]));
-      Plan al = baseline("albedo-corrected", albedo_medium, coarse.memory_bytes());
+      Plan al = baseline("albedo-corrected", albedo_medium);
       al.c.albedo_factor = k;
       al.c.fitted_to_images = true;
       plans.push_back(std::move(al));
@@ -547,9 +538,10 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, Progre
     // With no pixel of cloth every cloth statistic is 0, which would read as "unbiased".
     if (result.cloth_pixels == 0)
       fail(
-          "study: the cloth covers no pixel of the {}x{} film (the reference equals the scene without the cloth's "
-          "box everywhere): point the camera at the cloth",
-          reference.width, reference.height);
+          "study: the cloth covers no pixel of the {}x{} film that the reference tells apart from the scene without "
+          "the cloth's box (by 5 standard errors): the camera does not see the cloth, or the reference at {} spp is "
+          "too noisy to show it; point the camera at the cloth or raise the reference spp",
+          reference.width, reference.height, spec.reference_spp);
     result.cloth_mean = sum / (3.0 * static_cast<double>(result.cloth_pixels));
   }
 
@@ -599,6 +591,11 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, Progre
     c.scene_file = fs::absolute(spec.work_dir / (c.name + ".json"));
     write_scene(p.scene, c.spp, c.seed_a, c.scene_file);
     if (!root) continue;  // images live on rank 0
+    // Its memory from the files its scene names: one count for every candidate, the study's and the matrix's.
+    const RepresentationMemory memory = representation_memory(c.scene_file);
+    c.memory_bytes = memory.values;
+    c.memory_tree_bytes = memory.tree;
+    c.memory_channels = memory.channels;
     c.image = a.image;
     c.rmse_raw = rmse(a.image, reference);
     c.rmse = rmse_against_noisy_reference(a.image, reference);

@@ -205,9 +205,11 @@ struct StudyCandidate {
   /// When StudySpec::components splits this candidate: its transmission, single and multiple
   /// scattering biases over the cloth (render_components.h); empty otherwise.
   std::vector<ComponentBias> components;
-  /// Bytes of the grids the candidate's medium holds in memory (Grid::memory_bytes), every
-  /// channel counted, and the number of channels (grids); 0 and 0 for the slab (a law only).
+  /// The candidate's memory, every channel counted, from its scene file (representation_memory.h,
+  /// docs/render.md §6e "Memory"): the values a renderer holds (compared), OpenVDB's trees
+  /// (reported), the number of channels; the slab's law its parameters.
   std::uint64_t memory_bytes = 0;
+  std::uint64_t memory_tree_bytes = 0;
   int memory_channels = 0;
   /// albedo-corrected candidates: the albedo multiplier k_N, fitted to images elsewhere (so
   /// `fitted_to_images`, and chosen against the fine grid: it uses the ground truth).

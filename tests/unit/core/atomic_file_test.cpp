@@ -15,6 +15,7 @@
 #include "weft/core/error.h"
 #include "weft/core/progress.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -22,7 +23,7 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path fresh_dir(const char* name) {
-  const fs::path dir = fs::temp_directory_path() / fmt::format("weft-test-{}-{}", name, ::getpid());
+  fs::path dir = fs::temp_directory_path() / fmt::format("weft-test-{}-{}", name, ::getpid());
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
@@ -267,3 +268,52 @@ TEST(FolderRollback, NestedGuardsEachPutBackTheirFolder) {
 }
 
 }  // namespace
+
+// A symbolic link names the file it points at: the file is replaced and the link stays a link,
+// through a chain of links, relative ones against their own folder.
+TEST(AtomicFile, ASymbolicLinkIsWrittenThroughNotReplaced) {
+  const auto dir = fresh_dir("atomic-link");
+  fs::create_directories(dir / "real");
+  weft::write_text_atomically(dir / "real" / "a.txt", "old");
+  fs::create_symlink("real/a.txt", dir / "link1.txt");
+  fs::create_symlink(dir / "link1.txt", dir / "link2.txt");
+  weft::write_text_atomically(dir / "link2.txt", "new");
+  EXPECT_TRUE(fs::is_symlink(dir / "link1.txt"));
+  EXPECT_TRUE(fs::is_symlink(dir / "link2.txt"));
+  std::ifstream in(dir / "real" / "a.txt");
+  std::string s;
+  std::getline(in, s);
+  EXPECT_EQ(s, "new");
+  // A link to nothing yet makes its target, as a shell's > does.
+  fs::create_symlink("made.txt", dir / "dangling.txt");
+  weft::write_text_atomically(dir / "dangling.txt", "x");
+  EXPECT_TRUE(fs::is_symlink(dir / "dangling.txt"));
+  EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(dir / "made.txt")));
+  // A loop is an error naming the path, not a hang.
+  fs::create_symlink("loop_b", dir / "loop_a");
+  fs::create_symlink("loop_a", dir / "loop_b");
+  EXPECT_THAT([&] { weft::write_text_atomically(dir / "loop_a", "x"); },
+              ::testing::ThrowsMessage<weft::Error>(::testing::HasSubstr("too many levels of symbolic links")));
+  fs::remove_all(dir);
+}
+
+// A named pipe (and so a device or a socket: one check) under the output's name, or behind a link,
+// is refused before the write and stays what it was: a rename would replace the node itself.
+TEST(AtomicFile, ANodeThatIsNotARegularFileIsRefusedAndKept) {
+  const auto dir = fresh_dir("atomic-fifo");
+  ASSERT_EQ(::mkfifo((dir / "pipe.exr").c_str(), 0600), 0);
+  fs::create_symlink("pipe.exr", dir / "link.exr");
+  for (const char* name : {"pipe.exr", "link.exr"}) {
+    bool wrote = false;
+    EXPECT_THAT([&] { weft::write_atomically(dir / name, [&](const fs::path&) { wrote = true; }); },
+                ::testing::ThrowsMessage<weft::Error>(::testing::HasSubstr("is a named pipe, not a regular file")))
+        << name;
+    EXPECT_FALSE(wrote) << name;
+  }
+  EXPECT_TRUE(fs::is_fifo(dir / "pipe.exr"));
+  EXPECT_TRUE(fs::is_symlink(dir / "link.exr"));
+  EXPECT_EQ(weft::output_file_problem("/dev/null"),
+            "is a character device, not a regular file (weft writes a file whole and renames it into place)");
+  EXPECT_EQ(weft::output_file_problem(dir / "none.exr"), "");
+  fs::remove_all(dir);
+}

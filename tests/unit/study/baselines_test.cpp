@@ -119,7 +119,16 @@ TEST(StudyBaselines, NewCandidatesAppearWithMemoryAndLabels) {
   EXPECT_NEAR(s.media.at("cloth").albedo[0], 0.96, 1e-12);
   EXPECT_NEAR(s.media.at("cloth").albedo[2], 0.72, 1e-12);
   EXPECT_EQ(candidate(r, "fine").memory_channels, 1);
-  EXPECT_EQ(candidate(r, "slab-gamma").memory_bytes, 0U);
+  // The slab's law: its parameters, one float each, no tree (the matrix's count: one rule).
+  EXPECT_EQ(candidate(r, "slab-gamma").memory_bytes, 4U * candidate(r, "slab-gamma").memory_channels);
+  EXPECT_GT(candidate(r, "slab-gamma").memory_channels, 0);
+  // The values a grid holds, not OpenVDB's tree, which moves with the index origin.
+  const StudyCandidate& fine = candidate(r, "fine");
+  EXPECT_EQ(fine.memory_bytes,
+            4 * volume::Grid::load(render::load_scene(fine.scene_file).media.begin()->second.file,
+                                   render::load_scene(fine.scene_file).media.begin()->second.grid_name)
+                    .active_voxel_count());
+  EXPECT_GT(fine.memory_tree_bytes, fine.memory_bytes);
   // The reports carry the new fields.
   const nlohmann::json j = nlohmann::json::parse(study_json(r));
   bool seen = false;

@@ -104,6 +104,16 @@ TEST(MatrixSpec, RefusesWhatCannotRun) {
   tilt.tilts = {95.0};
   EXPECT_THROW(check_matrix_spec(tilt), Error);
   EXPECT_EQ(matrix_cases(s).size(), 3U * 3U * 2U);
+  // Work past render::kMaxPixelSamples is refused before a cloth is made, each limit alone
+  // allowing it (a 4096² film at 2²⁰ spp: about 10¹⁵ pixel samples).
+  MatrixSpec huge = s;
+  huge.width = huge.height = kMaxMatrixFilm;
+  huge.study.spp = kMaxStudySpp;
+  EXPECT_THAT([&] { check_matrix_spec(huge); },
+              testing::ThrowsMessage<Error>(testing::HasSubstr("pixel samples, over the limit of 1e+12")));
+  MatrixSpec within = s;  // the same film at 2 spp: within it
+  within.width = within.height = kMaxMatrixFilm;
+  EXPECT_NO_THROW(check_matrix_spec(within));
 }
 
 // A cloth, light set-up, view or memory rule given twice would render the same case or candidate
@@ -336,6 +346,20 @@ TEST(MatrixRun, MemoryIsTheGridsOwnCount) {
   // A candidate is labelled only when it was itself fitted with the ground truth (§6d (b)).
   for (const auto& c : study_report.at("candidates"))
     EXPECT_EQ(c.at("uses_ground_truth"), c.at("name").get<std::string>().starts_with("albedo-corrected")) << c;
+  // A grid under the cloth's name that is not that cloth (put there by hand: another spec recorded,
+  // or none) is refused before anything renders, naming the file, and stays.
+  for (const bool with_key : {true, false}) {
+    volume::Grid other(s.voxel_size);
+    other.set_value(0, 0, 0, 0.5F);
+    if (with_key) other.set_metadata("weft:matrix_cloth_spec", "{}");
+    fs::remove(cloth);
+    other.save(cloth);
+    EXPECT_THAT([&] { (void)run_matrix(s); },
+                testing::ThrowsMessage<Error>(
+                    testing::HasSubstr("is not the plain cloth its name says (it records " +
+                                       std::string(with_key ? "another generator spec" : "no generator spec") + ")")));
+    EXPECT_TRUE(fs::exists(cloth));
+  }
   fs::remove_all(s.study.work_dir);
 }
 

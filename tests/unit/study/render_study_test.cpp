@@ -13,6 +13,7 @@
 #include "weft/core/error.h"
 #include "weft/study/bias_estimate.h"
 #include "weft/study/render_study.h"
+#include "weft/study/render_study_report.h"
 #include "weft/transmittance/gamma_hazard.h"
 
 namespace weft::study {
@@ -157,3 +158,35 @@ TEST(StudySpec, ALocalGammaRuleNotRenderedNamesTheOptionThatAddsIt) {
 
 }  // namespace
 }  // namespace weft::study
+
+// The headline names the best prediction: a candidate fitted to images (with --study-albedo fit,
+// to this very reference) is reported but never crowned, and a note says why, however fast it is.
+TEST(StudyHeadline, ACandidateFittedToImagesIsNeverTheHeadline) {
+  weft::study::StudyResult r;
+  r.reference_mean = 1.0;
+  const auto candidate = [](const char* name, int factor, double seconds, double rmse, bool fitted) {
+    weft::study::StudyCandidate c;
+    c.name = name;
+    c.model = name;
+    c.factor = factor;
+    c.spp = 8;
+    c.seconds = seconds;
+    c.rmse = rmse;
+    c.fitted_to_images = fitted;
+    return c;
+  };
+  r.candidates = {candidate("fine", 1, 1.0, 0.1, false), candidate("exponential-4x", 4, 0.5, 0.1, false),
+                  candidate("albedo-corrected-4x", 4, 0.25, 0.1, true)};
+  weft::study::judge_study(r);
+  EXPECT_DOUBLE_EQ(r.candidates[2].speedup, 4.0);  // its figures stay reported
+  EXPECT_THAT(r.headline, ::testing::HasSubstr("exponential-4x"));
+  EXPECT_THAT(r.headline, ::testing::Not(::testing::HasSubstr("albedo-corrected")));
+  ASSERT_EQ(r.notes.size(), 1U);
+  EXPECT_THAT(r.notes[0], ::testing::HasSubstr("uses_ground_truth"));
+  // Without a fitted candidate, no note.
+  r.candidates.pop_back();
+  r.notes.clear();
+  weft::study::judge_study(r);
+  EXPECT_TRUE(r.notes.empty());
+  EXPECT_THAT(r.headline, ::testing::HasSubstr("exponential-4x"));
+}
