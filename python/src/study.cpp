@@ -178,6 +178,13 @@ void init_study(py::module_& m) {
         if (get<int>(o, "spp") && get<double>(o, "seconds"))
           fail("render_study: spp= and seconds= exclude each other (a fixed spp, or a time budget per image)");
         const render::SceneDesc scene = study_scene(o, call);
+        // The scene against the whole spec (albedo factors past the scene's albedo, the work the
+        // film and spp make) before anything runs, under the call's name as every other check.
+        try {
+          st::check_study_scene(scene, spec);
+        } catch (const Error& e) {
+          fail("{}: {}", call, e.what());
+        }
         const bool fit = get<bool>(o, "fit_albedo").value_or(false);
         spec.work_dir = work_dir;
         std::vector<st::AlbedoFit> fits;
