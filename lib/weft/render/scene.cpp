@@ -194,8 +194,14 @@ CameraDesc parse_camera(const json& j, const std::string& where) {
   // Directions by unit_vector (render/frame.h): a tiny but non-zero vector is a direction.
   if ((c.look_at - c.position).isZero(0.0)) fail("{}: 'look_at' equals 'position'", where);
   if (unit_vector(c.up).isZero(0.0)) fail("{}: 'up' must not be zero", where);
-  if (unit_vector(c.look_at - c.position).cross(c.up).isZero(0.0))
-    fail("{}: 'up' is parallel to the view direction", where);
+  // The roll comes from up × view: within 1e-6 rad of parallel (sin of the angle between the unit
+  // vectors), that cross product is rounding, and the image's orientation with it. An `up` written
+  // as the view direction itself (look_at − position) differs from it by rounding only.
+  if (const double sine = unit_vector(c.look_at - c.position).cross(unit_vector(c.up)).norm(); !(sine >= 1e-6))
+    fail(
+        "{}: 'up' is parallel to the view direction (the angle between them is {:.3g} rad, under 1e-6: the "
+        "image's roll would be set by rounding)",
+        where, std::asin(std::min(1.0, sine)));
   return c;
 }
 

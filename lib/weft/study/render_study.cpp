@@ -225,6 +225,14 @@ std::vector<int> factors_for_grid(const StudySpec& spec, const volume::Grid& fin
 
 void check_study_scene(const SceneDesc& scene, const StudySpec& spec) {
   const Target target = find_target(scene);
+  // Nothing that could emit: every image is black, the cloth's mask empty, and the study would
+  // blame the camera or the reference's noise after rendering it (a plain render warns instead).
+  const bool emitter = std::any_of(scene.shapes.begin(), scene.shapes.end(),
+                                   [](const ShapeDesc& s) { return (s.emission > 0.0).any(); });
+  if (scene.lights.empty() && !emitter)
+    fail(
+        "study: the scene has no light (nothing in \"lights\" and no shape with \"emission\"): every image would be "
+        "black and the cloth invisible; add a light");
   // A k past albedo_k_max clamps every channel at 1: it renders as k_max does, so it is a typo or
   // a factor meant for a darker cloth. The slack lets a k printed with 6 digits (as --study-albedo
   // fit prints them, rounded by up to 5e-6 relative) pass when the fit ended at k_max.

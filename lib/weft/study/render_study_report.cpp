@@ -64,19 +64,23 @@ void judge_study(StudyResult& r) {
         "the albedo-corrected candidates are fitted to images (uses_ground_truth) and are not judged in this "
         "headline: judge them on set-ups they were not fitted on, as the study matrix does (--study-albedo fit "
         "fits them to this study's own reference)");
-  const auto relative = [&](double e) { return r.reference_mean > 0.0 ? 100.0 * e / r.reference_mean : 0.0; };
+  // Two digits, but never in exponent form: 150 % reads "150", not "1.5e+02".
+  const auto relative = [&](double e) {
+    const double pct = r.reference_mean > 0.0 ? 100.0 * e / r.reference_mean : 0.0;
+    return std::abs(pct) >= 100.0 ? fmt::format("{:.0f}", pct) : fmt::format("{:.2g}", pct);
+  };
   const auto coarser = [](const StudyCandidate& c) {
     return c.factor == 0 ? std::string("as one homogeneous slab") : fmt::format("at {}x coarser", c.factor);
   };
   if (best != nullptr && best->speedup > 1.0) {
     r.headline = fmt::format(
-        "{} and {:.3g}x less time, {} ({}) is within RMSE {:.3g} ({:.2g}% of the mean pixel) of the fine grid: "
+        "{} and {:.3g}x less time, {} ({}) is within RMSE {:.3g} ({}% of the mean pixel) of the fine grid: "
         "{:.3g} s at {} spp, bias {:.3g}, noise {:.3g}; the fine grid needs about {:.3g} s to get as close",
         coarser(*best), best->speedup, best->name, best->model, best->rmse, relative(best->rmse), best->seconds,
         best->spp, best->bias, best->noise, best->speedup * best->seconds);
   } else if (best != nullptr) {
     r.headline = fmt::format(
-        "no coarse model beats the fine grid here: in {:.3g} s the fine grid is within RMSE {:.3g} ({:.2g}% of the "
+        "no coarse model beats the fine grid here: in {:.3g} s the fine grid is within RMSE {:.3g} ({}% of the "
         "mean pixel); the best coarse candidate, {} ({}), is within {:.3g} (bias {:.3g}) in {:.3g} s",
         f.seconds, f.rmse, relative(f.rmse), best->name, coarser(*best), best->rmse, best->bias, best->seconds);
   }

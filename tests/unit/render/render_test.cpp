@@ -749,6 +749,25 @@ TEST(SceneDirections, TinyButNonZeroVectorsAreTheirUnitVectors) {
               weft::test::throws_one_line_error_with({"'up' must not be zero"}));
   EXPECT_THAT([&] { (void)scene("[0, 0, -1]", "[0, 0, 1e-300]", "[0, -1, 0]"); },
               weft::test::throws_one_line_error_with({"'up' is parallel"}));
+  // Parallel but for rounding: `up` written as look_at − position, which doubles compute as
+  // (−1.8, 0.22000000000000003, −1.2), left the roll to rounding; refused within 1e-6 rad, taken
+  // beyond it.
+  const auto camera = [](const std::string& up) {
+    return scene_from(fmt::format(R"({{
+      "camera": {{"position": [2.6, 0.3, 1.2], "look_at": [0.8, 0.52, 0.0], "up": {}, "width": 4, "height": 4}},
+      "lights": [{{"type": "environment", "radiance": 1}}]}})",
+                                  up));
+  };
+  EXPECT_THAT([&] { (void)camera("[-1.8, 0.22, -1.2]"); },
+              weft::test::throws_one_line_error_with({"'up' is parallel to the view direction", "under 1e-6"}));
+  const Eigen::Vector3d d = Eigen::Vector3d(-1.8, 0.22, -1.2).normalized();
+  const Eigen::Vector3d p = Eigen::Vector3d(0.0, 1.2, 0.22).normalized();  // ⟂ d
+  const auto off = [&](double angle) {
+    const Eigen::Vector3d up = std::cos(angle) * d + std::sin(angle) * p;
+    return fmt::format("[{:.17g}, {:.17g}, {:.17g}]", up.x(), up.y(), up.z());
+  };
+  EXPECT_THAT([&] { (void)camera(off(1e-7)); }, weft::test::throws_one_line_error_with({"'up' is parallel"}));
+  EXPECT_NO_THROW((void)camera(off(1e-5)));
 }
 
 // A scene with nothing that emits renders black, and says so; one light is enough to silence it.

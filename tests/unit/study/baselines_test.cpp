@@ -313,5 +313,22 @@ TEST(StudyBaselines, AZeroSigmaIsRefusedWithItsKey) {
       testing::ThrowsMessage<Error>(testing::HasSubstr("study: media.cloth.sigma is 0: the study needs sigma > 0")));
 }
 
+// A scene with nothing that emits renders black everywhere: refused before anything renders, by
+// name, not after the reference as an empty cloth mask blamed on the camera or the noise. An
+// emitting shape alone is a light.
+TEST(StudyBaselines, ASceneWithoutLightIsRefusedBeforeAnythingRenders) {
+  const TempDir dir("no_light");
+  render::SceneDesc scene = cube_scene(dir.path, [](int, int, int) { return 0.5F; });
+  scene.lights.clear();
+  EXPECT_THAT([&] { check_study_scene(scene, small_spec(dir.path)); },
+              testing::ThrowsMessage<Error>(testing::HasSubstr("study: the scene has no light")));
+  render::ShapeDesc panel;
+  panel.kind = render::ShapeKind::rectangle;
+  panel.material = "boundary";
+  panel.emission = render::Rgb(1.0, 1.0, 1.0);
+  scene.shapes.push_back(panel);
+  EXPECT_NO_THROW(check_study_scene(scene, small_spec(dir.path)));
+}
+
 }  // namespace
 }  // namespace weft::study
