@@ -144,6 +144,7 @@ MatrixCaseResult run_case(const MatrixSpec& spec, const MatrixCase& c, const Fac
   FolderRollback case_files(dir);
   StudySpec s = spec.study;
   s.work_dir = dir / "study";
+  s.files_root = spec.study.work_dir;  // the cases' scenes name ../../../cloths/ relative: the run moves whole
   s.log = nullptr;
   s.albedo_factors = factors;
   ProgressShare share(cases, kMatrixCaseUnits, std::string(kStudyRendersStage));

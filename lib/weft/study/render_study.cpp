@@ -68,6 +68,31 @@ Image abs_difference(const Image& a, const Image& b) {
   return d;
 }
 
+/// `dir` (or a file) absolute and normal, its symbolic links resolved where it exists: one spelling
+/// for the run's folder, a scene file's folder and the files they name, so one is found inside the other.
+fs::path resolved_folder(const fs::path& dir) {
+  std::error_code ec;
+  const fs::path r = fs::weakly_canonical(fs::absolute(dir), ec);
+  return ec ? fs::absolute(dir).lexically_normal() : r;
+}
+
+/// Every string of the scene `j` that is an absolute path inside `root` becomes relative to `dir`
+/// (the folder of the scene file being written, where parse_scene resolves it back): the run's
+/// folder can be moved whole. Paths elsewhere stay as they are.
+void name_files_relative(json& j, const fs::path& root, const fs::path& dir) {
+  if (j.is_object() || j.is_array()) {
+    for (auto& v : j) name_files_relative(v, root, dir);
+    return;
+  }
+  if (!j.is_string()) return;
+  const fs::path p(j.get<std::string>());
+  if (!p.is_absolute()) return;
+  const fs::path normal = resolved_folder(p);  // a file, spelt as the folders are
+  const auto [r, q] = std::mismatch(root.begin(), root.end(), normal.begin(), normal.end());
+  if (r != root.end() && !(std::next(r) == root.end() && r->empty())) return;  // not inside root
+  j = normal.lexically_relative(dir).string();
+}
+
 void say(const StudySpec& spec, const std::string& line) {
   if (spec.log) spec.log(line);
 }
@@ -472,11 +497,13 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, Progre
   // Every candidate's scene is read before the first render, so one it cannot take is refused
   // before minutes of renders, not after them.
   for (const Plan& p : plans) (void)parse(p.scene, p.c.name);
+  const fs::path files_root = resolved_folder(spec.files_root.empty() ? spec.work_dir : spec.files_root);
   const auto write_scene = [&](const json& j, int spp, std::uint64_t seed, const fs::path& path) {
     if (!root) return;
     json w = j;
     w["integrator"]["spp"] = spp;
     w["integrator"]["seed"] = seed;
+    name_files_relative(w, files_root, resolved_folder(path.parent_path()));
     write_text_atomically(path, w.dump(2) + "\n");
   };
 

@@ -121,6 +121,11 @@ struct StudySpec {
   std::vector<std::string> components;
   /// Folder for the candidates' grids, fields and scene files (created; rank 0 writes).
   std::filesystem::path work_dir;
+  /// The run's own folder (empty: work_dir): a file under it is named in the scene files relative
+  /// to the scene file's folder, so the folder can be moved or copied whole and `weft render
+  /// <candidate>.json` still finds its grids; a file outside it (the user's fine grid) stays
+  /// absolute. The matrix sets its --out, whose cloths/ the cases' scenes name.
+  std::filesystem::path files_root;
   /// Receives one line per stage ("rendering local-gamma-4x ..."); may be null.
   std::function<void(const std::string&)> log;
   /// Who asks: options in the lines said are spelled its way (`--study-window` or `window=`).

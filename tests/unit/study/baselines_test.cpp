@@ -141,6 +141,14 @@ TEST(StudyBaselines, NewCandidatesAppearWithMemoryAndLabels) {
   }
   EXPECT_TRUE(seen);
   EXPECT_NE(study_csv(r).find(",memory_bytes,memory_channels,albedo_factor,fitted_to_images,"), std::string::npos);
+  // The study's folder moves whole: its scenes name the files it made relative to themselves,
+  // the fine grid (outside it) by its absolute path.
+  const fs::path moved = dir / "moved";
+  fs::rename(spec.work_dir, moved);
+  const render::SceneDesc replay = render::load_scene(moved / "shadow-corrected-4x.json");
+  EXPECT_EQ(fs::path(replay.media.at("cloth").file), moved / "shadow_4x.vdb");
+  EXPECT_TRUE(fs::exists(replay.media.at("cloth").file));
+  EXPECT_EQ(render::load_scene(moved / "fine.json").media.at("cloth").file, (dir / "cube.vdb").string());
 }
 
 /// Records the stages a study reports and the last count of each.
