@@ -129,6 +129,15 @@ const Registrar kFit{Command{
         const LoadedGrid loaded = load_grid_input(o->input);
         const volume::Grid& grid = loaded.grid;
         const double sigma = loaded.sigma.sigma;
+        // A block the cloth does not fill, before anything is computed (docs/validate.md "Local fields").
+        if (o->block > 0) {
+          if (const auto whole = fit::whole_box_block(o->block, grid))
+            usage_fail(
+                "--block {}: {}: the fields would be one homogeneous block, the cloth's concentration spread "
+                "over the vacuum around it; use a block below {}",
+                o->block, whole->text, whole->below);
+          if (const std::string note = fit::thick_block_note(o->block, grid); !note.empty()) ctx.warn(note);
+        }
         MeasuredBeams beams;
         if (!o->beams.empty())
           beams =

@@ -260,6 +260,12 @@ void init_measure(py::module_& m) {
   m.def(
       "local_fields",
       [](const vol::Grid& grid, int block, const py::object& progress) {
+        // `weft fit --block`'s refusal of a block the cloth does not fill (docs/validate.md "Local fields").
+        if (const auto whole = fit::whole_box_block(block, grid))
+          fail(
+              "local_fields: block={}: {}: the fields would be one homogeneous block, the cloth's concentration "
+              "spread over the vacuum around it; use a block below {}",
+              block, whole->text, whole->below);
         return run_released(progress, [&](ProgressSink& p) { return fit::local_fields(grid, block, p); });
       },
       py::arg("grid"), py::arg("block"), py::kw_only(), py::arg("progress") = py::none(),

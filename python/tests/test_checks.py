@@ -251,3 +251,13 @@ def test_render_beyond_what_embree_traces_is_a_weft_error(edit, said):
     assert said in str(e.value), str(e.value)
     assert weft.render(small_scene_dict(), spp=1).shape == (6, 8, 3)  # the interpreter lives on
 
+
+
+def test_local_fields_refuse_a_block_that_holds_the_whole_cloth():
+    # One coarse voxel over the whole active box would spread the cloth over its vacuum (the CLI's
+    # `weft fit --block` refuses it the same way); a block below the largest extent is taken.
+    grid = weft.Grid.from_numpy(np.full((6, 4, 2), 0.5, np.float32), voxel_size=0.1)
+    with pytest.raises(weft.Error, match=r"^local_fields: block=6: one coarse voxel of 6 voxels .* holds the whole "
+                                         r"active box of grid .* \(6x4x2 voxels\).*use a block below 6$"):
+        weft.local_fields(grid, 6)
+    assert weft.local_fields(grid, 5).blocks > 0

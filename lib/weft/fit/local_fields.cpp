@@ -12,6 +12,7 @@
 #include <limits>
 #include <unordered_map>
 
+#include <fmt/format.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_sort.h>
 
@@ -224,6 +225,36 @@ void check_local_block(int block) {
   if (block < 1 || block > kMaxLocalBlock) {
     fail("local fields: block size must be in 1..{} voxels, got {}", kMaxLocalBlock, block);
   }
+}
+
+std::optional<WholeBoxBlock> whole_box_block(int block, const volume::Grid& grid) {
+  const volume::IndexBox box = grid.active_bbox();
+  if (box.empty()) return std::nullopt;  // an empty grid is refused by name where it is used
+  const auto e = box.extent();
+  const std::int64_t largest = *std::max_element(e.begin(), e.end());
+  if (block < largest) return std::nullopt;
+  return WholeBoxBlock{fmt::format("one coarse voxel of {} voxels (side {:g}) holds the whole active box of grid "
+                                   "'{}' ({}x{}x{} voxels)",
+                                   block, block * grid.voxel_size(), grid.name(), e[0], e[1], e[2]),
+                       largest};
+}
+
+std::string thick_block_note(int block, const volume::Grid& grid) {
+  const volume::IndexBox box = grid.active_bbox();
+  if (box.empty()) return {};
+  const auto e = box.extent();
+  std::string axes;
+  std::int64_t thinnest = block;
+  for (int a = 0; a < 3; ++a) {
+    if (e[static_cast<std::size_t>(a)] >= block) continue;
+    axes += "xyz"[a];
+    thinnest = std::min(thinnest, e[static_cast<std::size_t>(a)]);
+  }
+  if (axes.empty()) return {};
+  return fmt::format(
+      "blocks of {} voxels are thicker than the cloth along {} ({} voxels there): a block spreads the cloth over "
+      "its whole edge, at {:.2g} of its density, and the fields reach past the cloth",
+      block, axes, thinnest, static_cast<double>(thinnest) / block);
 }
 
 LocalFieldsEstimate estimate_local_fields(const volume::Grid& grid, int block) {

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <string>
 #include <string_view>
 
 #include "weft/core/progress.h"
@@ -21,6 +22,23 @@ inline constexpr int kMaxLocalBlock = 4096;
 
 /// Throws weft::Error naming the block size unless 1 ≤ block ≤ kMaxLocalBlock.
 void check_local_block(int block);
+
+/// @brief A block (a coarsening factor) that holds the grid's whole active box: its one coarse
+/// voxel would spread the cloth's concentration over the block's vacuum, a homogeneous box larger
+/// than the cloth (docs/validate.md "Local fields"). `text` says so ("one coarse voxel of N voxels
+/// (side S) holds the whole active box of grid 'G' (AxBxC voxels)") and `below` is the largest
+/// extent, the bound a block must stay under. The one rule of `weft fit --block`, Python's
+/// local_fields and the study's factors (study::check_factors_for_grid).
+struct WholeBoxBlock {
+  std::string text;
+  std::int64_t below = 0;
+};
+[[nodiscard]] std::optional<WholeBoxBlock> whole_box_block(int block, const volume::Grid& grid);
+
+/// @brief "" or a warning that blocks of `block` voxels are thicker than the cloth along an axis
+/// (the active box's extent there): an edge block spreads the cloth over the block there, at a
+/// fraction extent/block of its density, and the fields reach past the cloth.
+[[nodiscard]] std::string thick_block_note(int block, const volume::Grid& grid);
 
 /// @brief Upper bounds of the work and memory of local_fields(grid, block), from the leaf nodes
 /// alone (O(leaves), nothing allocated per voxel or per block).

@@ -207,16 +207,12 @@ void check_study_spec(const StudySpec& spec, FrontEnd front) {
 }
 
 void check_factors_for_grid(const std::vector<int>& factors, const volume::Grid& fine) {
-  const volume::IndexBox box = fine.active_bbox();
-  if (box.empty()) return;  // an empty grid is refused by name where it is loaded
-  const auto extent = box.extent();
-  const std::int64_t largest = *std::max_element(extent.begin(), extent.end());
   for (const int f : factors) {
-    if (f < largest) continue;
-    fail(
-        "study: coarsening factor {}: one coarse voxel of {} voxels (side {:g}) holds the whole active box of "
-        "grid '{}' ({}x{}x{} voxels), so every coarse candidate would be one homogeneous box; use factors below {}",
-        f, f, f * fine.voxel_size(), fine.name(), extent[0], extent[1], extent[2], largest);
+    if (const auto whole = fit::whole_box_block(f, fine))
+      fail(
+          "study: coarsening factor {}: {}, so every coarse candidate would be one homogeneous box; use factors "
+          "below {}",
+          f, whole->text, whole->below);
   }
 }
 

@@ -213,6 +213,28 @@ TEST(Fit, CompareMeasuresErrorsAndBias) {
   EXPECT_NEAR(e.max_abs_t, std::exp(-1.0) - std::exp(-1.5), 1e-15);
 }
 
+// A block that holds the whole active box is one homogeneous block over vacuum: named, with the
+// bound a block must stay under (the front ends refuse it); a block thicker than the cloth along
+// an axis is noted, with the density fraction an edge block keeps.
+TEST(Fit, ABlockThatHoldsTheWholeClothIsNamedAThickOneNoted) {
+  Grid g(0.1);
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 12; ++j)
+      for (int k = 0; k < 5; ++k) g.set_value(i + 3, j - 7, k + 100, 0.5F);  // anywhere in index space
+  EXPECT_FALSE(whole_box_block(19, g).has_value());
+  const auto whole = whole_box_block(20, g);
+  ASSERT_TRUE(whole.has_value());
+  EXPECT_EQ(whole->below, 20);
+  EXPECT_NE(whole->text.find("holds the whole active box of grid 'density' (20x12x5 voxels)"), std::string::npos)
+      << whole->text;
+  EXPECT_EQ(thick_block_note(5, g), "");
+  const std::string note = thick_block_note(8, g);
+  EXPECT_NE(note.find("thicker than the cloth along z (5 voxels there)"), std::string::npos) << note;
+  EXPECT_NE(note.find("at 0.62 of its density"), std::string::npos) << note;
+  EXPECT_NE(thick_block_note(16, g).find("along yz (5 voxels there)"), std::string::npos);
+  EXPECT_FALSE(whole_box_block(4096, Grid(0.1)).has_value());  // an empty grid: refused where it is used
+}
+
 TEST(Fit, LocalFieldsOfAKnownBlock) {
   // A 2³ block: x = 0 half holds a, x = 1 half holds b. Columns along x all have mean (a+b)/2;
   // along y and z the columns split by x: variance ((a−b)/2)².

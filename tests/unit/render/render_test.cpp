@@ -824,7 +824,7 @@ TEST(ImageFiles, ShortPngWriteIsOneErrorAndNoChatter) {
   Image im;
   im.width = im.height = 256;
   im.spp = 1;
-  im.rgb.resize(static_cast<std::size_t>(3 * im.width * im.height));
+  im.rgb.resize(std::size_t{3} * static_cast<std::size_t>(im.width) * static_cast<std::size_t>(im.height));
   for (std::size_t i = 0; i < im.rgb.size(); ++i) im.rgb[i] = static_cast<float>((i * 2654435761U) % 1000) / 1000.0F;
   const std::filesystem::path png =
       std::filesystem::temp_directory_path() / fmt::format("weft-short-{}.png", ::getpid());
