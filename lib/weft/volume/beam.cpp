@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string_view>
 
 #include "weft/core/error.h"
 #include "weft/core/parallel.h"
@@ -133,7 +134,13 @@ BeamMethod parse_beam_method(const std::string& text) {
 double TransmittanceCurve::transmittance(std::size_t k) const { return std::exp(log_t.at(k)); }
 
 std::array<double, 3> parse_direction(const std::string& text) {
-  std::string s = text;
+  // Blanks around the whole and around each component are dropped, as for every number option
+  // (docs/robustness.md): "1, 0, 0" is 1,0,0.
+  const auto trimmed = [](std::string_view v) {
+    const auto b = v.find_first_not_of(" \t");
+    return b == std::string_view::npos ? std::string() : std::string(v.substr(b, v.find_last_not_of(" \t") - b + 1));
+  };
+  std::string s = trimmed(text);
   double sign = 1.0;
   if (!s.empty() && (s[0] == '+' || s[0] == '-') && s.size() == 2) {
     sign = s[0] == '-' ? -1.0 : 1.0;
@@ -143,11 +150,12 @@ std::array<double, 3> parse_direction(const std::string& text) {
   if (s == "y" || s == "Y") return {0.0, sign, 0.0};
   if (s == "z" || s == "Z") return {0.0, 0.0, sign};
   std::array<double, 3> d{};
-  std::istringstream in(text);
+  std::istringstream in(s);
   std::string part;
   int n = 0;
   while (std::getline(in, part, ',')) {
     if (n >= 3) fail("direction '{}': expected x, y, z (optionally signed) or three numbers dx,dy,dz", text);
+    part = trimmed(part);
     const std::optional<double> v = parse_number(part);
     if (!v) fail("direction '{}': '{}' is not a number", text, part);
     d[static_cast<std::size_t>(n)] = *v;
