@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <sstream>
 #include <string>
@@ -339,6 +340,25 @@ TriangleMesh load_mesh(const std::filesystem::path& path) {
   if (std::filesystem::is_directory(path, ec)) fail("mesh file '{}': not a regular file (a folder)", path.string());
   const std::string ext = lower_extension(path);
   return ext == ".ply" ? load_ply(path) : load_obj(path);
+}
+
+bool is_closed(const TriangleMesh& mesh) {
+  // Vertices by exact position: the first index of each position stands for all of them.
+  std::map<std::array<double, 3>, std::uint32_t> first;
+  std::vector<std::uint32_t> id(mesh.vertices.size());
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const Vec3& v = mesh.vertices[i];
+    id[i] = first.try_emplace({v.x(), v.y(), v.z()}, static_cast<std::uint32_t>(i)).first->second;
+  }
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+  for (const auto& t : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = id[t[static_cast<std::size_t>(k)]];
+      const std::uint32_t b = id[t[static_cast<std::size_t>((k + 1) % 3)]];
+      ++edges[{std::min(a, b), std::max(a, b)}];
+    }
+  }
+  return !edges.empty() && std::all_of(edges.begin(), edges.end(), [](const auto& e) { return e.second == 2; });
 }
 
 TriangleMesh box_mesh(const Vec3& lo, const Vec3& hi) {

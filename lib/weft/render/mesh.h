@@ -34,6 +34,11 @@ struct TriangleMesh {
 /// @brief load_ply for `.ply` files (any case), load_obj otherwise.
 [[nodiscard]] TriangleMesh load_mesh(const std::filesystem::path& path);
 
+/// Whether the mesh is closed: every edge (between vertices taken by position, so a mesh that
+/// repeats a vertex per face counts as joined) belongs to exactly two triangles. Only a closed
+/// surface has an inside a medium can fill.
+[[nodiscard]] bool is_closed(const TriangleMesh& mesh);
+
 /// The 12 outward-facing triangles of an axis-aligned box.
 [[nodiscard]] TriangleMesh box_mesh(const Vec3& min, const Vec3& max);
 

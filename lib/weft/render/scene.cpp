@@ -19,6 +19,7 @@
 #include "weft/render/frame.h"
 #include "weft/render/medium.h"
 #include "weft/render/mesh.h"
+#include "weft/render/phase.h"
 #include "weft/render/render.h"
 #include "weft/render/scene_choices_impl.h"
 #include "weft/transmittance/law_json.h"
@@ -249,7 +250,7 @@ MediumDesc parse_medium(const json& j, const std::string& where, const std::file
     m.law = transmittance::LawSpec{};  // no law: the fields carry one gamma law per voxel
     m.albedo = r.albedo(m.albedo);
     m.g = r.number("g", m.g);
-    if (!(m.g > -1.0 && m.g < 1.0)) fail("{}: 'g' must be in (-1, 1), got {}", where, m.g);
+    check_phase_g(m.g, where);
     r.finish();
     return m;
   }
@@ -298,7 +299,7 @@ MediumDesc parse_medium(const json& j, const std::string& where, const std::file
   }
   m.albedo = r.albedo(m.albedo);
   m.g = r.number("g", m.g);
-  if (!(m.g > -1.0 && m.g < 1.0)) fail("{}: 'g' must be in (-1, 1), got {}", where, m.g);
+  check_phase_g(m.g, where);
   r.finish();
   return m;
 }

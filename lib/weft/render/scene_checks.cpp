@@ -4,6 +4,9 @@
 
 #include <fmt/format.h>
 
+#include "weft/render/geometry.h"
+#include "weft/render/mesh.h"
+
 namespace weft::render {
 
 std::vector<std::string> scene_warnings(const SceneDesc& scene) {
@@ -29,6 +32,23 @@ std::vector<std::string> world_warnings(const World& world) {
           "medium '{}' has zero extinction everywhere (its grid's active voxels are all 0, or its sigma or mu is 0), "
           "so it does not affect the image",
           world.medium_names[i]));
+  }
+  // A medium fills the inside of the shapes that bound it: a surface with no inside (a rectangle,
+  // an open mesh) leaves every ray that crosses it in the medium until another of its boundaries,
+  // so the medium fills the space behind it (an open rectangle rendered black, without a word).
+  const auto& shapes = world.geometry->shapes();
+  for (std::size_t i = 0; i < shapes.size(); ++i) {
+    const ShapeInfo& s = shapes[i];
+    if ((s.interior < 0 && s.exterior < 0) || (s.kind != ShapeKind::rectangle && s.kind != ShapeKind::mesh)) continue;
+    if (s.kind == ShapeKind::mesh && is_closed(s.mesh)) continue;
+    const int m = s.interior >= 0 ? s.interior : s.exterior;
+    out.push_back(fmt::format(
+        "shapes[{}] ({}) is the {} of medium '{}' but is not closed ({}): a ray that crosses it stays in the "
+        "medium until it crosses another of its boundaries, so the medium fills the space behind it; bound a "
+        "medium with a box, a sphere or a closed mesh",
+        i, s.kind == ShapeKind::rectangle ? "a rectangle" : "a mesh", s.interior >= 0 ? "interior" : "exterior",
+        world.medium_names[static_cast<std::size_t>(m)],
+        s.kind == ShapeKind::rectangle ? "a rectangle has no inside" : "an edge of one triangle"));
   }
   // Nothing emits: every path's radiance is 0 and the image is black whatever the scene holds
   // (weft.render({}) rendered a black 256×256 film without a word).

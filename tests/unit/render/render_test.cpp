@@ -28,6 +28,7 @@
 #include "weft/render/environment.h"
 #include "weft/render/medium.h"
 #include "weft/render/mesh.h"
+#include "weft/render/phase.h"
 #include "weft/render/render.h"
 #include "weft/render/scene.h"
 #include "weft/render/scene_checks.h"
@@ -105,6 +106,22 @@ INSTANTIATE_TEST_SUITE_P(
                       FurnaceCase{"gamma_path_k2", R"({"name": "gamma-path", "k": 2, "theta": 0.2})", "scatterer"},
                       FurnaceCase{"gamma_path_k0_5", R"({"name": "gamma-path", "k": 0.5, "theta": 0.5})", "scatterer"}),
     [](const auto& info) { return info.param.label; });
+
+// The narrowest phase lobes a medium takes (|g| = 1 − 1e-6, render/phase.h) keep the furnace at 1:
+// near-forward (and near-backward) scattering drawn and weighed without rounding (a furnace at
+// g = 1 − 1e-8, refused now, rendered 0.91).
+TEST(PhaseLobeFurnace, TheNarrowestPhaseLobesRenderOne) {
+  for (const double g : {kMaxAbsG, -kMaxAbsG, 0.99}) {
+    std::string scene =
+        furnace_scene(R"({"name": "gamma", "mean_extinction": 3, "alpha": 0.5})", "reciprocal", "source", 96);
+    const std::string from = R"("g": 0.3)";
+    scene.replace(scene.find(from), from.size(), fmt::format(R"("g": {:.17g})", g));
+    const RenderResult r = render(scene_from(scene));
+    const Estimate e = region_mean(r.image, 3, 3, 9, 9);
+    EXPECT_NEAR(e.mean, 1.0, 5.0 * e.stderr_ + kFloat) << "g = " << g << ", stderr " << e.stderr_;
+    EXPECT_EQ(r.stats.invalid_samples, 0U) << g;
+  }
+}
 
 // In `same` mode (T_S = T_Q) transport is not reciprocal: the weight of a path that enters the
 // sphere at flight length t_in and leaves after t_out is Σ(t_out)/Σ(t_in) (docs/render.md §3),
@@ -791,6 +808,51 @@ TEST(SceneWarnings, ASceneWithoutLightSaysItsImageIsBlack) {
   const std::vector<std::string> off_warnings = world_warnings(build_world(scene_from(off)));
   ASSERT_EQ(off_warnings.size(), 1U);
   EXPECT_NE(off_warnings[0].find("emits nothing"), std::string::npos) << off_warnings[0];
+}
+
+// A medium bounded by a surface with no inside fills the space behind it: said, for a rectangle
+// and an open mesh (a lone triangle), not for a box, a sphere or a closed mesh (a tetrahedron,
+// its vertices written once per face: joined by position).
+TEST(SceneWarnings, AMediumBoundedByAnOpenSurfaceIsSaid) {
+  const auto dir = std::filesystem::temp_directory_path() / fmt::format("weft-open-boundary-{}", ::getpid());
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream(dir / "tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    std::ofstream tet(dir / "tet.obj");
+    const char* v[4] = {"0 0 0", "1 0 0", "0 1 0", "0 0 1"};
+    const int faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    int n = 0;
+    for (const auto& f : faces) {
+      for (const int k : f) tet << "v " << v[k] << "\n";
+      tet << "f " << n + 1 << " " << n + 2 << " " << n + 3 << "\n";
+      n += 3;
+    }
+  }
+  const auto warnings_of = [&](const std::string& shape) {
+    return world_warnings(build_world(parse_scene(fmt::format(R"({{
+      "camera": {{"position": [0.3, 0.3, 3], "look_at": [0.3, 0.3, 0], "width": 4, "height": 4}},
+      "materials": {{"b": {{"type": "null"}}}},
+      "media": {{"m": {{"law": {{"name": "exponential", "mu": 0.5}}, "albedo": 0}}}},
+      "shapes": [{}],
+      "lights": [{{"type": "environment", "radiance": 1}}]}})",
+                                                              shape),
+                                                  "open boundary", dir)));
+  };
+  const std::vector<std::string> rect = warnings_of(
+      R"({"type": "rectangle", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 1, 0], "material": "b", "interior": "m"})");
+  ASSERT_EQ(rect.size(), 1U);
+  EXPECT_NE(rect[0].find("shapes[0] (a rectangle) is the interior of medium 'm' but is not closed"), std::string::npos)
+      << rect[0];
+  const std::vector<std::string> tri =
+      warnings_of(R"({"type": "mesh", "file": "tri.obj", "material": "b", "exterior": "m"})");
+  ASSERT_EQ(tri.size(), 1U);
+  EXPECT_NE(tri[0].find("(a mesh) is the exterior of medium 'm' but is not closed (an edge of one triangle)"),
+            std::string::npos)
+      << tri[0];
+  EXPECT_TRUE(warnings_of(R"({"type": "mesh", "file": "tet.obj", "material": "b", "interior": "m"})").empty());
+  EXPECT_TRUE(
+      warnings_of(R"({"type": "box", "min": [0, 0, 0], "max": [1, 1, 1], "material": "b", "interior": "m"})").empty());
+  std::filesystem::remove_all(dir);
 }
 
 // An environment image that is black, or scaled by 0, lights nothing.
