@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <iostream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -54,6 +55,20 @@ std::string extras_message(const CLI::App& app, const CLI::App* sub) {
     return fmt::format("unknown command '{}'{} (see weft --help)", word, did_you_mean(word, names));
   }
   return fmt::format("{}: unexpected argument '{}' (see weft {} --help)", sub->get_name(), word, sub->get_name());
+}
+
+/// "" when everything written to standard output (stdio and iostreams: CLI11 prints its help
+/// through std::cout) reached it, else why not.
+std::string stdout_problem() {
+  // std::cout writes through stdout's buffer: its flush is the first to meet a failure, and its
+  // errno the one to report.
+  errno = 0;
+  std::cout.flush();
+  int error = errno;
+  const bool flushed = std::fflush(stdout) == 0;
+  if (!flushed && errno != 0) error = errno;
+  if (flushed && std::ferror(stdout) == 0 && std::cout) return {};
+  return fmt::format("cannot write to standard output: {}", error != 0 ? std::strerror(error) : "the write failed");
 }
 
 }  // namespace
@@ -117,6 +132,13 @@ int main(int argc, char** argv) {
     // --help and --version exit 0; every usage error exits 2 (the POSIX convention), whatever
     // CLI11's internal code, so scripts can tell a usage error from a failed run (exit 1).
     const int code = weft::dist::is_root() ? app.exit(e) : e.get_exit_code();
+    if (code == 0) {
+      // --help and --version print to standard output: one that cannot take them is an error.
+      if (const std::string problem = stdout_problem(); !problem.empty()) {
+        fmt::print(stderr, "weft: error: {}\n", problem);
+        return 1;
+      }
+    }
     return code == 0 ? 0 : 2;
   } catch (const UsageError& e) {
     if (weft::dist::is_root()) fmt::print(stderr, "weft: error: {}\n", e.what());
@@ -172,12 +194,9 @@ int main(int argc, char** argv) {
   // The summary and `wrote` lines go to standard output, buffered: one that cannot take them (a
   // full disk) is an error, not a success whose report is lost without a word.
   if (code == 0) {
-    errno = 0;
-    const bool flushed = std::fflush(stdout) == 0;
-    if (!flushed || std::ferror(stdout) != 0) {
+    if (const std::string problem = stdout_problem(); !problem.empty()) {
       code = 1;
-      error = fmt::format("weft: error: cannot write to standard output: {}",
-                          !flushed && errno != 0 ? std::strerror(errno) : "the write failed");
+      error = "weft: error: " + problem;
     }
   }
   return mpi.finish(code, error);

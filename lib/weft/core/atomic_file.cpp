@@ -115,7 +115,7 @@ void write_atomically(const fs::path& requested, const std::function<void(const 
     write(tmp);
     if (!fs::exists(tmp, ec)) fail("writing '{}' produced no file", target.string());
     stop_if_requested();
-    FolderRollback::before_replacing(target);
+    FolderRollback::before_replacing(requested, target);
     fs::rename(tmp, target, ec);
     if (ec) fail("cannot rename '{}' to '{}': {}", tmp.string(), target.string(), ec.message());
   } catch (...) {
@@ -209,15 +209,21 @@ void FolderRollback::stop_watching() {
   g_guards.erase(std::remove(g_guards.begin(), g_guards.end(), this), g_guards.end());
 }
 
-void FolderRollback::before_replacing(const fs::path& target) {
+void FolderRollback::before_replacing(const fs::path& named, const fs::path& target) {
   const std::lock_guard lock(g_guards_mutex);
   if (g_guards.empty()) return;
+  // The guard is chosen by the name the run wrote to (its folder resolved, not its last
+  // component: a link in the guarded folder is the run's output there); the file kept and put
+  // back is the one the name leads to, wherever it is.
+  const fs::path name = resolved(named.has_parent_path() ? named.parent_path() : fs::path(".")) / named.filename();
   const fs::path file = resolved(target);
   std::error_code ec;
   for (FolderRollback* guard : g_guards) {
     // In a folder the guard created everything is new; a file the run wrote before has no
     // earlier version to keep (a report rewritten after its plots).
-    if (!guard->created_.empty() || !under(guard->root_, file) || guard->written_.contains(file)) continue;
+    if (!guard->created_.empty() || !(under(guard->root_, name) || under(guard->root_, file)) ||
+        guard->written_.contains(file))
+      continue;
     if (fs::is_regular_file(file, ec)) {
       // A second name for the earlier file: the rename that follows replaces the name, not the
       // bytes. Where the file system has no hard links, a copy.

@@ -89,10 +89,12 @@ class FolderRollback {
   /// requested (stop_if_requested): a run stopped during its last, unreported stretch is undone.
   void keep();
 
-  /// Called by write_atomically before it renames a finished file onto `target`, and by
-  /// ensure_directory after it created `made`: every live guard whose folder holds the path
-  /// records it. Throws a weft::Error (before anything is replaced) if an earlier version cannot be kept.
-  static void before_replacing(const std::filesystem::path& target);
+  /// Called by write_atomically before it renames a finished file onto `target`, the file the
+  /// output's `named` path leads to (through_links), and by ensure_directory after it created
+  /// `made`: every live guard whose folder holds the name (or the target) records the target, so a
+  /// link in the folder to a file outside it is put back too. Throws a weft::Error (before
+  /// anything is replaced) if an earlier version cannot be kept.
+  static void before_replacing(const std::filesystem::path& named, const std::filesystem::path& target);
   static void after_creating(const std::filesystem::path& made);
 
  private:

@@ -342,7 +342,7 @@ TriangleMesh load_mesh(const std::filesystem::path& path) {
   return ext == ".ply" ? load_ply(path) : load_obj(path);
 }
 
-bool is_closed(const TriangleMesh& mesh) {
+Closure closure(const TriangleMesh& mesh) {
   // Vertices by exact position: the first index of each position stands for all of them.
   std::map<std::array<double, 3>, std::uint32_t> first;
   std::vector<std::uint32_t> id(mesh.vertices.size());
@@ -350,15 +350,22 @@ bool is_closed(const TriangleMesh& mesh) {
     const Vec3& v = mesh.vertices[i];
     id[i] = first.try_emplace({v.x(), v.y(), v.z()}, static_cast<std::uint32_t>(i)).first->second;
   }
-  std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+  // Per undirected edge (a < b): how often it is walked a → b, and b → a.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::array<int, 2>> edges;
   for (const auto& t : mesh.triangles) {
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t a = id[t[static_cast<std::size_t>(k)]];
-      const std::uint32_t b = id[t[static_cast<std::size_t>((k + 1) % 3)]];
-      ++edges[{std::min(a, b), std::max(a, b)}];
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::uint32_t a = id[t[k]];
+      const std::uint32_t b = id[t[(k + 1) % 3]];
+      ++edges[{std::min(a, b), std::max(a, b)}][a < b ? 0 : 1];
     }
   }
-  return !edges.empty() && std::all_of(edges.begin(), edges.end(), [](const auto& e) { return e.second == 2; });
+  if (edges.empty()) return Closure::open;
+  bool balanced = true;
+  for (const auto& [edge, n] : edges) {
+    if ((n[0] + n[1]) % 2 != 0) return Closure::open;
+    balanced = balanced && n[0] == n[1];
+  }
+  return balanced ? Closure::closed : Closure::misoriented;
 }
 
 TriangleMesh box_mesh(const Vec3& lo, const Vec3& hi) {

@@ -34,10 +34,14 @@ struct TriangleMesh {
 /// @brief load_ply for `.ply` files (any case), load_obj otherwise.
 [[nodiscard]] TriangleMesh load_mesh(const std::filesystem::path& path);
 
-/// Whether the mesh is closed: every edge (between vertices taken by position, so a mesh that
-/// repeats a vertex per face counts as joined) belongs to exactly two triangles. Only a closed
-/// surface has an inside a medium can fill.
-[[nodiscard]] bool is_closed(const TriangleMesh& mesh);
+/// Whether the mesh bounds an inside: every edge (between vertices taken by position, so a mesh
+/// that repeats a vertex per face counts as joined) is crossed as often in one direction as in
+/// the other by the triangles' windings. `open`: an edge with an odd number of triangles (a
+/// border); `misoriented`: the triangles meet in pairs but some are wound against their
+/// neighbours (a flipped triangle: its inside and outside swap). Two closed parts sharing an edge
+/// (four triangles there) are closed.
+enum class Closure { closed, open, misoriented };
+[[nodiscard]] Closure closure(const TriangleMesh& mesh);
 
 /// The 12 outward-facing triangles of an axis-aligned box.
 [[nodiscard]] TriangleMesh box_mesh(const Vec3& min, const Vec3& max);

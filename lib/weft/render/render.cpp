@@ -169,8 +169,9 @@ std::uint64_t film_bytes(int width, int height) {
 
 void require_pixel_samples(double samples, std::string_view what, std::string_view lower) {
   if (samples > kMaxPixelSamples)
-    fail("{}: {:.3g} pixel samples, over the limit of {:.0e} a run takes (days at 10 M samples/s): lower {}", what,
-         samples, kMaxPixelSamples, lower);
+    // Whole numbers: rounded to a few digits, a count just past the limit would read as the limit.
+    fail("{}: {:.0f} pixel samples, over the limit of {:.0f} (10^12) a run takes (days at 10 M samples/s): lower {}",
+         what, samples, kMaxPixelSamples, lower);
 }
 
 RenderResult render(const SceneDesc& scene, const RenderOptions& options, ProgressSink& progress) {

@@ -40,15 +40,26 @@ std::vector<std::string> world_warnings(const World& world) {
   for (std::size_t i = 0; i < shapes.size(); ++i) {
     const ShapeInfo& s = shapes[i];
     if ((s.interior < 0 && s.exterior < 0) || (s.kind != ShapeKind::rectangle && s.kind != ShapeKind::mesh)) continue;
-    if (s.kind == ShapeKind::mesh && is_closed(s.mesh)) continue;
+    const Closure c = s.kind == ShapeKind::rectangle ? Closure::open : closure(s.mesh);
+    if (c == Closure::closed) continue;
     const int m = s.interior >= 0 ? s.interior : s.exterior;
-    out.push_back(fmt::format(
-        "shapes[{}] ({}) is the {} of medium '{}' but is not closed ({}): a ray that crosses it stays in the "
-        "medium until it crosses another of its boundaries, so the medium fills the space behind it; bound a "
-        "medium with a box, a sphere or a closed mesh",
-        i, s.kind == ShapeKind::rectangle ? "a rectangle" : "a mesh", s.interior >= 0 ? "interior" : "exterior",
-        world.medium_names[static_cast<std::size_t>(m)],
-        s.kind == ShapeKind::rectangle ? "a rectangle has no inside" : "an edge of one triangle"));
+    const std::string& medium = world.medium_names[static_cast<std::size_t>(m)];
+    const char* side = s.interior >= 0 ? "interior" : "exterior";
+    if (c == Closure::open) {
+      out.push_back(fmt::format(
+          "shapes[{}] ({}) is the {} of medium '{}' but is not closed ({}): a ray that crosses it stays in the "
+          "medium until it crosses another of its boundaries, so the medium fills the space behind it; bound a "
+          "medium with a box, a sphere or a closed mesh",
+          i, s.kind == ShapeKind::rectangle ? "a rectangle" : "a mesh", side, medium,
+          s.kind == ShapeKind::rectangle ? "a rectangle has no inside" : "an edge of one triangle"));
+    } else {
+      // The medium is entered and left by the triangles' windings: a flipped one swaps them there.
+      out.push_back(fmt::format(
+          "shapes[{}] (a mesh) is the {} of medium '{}' but some of its triangles are wound against their "
+          "neighbours: where a ray crosses one, inside and outside swap and the medium is entered where it should "
+          "be left; wind every triangle counter-clockwise seen from outside",
+          i, side, medium));
+    }
   }
   // Nothing emits: every path's radiance is 0 and the image is black whatever the scene holds
   // (weft.render({}) rendered a black 256×256 film without a word).

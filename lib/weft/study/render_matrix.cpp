@@ -303,15 +303,13 @@ void check_matrix_spec(const MatrixSpec& spec, FrontEnd front) {
   StudySpec study = spec.study;
   study.albedo_fitted = true;
   check_study_spec(study, front);
-  // Every case's renders (the reference and two images per candidate, the albedo-corrected one per
-  // factor), before a cloth is generated.
+  // Every case's renders (study_pixel_samples: the reference, the background, the candidates and
+  // their components), before a cloth is generated.
   const double cases = static_cast<double>(spec.cloths.size() * spec.lightings.size() * spec.tilts.size());
-  const double candidates = static_cast<double>(candidate_count(study, study.factors.size()));
-  render::require_pixel_samples(
-      static_cast<double>(spec.width) * spec.height * cases * (2.0 * candidates * study.spp + study.reference_spp),
-      "render matrix",
-      front == FrontEnd::python ? "spp=, reference_spp=, film= or the cases"
-                                : "--study-spp, --reference-spp, --study-film or the cases");
+  render::require_pixel_samples(cases * study_pixel_samples(study, spec.width, spec.height), "render matrix",
+                                front == FrontEnd::python ? "spp=, reference_spp=, film=, components= or the cases"
+                                                          : "--study-spp, --reference-spp, --study-film, "
+                                                            "--study-components or the cases");
 }
 
 std::vector<std::string> matrix_patterns(const MatrixSpec& spec) {

@@ -93,6 +93,22 @@ void name_files_relative(json& j, const fs::path& root, const fs::path& dir) {
   j = normal.lexically_relative(dir).string();
 }
 
+/// The spp of the scene without the cloth's box, which the cloth's mask compares the reference with.
+int background_spp(const StudySpec& spec) { return std::max(16, spec.reference_spp / 4); }
+
+/// Samples per pixel of every render a study makes at a fixed spp (the reference and its
+/// components, the background, images A and B of each named candidate and theirs); with a time
+/// budget, of the renders whose spp is known (the candidates' end with the budget). One count for
+/// the work limit before the study and its progress during it.
+std::uint64_t study_spp_sum(const StudySpec& spec, const std::vector<std::string>& candidates) {
+  std::uint64_t sum = static_cast<std::uint64_t>(spec.reference_spp) * (spec.components.empty() ? 1 : 3) +
+                      static_cast<std::uint64_t>(background_spp(spec));
+  if (spec.spp <= 0) return sum;
+  for (const std::string& name : candidates)
+    sum += static_cast<std::uint64_t>(spec.spp) * (splits_components(spec.components, name) ? 6 : 2);
+  return sum;
+}
+
 void say(const StudySpec& spec, const std::string& line) {
   if (spec.log) spec.log(line);
 }
@@ -246,14 +262,19 @@ std::vector<int> factors_for_grid(const StudySpec& spec, const volume::Grid& fin
 
 void check_study_scene(const SceneDesc& scene, const StudySpec& spec) {
   const Target target = find_target(scene);
-  // Nothing that could emit: every image is black, the cloth's mask empty, and the study would
-  // blame the camera or the reference's noise after rendering it (a plain render warns instead).
+  // Nothing that emits: every image is black, the cloth's mask empty, and the study would blame
+  // the camera or the reference's noise after rendering it (a plain render warns instead). A light
+  // of intensity 0 (or an image scaled by 0) emits nothing either; an image's own pixels are not
+  // read here.
   const bool emitter = std::any_of(scene.shapes.begin(), scene.shapes.end(),
-                                   [](const ShapeDesc& s) { return (s.emission > 0.0).any(); });
-  if (scene.lights.empty() && !emitter)
+                                   [](const ShapeDesc& s) { return (s.emission > 0.0).any(); }) ||
+                       std::any_of(scene.lights.begin(), scene.lights.end(), [](const LightDesc& l) {
+                         return l.scale > 0.0 && (!l.image.empty() || (l.intensity > 0.0).any());
+                       });
+  if (!emitter)
     fail(
-        "study: the scene has no light (nothing in \"lights\" and no shape with \"emission\"): every image would be "
-        "black and the cloth invisible; add a light");
+        "study: the scene has no light that emits (nothing in \"lights\" with a power above 0 and no shape with "
+        "\"emission\"): every image would be black and the cloth invisible; add a light");
   // A k past albedo_k_max clamps every channel at 1: it renders as k_max does, so it is a typo or
   // a factor meant for a darker cloth. The slack lets a k printed with 6 digits (as --study-albedo
   // fit prints them, rounded by up to 5e-6 relative) pass when the fit ended at k_max.
@@ -269,17 +290,24 @@ void check_study_scene(const SceneDesc& scene, const StudySpec& spec) {
           f, k, albedo[0], albedo[1], albedo[2], target.medium, k_max, k_max);
   }
   if (!spec.components.empty()) check_component_scene(scene);
-  // Its renders, before anything is made: the reference and two images per candidate (a time
-  // budget bounds its candidates' spp itself).
-  const double pixels = static_cast<double>(scene.camera.width) * scene.camera.height;
-  const double images_spp =
-      spec.spp > 0 ? 2.0 * static_cast<double>(candidate_count(spec, spec.albedo_factors.size())) * spec.spp : 0.0;
-  render::require_pixel_samples(pixels * (images_spp + spec.reference_spp), "study",
-                                "--study-spp, --reference-spp or the camera's film");
+  // Its renders, before anything is made.
+  render::require_pixel_samples(study_pixel_samples(spec, scene.camera.width, scene.camera.height), "study",
+                                "--study-spp, --reference-spp, --study-components or the camera's film");
   // The box against the grid: loaded here, so that every front end refuses a box that cuts the
   // cloth before it says what the study will cost, let alone renders.
   const MediumDesc& fine_desc = scene.media.at(target.medium);
   check_target_box(target, scene, volume::Grid::load(fine_desc.file, fine_desc.grid_name));
+}
+
+double study_pixel_samples(const StudySpec& spec, int width, int height) {
+  // Every candidate each family makes at each factor (the albedo-corrected at every factor: an
+  // upper bound where fewer are fitted), counted as run_study counts its renders (study_spp_sum).
+  std::vector<std::string> names{"fine", "slab-gamma"};
+  for (const std::string& family : candidate_families(spec)) {
+    if (family == "fine" || family == "slab-gamma") continue;
+    for (const int f : spec.factors) names.push_back(fmt::format("{}-{}x", family, f));
+  }
+  return static_cast<double>(width) * height * static_cast<double>(study_spp_sum(spec, names));
 }
 
 std::size_t candidate_count(const StudySpec& spec, std::size_t albedo_candidates) {
@@ -505,13 +533,13 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, Progre
 
   // Every render's pixel samples, known beforehand with a fixed spp: the reference (and its
   // components), the background, images A and B of each candidate and their components.
-  const int background_spp = std::max(16, spec.reference_spp / 4);
   const bool components = !spec.components.empty();
   std::uint64_t spp_sum = 0;
   if (spec.spp > 0) {
-    spp_sum = static_cast<std::uint64_t>(spec.reference_spp) * (components ? 3 : 1) + background_spp;
-    for (const Plan& p : plans)
-      spp_sum += static_cast<std::uint64_t>(spec.spp) * (splits_components(spec.components, p.c.name) ? 6 : 2);
+    std::vector<std::string> names;
+    names.reserve(plans.size());
+    for (const Plan& p : plans) names.push_back(p.c.name);
+    spp_sum = study_spp_sum(spec, names);
   }
   const auto pixels = static_cast<std::uint64_t>(scene.camera.width) * static_cast<std::uint64_t>(scene.camera.height);
   RenderProgress renders(progress, pixels * spp_sum);
@@ -547,10 +575,10 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, Progre
     json bare = target.scene;
     bare["shapes"].erase(target.shape);
     RenderOptions ro;
-    ro.spp = background_spp;
+    ro.spp = background_spp(spec);
     ro.seed = result.reference_seed + kSeedStep;
     const Image bg = renders
-                         .run(pixels * background_spp,
+                         .run(pixels * background_spp(spec),
                               [&](ProgressSink& sink) { return render::render(parse(bare, "background"), ro, sink); })
                          .image;
     const std::size_t pixels = reference.rgb.size() / 3;
@@ -623,7 +651,7 @@ StudyResult run_study(const SceneDesc& scene, const StudySpec& requested, Progre
     write_scene(p.scene, c.spp, c.seed_a, c.scene_file);
     if (!root) continue;  // images live on rank 0
     // Its memory from the files its scene names: one count for every candidate, the study's and the matrix's.
-    const RepresentationMemory memory = representation_memory(c.scene_file);
+    const RepresentationMemory memory = representation_memory(c.scene_file, target.medium);
     c.memory_bytes = memory.values;
     c.memory_tree_bytes = memory.tree;
     c.memory_channels = memory.channels;

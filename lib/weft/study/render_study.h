@@ -261,6 +261,12 @@ struct StudyResult {
   std::string headline;  ///< "at N× coarser and M× less time, model X is within E of the fine grid"
 };
 
+/// Pixel samples of every render a study of `spec` makes on a width × height film (the reference
+/// and its components, the background of the cloth's mask, each candidate's two images and their
+/// components; with a time budget, the renders of known spp): the figure the work limit
+/// (render::kMaxPixelSamples) is checked against, before anything is made.
+[[nodiscard]] double study_pixel_samples(const StudySpec& spec, int width, int height);
+
 /// The number of candidates run_study renders, two images each, when `albedo_candidates` of them
 /// are albedo-corrected (spec.albedo_factors.size(), or the factors a matrix will fit): what a run
 /// says it will cost before it starts.

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <string>
 
 namespace weft::study {
 
@@ -20,9 +21,12 @@ struct RepresentationMemory {
   int channels = 0;
 };
 
-/// The memory of every medium of the scene in `scene_file`: a grid medium's grid (or its three
+/// The memory of medium `medium` of the scene in `scene_file` (the representation of the cloth;
+/// the scene's other media are not the representation's): a grid medium's grid (or its three
 /// axis grids), every grid of a local-gamma medium's fields file (also any it does not read), a
-/// homogeneous law's parameters (one float each, no tree).
-[[nodiscard]] RepresentationMemory representation_memory(const std::filesystem::path& scene_file);
+/// homogeneous law's parameters (one float each, no tree). Throws weft::Error if the scene has no
+/// such medium.
+[[nodiscard]] RepresentationMemory representation_memory(const std::filesystem::path& scene_file,
+                                                         const std::string& medium);
 
 }  // namespace weft::study

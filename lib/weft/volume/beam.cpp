@@ -150,6 +150,9 @@ std::array<double, 3> parse_direction(const std::string& text) {
   if (s == "y" || s == "Y") return {0.0, sign, 0.0};
   if (s == "z" || s == "Z") return {0.0, 0.0, sign};
   std::array<double, 3> d{};
+  // getline yields no empty last field: "1,0,0," would read as three numbers.
+  if (!s.empty() && s.back() == ',')
+    fail("direction '{}': expected x, y, z (optionally signed) or three numbers dx,dy,dz", text);
   std::istringstream in(s);
   std::string part;
   int n = 0;

@@ -297,6 +297,35 @@ TEST(AtomicFile, ASymbolicLinkIsWrittenThroughNotReplaced) {
   fs::remove_all(dir);
 }
 
+// A link in a guarded folder to a file outside it: the run writes through it, and a failed run
+// puts that file back as it was; a link to nothing yet has its new target removed.
+TEST(AtomicFile, AFailedRunPutsBackTheFileALinkInItsFolderLeadsTo) {
+  const auto dir = fresh_dir("atomic-link-rollback");
+  fs::create_directories(dir / "out");
+  fs::create_directories(dir / "elsewhere");
+  weft::write_text_atomically(dir / "elsewhere" / "orig.vdb", "ORIGINAL");
+  fs::create_symlink("../elsewhere/orig.vdb", dir / "out" / "cloth.vdb");
+  fs::create_symlink("../elsewhere/new.vdb", dir / "out" / "other.vdb");
+  {
+    weft::FolderRollback outputs(dir / "out");
+    weft::write_text_atomically(dir / "out" / "cloth.vdb", "NEW");
+    weft::write_text_atomically(dir / "out" / "other.vdb", "NEW");
+    std::ifstream in(dir / "elsewhere" / "orig.vdb");
+    std::string s;
+    std::getline(in, s);
+    EXPECT_EQ(s, "NEW");
+    EXPECT_TRUE(fs::exists(dir / "elsewhere" / "new.vdb"));
+  }  // not kept: the run failed
+  std::ifstream in(dir / "elsewhere" / "orig.vdb");
+  std::string s;
+  std::getline(in, s);
+  EXPECT_EQ(s, "ORIGINAL");
+  EXPECT_FALSE(fs::exists(dir / "elsewhere" / "new.vdb"));
+  EXPECT_TRUE(fs::is_symlink(dir / "out" / "cloth.vdb"));
+  EXPECT_TRUE(fs::is_symlink(dir / "out" / "other.vdb"));
+  fs::remove_all(dir);
+}
+
 // A named pipe (and so a device or a socket: one check) under the output's name, or behind a link,
 // is refused before the write and stays what it was: a rename would replace the node itself.
 TEST(AtomicFile, ANodeThatIsNotARegularFileIsRefusedAndKept) {

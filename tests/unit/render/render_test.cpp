@@ -818,15 +818,22 @@ TEST(SceneWarnings, AMediumBoundedByAnOpenSurfaceIsSaid) {
   std::filesystem::create_directories(dir);
   {
     std::ofstream(dir / "tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
-    std::ofstream tet(dir / "tet.obj");
-    const char* v[4] = {"0 0 0", "1 0 0", "0 1 0", "0 0 1"};
-    const int faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
-    int n = 0;
-    for (const auto& f : faces) {
-      for (const int k : f) tet << "v " << v[k] << "\n";
-      tet << "f " << n + 1 << " " << n + 2 << " " << n + 3 << "\n";
-      n += 3;
-    }
+    // A tetrahedron with its vertices once per face; one with a face flipped; two sharing an edge
+    // (four triangles on it: closed).
+    const char* v[6] = {"0 0 0", "1 0 0", "0 1 0", "0 0 1", "1 1 -1", "2 2 1"};
+    const auto write = [&](const std::filesystem::path& file, const std::vector<std::array<int, 3>>& faces) {
+      std::ofstream out(file);
+      int n = 0;
+      for (const auto& f : faces) {
+        for (const int k : f) out << "v " << v[k] << "\n";
+        out << "f " << n + 1 << " " << n + 2 << " " << n + 3 << "\n";
+        n += 3;
+      }
+    };
+    write(dir / "tet.obj", {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}});
+    write(dir / "flipped.obj", {{0, 1, 2}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}});
+    // The second tetrahedron (1, 2, 4, 5), wound the same way, shares edge 1–2 with the first.
+    write(dir / "two.obj", {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {1, 4, 2}, {1, 2, 5}, {1, 5, 4}, {2, 4, 5}});
   }
   const auto warnings_of = [&](const std::string& shape) {
     return world_warnings(build_world(parse_scene(fmt::format(R"({{
@@ -850,6 +857,12 @@ TEST(SceneWarnings, AMediumBoundedByAnOpenSurfaceIsSaid) {
             std::string::npos)
       << tri[0];
   EXPECT_TRUE(warnings_of(R"({"type": "mesh", "file": "tet.obj", "material": "b", "interior": "m"})").empty());
+  const std::vector<std::string> flipped =
+      warnings_of(R"({"type": "mesh", "file": "flipped.obj", "material": "b", "interior": "m"})");
+  EXPECT_TRUE(warnings_of(R"({"type": "mesh", "file": "two.obj", "material": "b", "interior": "m"})").empty());
+  ASSERT_EQ(flipped.size(), 1U);
+  EXPECT_NE(flipped[0].find("some of its triangles are wound against their neighbours"), std::string::npos)
+      << flipped[0];
   EXPECT_TRUE(
       warnings_of(R"({"type": "box", "min": [0, 0, 0], "max": [1, 1, 1], "material": "b", "interior": "m"})").empty());
   std::filesystem::remove_all(dir);

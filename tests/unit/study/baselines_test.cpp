@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <mutex>
 #include <string>
@@ -24,6 +25,7 @@
 #include "weft/study/albedo_fit.h"
 #include "weft/study/render_study.h"
 #include "weft/study/render_study_report.h"
+#include "weft/study/representation_memory.h"
 #include "weft/volume/grid.h"
 
 namespace weft::study {
@@ -321,15 +323,42 @@ TEST(StudyBaselines, AZeroSigmaIsRefusedWithItsKey) {
       testing::ThrowsMessage<Error>(testing::HasSubstr("study: media.cloth.sigma is 0: the study needs sigma > 0")));
 }
 
+// A representation's memory is its own medium's: the scene's other media (a fog, another grid)
+// are not counted into it.
+TEST(StudyBaselines, TheMemoryOfARepresentationIsItsMediumsAlone) {
+  const TempDir dir("memory_one_medium");
+  (void)cube_scene(dir.path, [](int i, int, int) { return i < 8 ? 0.5F : 0.0F; });  // writes cube.vdb
+  const fs::path scene = dir.path / "two_media.json";
+  std::ofstream(scene) << fmt::format(R"({{
+    "camera": {{"position": [0, 0, 4], "look_at": [0, 0, 0], "width": 4, "height": 4}},
+    "materials": {{"b": {{"type": "null"}}}},
+    "media": {{"cloth": {{"type": "grid", "file": "{}", "sigma": 8}},
+               "fog": {{"law": {{"name": "gamma", "mean_extinction": 1, "alpha": 2}}}}}},
+    "shapes": [{{"type": "box", "min": [-0.5, -0.5, -0.5], "max": [0.5, 0.5, 0.5], "material": "b", "interior": "cloth"}},
+               {{"type": "sphere", "center": [3, 0, 0], "radius": 1, "material": "b", "interior": "fog"}}],
+    "lights": [{{"type": "environment", "radiance": 1}}]}})",
+                                      (dir.path / "cube.vdb").string());
+  const RepresentationMemory cloth = representation_memory(scene, "cloth");
+  EXPECT_EQ(cloth.channels, 1);
+  EXPECT_EQ(cloth.values, 4U * volume::Grid::load(dir.path / "cube.vdb").active_voxel_count());
+  const RepresentationMemory fog = representation_memory(scene, "fog");
+  EXPECT_EQ(fog.values, 4U * static_cast<std::uint64_t>(fog.channels));
+  EXPECT_EQ(fog.tree, 0U);
+  EXPECT_THROW((void)representation_memory(scene, "none"), Error);
+}
+
 // A scene with nothing that emits renders black everywhere: refused before anything renders, by
 // name, not after the reference as an empty cloth mask blamed on the camera or the noise. An
 // emitting shape alone is a light.
 TEST(StudyBaselines, ASceneWithoutLightIsRefusedBeforeAnythingRenders) {
   const TempDir dir("no_light");
   render::SceneDesc scene = cube_scene(dir.path, [](int, int, int) { return 0.5F; });
+  for (auto& light : scene.lights) light.intensity = render::Rgb(0.0, 0.0, 0.0);  // lights that emit nothing
+  EXPECT_THAT([&] { check_study_scene(scene, small_spec(dir.path)); },
+              testing::ThrowsMessage<Error>(testing::HasSubstr("study: the scene has no light that emits")));
   scene.lights.clear();
   EXPECT_THAT([&] { check_study_scene(scene, small_spec(dir.path)); },
-              testing::ThrowsMessage<Error>(testing::HasSubstr("study: the scene has no light")));
+              testing::ThrowsMessage<Error>(testing::HasSubstr("study: the scene has no light that emits")));
   render::ShapeDesc panel;
   panel.kind = render::ShapeKind::rectangle;
   panel.material = "boundary";

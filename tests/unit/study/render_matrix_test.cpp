@@ -109,8 +109,9 @@ TEST(MatrixSpec, RefusesWhatCannotRun) {
   MatrixSpec huge = s;
   huge.width = huge.height = kMaxMatrixFilm;
   huge.study.spp = kMaxStudySpp;
-  EXPECT_THAT([&] { check_matrix_spec(huge); },
-              testing::ThrowsMessage<Error>(testing::HasSubstr("pixel samples, over the limit of 1e+12")));
+  EXPECT_THAT(
+      [&] { check_matrix_spec(huge); },
+      testing::ThrowsMessage<Error>(testing::HasSubstr("pixel samples, over the limit of 1000000000000 (10^12)")));
   MatrixSpec within = s;  // the same film at 2 spp: within it
   within.width = within.height = kMaxMatrixFilm;
   EXPECT_NO_THROW(check_matrix_spec(within));

@@ -395,7 +395,7 @@ TEST(Beam, ParsesDirections) {
   EXPECT_EQ(parse_direction(" -y "), (std::array<double, 3>{0, -1, 0}));
   EXPECT_EQ(beam_axis({0.0, -0.0, -2.0}), 2);
   EXPECT_EQ(beam_axis({0.1, 0.0, -2.0}), -1);
-  for (const char* bad : {"w", "1,2", "0,0,0", "a,b,c", "1,2,3,4", "nan,0,1", "1,,2", " , , "}) {
+  for (const char* bad : {"w", "1,2", "0,0,0", "a,b,c", "1,2,3,4", "nan,0,1", "1,,2", " , , ", "1,0,0,", "1,0,0, "}) {
     EXPECT_THROW((void)parse_direction(bad), Error) << bad;
   }
 }
