@@ -4,6 +4,7 @@
 #include <cmath>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "common.h"
 #include "weft/fit/gamma_moments.h"
@@ -266,6 +267,9 @@ void init_measure(py::module_& m) {
               "local_fields: block={}: {}: the fields would be one homogeneous block, the cloth's concentration "
               "spread over the vacuum around it; use a block below {}",
               block, whole->text, whole->below);
+        // ... and its warning of a block thicker than the cloth, as a weft.Warning.
+        if (std::string note = fit::thick_block_note(block, grid); !note.empty())
+          warn_all({std::move(note)}, "weft.local_fields");
         return run_released(progress, [&](ProgressSink& p) { return fit::local_fields(grid, block, p); });
       },
       py::arg("grid"), py::arg("block"), py::kw_only(), py::arg("progress") = py::none(),

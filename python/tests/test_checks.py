@@ -260,4 +260,9 @@ def test_local_fields_refuse_a_block_that_holds_the_whole_cloth():
     with pytest.raises(weft.Error, match=r"^local_fields: block=6: one coarse voxel of 6 voxels .* holds the whole "
                                          r"active box of grid .* \(6x4x2 voxels\).*use a block below 6$"):
         weft.local_fields(grid, 6)
-    assert weft.local_fields(grid, 5).blocks > 0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a block within the cloth on every axis: no warning
+        assert weft.local_fields(grid, 2).blocks > 0
+    # Thicker than the cloth along y and z (4 and 2 voxels): taken, with the CLI's warning.
+    with pytest.warns(weft.Warning, match=r"blocks of 5 voxels are thicker than the cloth along yz \(2 voxels there\)"):
+        assert weft.local_fields(grid, 5).blocks > 0
