@@ -104,8 +104,10 @@ const Registrar kFit{Command{
                      "Window of the statistics (as weft validate): yarn (the yarn diameter from the grid's "
                      "provenance, else measured), yarn-measured, corr, extent, or a length")
           ->capture_default_str();
-      sub.add_option("--block", o->block,
-                     "Also write local fields per block of B^3 voxels to local_fields.vdb (0 = off)")
+      sub.add_option(
+             "--block", o->block,
+             "Also write local fields per block of B^3 voxels to local_fields.vdb (0 = off); B must stay below the "
+             "active box's largest extent (a warning when above its smallest: docs/validate.md \"Local fields\")")
           ->capture_default_str();
       sub.add_option("--fields", o->fields,
                      "With --block: render (mean and variance per axis, the 4 grids the local-gamma medium reads) "

@@ -274,7 +274,8 @@ void init_measure(py::module_& m) {
       },
       py::arg("grid"), py::arg("block"), py::kw_only(), py::arg("progress") = py::none(),
       "Local statistic fields per block of block^3 voxels, as `weft fit --block` computes them (its checks of\n"
-      "the block size and memory estimate included); a LocalFields.");
+      "the block size and memory estimate included: a block at or above the active box's largest extent is a\n"
+      "weft.Error, one above its smallest a weft.Warning); a LocalFields.");
 
   py::class_<fit::CurveError>(m, "CurveError", "Errors of a model against the ground truth on its depth grid.")
       .def_readonly("max_abs_t", &fit::CurveError::max_abs_t)

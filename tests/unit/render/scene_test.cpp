@@ -120,8 +120,9 @@ TEST(SceneFile, NegativeAndOutOfRangeParametersAreRejected) {
   EXPECT_NE(error_of(R"({"camera": {"fov": 0}})").find("'fov' must be > 0"), std::string::npos);
   EXPECT_NE(error_of(R"({"camera": {"width": 0}})").find("'width' must be in"), std::string::npos);
   EXPECT_NE(error_of(R"({"media": {"m": {"law": {"name": "exponential", "mu": -2}}}})").find("mu"), std::string::npos);
-  EXPECT_NE(error_of(R"({"media": {"m": {"law": "exponential", "g": 1.5}}})").find("'g' must be in [-0.999999, 0.999999]"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of(R"({"media": {"m": {"law": "exponential", "g": 1.5}}})").find("'g' must be in [-0.999999, 0.999999]"),
+      std::string::npos);
 }
 
 TEST(SceneFile, KeysThatDoNotApplyOrAreEmptyAreSaidAsSuch) {
